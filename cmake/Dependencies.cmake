@@ -1,0 +1,11 @@
+# Every dependency comes from a Debian package (scripts/setup.sh installs them).
+find_package(Threads REQUIRED)
+find_package(Eigen3 3.4 REQUIRED NO_MODULE)
+find_package(CLI11 REQUIRED)
+find_package(nlohmann_json 3.10 REQUIRED)
+if(MATLAS_BUILD_TESTS)
+  find_package(GTest REQUIRED)
+endif()
+if(MATLAS_BUILD_BENCH)
+  find_package(benchmark REQUIRED)
+endif()

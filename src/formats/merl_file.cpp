@@ -1,0 +1,131 @@
+#include "formats/merl_file.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <fcntl.h>
+#include <string>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+
+namespace matlas {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const char* channel_name(std::size_t c) {
+  static const char* names[] = {"red", "green", "blue"};
+  return c < 3 ? names[c] : "?";
+}
+
+void read_exact(int fd, const fs::path& path, void* out, std::size_t bytes, std::size_t offset) {
+  auto* dst = static_cast<char*>(out);
+  while (bytes > 0) {
+    const ssize_t got = ::pread(fd, dst, bytes, static_cast<off_t>(offset));
+    if (got < 0) {
+      if (errno == EINTR) continue;
+      throw file_error(path, std::string("read failed: ") + std::strerror(errno));
+    }
+    if (got == 0) throw file_error(path, "truncated: unexpected end of file");
+    dst += got;
+    bytes -= static_cast<std::size_t>(got);
+    offset += static_cast<std::size_t>(got);
+  }
+}
+
+}  // namespace
+
+MerlFile::MerlFile(fs::path path) : path_(std::move(path)) {
+  std::error_code ec;
+  if (!fs::exists(path_, ec)) throw file_error(path_, "no such file");
+  if (fs::is_directory(path_, ec)) throw file_error(path_, "is a directory, not a MERL .binary file");
+  fd_ = ::open(path_.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd_ < 0) throw file_error(path_, std::string("cannot open: ") + std::strerror(errno));
+  try {
+    struct stat st {};
+    if (::fstat(fd_, &st) != 0) throw file_error(path_, "cannot stat");
+    const auto size = static_cast<std::uint64_t>(st.st_size);
+    if (size == 0) throw file_error(path_, "empty file, expected a MERL .binary BRDF");
+    if (size < kHeaderBytes)
+      throw file_error(path_, "truncated: " + std::to_string(size) +
+                                  " bytes, shorter than the 12-byte MERL header");
+    std::int32_t header[3];
+    read_exact(fd_, path_, header, sizeof header, 0);
+    for (int d = 0; d < 3; ++d) {
+      if (header[d] <= 0 || header[d] > kMaxMerlDim)
+        throw file_error(path_, "invalid MERL header: dims " + std::to_string(header[0]) + " " +
+                                    std::to_string(header[1]) + " " + std::to_string(header[2]) +
+                                    " (each must be in 1.." + std::to_string(kMaxMerlDim) +
+                                    "; is this a MERL .binary file?)");
+    }
+    dims_ = {header[0], header[1], header[2]};
+    const std::uint64_t expected = kHeaderBytes + 3 * dims_.bins() * sizeof(double);
+    if (size != expected)
+      throw file_error(path_, (size < expected ? "truncated: " : "size mismatch: ") +
+                                  std::to_string(size) + " bytes, but header " + dims_.to_string() +
+                                  " needs " + std::to_string(expected));
+  } catch (...) {
+    ::close(fd_);
+    fd_ = -1;
+    throw;
+  }
+}
+
+MerlFile::MerlFile(MerlFile&& other) noexcept
+    : path_(std::move(other.path_)), dims_(other.dims_), fd_(other.fd_) {
+  other.fd_ = -1;
+}
+
+MerlFile& MerlFile::operator=(MerlFile&& other) noexcept {
+  if (this != &other) {
+    if (fd_ >= 0) ::close(fd_);
+    path_ = std::move(other.path_);
+    dims_ = other.dims_;
+    fd_ = other.fd_;
+    other.fd_ = -1;
+  }
+  return *this;
+}
+
+MerlFile::~MerlFile() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+void MerlFile::read_values(std::size_t first, std::size_t count, double* out) const {
+  if (first + count > value_count())
+    throw file_error(path_, "read past the end of the table (internal error)");
+  read_exact(fd_, path_, out, count * sizeof(double), kHeaderBytes + first * sizeof(double));
+  for (std::size_t i = 0; i < count; ++i) {
+    if (!std::isfinite(out[i])) {
+      const std::size_t index = first + i, bins = dims_.bins();
+      throw file_error(path_, std::string(std::isnan(out[i]) ? "NaN" : "infinite") +
+                                  " value in the " + channel_name(index / bins) +
+                                  " channel at bin " + std::to_string(index % bins));
+    }
+  }
+}
+
+BrdfTable read_merl(const fs::path& path) {
+  MerlFile file(path);
+  BrdfTable table(file.dims());
+  file.read_values(0, table.size(), table.stored().data());
+  return table;
+}
+
+void write_merl(const fs::path& path, const BrdfTable& table, bool allow_nonstandard_dims) {
+  if (!allow_nonstandard_dims && !table.dims().is_standard())
+    throw file_error(path, "refusing to write a " + table.dims().to_string() +
+                               " table: MERL files for other tools are 90x90x180");
+  const std::int32_t header[3] = {table.dims().theta_h, table.dims().theta_d, table.dims().phi_d};
+  AtomicFile out(path);
+  out.write(header, sizeof header);
+  out.write(table.stored().data(), table.stored().size() * sizeof(double));
+  out.commit();
+}
+
+}  // namespace matlas

@@ -1,0 +1,51 @@
+#pragma once
+// MERL `.binary` BRDF files: int32 header (theta_h, theta_d, phi_d bin counts, little-endian),
+// then 3 * bins float64 values in stored units: red block, green block, blue block.
+//
+// Every error is a matlas::Error naming the file: missing, a directory, empty or truncated, size
+// not matching the header, negative or absurd dims, NaN or infinite values.
+#include <cstddef>
+#include <filesystem>
+
+#include "brdf/brdf_table.h"
+
+namespace matlas {
+
+/// An open, validated MERL file from which ranges of values can be read (streaming ingestion).
+class MerlFile {
+public:
+  explicit MerlFile(std::filesystem::path path);
+  MerlFile(MerlFile&& other) noexcept;
+  MerlFile& operator=(MerlFile&& other) noexcept;
+  MerlFile(const MerlFile&) = delete;
+  MerlFile& operator=(const MerlFile&) = delete;
+  ~MerlFile();
+
+  const std::filesystem::path& path() const { return path_; }
+  const MerlDims& dims() const { return dims_; }
+  /// 3 * bins.
+  std::size_t value_count() const { return 3 * dims_.bins(); }
+  static constexpr std::size_t kHeaderBytes = 12;
+
+  /// Reads values [first, first + count) in stored units (negative = missing). Throws if a value
+  /// is NaN or infinite, naming the file and the value's channel and bin.
+  void read_values(std::size_t first, std::size_t count, double* out) const;
+
+private:
+  std::filesystem::path path_;
+  MerlDims dims_{};
+  int fd_ = -1;
+};
+
+/// Reads a whole MERL file.
+BrdfTable read_merl(const std::filesystem::path& path);
+
+/// Writes a MERL file atomically. Files meant for other tools must have the standard 90x90x180
+/// grid: other dims are refused unless allow_nonstandard_dims is set.
+void write_merl(const std::filesystem::path& path, const BrdfTable& table,
+                bool allow_nonstandard_dims = false);
+
+/// Largest bin count accepted per dimension (MERL uses at most 180).
+inline constexpr int kMaxMerlDim = 4096;
+
+}  // namespace matlas
