@@ -42,6 +42,7 @@ void print_info(const std::string& path) {
 
 }  // namespace
 
+namespace {
 void add_info_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("info", "Describe MERL .binary BRDF files");
   auto files = std::make_shared<std::vector<std::string>>();
@@ -50,5 +51,8 @@ void add_info_command(CLI::App& app) {
     for (const auto& f : *files) print_info(f);
   });
 }
+}  // namespace
+
+MATLAS_COMMAND(20, add_info_command);
 
 }  // namespace matlas::cli

@@ -1,11 +1,28 @@
 #pragma once
-// Each subcommand lives in its own cmd_NAME.cpp and registers itself on the root app here.
+// Each subcommand lives in its own cmd_NAME.cpp and registers itself with MATLAS_COMMAND, so
+// adding a command touches no other file. Registration order (`order`) is the order of --help.
 // A command's callback throws matlas::Error for bad input (exit 1); CLI11 reports usage errors
 // (exit 2).
+#include <vector>
+
 #include <CLI/CLI.hpp>
 
 namespace matlas::cli {
 
-void add_info_command(CLI::App& app);
+using CommandFactory = void (*)(CLI::App& app);
+
+struct RegisteredCommand {
+  int order;
+  CommandFactory add;
+};
+
+/// Called at static-initialisation time by MATLAS_COMMAND.
+bool register_command(int order, CommandFactory add);
+/// Every registered command, sorted by order.
+std::vector<RegisteredCommand> registered_commands();
 
 }  // namespace matlas::cli
+
+#define MATLAS_COMMAND(order, factory) \
+  [[maybe_unused]] static const bool matlas_registered_command = \
+      ::matlas::cli::register_command(order, factory)

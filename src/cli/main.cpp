@@ -14,7 +14,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.fallthrough(false);
 
-  matlas::cli::add_info_command(app);
+  for (const auto& command : matlas::cli::registered_commands()) command.add(app);
 
   try {
     app.parse(argc, argv);
