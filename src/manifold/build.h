@@ -1,0 +1,43 @@
+#pragma once
+// Building a manifold model from a MaterialSet: two streaming passes over the files.
+//   pass 1: validity mask (a column is kept only if every material is measured there), mean,
+//           centred Gram S = (Z - mean)(Z - mean)^T of the data (double) and of the layout
+//           transform of the data (used to place the latent points), source file hashes;
+//   latent placement: PCA initialisation, then maximisation of the GP log-likelihood;
+//   pass 2: the centred data, column-interleaved, streamed into the model file.
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+#include "core/progress.h"
+#include "gp/optimize.h"
+#include "manifold/gram.h"
+#include "manifold/material_set.h"
+
+namespace matlas {
+
+enum class Storage { f32, f16 };
+
+struct BuildOptions {
+  int dim = 2;                       ///< latent dimension q (1..10)
+  double nugget = 1e-4;              ///< delta on the diagonal of K
+  LayoutTransform layout{};          ///< data transform used to place the latent points
+  gp::OptimizeOptions optimize{};    ///< optimiser and its limits
+  Storage storage = Storage::f32;    ///< precision of the stored centred data
+  std::size_t block_columns = 32768; ///< columns per streamed block
+};
+
+struct BuildReport {
+  std::size_t kept_columns = 0, dropped_columns = 0;
+  double log_likelihood = 0;
+  gp::OptimizeResult optimization;
+  double pass1_seconds = 0, optimize_seconds = 0, pass2_seconds = 0;
+  /// Relative L2 error of the stored (rounded) data against the double data: float32 or float16.
+  double storage_relative_error = 0;
+};
+
+/// Builds a model and writes it atomically to `output`.
+BuildReport build_model(const MaterialSet& set, const BuildOptions& options,
+                        const std::filesystem::path& output, ProgressSink& progress = null_progress());
+
+}  // namespace matlas

@@ -1,0 +1,41 @@
+#pragma once
+// Pass 1 of a build: validity mask, mean and centred Gram matrices of a MaterialSet, in double.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/progress.h"
+#include "manifold/material_set.h"
+
+namespace matlas {
+
+/// The transform of the data used to place the latent points (the interpolation itself always
+/// stays linear in the original data). Each value f at bin b becomes
+///   g(f) * (cosine_weighted ? cos(theta_i) cos(theta_o) at the bin centre : 1)
+/// with g the identity, cube root, or log(1 + f / 0.01).
+struct LayoutTransform {
+  enum class Map { linear, cube_root, log } map = Map::linear;
+  bool cosine_weighted = false;
+
+  std::string to_string() const;  ///< e.g. "linear", "cosine-cbrt", "log"
+  /// Parses "linear", "cbrt", "log", optionally prefixed "cosine-"; throws matlas::Error.
+  static LayoutTransform parse(const std::string& name);
+  bool is_identity() const { return map == Map::linear && !cosine_weighted; }
+};
+
+struct GramResult {
+  std::vector<bool> kept;         ///< per value index: every material measured
+  std::size_t kept_columns = 0;
+  Eigen::VectorXd mean;           ///< per kept column, in value-index order
+  Eigen::MatrixXd gram;           ///< n x n centred Gram of the linear data
+  Eigen::MatrixXd layout_gram;    ///< n x n centred Gram of the transformed data
+  Eigen::MatrixXd albedo;         ///< n x (90 * 3) directional albedo curves of the kept data
+  std::vector<std::uint64_t> hashes;  ///< xxh64 of each input file
+};
+
+GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout,
+                           std::size_t block_columns, ProgressSink& progress);
+
+}  // namespace matlas

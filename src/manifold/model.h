@@ -1,0 +1,98 @@
+#pragma once
+// Model: a built material manifold, opened read-only by memory-mapping a `.matlas` file
+// (docs/MODEL_FORMAT.md). It answers every query of the GP interpolation
+//
+//     m(x) = mean + sum_i w_i(x) (z_i - mean),   w(x) = K^-1 k(x),
+//
+// where z_i are the n input tables restricted to the kept columns (columns where every input has a
+// measurement; the others read as missing). The centred data is stored column-interleaved (one
+// contiguous run of n values per column), so a single value at x costs one dot product of length n
+// once w(x) is known.
+#include <cstddef>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "brdf/brdf_table.h"
+#include "gp/posterior.h"
+
+namespace matlas {
+
+class MappedFile;
+
+/// Number of albedo-curve samples stored per material: theta_o at bin centres of 90 uniform
+/// bins over [0, 90) degrees.
+inline constexpr int kAlbedoAngles = 90;
+
+class Model {
+public:
+  /// Opens and validates a model; throws matlas::Error naming the file if it is missing,
+  /// truncated, corrupted or not a matlas model.
+  static Model open(const std::filesystem::path& path);
+
+  Model(Model&&) noexcept;
+  Model& operator=(Model&&) noexcept;
+  ~Model();
+
+  // --- Description ---
+  const std::filesystem::path& path() const;
+  int count() const;  ///< n, the number of input materials
+  int dim() const;    ///< q, the latent dimension
+  const std::vector<std::string>& names() const;
+  /// Index of a material by name; throws matlas::Error listing close names if unknown.
+  int index_of(const std::string& name) const;
+  const Eigen::MatrixXd& latent() const;  ///< n x q latent points
+  const MerlDims& dims() const;
+  std::size_t kept_columns() const;  ///< D'
+  const gp::GpPosterior& posterior() const;
+  /// Everything in the header's metadata (names, kernel, optimiser, likelihood, sources, ...).
+  const nlohmann::json& metadata() const;
+  /// Per-material directional albedo curves, n x (kAlbedoAngles * 3), [theta][channel].
+  const Eigen::MatrixXd& material_albedo() const;
+  /// Latent bounding box, min and max per dimension.
+  Eigen::VectorXd latent_min() const;
+  Eigen::VectorXd latent_max() const;
+
+  // --- Queries ---
+  /// w(x) = K^-1 k(x) (length n); at a material's own point exactly e_i.
+  Eigen::VectorXd weights(const Eigen::Ref<const Eigen::VectorXd>& x) const;
+  /// Weights with all mass on material i.
+  Eigen::VectorXd material_weights(int i) const;
+  /// GP predictive variance in kernel units: 0 at the data, towards 1 far from it.
+  double variance(const Eigen::Ref<const Eigen::VectorXd>& x) const;
+  /// Whether value index v (channel * bins + bin) is a kept column.
+  bool kept(std::size_t value_index) const;
+  /// Physical value of value index v for weights w; NaN where the column was dropped.
+  double value(std::size_t value_index, const Eigen::Ref<const Eigen::VectorXd>& w) const;
+  /// Physical RGB of one bin for weights w (dropped channels read as 0).
+  Rgb bin_rgb(std::size_t bin, const Eigen::Ref<const Eigen::VectorXd>& w) const;
+  /// f(wi, wo) by MERL's nearest-bin lookup through the model (local frame, normal +z).
+  Rgb lookup(const Vec3& wi, const Vec3& wo, const Eigen::Ref<const Eigen::VectorXd>& w) const;
+  /// The whole table for weights w; dropped columns are missing (written -1 to MERL files).
+  BrdfTable table(const Eigen::Ref<const Eigen::VectorXd>& w) const;
+  /// Directional albedo curve for weights w, by linearity from the per-material curves:
+  /// kAlbedoAngles entries.
+  std::vector<Rgb> albedo_curve(const Eigen::Ref<const Eigen::VectorXd>& w) const;
+
+  // --- Raw storage (for fast paths such as rendering and benchmarks) ---
+  /// Kept column of value index v, or -1.
+  int column_of(std::size_t value_index) const;
+  /// Mean over materials of kept column c.
+  float mean(std::size_t column) const;
+  /// The centred data: n contiguous values of kept column c (float32 storage), or nullptr when
+  /// the model stores float16 (use value()).
+  const float* centred_f32(std::size_t column) const;
+  /// Storage precision of the centred data: "F32" or "F16".
+  const std::string& storage() const;
+
+private:
+  struct Impl;
+  explicit Model(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace matlas
