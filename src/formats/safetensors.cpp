@@ -1,0 +1,262 @@
+#include "formats/safetensors.h"
+
+#include <algorithm>
+#include <bit>
+#include <cerrno>
+#include <cstring>
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+
+namespace matlas {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+static_assert(std::endian::native == std::endian::little, "matlas assumes a little-endian host");
+
+namespace {
+constexpr std::size_t kAlignment = 64;
+constexpr std::uint64_t kMaxHeaderBytes = 100u << 20;
+}  // namespace
+
+std::size_t dtype_size(DType t) {
+  switch (t) {
+    case DType::F64: case DType::I64: return 8;
+    case DType::F32: case DType::I32: return 4;
+    case DType::F16: return 2;
+    case DType::U8: return 1;
+  }
+  return 0;
+}
+
+const char* dtype_name(DType t) {
+  switch (t) {
+    case DType::F64: return "F64";
+    case DType::F32: return "F32";
+    case DType::F16: return "F16";
+    case DType::I32: return "I32";
+    case DType::I64: return "I64";
+    case DType::U8: return "U8";
+  }
+  return "?";
+}
+
+std::optional<DType> dtype_from_name(const std::string& name) {
+  for (DType t : {DType::F64, DType::F32, DType::F16, DType::I32, DType::I64, DType::U8})
+    if (name == dtype_name(t)) return t;
+  return std::nullopt;
+}
+
+std::size_t TensorInfo::elements() const {
+  std::size_t n = 1;
+  for (auto d : shape) n *= static_cast<std::size_t>(d);
+  return n;
+}
+
+// ---------------------------------------------------------------- writer
+
+void SafetensorsWriter::add_metadata(const std::string& key, const std::string& value) {
+  metadata_[key] = value;
+}
+
+void SafetensorsWriter::declare(const std::string& name, DType dtype,
+                                std::vector<std::int64_t> shape) {
+  TensorInfo t;
+  t.name = name;
+  t.dtype = dtype;
+  t.shape = std::move(shape);
+  t.begin = expected_;
+  t.end = expected_ + t.elements() * dtype_size(dtype);
+  expected_ = t.end;
+  tensors_.push_back(std::move(t));
+}
+
+void SafetensorsWriter::begin(const fs::path& path) {
+  json header = json::object();
+  for (const auto& t : tensors_)
+    header[t.name] = {{"dtype", dtype_name(t.dtype)}, {"shape", t.shape},
+                      {"data_offsets", {t.begin, t.end}}};
+  if (!metadata_.empty()) header["__metadata__"] = metadata_;
+  std::string text = header.dump();
+  const std::size_t padded = (8 + text.size() + kAlignment - 1) / kAlignment * kAlignment - 8;
+  text.resize(padded, ' ');
+  file_ = std::make_unique<AtomicFile>(path);
+  const std::uint64_t length = text.size();
+  file_->write(&length, 8);
+  file_->write(text);
+}
+
+void SafetensorsWriter::write(const void* data, std::size_t bytes) {
+  if (!file_) throw Error("SafetensorsWriter::write before begin (internal error)");
+  if (written_ + bytes > expected_)
+    throw file_error(file_->target(), "more tensor data than declared (internal error)");
+  file_->write(data, bytes);
+  written_ += bytes;
+}
+
+void SafetensorsWriter::commit() {
+  if (!file_) throw Error("SafetensorsWriter::commit before begin (internal error)");
+  if (written_ != expected_)
+    throw file_error(file_->target(), "incomplete tensor data: " + std::to_string(written_) +
+                                          " of " + std::to_string(expected_) + " bytes (internal error)");
+  file_->commit();
+}
+
+// ---------------------------------------------------------------- mapping
+
+MappedFile::MappedFile(const fs::path& path) : path_(path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw file_error(path, "no such file");
+  if (fs::is_directory(path, ec)) throw file_error(path, "is a directory, expected a file");
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw file_error(path, std::string("cannot open: ") + std::strerror(errno));
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) {
+    ::close(fd);
+    throw file_error(path, "cannot stat");
+  }
+  size_ = static_cast<std::size_t>(st.st_size);
+  if (size_ > 0) {
+    void* p = ::mmap(nullptr, size_, PROT_READ, MAP_SHARED, fd, 0);
+    if (p == MAP_FAILED) {
+      ::close(fd);
+      throw file_error(path, std::string("cannot memory-map: ") + std::strerror(errno));
+    }
+    data_ = static_cast<const std::byte*>(p);
+  }
+  ::close(fd);
+}
+
+MappedFile::~MappedFile() {
+  if (data_) ::munmap(const_cast<std::byte*>(data_), size_);
+}
+
+// ---------------------------------------------------------------- reader
+
+SafetensorsFile SafetensorsFile::open(const fs::path& path) {
+  SafetensorsFile f;
+  f.map_ = std::make_shared<MappedFile>(path);
+  const std::size_t size = f.map_->size();
+  if (size == 0) throw file_error(path, "empty file");
+  if (size < 8) throw file_error(path, "truncated: too short for a safetensors header");
+  std::uint64_t length = 0;
+  std::memcpy(&length, f.map_->data(), 8);
+  if (length < 2 || length > kMaxHeaderBytes)
+    throw file_error(path, "not a safetensors file (header length " + std::to_string(length) + ")");
+  if (8 + length > size)
+    throw file_error(path, "truncated: header says " + std::to_string(length) +
+                               " bytes but the file has " + std::to_string(size));
+  const char* text = reinterpret_cast<const char*>(f.map_->data() + 8);
+  json header;
+  try {
+    header = json::parse(text, text + length);
+  } catch (const json::exception& e) {
+    throw file_error(path, std::string("not a safetensors file (header is not JSON: ") + e.what() + ")");
+  }
+  if (!header.is_object()) throw file_error(path, "not a safetensors file (header is not an object)");
+  f.data_ = f.map_->data() + 8 + length;
+  const std::size_t buffer = size - 8 - length;
+  try {
+    for (auto it = header.begin(); it != header.end(); ++it) {
+      if (it.key() == "__metadata__") {
+        for (auto m = it->begin(); m != it->end(); ++m) f.metadata_[m.key()] = m->get<std::string>();
+        continue;
+      }
+      TensorInfo t;
+      t.name = it.key();
+      const auto dtype = dtype_from_name(it->at("dtype").get<std::string>());
+      if (!dtype) throw file_error(path, "tensor '" + t.name + "' has an unsupported dtype");
+      t.dtype = *dtype;
+      t.shape = it->at("shape").get<std::vector<std::int64_t>>();
+      const auto offsets = it->at("data_offsets").get<std::vector<std::size_t>>();
+      if (offsets.size() != 2 || offsets[0] > offsets[1])
+        throw file_error(path, "tensor '" + t.name + "' has invalid data offsets");
+      t.begin = offsets[0];
+      t.end = offsets[1];
+      for (auto d : t.shape)
+        if (d < 0) throw file_error(path, "tensor '" + t.name + "' has a negative dimension");
+      if (t.elements() * dtype_size(t.dtype) != t.bytes())
+        throw file_error(path, "tensor '" + t.name + "': shape and byte size disagree (corrupted header)");
+      if (t.end > buffer)
+        throw file_error(path, "truncated: tensor '" + t.name + "' ends at byte " +
+                                   std::to_string(t.end) + " of a " + std::to_string(buffer) +
+                                   "-byte data buffer");
+      f.tensors_.push_back(std::move(t));
+    }
+  } catch (const json::exception& e) {
+    throw file_error(path, std::string("corrupted safetensors header: ") + e.what());
+  }
+  std::sort(f.tensors_.begin(), f.tensors_.end(),
+            [](const TensorInfo& a, const TensorInfo& b) { return a.begin < b.begin; });
+  std::size_t cursor = 0;
+  for (const auto& t : f.tensors_) {
+    if (t.begin != cursor)
+      throw file_error(path, "corrupted safetensors header: tensor '" + t.name + "' overlaps or leaves a hole");
+    cursor = t.end;
+  }
+  if (cursor != buffer)
+    throw file_error(path, "size mismatch: " + std::to_string(buffer - cursor) +
+                               " unexpected bytes after the last tensor");
+  return f;
+}
+
+const TensorInfo* SafetensorsFile::find(const std::string& name) const {
+  for (const auto& t : tensors_)
+    if (t.name == name) return &t;
+  return nullptr;
+}
+
+const TensorInfo& SafetensorsFile::require(const std::string& name, DType dtype,
+                                           const std::vector<std::int64_t>& shape) const {
+  const TensorInfo* t = find(name);
+  if (!t) throw file_error(path(), "missing tensor '" + name + "'");
+  if (t->dtype != dtype)
+    throw file_error(path(), "tensor '" + name + "' is " + dtype_name(t->dtype) + ", expected " +
+                                 dtype_name(dtype));
+  if (!shape.empty() && t->shape != shape)
+    throw file_error(path(), "tensor '" + name + "' has an unexpected shape");
+  return *t;
+}
+
+// ---------------------------------------------------------------- half floats
+
+std::uint16_t float_to_half(float value) {
+  const std::uint32_t f = std::bit_cast<std::uint32_t>(value);
+  const std::uint32_t sign = (f >> 16) & 0x8000u;
+  const std::uint32_t abs = f & 0x7fffffffu;
+  if (abs >= 0x7f800000u)  // Inf or NaN
+    return static_cast<std::uint16_t>(sign | 0x7c00u | (abs > 0x7f800000u ? 0x200u : 0u));
+  if (abs >= 0x477ff000u) return static_cast<std::uint16_t>(sign | 0x7c00u);  // overflow -> Inf
+  if (abs < 0x38800000u) {  // subnormal half (or zero)
+    const float magnitude = std::bit_cast<float>(abs);
+    // Scale so the half subnormal step (2^-24) becomes 1, then round to nearest even.
+    const float scaled = magnitude * 16777216.0f;
+    const auto rounded = static_cast<std::uint32_t>(std::nearbyint(scaled));
+    return static_cast<std::uint16_t>(sign | rounded);
+  }
+  // Normal: rebias the exponent and round the mantissa to 10 bits, nearest even.
+  std::uint32_t h = ((abs - 0x38000000u) >> 13);
+  const std::uint32_t rest = abs & 0x1fffu;
+  if (rest > 0x1000u || (rest == 0x1000u && (h & 1u))) ++h;
+  return static_cast<std::uint16_t>(sign | h);
+}
+
+float half_to_float(std::uint16_t h) {
+  const std::uint32_t sign = static_cast<std::uint32_t>(h & 0x8000u) << 16;
+  const std::uint32_t exponent = (h >> 10) & 0x1fu;
+  const std::uint32_t mantissa = h & 0x3ffu;
+  if (exponent == 0) {
+    const float magnitude = static_cast<float>(mantissa) * (1.0f / 16777216.0f);
+    return sign ? -magnitude : magnitude;
+  }
+  if (exponent == 31) return std::bit_cast<float>(sign | 0x7f800000u | (mantissa << 13));
+  return std::bit_cast<float>(sign | ((exponent + 112u) << 23) | (mantissa << 13));
+}
+
+}  // namespace matlas

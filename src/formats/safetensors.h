@@ -1,0 +1,119 @@
+#pragma once
+// The safetensors container (https://github.com/huggingface/safetensors): an 8-byte little-endian
+// header length N, N bytes of JSON describing each tensor (dtype, shape, [begin, end) byte offsets
+// into the data buffer that follows) plus a "__metadata__" map of strings, then the raw
+// little-endian tensor data, with no holes. numpy and the `safetensors` Python package read it.
+//
+// matlas writes the header padded with spaces so that the data buffer starts 64-byte aligned,
+// and orders tensors by decreasing element size so every tensor is naturally aligned in a
+// memory map.
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/atomic_file.h"
+
+namespace matlas {
+
+/// Element types used by matlas.
+enum class DType { F64, F32, F16, I32, I64, U8 };
+std::size_t dtype_size(DType t);
+const char* dtype_name(DType t);
+std::optional<DType> dtype_from_name(const std::string& name);
+
+struct TensorInfo {
+  std::string name;
+  DType dtype = DType::F32;
+  std::vector<std::int64_t> shape;
+  std::size_t begin = 0, end = 0;  ///< byte offsets into the data buffer
+  std::size_t elements() const;
+  std::size_t bytes() const { return end - begin; }
+};
+
+/// Streaming writer: declare every tensor and the metadata, then write the tensors' bytes in
+/// declaration order (in as many pieces as convenient), then commit. The file appears at its
+/// path only when complete (AtomicFile).
+class SafetensorsWriter {
+public:
+  void add_metadata(const std::string& key, const std::string& value);
+  /// Declares a tensor. Tensors are written in the order declared; declare larger element
+  /// types first to keep every tensor aligned.
+  void declare(const std::string& name, DType dtype, std::vector<std::int64_t> shape);
+
+  /// Creates the file and writes the header.
+  void begin(const std::filesystem::path& path);
+  /// Appends tensor bytes (in declaration order).
+  void write(const void* data, std::size_t bytes);
+  template <class T>
+  void write(std::span<const T> values) { write(values.data(), values.size_bytes()); }
+  /// Checks that every declared byte was written, then renames the file into place.
+  void commit();
+
+private:
+  std::vector<TensorInfo> tensors_;
+  std::map<std::string, std::string> metadata_;
+  std::unique_ptr<AtomicFile> file_;
+  std::size_t expected_ = 0, written_ = 0;
+};
+
+/// A read-only memory map of a whole file.
+class MappedFile {
+public:
+  explicit MappedFile(const std::filesystem::path& path);
+  MappedFile(const MappedFile&) = delete;
+  MappedFile& operator=(const MappedFile&) = delete;
+  ~MappedFile();
+  const std::byte* data() const { return data_; }
+  std::size_t size() const { return size_; }
+  const std::filesystem::path& path() const { return path_; }
+
+private:
+  std::filesystem::path path_;
+  const std::byte* data_ = nullptr;
+  std::size_t size_ = 0;
+};
+
+/// Memory-mapped reader. Validates the whole header on open: errors name the file and say
+/// whether it is not a safetensors file, truncated, or inconsistent.
+class SafetensorsFile {
+public:
+  static SafetensorsFile open(const std::filesystem::path& path);
+
+  const std::filesystem::path& path() const { return map_->path(); }
+  const std::map<std::string, std::string>& metadata() const { return metadata_; }
+  const std::vector<TensorInfo>& tensors() const { return tensors_; }
+  const TensorInfo* find(const std::string& name) const;
+  /// The tensor's info; throws matlas::Error naming the file if it is absent, has another dtype
+  /// or (when `shape` is not empty) another shape.
+  const TensorInfo& require(const std::string& name, DType dtype,
+                            const std::vector<std::int64_t>& shape = {}) const;
+  /// Raw bytes of a tensor.
+  const std::byte* bytes(const TensorInfo& t) const { return data_ + t.begin; }
+  /// Typed view of a tensor (checks dtype and, if given, shape).
+  template <class T>
+  std::span<const T> view(const std::string& name, DType dtype,
+                          const std::vector<std::int64_t>& shape = {}) const {
+    const TensorInfo& t = require(name, dtype, shape);
+    return {reinterpret_cast<const T*>(bytes(t)), t.elements()};
+  }
+  /// Size of the whole file.
+  std::size_t file_size() const { return map_->size(); }
+
+private:
+  std::shared_ptr<MappedFile> map_;
+  const std::byte* data_ = nullptr;
+  std::vector<TensorInfo> tensors_;
+  std::map<std::string, std::string> metadata_;
+};
+
+/// IEEE half <-> float conversions (round to nearest even), portable.
+std::uint16_t float_to_half(float f);
+float half_to_float(std::uint16_t h);
+
+}  // namespace matlas

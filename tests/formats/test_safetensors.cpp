@@ -1,0 +1,116 @@
+#include <cmath>
+#include <cstring>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "formats/safetensors.h"
+#include "support/temp_dir.h"
+
+namespace matlas {
+namespace {
+
+std::string open_error(const std::filesystem::path& p) {
+  try {
+    SafetensorsFile::open(p);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+void write_sample(const std::filesystem::path& p) {
+  const std::vector<double> a = {1.5, -2.25, 3.0};
+  const std::vector<float> b = {1, 2, 3, 4, 5, 6};
+  SafetensorsWriter w;
+  w.add_metadata("matlas", "{\"x\":1}");
+  w.declare("a", DType::F64, {3});
+  w.declare("b", DType::F32, {2, 3});
+  w.begin(p);
+  w.write(std::span<const double>(a));
+  w.write(b.data(), 4 * sizeof(float));
+  w.write(b.data() + 4, 2 * sizeof(float));
+  w.commit();
+}
+
+TEST(Safetensors, RoundTripWithAlignedData) {
+  test::TempDir dir;
+  write_sample(dir / "t.safetensors");
+  const auto f = SafetensorsFile::open(dir / "t.safetensors");
+  EXPECT_EQ(f.metadata().at("matlas"), "{\"x\":1}");
+  const auto a = f.view<double>("a", DType::F64, {3});
+  EXPECT_EQ(a[1], -2.25);
+  const auto b = f.view<float>("b", DType::F32, {2, 3});
+  EXPECT_EQ(b[5], 6.0f);
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(a.data()) % 64, 0u);
+  EXPECT_THROW(f.view<float>("a", DType::F32), Error);
+  EXPECT_THROW(f.view<float>("b", DType::F32, {3, 2}), Error);
+  EXPECT_THROW(f.view<float>("zz", DType::F32), Error);
+}
+
+TEST(Safetensors, HeaderFollowsTheSpecification) {
+  // Parse the file by hand: u64 length, JSON, data.
+  test::TempDir dir;
+  write_sample(dir / "t.safetensors");
+  std::ifstream in(dir / "t.safetensors", std::ios::binary);
+  std::uint64_t n = 0;
+  in.read(reinterpret_cast<char*>(&n), 8);
+  std::string header(n, '\0');
+  in.read(header.data(), static_cast<std::streamsize>(n));
+  EXPECT_NE(header.find("\"a\":{\"data_offsets\":[0,24],\"dtype\":\"F64\",\"shape\":[3]}"), std::string::npos);
+  EXPECT_NE(header.find("\"data_offsets\":[24,48]"), std::string::npos);
+  double first = 0;
+  in.read(reinterpret_cast<char*>(&first), 8);
+  EXPECT_EQ(first, 1.5);
+}
+
+TEST(Safetensors, TruncatedCorruptedAndForeignFilesAreRejected) {
+  test::TempDir dir;
+  const auto p = dir / "t.safetensors";
+  write_sample(p);
+  const auto size = std::filesystem::file_size(p);
+  std::filesystem::resize_file(p, size - 4);
+  EXPECT_NE(open_error(p).find("truncated"), std::string::npos);
+  write_sample(p);
+  {
+    std::fstream f(p, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(9);
+    f.write("#", 1);  // break the JSON
+  }
+  EXPECT_NE(open_error(p).find("not a safetensors file"), std::string::npos);
+  { std::ofstream(p, std::ios::binary) << "hello, this is a text file and not a model"; }
+  EXPECT_NE(open_error(p).find("not a safetensors file"), std::string::npos);
+  EXPECT_NE(open_error(dir / "nope").find("no such file"), std::string::npos);
+}
+
+TEST(Safetensors, IncompleteWriteLeavesNoFile) {
+  test::TempDir dir;
+  {
+    SafetensorsWriter w;
+    w.declare("a", DType::F64, {3});
+    w.begin(dir / "t.safetensors");
+    const double x = 1;
+    w.write(&x, 8);
+    EXPECT_THROW(w.commit(), Error);
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "t.safetensors"));
+}
+
+TEST(HalfFloat, EveryHalfRoundTripsAndRoundingIsNearest) {
+  for (std::uint32_t h = 0; h < 65536; ++h) {
+    const float f = half_to_float(static_cast<std::uint16_t>(h));
+    if (std::isnan(f)) continue;
+    EXPECT_EQ(float_to_half(f), h) << h;
+  }
+  EXPECT_EQ(half_to_float(float_to_half(1.0f)), 1.0f);
+  EXPECT_EQ(half_to_float(float_to_half(65504.0f)), 65504.0f);
+  EXPECT_TRUE(std::isinf(half_to_float(float_to_half(1e6f))));
+  // 1 + 2^-11 is halfway between 1 and 1 + 2^-10: ties to even (1).
+  EXPECT_EQ(half_to_float(float_to_half(1.0f + 0.00048828125f)), 1.0f);
+  EXPECT_EQ(half_to_float(float_to_half(1.0f + 0.0007f)), 1.0f + 0.0009765625f);
+  EXPECT_NEAR(half_to_float(float_to_half(3.14159f)), 3.14159f, 3.14159f * 0.0005f);
+}
+
+}  // namespace
+}  // namespace matlas
