@@ -1,0 +1,21 @@
+#pragma once
+// PCA initialisation of the latent points.
+#include <Eigen/Core>
+
+#include "gp/likelihood.h"
+
+namespace matlas::gp {
+
+/// PCA initialisation: the top-q principal component scores of the data (eigenvectors u_k of the
+/// centred Gram S scaled by sqrt(lambda_k)), multiplied by one global factor a chosen to maximise
+/// log_likelihood(p, a X): a coarse log-spaced scan over 6 decades around the scale where the
+/// points have unit RMS radius, then golden-section refinement on log a. Eigenvector signs are
+/// fixed (largest-magnitude entry positive), so the result is deterministic and does not change
+/// when the data are scaled. Returns n x q. Throws matlas::Error for q < 1 or a malformed problem.
+Eigen::MatrixXd pca_initialization(const LikelihoodProblem& p, int q);
+
+/// The scan-and-golden-section search used above: the factor a > 0 maximising the likelihood of
+/// a * X, searched on log a within [a_min, a_max]. Exposed for tests and diagnostics.
+double best_scale_factor(LikelihoodEvaluator& evaluator, const Eigen::MatrixXd& X, double a_min, double a_max);
+
+}  // namespace matlas::gp

@@ -1,0 +1,70 @@
+#include "gp/kernel.h"
+
+#include <cmath>
+#include <string>
+
+#include "core/error.h"
+
+namespace matlas::gp {
+
+namespace {
+
+void check_dimensions(const Eigen::MatrixXd& X, Eigen::Index q, const char* what) {
+  if (X.cols() != q)
+    throw Error(std::string(what) + ": point has dimension " + std::to_string(q) + " but the latent points have " +
+                std::to_string(X.cols()));
+}
+
+}  // namespace
+
+double Kernel::operator()(const Eigen::Ref<const Eigen::VectorXd>& a,
+                          const Eigen::Ref<const Eigen::VectorXd>& b) const {
+  return std::exp(-(a - b).squaredNorm() / (lengthscale * lengthscale));
+}
+
+void validate(const Kernel& k) {
+  if (!std::isfinite(k.lengthscale) || k.lengthscale <= 0)
+    throw Error("kernel: lengthscale must be a finite positive number (got " + std::to_string(k.lengthscale) + ")");
+  if (!std::isfinite(k.nugget) || k.nugget < 0)
+    throw Error("kernel: nugget must be a finite number >= 0 (got " + std::to_string(k.nugget) + ")");
+}
+
+void squared_distances(const Eigen::MatrixXd& X, Eigen::MatrixXd& D) {
+  const Eigen::Index n = X.rows();
+  D.setZero(n, n);
+  // Column-wise accumulation vectorises over i; the same expression for (i, j) and (j, i) keeps D
+  // exactly symmetric because (a - b)^2 == (b - a)^2 in floating point.
+  for (Eigen::Index d = 0; d < X.cols(); ++d)
+    for (Eigen::Index j = 0; j < n; ++j) D.col(j).array() += (X.col(d).array() - X(j, d)).square();
+}
+
+Eigen::MatrixXd covariance_matrix(const Eigen::MatrixXd& X, const Kernel& k) {
+  Eigen::MatrixXd K;
+  squared_distances(X, K);
+  K = (K.array() * (-1.0 / (k.lengthscale * k.lengthscale))).exp().matrix();
+  // The vectorised exp may round the tail of the array differently: mirror the upper triangle so
+  // that K is exactly symmetric.
+  for (Eigen::Index j = 0; j < K.cols(); ++j)
+    for (Eigen::Index i = j + 1; i < K.rows(); ++i) K(i, j) = K(j, i);
+  K.diagonal().array() += k.nugget;
+  return K;
+}
+
+Eigen::VectorXd cross_covariance(const Eigen::MatrixXd& X, const Eigen::Ref<const Eigen::VectorXd>& x,
+                                 const Kernel& k) {
+  check_dimensions(X, x.size(), "cross_covariance");
+  Eigen::VectorXd d2 = Eigen::VectorXd::Zero(X.rows());
+  for (Eigen::Index d = 0; d < X.cols(); ++d) d2.array() += (X.col(d).array() - x[d]).square();
+  Eigen::VectorXd kx = (d2.array() * (-1.0 / (k.lengthscale * k.lengthscale))).exp().matrix();
+  for (Eigen::Index i = 0; i < X.rows(); ++i)
+    if (X.row(i).transpose() == x) kx[i] += k.nugget;
+  return kx;
+}
+
+Eigen::MatrixXd cross_covariance_batch(const Eigen::MatrixXd& X, const Eigen::MatrixXd& points, const Kernel& k) {
+  Eigen::MatrixXd out(X.rows(), points.rows());
+  for (Eigen::Index j = 0; j < points.rows(); ++j) out.col(j) = cross_covariance(X, points.row(j).transpose(), k);
+  return out;
+}
+
+}  // namespace matlas::gp

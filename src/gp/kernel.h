@@ -1,0 +1,42 @@
+#pragma once
+// The squared-exponential covariance function of the latent GP,
+//   c(x, x') = exp(-|x - x'|^2 / l^2),
+// plus a white-noise "nugget" delta that is added wherever a point meets itself. Latent point sets
+// are n x q matrices with one point per row.
+#include <Eigen/Core>
+
+namespace matlas::gp {
+
+/// Squared-exponential kernel with lengthscale l and nugget delta.
+struct Kernel {
+  double lengthscale = 1.0;  ///< l in c(x,x') = exp(-|x-x'|^2 / l^2)
+  double nugget = 1e-4;      ///< delta added on the diagonal of the covariance matrix
+
+  /// c(a, b) without the nugget.
+  double operator()(const Eigen::Ref<const Eigen::VectorXd>& a,
+                    const Eigen::Ref<const Eigen::VectorXd>& b) const;
+};
+
+/// Throws matlas::Error unless the lengthscale is finite and > 0 and the nugget finite and >= 0.
+void validate(const Kernel& k);
+
+/// Squared distances |x_i - x_j|^2 between the rows of X (n x q), written into D (n x n).
+/// Computed from coordinate differences (not |a|^2 + |b|^2 - 2ab), so D is exactly symmetric with
+/// an exactly zero diagonal and exact zeros for duplicate rows.
+void squared_distances(const Eigen::MatrixXd& X, Eigen::MatrixXd& D);
+
+/// n x n covariance of the rows of X (n x q), nugget on the diagonal. The nugget is added by index
+/// (i == j), so duplicate rows give a matrix that is singular only up to the nugget.
+Eigen::MatrixXd covariance_matrix(const Eigen::MatrixXd& X, const Kernel& k);
+
+/// k(x)_i = c(x, x_i) + nugget * [x == x_i exactly]  (the nugget is a white-noise part of the
+/// covariance function, so at a data point the GP reproduces the input exactly).
+Eigen::VectorXd cross_covariance(const Eigen::MatrixXd& X, const Eigen::Ref<const Eigen::VectorXd>& x,
+                                 const Kernel& k);
+
+/// n x m cross-covariances of the rows of X (n x q) with the rows of `points` (m x q); column j is
+/// cross_covariance(X, points.row(j), k).
+Eigen::MatrixXd cross_covariance_batch(const Eigen::MatrixXd& X, const Eigen::MatrixXd& points,
+                                       const Kernel& k);
+
+}  // namespace matlas::gp

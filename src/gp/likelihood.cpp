@@ -1,0 +1,107 @@
+#include "gp/likelihood.h"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <string>
+
+#include "core/error.h"
+
+namespace matlas::gp {
+
+namespace {
+
+std::string dims(Eigen::Index r, Eigen::Index c) { return std::to_string(r) + " x " + std::to_string(c); }
+
+}  // namespace
+
+LikelihoodEvaluator::LikelihoodEvaluator(const LikelihoodProblem& p) : columns_(p.columns), kernel_(p.kernel) {
+  validate(kernel_);
+  const Eigen::MatrixXd& S = p.gram;
+  if (S.rows() != S.cols() || S.rows() == 0)
+    throw Error("likelihood: the Gram matrix must be square and non-empty (got " + dims(S.rows(), S.cols()) + ")");
+  if (!S.allFinite()) throw Error("likelihood: the Gram matrix contains NaN or infinity");
+  if (!std::isfinite(columns_) || columns_ <= 0)
+    throw Error("likelihood: the number of data columns must be finite and > 0 (got " + std::to_string(columns_) + ")");
+  const double n = static_cast<double>(S.rows());
+  sigma_ = S.trace() / n;
+  if (!(sigma_ > 0))
+    throw Error("likelihood: the Gram matrix has trace " + std::to_string(S.trace()) +
+                " (all data rows equal, or not a Gram matrix)");
+  // S~ = S / sigma has trace n; its eigen-decomposition gives R with S~ = R R^T. The solver reads
+  // the lower triangle only, so a slightly asymmetric input is taken as symmetric.
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(S / sigma_);
+  if (eig.info() != Eigen::Success) throw Error("likelihood: eigen-decomposition of the Gram matrix failed");
+  const Eigen::VectorXd& lambda = eig.eigenvalues();  // ascending
+  const double top = lambda[lambda.size() - 1];
+  if (lambda[0] < -1e-6 * top)
+    throw Error("likelihood: the Gram matrix is not positive semidefinite (eigenvalue " + std::to_string(lambda[0]) +
+                " vs largest " + std::to_string(top) + ", relative to tr(S)/n)");
+  Eigen::Index first = 0;
+  while (first < lambda.size() && lambda[first] <= 1e-13 * top) ++first;
+  const Eigen::Index r = lambda.size() - first;
+  R_ = eig.eigenvectors().rightCols(r) * lambda.tail(r).cwiseSqrt().asDiagonal();
+}
+
+double LikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, Eigen::MatrixXd* gradient) {
+  const Eigen::Index n = R_.rows();
+  if (X.rows() != n)
+    throw Error("likelihood: " + std::to_string(X.rows()) + " latent points for a Gram matrix of " +
+                std::to_string(n) + " items");
+  if (!X.allFinite()) throw Error("likelihood: latent points contain NaN or infinity");
+  const double nd = static_cast<double>(n);
+  const double inv_l2 = 1.0 / (kernel_.lengthscale * kernel_.lengthscale);
+
+  // K = C + delta I, exactly symmetric (off-diagonal entries of K are those of C).
+  squared_distances(X, K_);
+  K_.array() = (K_.array() * -inv_l2).exp();
+  for (Eigen::Index j = 0; j < n; ++j)
+    for (Eigen::Index i = j + 1; i < n; ++i) K_(i, j) = K_(j, i);
+  K_.diagonal().array() += kernel_.nugget;
+
+  llt_.compute(K_);
+  if (llt_.info() != Eigen::Success)
+    throw Error("likelihood: the covariance matrix of the latent points is not positive definite (duplicate "
+                "latent points with nugget " + std::to_string(kernel_.nugget) + "?); use a nugget > 0");
+  const auto L = llt_.matrixL();
+  const double log_det = 2.0 * llt_.matrixLLT().diagonal().array().log().sum();
+
+  // t = tr(K^-1 S~) = |L^-1 R|_F^2.
+  Y_ = R_;
+  L.solveInPlace(Y_);
+  const double t = Y_.squaredNorm();
+  const double value = -log_det - nd * std::log(t / nd) - nd;
+  if (gradient == nullptr) return value;
+
+  // dl/dK = G = -K^-1 + (n/t) K^-1 S~ K^-1, and K^-1 S~ K^-1 = V V^T with V = K^-1 R = L^-T Y.
+  llt_.matrixU().solveInPlace(Y_);  // Y = V
+  Kinv_.setIdentity(n, n);
+  llt_.solveInPlace(Kinv_);
+  G_.noalias() = (nd / t) * Y_ * Y_.transpose();
+  G_ -= Kinv_;
+  // dl/dx_i = sum_j (G_ij + G_ji) dK_ij/dx_i with dK_ij/dx_i = -2 (x_i - x_j) K_ij / l^2 (i != j),
+  // i.e. with W = G o K: dl/dx_i = (4/l^2) (sum_j W_ij x_j - x_i sum_j W_ij). The diagonal of W
+  // cancels in the difference, so it need not be removed.
+  G_.array() *= K_.array();
+  gradient->noalias() = G_ * X;
+  *gradient -= G_.rowwise().sum().asDiagonal() * X;
+  *gradient *= 4.0 * inv_l2;
+  return value;
+}
+
+double LikelihoodEvaluator::to_log_likelihood(double normalized_value) const {
+  const double n = static_cast<double>(R_.rows());
+  return columns_ * (normalized_value - n * std::log(sigma_ / columns_));
+}
+
+double LikelihoodEvaluator::operator()(const Eigen::MatrixXd& X, Eigen::MatrixXd* gradient) {
+  const double value = to_log_likelihood(normalized(X, gradient));
+  if (gradient != nullptr) *gradient *= columns_;
+  return value;
+}
+
+double log_likelihood(const LikelihoodProblem& p, const Eigen::MatrixXd& X, Eigen::MatrixXd* gradient) {
+  LikelihoodEvaluator evaluator(p);
+  return evaluator(X, gradient);
+}
+
+}  // namespace matlas::gp

@@ -1,0 +1,61 @@
+#pragma once
+// Maximising the GP-LVM likelihood over the latent points: L-BFGS on the analytic gradient (the
+// default), or the derivative-free Hooke-Jeeves pattern search used in the paper.
+#include <Eigen/Core>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "core/progress.h"
+#include "gp/likelihood.h"
+
+namespace matlas::gp {
+
+enum class Optimizer { lbfgs, hooke_jeeves };
+
+/// Limits and stopping rules. Both methods work on the normalised value l = L/D' + const
+/// (LikelihoodEvaluator), which is O(n) whatever D' and the data scale are.
+struct OptimizeOptions {
+  Optimizer method = Optimizer::lbfgs;
+  /// L-BFGS: iterations (one line search each); Hooke-Jeeves: exploratory sweeps over all n*q
+  /// coordinates.
+  int max_iterations = 1000;
+  /// L-BFGS: stops when l improved by at most tolerance * max(1, |l|) over the last 3 iterations,
+  /// or when |grad l| <= tolerance * max(1, |l(X0)|), or when the line search cannot improve l
+  /// twice in a row (after a restart of the curvature memory).
+  /// Hooke-Jeeves: stops when the step h falls below sqrt(tolerance) * h0 (for a smooth maximum
+  /// the value is then within ~tolerance of it, relative); h0 = 0.1 * RMS radius of X0.
+  double tolerance = 1e-7;
+  double time_limit_seconds = 0;  ///< 0 = none; checked at every evaluation
+  /// Stop as soon as an evaluated L reaches this value (benchmarks: time to reach a given L).
+  double target_value = std::numeric_limits<double>::infinity();
+};
+
+struct OptimizeResult {
+  Eigen::MatrixXd latent;       ///< the best latent points found (n x q)
+  double value = 0;             ///< L(latent), true units (log_likelihood)
+  int iterations = 0;           ///< L-BFGS iterations or Hooke-Jeeves sweeps
+  int evaluations = 0;          ///< likelihood evaluations (with gradient for L-BFGS)
+  double seconds = 0;           ///< wall time
+  std::vector<double> history;  ///< best L after each iteration (history[0] = L(X0))
+  std::string stop_reason;      ///< why it stopped, in words
+};
+
+/// Maximises log_likelihood over X from X0. Reports progress lines ("iter 12  L = ...") through
+/// sink.message() (at most 4 per second, plus the first and the last). L-BFGS uses LBFGSpp
+/// (minimising -l) with the strong-Wolfe line search of Nocedal & Wright, guarded so that a failed
+/// line search restarts from the best point with a fresh curvature memory. Hooke-Jeeves is the
+/// classic pattern search: exploratory moves of step h per coordinate, pattern moves while they
+/// improve, h halved when a sweep finds nothing. The result is the best point evaluated.
+/// Deterministic. Throws matlas::Error if the problem is malformed, X0 has the wrong shape or is
+/// not finite, or K(X0) is not positive definite.
+OptimizeResult optimize_latent(const LikelihoodProblem& p, Eigen::MatrixXd X0, const OptimizeOptions& o,
+                               ProgressSink& sink);
+
+/// "lbfgs" or "hooke-jeeves".
+const char* to_string(Optimizer method);
+/// Accepts "lbfgs" (or "l-bfgs") and "hooke-jeeves" (or "hooke_jeeves", "hj"); throws
+/// matlas::Error naming the valid choices otherwise.
+Optimizer optimizer_from_string(const std::string& name);
+
+}  // namespace matlas::gp

@@ -1,0 +1,55 @@
+#pragma once
+// GpPosterior: the interpolation side of the latent GP. Given latent points X (n x q) and the
+// kernel, a new latent point x gets the weights w(x) = K^-1 k(x), so that the posterior mean of
+// any data attached to the points (an n x D matrix Y, e.g. centred BRDFs) is w(x)^T Y, and the
+// posterior variance (in kernel units) tells how far x is from the data.
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+#include "gp/kernel.h"
+
+namespace matlas::gp {
+
+/// Holds X, the kernel and the Cholesky factor of K = covariance_matrix(X, k).
+class GpPosterior {
+public:
+  /// Factorises K. Throws matlas::Error if the kernel is invalid, X is empty or not finite, or K is
+  /// not positive definite (e.g. duplicate latent points with nugget 0).
+  GpPosterior(Eigen::MatrixXd X, Kernel k);
+
+  int count() const { return static_cast<int>(X_.rows()); }  ///< n, the number of latent points
+  int dim() const { return static_cast<int>(X_.cols()); }    ///< q, the latent dimension
+  const Eigen::MatrixXd& latent() const { return X_; }       ///< the n x q latent points
+  const Kernel& kernel() const { return kernel_; }
+
+  /// w(x) = K^-1 k(x) (length n). At a data point x_i this is e_i (to rounding), so the GP
+  /// reproduces the data exactly there. Throws matlas::Error if x has the wrong dimension.
+  Eigen::VectorXd weights(const Eigen::Ref<const Eigen::VectorXd>& x) const;
+
+  /// The weights of many points at once: points is m x q, the result n x m (column j = weights of
+  /// points.row(j)). Equal to calling weights() per point, up to rounding.
+  Eigen::MatrixXd weights_batch(const Eigen::MatrixXd& points) const;
+
+  /// Posterior variance c(x,x) + nugget*[x in X] - k^T K^-1 k, clamped at 0: ~0 at the data
+  /// points, -> 1 far away from them (kernel units: multiply by the fitted signal variance s^2 for
+  /// data units).
+  double variance(const Eigen::Ref<const Eigen::VectorXd>& x) const;
+
+  /// log|K| (from the Cholesky factor).
+  double log_det() const;
+
+  /// Estimate of the 2-norm condition number of K = lambda_max / lambda_min, by a few steps of
+  /// power and inverse-power iteration (deterministic start). A diagnostic, not a bound: it is at
+  /// most the true condition number and usually within a few percent of it.
+  double condition_estimate() const;
+
+  /// The Cholesky factorisation of K.
+  const Eigen::LLT<Eigen::MatrixXd>& cholesky() const { return llt_; }
+
+private:
+  Eigen::MatrixXd X_;
+  Kernel kernel_;
+  Eigen::LLT<Eigen::MatrixXd> llt_;
+};
+
+}  // namespace matlas::gp
