@@ -1,6 +1,7 @@
 #include "gp/kernel.h"
 
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "core/error.h"
@@ -65,6 +66,14 @@ Eigen::MatrixXd cross_covariance_batch(const Eigen::MatrixXd& X, const Eigen::Ma
   Eigen::MatrixXd out(X.rows(), points.rows());
   for (Eigen::Index j = 0; j < points.rows(); ++j) out.col(j) = cross_covariance(X, points.row(j).transpose(), k);
   return out;
+}
+
+bool is_positive_definite(const Eigen::LLT<Eigen::MatrixXd>& llt) {
+  if (llt.info() != Eigen::Success) return false;
+  const Eigen::ArrayXd pivots = llt.matrixLLT().diagonal().array().square();
+  if (pivots.size() == 0) return true;
+  const double n = static_cast<double>(pivots.size());
+  return pivots.minCoeff() > n * std::numeric_limits<double>::epsilon() * pivots.maxCoeff();
 }
 
 }  // namespace matlas::gp

@@ -3,6 +3,7 @@
 //   c(x, x') = exp(-|x - x'|^2 / l^2),
 // plus a white-noise "nugget" delta that is added wherever a point meets itself. Latent point sets
 // are n x q matrices with one point per row.
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
 
 namespace matlas::gp {
@@ -38,5 +39,10 @@ Eigen::VectorXd cross_covariance(const Eigen::MatrixXd& X, const Eigen::Ref<cons
 /// cross_covariance(X, points.row(j), k).
 Eigen::MatrixXd cross_covariance_batch(const Eigen::MatrixXd& X, const Eigen::MatrixXd& points,
                                        const Kernel& k);
+
+/// True when `llt` succeeded and no pivot is at rounding level: every L_ii^2 exceeds
+/// n * epsilon * max_j L_jj^2. An exactly singular K (duplicate points with nugget 0) can pass
+/// Eigen's own check (pivot > 0) with pivots of ~1e-16; this rejects it.
+bool is_positive_definite(const Eigen::LLT<Eigen::MatrixXd>& llt);
 
 }  // namespace matlas::gp

@@ -59,7 +59,7 @@ double LikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, Eigen::MatrixXd
   K_.diagonal().array() += kernel_.nugget;
 
   llt_.compute(K_);
-  if (llt_.info() != Eigen::Success)
+  if (!is_positive_definite(llt_))
     throw Error("likelihood: the covariance matrix of the latent points is not positive definite (duplicate "
                 "latent points with nugget " + std::to_string(kernel_.nugget) + "?); use a nugget > 0");
   const auto L = llt_.matrixL();

@@ -13,7 +13,7 @@ GpPosterior::GpPosterior(Eigen::MatrixXd X, Kernel k) : X_(std::move(X)), kernel
   if (X_.rows() == 0 || X_.cols() == 0) throw Error("GP posterior: no latent points (X is empty)");
   if (!X_.allFinite()) throw Error("GP posterior: latent points contain NaN or infinity");
   llt_.compute(covariance_matrix(X_, kernel_));
-  if (llt_.info() != Eigen::Success)
+  if (!is_positive_definite(llt_))
     throw Error("GP posterior: the covariance matrix of the " + std::to_string(X_.rows()) +
                 " latent points is not positive definite (duplicate points with nugget " +
                 std::to_string(kernel_.nugget) + "?); use a nugget > 0");
