@@ -1,0 +1,102 @@
+#include "eval/combination_pass.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <string>
+
+#include "core/error.h"
+#include "core/parallel.h"
+#include "manifold/column_blocks.h"
+
+namespace matlas::eval {
+
+namespace {
+using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+}  // namespace
+
+CombinationResult evaluate_combinations(const MaterialSet& set, const CombinationQuery& query,
+                                        ProgressSink& progress) {
+  const auto n = static_cast<Eigen::Index>(set.size());
+  const Eigen::Index m = query.coefficients.rows();
+  if (query.coefficients.cols() != n)
+    throw Error("combination pass: " + std::to_string(query.coefficients.cols()) +
+                " coefficients per item for " + std::to_string(n) + " materials");
+  for (const auto& [a, b] : query.pairs)
+    if (a < 0 || b < 0 || a >= m || b >= m) throw Error("combination pass: pair index out of range");
+  if (query.value_stride < 1) throw Error("combination pass: value stride must be >= 1");
+
+  const std::vector<double> cosine = bin_cosine_factors(set.dims());
+  const std::size_t bins = set.dims().bins();
+  const std::size_t stride = static_cast<std::size_t>(query.value_stride);
+
+  std::vector<DistanceSums> sums(query.pairs.size());
+  std::vector<std::size_t> negatives(static_cast<std::size_t>(m), 0);
+  std::size_t values = 0;
+
+  BlockOptions options;
+  options.label = "evaluating " + std::to_string(m) + " combinations";
+  options.block_columns = std::clamp<std::size_t>(
+      query.memory_budget / (2 * sizeof(double) * static_cast<std::size_t>(std::max<Eigen::Index>(m, 1))),
+      1024, 32768);
+
+  Eigen::MatrixXd selected;         // n x J kept values of the block
+  std::vector<double> factor;       // J cosine factors
+  RowMatrix linear, cube_root;      // m x J: c_b * item value, cbrt of it
+  for_each_column_block(
+      set,
+      [&](const ColumnBlock& block) {
+        // Columns used: kept, above the horizon, on the stride.
+        std::vector<std::size_t> cols;
+        cols.reserve(block.count);
+        for (std::size_t j = 0; j < block.count; ++j) {
+          const std::size_t v = block.first + j;
+          if (block.kept[j] && cosine[v % bins] > 0 && v % stride == 0) cols.push_back(j);
+        }
+        if (cols.empty()) return;
+        const auto J = static_cast<Eigen::Index>(cols.size());
+        values += cols.size();
+        selected.resize(n, J);
+        factor.resize(cols.size());
+        for (Eigen::Index c = 0; c < J; ++c) {
+          const std::size_t j = cols[static_cast<std::size_t>(c)];
+          selected.col(c) = block.values.col(static_cast<Eigen::Index>(j));
+          factor[static_cast<std::size_t>(c)] = cosine[(block.first + j) % bins];
+        }
+        linear.resize(m, J);
+        cube_root.resize(m, J);
+        parallel_for(0, static_cast<std::size_t>(m), [&](std::size_t lo, std::size_t hi) {
+          const auto l = static_cast<Eigen::Index>(lo), len = static_cast<Eigen::Index>(hi - lo);
+          linear.middleRows(l, len).noalias() = query.coefficients.middleRows(l, len) * selected;
+          for (Eigen::Index r = l; r < l + len; ++r) {
+            double* lin = linear.row(r).data();
+            double* cbr = cube_root.row(r).data();
+            std::size_t neg = 0;
+            for (Eigen::Index c = 0; c < J; ++c) {
+              neg += lin[c] < 0.0;
+              lin[c] *= factor[static_cast<std::size_t>(c)];
+              cbr[c] = std::cbrt(lin[c]);
+            }
+            negatives[static_cast<std::size_t>(r)] += neg;
+          }
+        });
+        parallel_for(0, query.pairs.size(), [&](std::size_t lo, std::size_t hi) {
+          for (std::size_t p = lo; p < hi; ++p) {
+            const auto [a, b] = query.pairs[p];
+            sums[p].cbrt_squared += (cube_root.row(a) - cube_root.row(b)).squaredNorm();
+            sums[p].cosine_squared += (linear.row(a) - linear.row(b)).squaredNorm();
+            sums[p].values += cols.size();
+          }
+        }, 16);
+      },
+      options, progress);
+
+  CombinationResult result;
+  result.values = values;
+  result.negatives = std::move(negatives);
+  result.distances.reserve(sums.size());
+  for (const auto& s : sums) result.distances.push_back(s.finish());
+  return result;
+}
+
+}  // namespace matlas::eval

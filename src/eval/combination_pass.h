@@ -1,0 +1,41 @@
+#pragma once
+// One streaming pass over a MaterialSet that evaluates many affine combinations of its tables
+// ("items": item k is sum_i C(k, i) z_i) and accumulates distances between pairs of items, plus
+// per-item counts of negative values. Every perceptual number of the evaluation (leave-one-out
+// reconstructions, PCA and nearest-material baselines, samples along latent paths, map grids)
+// comes from one such pass: the tables are read once, never held whole.
+#include <cstddef>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/progress.h"
+#include "eval/brdf_distance.h"
+#include "manifold/material_set.h"
+
+namespace matlas::eval {
+
+struct CombinationQuery {
+  /// m x n raw coefficients: item k = sum_i coefficients(k, i) z_i (rows normally sum to 1).
+  Eigen::MatrixXd coefficients;
+  /// Item pairs whose distances are wanted.
+  std::vector<std::pair<int, int>> pairs;
+  /// Use every value_stride-th value only (1 = all): a deterministic subsample for quick runs.
+  int value_stride = 1;
+  /// Upper bound on the memory of the per-block item values (bytes); sets the block size.
+  std::size_t memory_budget = std::size_t{256} << 20;
+};
+
+struct CombinationResult {
+  std::vector<BrdfDistance> distances;    ///< one per query pair
+  std::vector<std::size_t> negatives;     ///< per item: compared values below 0
+  std::size_t values = 0;                 ///< values compared per item (kept, above the horizon)
+};
+
+/// Runs the pass. Only values kept by the set (measured in every material) with a positive cosine
+/// factor are used. Throws matlas::Error on a malformed query.
+CombinationResult evaluate_combinations(const MaterialSet& set, const CombinationQuery& query,
+                                        ProgressSink& progress = null_progress());
+
+}  // namespace matlas::eval

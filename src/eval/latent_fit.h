@@ -1,0 +1,53 @@
+#pragma once
+// Latent placement and projection for the evaluation, on Gram matrices only: fitting the GP-LVM
+// to (a subset of) the materials and projecting a left-out material onto the fitted map.
+#include <functional>
+#include <memory>
+#include <span>
+
+#include <Eigen/Core>
+
+#include "gp/optimize.h"
+#include "gp/posterior.h"
+
+namespace matlas::eval {
+
+struct FitOptions {
+  double nugget = 1e-4;           ///< as BuildOptions::nugget
+  gp::OptimizeOptions optimize{}; ///< as BuildOptions::optimize
+};
+
+/// Latent points fitted to a centred Gram (of the layout transform), as a build places them: PCA
+/// initialisation, then maximisation of the GP log-likelihood.
+struct LatentFit {
+  std::shared_ptr<const gp::GpPosterior> posterior;
+  double log_likelihood = 0;
+  const Eigen::MatrixXd& latent() const { return posterior->latent(); }
+};
+
+/// Fits q-dimensional latent points to the centred Gram (columns = D', the number of data
+/// columns). Throws matlas::Error as the GP code does.
+LatentFit fit_latent(const Eigen::MatrixXd& centred_gram, double columns, int q,
+                     const FitOptions& options);
+
+/// The projection of a material onto a fitted map.
+struct Projection {
+  Eigen::VectorXd x;             ///< latent point
+  Eigen::VectorXd coefficients;  ///< raw coefficients (length n) of m(x) over all n materials
+  double residual_squared = 0;   ///< ||z_h - m(x)||^2 in the Gram's space
+};
+
+/// Projects material h onto a map fitted to `subset` (the rows of the fit, in order): minimises
+/// the residual ||z_h - m(x)||^2 measured in `gram` (a Gram of all n materials, the space the
+/// objective is measured in) over x, by Nelder-Mead started from the latent points of the
+/// `starts` subset materials closest to h in that Gram. Deterministic.
+Projection project_material(const LatentFit& fit, std::span<const int> subset,
+                            const Eigen::MatrixXd& gram, int h, int starts = 3);
+
+/// Minimises f over R^d by Nelder-Mead from x0 with initial simplex size `step`; returns the best
+/// point. Exposed for tests.
+Eigen::VectorXd nelder_mead(const std::function<double(const Eigen::VectorXd&)>& f,
+                            Eigen::VectorXd x0, double step, int max_evaluations,
+                            double tolerance = 1e-10);
+
+}  // namespace matlas::eval
