@@ -1,7 +1,7 @@
 # Common compile settings for every matlas target.
 add_library(matlas_options INTERFACE)
 target_compile_options(matlas_options INTERFACE -Wall -Wextra -Wpedantic -Wshadow
-                       -Wnon-virtual-dtor -Wcast-align -Wnull-dereference)
+                       -Wnon-virtual-dtor -Wcast-align)
 target_compile_definitions(matlas_options INTERFACE MATLAS_VERSION="${PROJECT_VERSION}")
 if(MATLAS_NATIVE)
   target_compile_options(matlas_options INTERFACE -march=native)

@@ -4,7 +4,10 @@
 // holds more than one block of all n materials. Every pass of a build, the evaluation and the
 // projection goes through here.
 #include <cstddef>
+#include <cstdint>
 #include <functional>
+#include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -13,21 +16,28 @@
 
 namespace matlas {
 
-/// One block: columns [first, first + values.cols()) of the data matrix.
+/// Row-major n x count block: each material's values are contiguous.
+using BlockMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+/// One block: columns [first, first + count) of the data matrix.
 struct ColumnBlock {
   std::size_t first = 0;
-  /// n x count, physical units (stored * channel scale); entries where the material has no
-  /// measurement are NaN-free but meaningless: check `measured`.
-  Eigen::Ref<const Eigen::MatrixXd> values;
-  /// count entries: true where every material has a measurement (the column is kept).
-  const std::vector<bool>& kept;
+  std::size_t count = 0;
+  /// n x count, physical units (stored * channel scale). Where a material has no measurement
+  /// the value is negative and meaningless: use `kept`.
+  const BlockMatrix& values;
+  /// count entries: 1 where every material has a measurement (the column is kept), else 0.
+  const std::vector<std::uint8_t>& kept;
 };
 
 struct BlockOptions {
-  /// Columns per block (default: 32768, i.e. n * 256 KiB of doubles).
+  /// Columns per block (default: 32768, i.e. n * 256 KiB of doubles; two blocks are in memory).
   std::size_t block_columns = 32768;
   /// Label for progress reporting.
   std::string label = "reading";
+  /// When set, receives one xxh3-64 hash per material of its stored value bytes (the whole
+  /// file after the 12-byte header), computed during the pass.
+  std::vector<std::uint64_t>* hashes = nullptr;
 };
 
 /// Calls visit(block) for consecutive blocks covering all columns, in order, from one thread

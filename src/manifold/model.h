@@ -22,7 +22,6 @@
 
 namespace matlas {
 
-class MappedFile;
 
 /// Number of albedo-curve samples stored per material: theta_o at bin centres of 90 uniform
 /// bins over [0, 90) degrees.
@@ -51,6 +50,8 @@ public:
   const gp::GpPosterior& posterior() const;
   /// Everything in the header's metadata (names, kernel, optimiser, likelihood, sources, ...).
   const nlohmann::json& metadata() const;
+  /// Centred Gram matrix S = (Z - mean)(Z - mean)^T of the inputs over the kept columns (n x n).
+  const Eigen::MatrixXd& gram() const;
   /// Per-material directional albedo curves, n x (kAlbedoAngles * 3), [theta][channel].
   const Eigen::MatrixXd& material_albedo() const;
   /// Latent bounding box, min and max per dimension.
@@ -86,6 +87,8 @@ public:
   /// The centred data: n contiguous values of kept column c (float32 storage), or nullptr when
   /// the model stores float16 (use value()).
   const float* centred_f32(std::size_t column) const;
+  /// The n centred values of kept column c, converted to float whatever the storage.
+  void centred(std::size_t column, float* out) const;
   /// Storage precision of the centred data: "F32" or "F16".
   const std::string& storage() const;
 

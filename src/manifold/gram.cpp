@@ -1,0 +1,155 @@
+#include "manifold/gram.h"
+
+#include <bit>
+#include <cmath>
+
+#include <cblas.h>
+
+#include "brdf/albedo_operator.h"
+#include "core/error.h"
+#include "core/parallel.h"
+#include "manifold/column_blocks.h"
+
+namespace matlas {
+
+std::string LayoutTransform::to_string() const {
+  const char* map_name = map == Map::linear ? "linear" : map == Map::cube_root ? "cbrt" : "log";
+  return cosine_weighted ? std::string("cosine-") + map_name : std::string(map_name);
+}
+
+LayoutTransform LayoutTransform::parse(const std::string& name) {
+  LayoutTransform t;
+  std::string rest = name;
+  if (rest.rfind("cosine-", 0) == 0) {
+    t.cosine_weighted = true;
+    rest = rest.substr(7);
+  } else if (rest == "cosine") {
+    t.cosine_weighted = true;
+    rest = "linear";
+  }
+  if (rest == "linear") t.map = Map::linear;
+  else if (rest == "cbrt") t.map = Map::cube_root;
+  else if (rest == "log") t.map = Map::log;
+  else
+    throw Error("unknown layout transform '" + name +
+                "' (expected linear, cbrt or log, optionally prefixed with cosine-)");
+  return t;
+}
+
+namespace {
+
+/// Cube root to ~1e-9 relative error, several times faster than std::cbrt: an exponent-based
+/// first guess refined by Newton steps. Only used to place latent points.
+inline double fast_cbrt(double x) {
+  if (x <= 0.0) return x == 0.0 ? 0.0 : -fast_cbrt(-x);
+  double y = std::bit_cast<double>(std::bit_cast<std::uint64_t>(x) / 3 + 0x2A9F7893782DA1CEull);
+  for (int k = 0; k < 4; ++k) y = y - (y * y * y - x) / (3.0 * y * y);
+  return y;
+}
+
+/// cos(theta_i) cos(theta_o) at each bin centre (0 below the horizon).
+std::vector<double> cosine_weights(const MerlDims& dims) {
+  std::vector<double> w(dims.bins());
+  for (int i = 0; i < dims.theta_h; ++i)
+    for (int j = 0; j < dims.theta_d; ++j)
+      for (int k = 0; k < dims.phi_d; ++k) {
+        const DirectionPair d = from_half_diff(bin_centre(dims, i, j, k));
+        w[dims.flat(i, j, k)] = std::max(0.0, d.wi.z()) * std::max(0.0, d.wo.z());
+      }
+  return w;
+}
+
+/// S += A A^T for row-major A (n x k), upper triangle, via OpenBLAS dsyrk.
+void add_gram(const BlockMatrix& a, Eigen::MatrixXd& s) {
+  if (a.cols() == 0) return;
+  cblas_dsyrk(CblasColMajor, CblasUpper, CblasTrans, static_cast<int>(a.rows()),
+              static_cast<int>(a.cols()), 1.0, a.data(), static_cast<int>(a.cols()), 1.0, s.data(),
+              static_cast<int>(s.rows()));
+}
+
+/// Centres every column of a over the materials (rows), returning the column means.
+Eigen::RowVectorXd centre_columns(BlockMatrix& a) {
+  Eigen::RowVectorXd mean = a.colwise().mean();
+  a.rowwise() -= mean;
+  return mean;
+}
+
+}  // namespace
+
+GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout,
+                           std::size_t block_columns, ProgressSink& progress) {
+  const auto n = static_cast<Eigen::Index>(set.size());
+  const MerlDims dims = set.dims();
+  const std::size_t bins = dims.bins();
+  GramResult r;
+  r.kept.assign(set.value_count(), false);
+  r.gram = Eigen::MatrixXd::Zero(n, n);
+  const bool separate_layout = !layout.is_identity();
+  if (separate_layout) r.layout_gram = Eigen::MatrixXd::Zero(n, n);
+  r.albedo = Eigen::MatrixXd::Zero(n, 90 * 3);
+  std::vector<double> mean;
+  mean.reserve(set.value_count());
+
+  const auto albedo_op = albedo_operator(dims, 90);
+  const std::vector<double> cos_w = layout.cosine_weighted ? cosine_weights(dims) : std::vector<double>{};
+
+  BlockMatrix kept_values, transformed;
+  BlockOptions options;
+  options.block_columns = block_columns;
+  options.label = "pass 1/2: gram";
+  options.hashes = &r.hashes;
+  for_each_column_block(set, [&](const ColumnBlock& block) {
+    // Gather the kept columns, remembering their value indices.
+    std::vector<std::size_t> index;
+    index.reserve(block.count);
+    for (std::size_t j = 0; j < block.count; ++j)
+      if (block.kept[j]) {
+        index.push_back(block.first + j);
+        r.kept[block.first + j] = true;
+      }
+    const auto k = static_cast<Eigen::Index>(index.size());
+    kept_values.resize(n, k);
+    for (Eigen::Index c = 0; c < k; ++c)
+      kept_values.col(c) = block.values.col(static_cast<Eigen::Index>(index[static_cast<std::size_t>(c)] - block.first));
+
+    // Albedo curves: a linear functional of the (uncentred) kept data.
+    for (Eigen::Index c = 0; c < k; ++c) {
+      const std::size_t v = index[static_cast<std::size_t>(c)];
+      const auto channel = static_cast<Eigen::Index>(v / bins);
+      const auto bin = static_cast<Eigen::Index>(v % bins);
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(albedo_op, bin); it; ++it)
+        r.albedo.col(it.col() * 3 + channel) += it.value() * kept_values.col(c);
+    }
+
+    if (separate_layout) {
+      transformed = kept_values;
+      parallel_for(0, static_cast<std::size_t>(k), [&](std::size_t lo, std::size_t hi) {
+        for (std::size_t c = lo; c < hi; ++c) {
+          const double w = layout.cosine_weighted ? cos_w[index[c] % bins] : 1.0;
+          for (Eigen::Index i = 0; i < n; ++i) {
+            double& x = transformed(i, static_cast<Eigen::Index>(c));
+            if (layout.map == LayoutTransform::Map::cube_root) x = fast_cbrt(x);
+            else if (layout.map == LayoutTransform::Map::log) x = std::log1p(100.0 * std::max(x, 0.0));
+            x *= w;
+          }
+        }
+      }, 256);
+      centre_columns(transformed);
+      add_gram(transformed, r.layout_gram);
+    }
+    const Eigen::RowVectorXd m = centre_columns(kept_values);
+    mean.insert(mean.end(), m.data(), m.data() + m.size());
+    add_gram(kept_values, r.gram);
+  }, options, progress);
+
+  r.kept_columns = mean.size();
+  if (r.kept_columns == 0)
+    throw Error("no column is measured in every material: the inputs have no common measurements");
+  r.mean = Eigen::Map<const Eigen::VectorXd>(mean.data(), static_cast<Eigen::Index>(mean.size()));
+  r.gram.triangularView<Eigen::StrictlyLower>() = r.gram.transpose();
+  if (separate_layout) r.layout_gram.triangularView<Eigen::StrictlyLower>() = r.layout_gram.transpose();
+  else r.layout_gram = r.gram;
+  return r;
+}
+
+}  // namespace matlas

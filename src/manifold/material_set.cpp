@@ -1,0 +1,54 @@
+#include "manifold/material_set.h"
+
+#include <algorithm>
+#include <set>
+
+#include "core/error.h"
+
+namespace matlas {
+
+namespace fs = std::filesystem;
+
+MaterialSet MaterialSet::open(const std::vector<fs::path>& inputs) {
+  MaterialSet set;
+  std::vector<fs::path> files;
+  for (const auto& input : inputs) {
+    std::error_code ec;
+    if (fs::is_directory(input, ec)) {
+      std::vector<fs::path> found;
+      for (const auto& entry : fs::directory_iterator(input)) {
+        if (entry.is_regular_file() && entry.path().extension() == ".binary")
+          found.push_back(entry.path());
+        else
+          set.ignored_.push_back(entry.path());
+      }
+      if (found.empty()) throw file_error(input, "no MERL .binary files in this folder");
+      std::sort(found.begin(), found.end());
+      files.insert(files.end(), found.begin(), found.end());
+    } else {
+      files.push_back(input);  // MerlFile reports missing or invalid files
+    }
+  }
+  std::set<std::string> seen;
+  for (const auto& path : files) {
+    MerlFile file(path);
+    if (set.files_.empty()) {
+      set.dims_ = file.dims();
+    } else if (file.dims() != set.dims_) {
+      throw file_error(path, "grid " + file.dims().to_string() + " differs from " +
+                                 set.files_.front().path().string() + "'s " + set.dims_.to_string() +
+                                 ": all materials must share one grid");
+    }
+    std::string name = path.stem().string();
+    if (!seen.insert(name).second)
+      throw file_error(path, "duplicate material name '" + name + "' (two inputs with the same file name)");
+    set.names_.push_back(std::move(name));
+    set.files_.push_back(std::move(file));
+  }
+  if (set.files_.size() < 2)
+    throw Error("need at least 2 materials to build a manifold, found " +
+                std::to_string(set.files_.size()));
+  return set;
+}
+
+}  // namespace matlas

@@ -1,0 +1,255 @@
+#include "manifold/model.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <xxhash.h>
+
+#include "core/error.h"
+#include "core/parallel.h"
+#include "formats/safetensors.h"
+#include "manifold/model_format.h"
+
+namespace matlas {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+struct Model::Impl {
+  fs::path path;
+  SafetensorsFile file;
+  json meta;
+  std::vector<std::string> names;
+  Eigen::MatrixXd latent;
+  Eigen::MatrixXd albedo;  // n x (90 * 3)
+  Eigen::MatrixXd gram;
+  MerlDims dims;
+  std::size_t kept = 0;
+  int n = 0;
+  std::string storage;
+  const float* mean = nullptr;
+  const std::int32_t* value_column = nullptr;
+  const float* centred_f32 = nullptr;
+  const std::uint16_t* centred_f16 = nullptr;
+  std::unique_ptr<gp::GpPosterior> posterior;
+
+  double centred_dot(std::size_t column, const Eigen::Ref<const Eigen::VectorXd>& w) const {
+    const std::size_t base = column * static_cast<std::size_t>(n);
+    double sum = 0.0;
+    if (centred_f32) {
+      const float* row = centred_f32 + base;
+      for (int i = 0; i < n; ++i) sum += w[i] * static_cast<double>(row[i]);
+    } else {
+      const std::uint16_t* row = centred_f16 + base;
+      for (int i = 0; i < n; ++i) sum += w[i] * static_cast<double>(half_to_float(row[i]));
+    }
+    return sum;
+  }
+};
+
+namespace {
+
+using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+Eigen::MatrixXd read_matrix(const SafetensorsFile& f, const char* name, std::int64_t rows,
+                            std::int64_t cols) {
+  const auto v = f.view<double>(name, DType::F64, {rows, cols});
+  return Eigen::Map<const RowMajor>(v.data(), rows, cols);
+}
+
+std::string hex(std::uint64_t h) {
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
+  return buf;
+}
+
+}  // namespace
+
+Model::Model(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Model::Model(Model&&) noexcept = default;
+Model& Model::operator=(Model&&) noexcept = default;
+Model::~Model() = default;
+
+Model Model::open(const fs::path& path) {
+  auto m = std::make_unique<Impl>(Impl{path, SafetensorsFile::open(path), {}, {}, {}, {}, {}, {}, 0, 0,
+                                       {}, nullptr, nullptr, nullptr, nullptr, nullptr});
+  const SafetensorsFile& f = m->file;
+  const auto meta_it = f.metadata().find(model_format::kMetadataKey);
+  if (meta_it == f.metadata().end())
+    throw file_error(path, "not a matlas model (a safetensors file without matlas metadata)");
+  try {
+    m->meta = json::parse(meta_it->second);
+    if (m->meta.at("format").get<std::string>() != model_format::kFormatName)
+      throw file_error(path, "not a matlas model");
+    const int version = m->meta.at("format_version").get<int>();
+    if (version != model_format::kVersion)
+      throw file_error(path, "model format version " + std::to_string(version) +
+                                 " is not supported by this matlas (expects " +
+                                 std::to_string(model_format::kVersion) + "); rebuild the model");
+    m->names = m->meta.at("names").get<std::vector<std::string>>();
+    const auto grid = m->meta.at("grid").get<std::vector<int>>();
+    if (grid.size() != 3) throw file_error(path, "corrupted metadata: grid");
+    m->dims = {grid[0], grid[1], grid[2]};
+    m->storage = m->meta.at("storage").get<std::string>();
+  } catch (const json::exception& e) {
+    throw file_error(path, std::string("corrupted model metadata: ") + e.what());
+  }
+  const auto n = static_cast<std::int64_t>(m->names.size());
+  m->n = static_cast<int>(n);
+  const TensorInfo* latent = f.find(model_format::kLatent);
+  if (!latent || latent->shape.size() != 2 || latent->shape[0] != n)
+    throw file_error(path, "corrupted model: latent tensor missing or of the wrong shape");
+  const std::int64_t q = latent->shape[1];
+  m->latent = read_matrix(f, model_format::kLatent, n, q);
+  m->gram = read_matrix(f, model_format::kGram, n, n);
+  m->albedo = Eigen::Map<const RowMajor>(
+      f.view<double>(model_format::kAlbedo, DType::F64, {n, kAlbedoAngles, 3}).data(), n,
+      kAlbedoAngles * 3);
+  const TensorInfo& mean = f.require(model_format::kMean, DType::F32);
+  if (mean.shape.size() != 1) throw file_error(path, "corrupted model: mean tensor shape");
+  m->kept = static_cast<std::size_t>(mean.shape[0]);
+  m->mean = reinterpret_cast<const float*>(f.bytes(mean));
+  const auto columns = f.view<std::int32_t>(model_format::kValueColumn, DType::I32,
+                                            {static_cast<std::int64_t>(3 * m->dims.bins())});
+  m->value_column = columns.data();
+  const auto d = static_cast<std::int64_t>(m->kept);
+  if (m->storage == "F32")
+    m->centred_f32 = f.view<float>(model_format::kCentred, DType::F32, {d, n}).data();
+  else if (m->storage == "F16")
+    m->centred_f16 = f.view<std::uint16_t>(model_format::kCentred, DType::F16, {d, n}).data();
+  else
+    throw file_error(path, "corrupted model: unknown storage '" + m->storage + "'");
+
+  // Integrity of everything but the bulk data: checksum, and the column map's consistency.
+  XXH3_state_t* h = XXH3_createState();
+  XXH3_64bits_reset(h);
+  for (const char* name : {model_format::kLatent, model_format::kGram, model_format::kAlbedo,
+                           model_format::kMean, model_format::kValueColumn}) {
+    const TensorInfo* t = f.find(name);
+    if (!t) {
+      XXH3_freeState(h);
+      throw file_error(path, std::string("corrupted model: missing tensor '") + name + "'");
+    }
+    XXH3_64bits_update(h, f.bytes(*t), t->bytes());
+  }
+  const std::string checksum = hex(XXH3_64bits_digest(h));
+  XXH3_freeState(h);
+  if (checksum != m->meta.value("small_tensors_xxh3_64", std::string()))
+    throw file_error(path, "corrupted model: checksum mismatch in the latent/mean/column tensors");
+  std::int64_t next = 0;
+  for (std::size_t v = 0; v < columns.size(); ++v)
+    if (columns[v] >= 0 && columns[v] != next++)
+      throw file_error(path, "corrupted model: inconsistent column map");
+  if (next != d) throw file_error(path, "corrupted model: column map does not match the data");
+
+  const double nugget = m->meta.at("kernel").at("nugget").get<double>();
+  const double lengthscale = m->meta.at("kernel").at("lengthscale").get<double>();
+  m->posterior = std::make_unique<gp::GpPosterior>(m->latent, gp::Kernel{lengthscale, nugget});
+  return Model(std::move(m));
+}
+
+const fs::path& Model::path() const { return impl_->path; }
+int Model::count() const { return impl_->n; }
+int Model::dim() const { return static_cast<int>(impl_->latent.cols()); }
+const std::vector<std::string>& Model::names() const { return impl_->names; }
+const Eigen::MatrixXd& Model::latent() const { return impl_->latent; }
+const MerlDims& Model::dims() const { return impl_->dims; }
+std::size_t Model::kept_columns() const { return impl_->kept; }
+const gp::GpPosterior& Model::posterior() const { return *impl_->posterior; }
+const nlohmann::json& Model::metadata() const { return impl_->meta; }
+const Eigen::MatrixXd& Model::gram() const { return impl_->gram; }
+const Eigen::MatrixXd& Model::material_albedo() const { return impl_->albedo; }
+const std::string& Model::storage() const { return impl_->storage; }
+
+int Model::index_of(const std::string& name) const {
+  const auto& names = impl_->names;
+  const auto it = std::find(names.begin(), names.end(), name);
+  if (it != names.end()) return static_cast<int>(it - names.begin());
+  std::string close;
+  for (const auto& candidate : names)
+    if (candidate.find(name) != std::string::npos || name.find(candidate) != std::string::npos)
+      close += (close.empty() ? "" : ", ") + candidate;
+  throw Error("no material named '" + name + "' in " + impl_->path.string() +
+              (close.empty() ? " (see `matlas latent MODEL` for the names)" : "; did you mean: " + close + "?"));
+}
+
+Eigen::VectorXd Model::latent_min() const { return impl_->latent.colwise().minCoeff().transpose(); }
+Eigen::VectorXd Model::latent_max() const { return impl_->latent.colwise().maxCoeff().transpose(); }
+
+Eigen::VectorXd Model::weights(const Eigen::Ref<const Eigen::VectorXd>& x) const {
+  if (x.size() != dim())
+    throw Error("latent point has " + std::to_string(x.size()) + " coordinates, the model has q = " +
+                std::to_string(dim()));
+  if (!x.allFinite()) throw Error("latent point has a NaN or infinite coordinate");
+  return impl_->posterior->weights(x);
+}
+
+Eigen::VectorXd Model::material_weights(int i) const {
+  if (i < 0 || i >= count()) throw Error("material index out of range: " + std::to_string(i));
+  return Eigen::VectorXd::Unit(count(), i);
+}
+
+double Model::variance(const Eigen::Ref<const Eigen::VectorXd>& x) const {
+  if (x.size() != dim()) throw Error("latent point has the wrong number of coordinates");
+  return impl_->posterior->variance(x);
+}
+
+bool Model::kept(std::size_t v) const { return impl_->value_column[v] >= 0; }
+int Model::column_of(std::size_t v) const { return impl_->value_column[v]; }
+float Model::mean(std::size_t column) const { return impl_->mean[column]; }
+const float* Model::centred_f32(std::size_t column) const {
+  return impl_->centred_f32 ? impl_->centred_f32 + column * static_cast<std::size_t>(impl_->n) : nullptr;
+}
+
+void Model::centred(std::size_t column, float* out) const {
+  const std::size_t base = column * static_cast<std::size_t>(impl_->n);
+  for (int i = 0; i < impl_->n; ++i)
+    out[i] = impl_->centred_f32 ? impl_->centred_f32[base + static_cast<std::size_t>(i)]
+                                : half_to_float(impl_->centred_f16[base + static_cast<std::size_t>(i)]);
+}
+
+double Model::value(std::size_t v, const Eigen::Ref<const Eigen::VectorXd>& w) const {
+  const std::int32_t c = impl_->value_column[v];
+  if (c < 0) return std::numeric_limits<double>::quiet_NaN();
+  return impl_->mean[c] + impl_->centred_dot(static_cast<std::size_t>(c), w);
+}
+
+Rgb Model::bin_rgb(std::size_t bin, const Eigen::Ref<const Eigen::VectorXd>& w) const {
+  Rgb rgb;
+  const std::size_t bins = impl_->dims.bins();
+  for (int c = 0; c < 3; ++c) {
+    const double v = value(static_cast<std::size_t>(c) * bins + bin, w);
+    rgb[c] = std::isnan(v) ? 0.0 : v;
+  }
+  return rgb;
+}
+
+Rgb Model::lookup(const Vec3& wi, const Vec3& wo, const Eigen::Ref<const Eigen::VectorXd>& w) const {
+  return bin_rgb(bin_of(impl_->dims, wi, wo), w);
+}
+
+BrdfTable Model::table(const Eigen::Ref<const Eigen::VectorXd>& w) const {
+  if (w.size() != count()) throw Error("weight vector has the wrong length");
+  BrdfTable t(impl_->dims);
+  const std::size_t bins = impl_->dims.bins();
+  parallel_for(0, t.size(), [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t v = lo; v < hi; ++v) {
+      const auto channel = static_cast<int>(v / bins);
+      const double x = value(v, w);
+      if (std::isnan(x)) t.set_missing(channel, v % bins);
+      else t.set_value(channel, v % bins, x);
+    }
+  }, 65536);
+  return t;
+}
+
+std::vector<Rgb> Model::albedo_curve(const Eigen::Ref<const Eigen::VectorXd>& w) const {
+  const Eigen::RowVectorXd mean = impl_->albedo.colwise().mean();
+  const Eigen::RowVectorXd a = mean + w.transpose() * (impl_->albedo.rowwise() - mean);
+  std::vector<Rgb> curve(kAlbedoAngles);
+  for (int t = 0; t < kAlbedoAngles; ++t) curve[static_cast<std::size_t>(t)] = Rgb(a[3 * t], a[3 * t + 1], a[3 * t + 2]);
+  return curve;
+}
+
+}  // namespace matlas

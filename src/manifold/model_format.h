@@ -1,0 +1,18 @@
+#pragma once
+// Names and version of the `.matlas` model file (a safetensors file; docs/MODEL_FORMAT.md).
+namespace matlas::model_format {
+
+inline constexpr const char* kFormatName = "matlas-model";
+inline constexpr int kVersion = 1;
+/// Key of the JSON metadata string in the safetensors "__metadata__" map.
+inline constexpr const char* kMetadataKey = "matlas";
+
+// Tensors, in file order (largest element type first so every tensor is aligned).
+inline constexpr const char* kLatent = "latent";            ///< F64 [n, q]
+inline constexpr const char* kGram = "gram";                ///< F64 [n, n] centred Gram, linear data
+inline constexpr const char* kAlbedo = "albedo";            ///< F64 [n, 90, 3] albedo curves
+inline constexpr const char* kMean = "mean";                ///< F32 [D'] mean of each kept column
+inline constexpr const char* kValueColumn = "value_column"; ///< I32 [3 * bins] kept column or -1
+inline constexpr const char* kCentred = "centred";          ///< F32|F16 [D', n] column-interleaved
+
+}  // namespace matlas::model_format

@@ -1,0 +1,138 @@
+#include "manifold/project.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include <LBFGS.h>
+
+#include "core/error.h"
+#include "core/parallel.h"
+#include "gp/kernel.h"
+
+namespace matlas {
+
+MaterialInnerProducts inner_products(const Model& model, const BrdfTable& table) {
+  if (table.dims() != model.dims())
+    throw Error("material grid " + table.dims().to_string() + " differs from the model's " +
+                model.dims().to_string());
+  const int n = model.count();
+  const std::size_t bins = table.bins();
+  const unsigned workers = worker_count();
+  std::vector<Eigen::VectorXd> partial_b(workers, Eigen::VectorXd::Zero(n));
+  std::vector<double> partial_c(workers, 0.0), partial_z(workers, 0.0);
+  std::vector<std::size_t> partial_missing(workers, 0);
+  const std::size_t total = table.size();
+  parallel_for(0, workers, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t t = lo; t < hi; ++t) {
+      const std::size_t begin = total * t / workers, end = total * (t + 1) / workers;
+      Eigen::VectorXd& b = partial_b[t];
+      std::vector<float> row(static_cast<std::size_t>(n));
+      for (std::size_t v = begin; v < end; ++v) {
+        const int c = model.column_of(v);
+        if (c < 0) continue;
+        const auto channel = static_cast<int>(v / bins);
+        if (!table.measured(channel, v % bins)) {
+          ++partial_missing[t];
+          continue;
+        }
+        const double z = table.value(channel, v % bins);
+        const double zc = z - model.mean(static_cast<std::size_t>(c));
+        partial_c[t] += zc * zc;
+        partial_z[t] += z * z;
+        const float* data = model.centred_f32(static_cast<std::size_t>(c));
+        if (!data) {
+          model.centred(static_cast<std::size_t>(c), row.data());
+          data = row.data();
+        }
+        for (int i = 0; i < n; ++i) b[i] += zc * static_cast<double>(data[i]);
+      }
+    }
+  });
+  MaterialInnerProducts ip;
+  ip.b = Eigen::VectorXd::Zero(n);
+  for (unsigned t = 0; t < workers; ++t) {
+    ip.b += partial_b[t];
+    ip.centred_norm2 += partial_c[t];
+    ip.norm2 += partial_z[t];
+    ip.missing += partial_missing[t];
+  }
+  return ip;
+}
+
+double projection_residual(const Model& model, const MaterialInnerProducts& ip,
+                           const Eigen::VectorXd& x, Eigen::VectorXd* gradient) {
+  const Eigen::MatrixXd& s = model.gram();
+  const Eigen::VectorXd w = model.weights(x);
+  const Eigen::VectorXd sw = s * w;
+  const double r = ip.centred_norm2 - 2.0 * w.dot(ip.b) + w.dot(sw);
+  if (gradient) {
+    // dr/dx = sum_i g_i dk_i/dx with g = K^-1 (2 S w - 2 b), dk_i/dx = -2 (x - x_i) k_i / l^2.
+    const gp::GpPosterior& post = model.posterior();
+    const Eigen::VectorXd g = post.cholesky().solve(2.0 * (sw - ip.b));
+    const Eigen::MatrixXd& xs = model.latent();
+    const double l2 = post.kernel().lengthscale * post.kernel().lengthscale;
+    gradient->setZero(x.size());
+    for (int i = 0; i < model.count(); ++i) {
+      const Eigen::VectorXd diff = x - xs.row(i).transpose();
+      const double k = std::exp(-diff.squaredNorm() / l2);
+      *gradient += g[i] * (-2.0 / l2) * k * diff;
+    }
+  }
+  return r;
+}
+
+Projection project_material(const Model& model, const BrdfTable& table, int starts) {
+  const MaterialInnerProducts ip = inner_products(model, table);
+  const Eigen::MatrixXd& s = model.gram();
+  const int n = model.count();
+  Projection p;
+  p.missing = ip.missing;
+  // Nearest materials in data space: |z - z_i|^2 = |z-mean|^2 - 2 b_i + S_ii.
+  std::vector<double> d2(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) d2[static_cast<std::size_t>(i)] = std::max(0.0, ip.centred_norm2 - 2.0 * ip.b[i] + s(i, i));
+  std::vector<int> order(static_cast<std::size_t>(n));
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return d2[static_cast<std::size_t>(a)] < d2[static_cast<std::size_t>(b)]; });
+  p.nearest = order[0];
+  const double norm2 = std::max(ip.norm2, 1e-300);
+  p.nearest_relative_error = std::sqrt(d2[static_cast<std::size_t>(order[0])] / norm2);
+
+  std::vector<Eigen::VectorXd> seeds;
+  for (int k = 0; k < std::min(starts, n); ++k) seeds.push_back(model.latent().row(order[static_cast<std::size_t>(k)]).transpose());
+  seeds.push_back(model.latent().colwise().mean().transpose());
+
+  LBFGSpp::LBFGSParam<double> param;
+  param.epsilon = 1e-8;
+  param.epsilon_rel = 1e-8;
+  param.max_iterations = 200;
+  param.max_linesearch = 40;
+  LBFGSpp::LBFGSSolver<double> solver(param);
+  const double scale = 1.0 / norm2;  // keep the objective O(1)
+  auto objective = [&](const Eigen::VectorXd& x, Eigen::VectorXd& grad) {
+    const double r = projection_residual(model, ip, x, &grad);
+    grad *= scale;
+    return r * scale;
+  };
+  double best = std::numeric_limits<double>::infinity();
+  for (Eigen::VectorXd x : seeds) {
+    double fx = 0;
+    try {
+      solver.minimize(objective, x, fx);
+    } catch (const std::exception&) {
+      // A failed line search still leaves x at its best point so far.
+      Eigen::VectorXd g;
+      fx = objective(x, g);
+    }
+    if (fx < best && x.allFinite()) {
+      best = fx;
+      p.x = x;
+    }
+  }
+  p.residual2 = std::max(0.0, projection_residual(model, ip, p.x));
+  p.relative_error = std::sqrt(p.residual2 / norm2);
+  p.variance = model.variance(p.x);
+  return p;
+}
+
+}  // namespace matlas

@@ -1,0 +1,46 @@
+#pragma once
+// Projection of a new measured material onto a model's map: the latent point x whose BRDF m(x)
+// is closest (L2 over the model's kept columns) to the material.
+//
+// One pass over the file computes b_i = <z - mean, z_i - mean> and |z - mean|^2; after that the
+// residual of any x is |z - m(x)|^2 = |z - mean|^2 - 2 w(x)^T b + w(x)^T S w(x) with the model's
+// Gram S, so the search runs entirely in n-space: L-BFGS with the analytic gradient, started
+// from the latent points of the nearest materials.
+#include <filesystem>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "manifold/model.h"
+
+namespace matlas {
+
+/// What the pass over a material measures against a model.
+struct MaterialInnerProducts {
+  Eigen::VectorXd b;            ///< <z - mean, z_i - mean> over the kept columns
+  double centred_norm2 = 0;     ///< |z - mean|^2
+  double norm2 = 0;             ///< |z|^2 (for relative errors)
+  std::size_t missing = 0;      ///< kept columns the material has no measurement for (skipped)
+};
+
+MaterialInnerProducts inner_products(const Model& model, const BrdfTable& table);
+
+struct Projection {
+  Eigen::VectorXd x;            ///< the latent point
+  double residual2 = 0;         ///< |z - m(x)|^2 over the kept columns
+  double relative_error = 0;    ///< sqrt(residual2 / |z|^2)
+  double variance = 0;          ///< predictive variance at x
+  int nearest = -1;             ///< nearest database material (in data space)
+  double nearest_relative_error = 0;
+  std::size_t missing = 0;      ///< see MaterialInnerProducts
+};
+
+/// Residual |z - m(x)|^2 and, if `gradient` is given, its gradient with respect to x.
+double projection_residual(const Model& model, const MaterialInnerProducts& ip,
+                           const Eigen::VectorXd& x, Eigen::VectorXd* gradient = nullptr);
+
+/// Projects a material (same grid as the model) onto the model. `starts` nearest materials seed
+/// the search, plus the centroid of the latent points.
+Projection project_material(const Model& model, const BrdfTable& table, int starts = 5);
+
+}  // namespace matlas
