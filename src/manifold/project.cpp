@@ -115,6 +115,15 @@ Projection project_material(const Model& model, const BrdfTable& table, int star
     return r * scale;
   };
   double best = std::numeric_limits<double>::infinity();
+  for (const Eigen::VectorXd& seed : seeds) {
+    // The seed itself: at a material's own point the GP reproduces it exactly (w = e_i), a value
+    // the smooth search near it does not see.
+    const double at_seed = projection_residual(model, ip, seed) * scale;
+    if (at_seed < best) {
+      best = at_seed;
+      p.x = seed;
+    }
+  }
   for (Eigen::VectorXd x : seeds) {
     double fx = 0;
     try {

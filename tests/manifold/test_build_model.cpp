@@ -1,0 +1,271 @@
+// Building a model and querying it, against explicit computations on the input tables.
+#include <cmath>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "brdf/albedo.h"
+#include "core/error.h"
+#include "manifold/build.h"
+#include "manifold/export.h"
+#include "manifold/model.h"
+#include "manifold/project.h"
+#include "support/temp_dir.h"
+#include "synthetic_database.h"
+
+namespace matlas {
+namespace {
+
+using test::TempDir;
+
+BuildOptions small_options(int q = 2) {
+  BuildOptions o;
+  o.dim = q;
+  o.block_columns = 100;  // many blocks even on the small grid
+  return o;
+}
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+double relative_l2(const BrdfTable& a, const BrdfTable& b, const Model& m) {
+  double e = 0, n = 0;
+  for (std::size_t v = 0; v < a.size(); ++v) {
+    if (!m.kept(v)) continue;
+    const int c = static_cast<int>(v / a.bins());
+    const double x = a.value(c, v % a.bins()), y = b.value(c, v % a.bins());
+    e += (x - y) * (x - y);
+    n += y * y;
+  }
+  return std::sqrt(e / n);
+}
+
+class BuiltModel : public ::testing::Test {
+protected:
+  void SetUp() override {
+    paths = test::write_database(dir / "db", 12);
+    // One material lacks a measurement in one column: that column is dropped for everyone.
+    BrdfTable t = read_merl(paths[3]);
+    t.set_missing(1, 17);
+    write_merl(paths[3], t, true);
+    report = build_model(MaterialSet::open({dir / "db"}), small_options(), dir / "m.matlas");
+  }
+  TempDir dir;
+  std::vector<std::filesystem::path> paths;
+  BuildReport report;
+};
+
+TEST_F(BuiltModel, ReproducesEveryInputAtItsLatentPoint) {
+  const Model m = Model::open(dir / "m.matlas");
+  ASSERT_EQ(m.count(), 12);
+  ASSERT_EQ(m.dim(), 2);
+  for (int i = 0; i < m.count(); ++i) {
+    const Eigen::VectorXd w = m.weights(m.latent().row(i).transpose());
+    EXPECT_NEAR((w - Eigen::VectorXd::Unit(12, i)).norm(), 0.0, 1e-9);
+    const BrdfTable input = read_merl(paths[static_cast<std::size_t>(i)]);
+    EXPECT_LE(relative_l2(m.table(w), input, m), 1e-5) << m.names()[static_cast<std::size_t>(i)];
+  }
+}
+
+TEST_F(BuiltModel, DropsColumnsMissingInAnyInputAndSaysSo) {
+  EXPECT_EQ(report.dropped_columns, 1u);
+  const Model m = Model::open(dir / "m.matlas");
+  const std::size_t v = 1 * test::kSmallDims.bins() + 17;
+  EXPECT_FALSE(m.kept(v));
+  const BrdfTable t = export_table(m, m.weights(Eigen::Vector2d(0.1, 0.2)));
+  EXPECT_FALSE(t.measured(1, 17));
+  EXPECT_EQ(t.stored()[v], -1.0);
+}
+
+TEST_F(BuiltModel, InterpolationIsTheExplicitWeightedSumOfInputs) {
+  const Model m = Model::open(dir / "m.matlas");
+  std::vector<BrdfTable> inputs;
+  for (const auto& p : paths) inputs.push_back(read_merl(p));
+  const Eigen::VectorXd x = 0.5 * (m.latent().row(0) + m.latent().row(5)).transpose() + Eigen::Vector2d(0.05, -0.1);
+  const Eigen::VectorXd w = m.weights(x);
+  const BrdfTable t = m.table(w);
+  const std::size_t bins = t.bins();
+  double worst = 0;
+  for (std::size_t v = 0; v < t.size(); ++v) {
+    if (!m.kept(v)) continue;
+    const int c = static_cast<int>(v / bins);
+    double mean = 0;
+    for (const auto& z : inputs) mean += z.value(c, v % bins) / 12.0;
+    double expected = mean;
+    for (int i = 0; i < 12; ++i) expected += w[i] * (inputs[static_cast<std::size_t>(i)].value(c, v % bins) - mean);
+    worst = std::max(worst, std::abs(t.value(c, v % bins) - expected) / (std::abs(expected) + 1e-3));
+  }
+  EXPECT_LT(worst, 1e-5);
+  // Single-value queries agree with the table.
+  EXPECT_NEAR(m.value(123, w), t.value(0, 123), 1e-12);
+}
+
+TEST_F(BuiltModel, AlbedoIsLinearAndMatchesDirectIntegration) {
+  const Model m = Model::open(dir / "m.matlas");
+  const BrdfTable input = read_merl(paths[7]);
+  const auto curve = m.albedo_curve(m.material_weights(7));
+  for (int t : {0, 30, 60, 89}) {
+    const Rgb direct = directional_albedo(input, (t + 0.5) / 90.0 * kPi / 2, 64);
+    // The model's curve skips the one dropped column; allow for it.
+    EXPECT_NEAR(curve[static_cast<std::size_t>(t)][0], direct[0], 2e-3 * direct[0] + 1e-9) << t;
+  }
+  const Eigen::VectorXd w = m.weights(Eigen::Vector2d(0.2, -0.3));
+  const auto mixed = m.albedo_curve(w);
+  Rgb expected = Rgb::Zero();
+  const Eigen::MatrixXd& a = m.material_albedo();
+  const Eigen::RowVectorXd mean = a.colwise().mean();
+  for (int c = 0; c < 3; ++c) expected[c] = mean[c] + w.dot(a.col(c) - Eigen::VectorXd::Constant(12, mean[c]));
+  EXPECT_NEAR(mixed[0][0], expected[0], 1e-12);
+}
+
+TEST_F(BuiltModel, ProjectionFindsAnInputAtItsOwnPoint) {
+  const Model m = Model::open(dir / "m.matlas");
+  const Projection p = project_material(m, read_merl(paths[4]));
+  EXPECT_EQ(p.nearest, 4);
+  EXPECT_LT(p.relative_error, 1e-4);
+  EXPECT_LT((p.x - m.latent().row(4).transpose()).norm(), 1e-2);
+  // A new material from the same family projects with a small residual.
+  const Projection q = project_material(m, test::smooth_table(0.5, 0.5));
+  EXPECT_LT(q.relative_error, q.nearest_relative_error + 1e-12);
+}
+
+TEST_F(BuiltModel, ProjectionGradientMatchesFiniteDifferences) {
+  const Model m = Model::open(dir / "m.matlas");
+  const MaterialInnerProducts ip = inner_products(m, test::smooth_table(0.3, 0.7));
+  const Eigen::Vector2d x(0.1, 0.2);
+  Eigen::VectorXd g;
+  projection_residual(m, ip, x, &g);
+  for (int k = 0; k < 2; ++k) {
+    const double h = 1e-6;
+    Eigen::Vector2d a = x, b = x;
+    a[k] += h;
+    b[k] -= h;
+    const double fd = (projection_residual(m, ip, a) - projection_residual(m, ip, b)) / (2 * h);
+    EXPECT_NEAR(g[k], fd, 1e-5 * (std::abs(fd) + 1e-3));
+  }
+}
+
+TEST(BuildModel, IsDeterministicAndIndependentOfBlockSize) {
+  TempDir dir;
+  test::write_database(dir / "db", 8);
+  const MaterialSet set = MaterialSet::open({dir / "db"});
+  build_model(set, small_options(), dir / "a.matlas");
+  BuildOptions big = small_options();
+  big.block_columns = 1 << 20;
+  build_model(set, big, dir / "b.matlas");
+  const Model a = Model::open(dir / "a.matlas"), b = Model::open(dir / "b.matlas");
+  // Blocks change only the summation order of the Gram matrix: equal to rounding...
+  EXPECT_LT((a.gram() - b.gram()).norm(), 1e-12 * a.gram().norm());
+  // ...and the optimiser, stopping at a relative tolerance, lands on the same optimum.
+  EXPECT_NEAR(a.metadata()["log_likelihood"].get<double>(), b.metadata()["log_likelihood"].get<double>(),
+              1e-6 * std::abs(a.metadata()["log_likelihood"].get<double>()));
+  for (int i = 0; i < 8; ++i)
+    for (int j = 0; j < i; ++j)
+      EXPECT_NEAR((a.latent().row(i) - a.latent().row(j)).norm(), (b.latent().row(i) - b.latent().row(j)).norm(), 1e-2);
+  build_model(set, small_options(), dir / "c.matlas");
+  EXPECT_EQ(a.latent(), Model::open(dir / "c.matlas").latent());
+}
+
+TEST(BuildModel, ResultDoesNotDependOnFileOrderOrDataScale) {
+  TempDir dir;
+  auto paths = test::write_database(dir / "db", 8);
+  test::write_database(dir / "scaled", 8, 1, 1000.0);
+  build_model(MaterialSet::open({dir / "db"}), small_options(), dir / "a.matlas");
+  std::vector<std::filesystem::path> reversed(paths.rbegin(), paths.rend());
+  build_model(MaterialSet::open(reversed), small_options(), dir / "r.matlas");
+  build_model(MaterialSet::open({dir / "scaled"}), small_options(), dir / "s.matlas");
+  const Model a = Model::open(dir / "a.matlas"), r = Model::open(dir / "r.matlas"),
+              s = Model::open(dir / "s.matlas");
+  // Latent layouts agree up to a rigid motion: compare pairwise distances.
+  for (int i = 0; i < 8; ++i)
+    for (int j = 0; j < 8; ++j) {
+      const double d = (a.latent().row(i) - a.latent().row(j)).norm();
+      const int ri = r.index_of(a.names()[static_cast<std::size_t>(i)]);
+      const int rj = r.index_of(a.names()[static_cast<std::size_t>(j)]);
+      EXPECT_NEAR((r.latent().row(ri) - r.latent().row(rj)).norm(), d, 1e-3);
+      EXPECT_NEAR((s.latent().row(i) - s.latent().row(j)).norm(), d, 1e-3);
+    }
+}
+
+TEST(BuildModel, RejectsBadInputsWithClearMessages) {
+  TempDir dir;
+  auto paths = test::write_database(dir / "db", 4);
+  std::filesystem::copy_file(paths[1], dir / "db" / "copy-of-mat01.binary");
+  std::ofstream(dir / "db" / "README.txt") << "copyright notice";
+  const MaterialSet set = MaterialSet::open({dir / "db"});
+  EXPECT_EQ(set.size(), 5u);
+  EXPECT_EQ(set.ignored().size(), 1u);
+  const std::string dup = error_of([&] { build_model(set, small_options(), dir / "m.matlas"); });
+  EXPECT_NE(dup.find("are identical"), std::string::npos) << dup;
+  EXPECT_NE(dup.find("mat01"), std::string::npos) << dup;
+  EXPECT_FALSE(std::filesystem::exists(dir / "m.matlas"));
+
+  write_merl(dir / "other.binary", test::smooth_table(0.1, 0.1, MerlDims{4, 4, 8}), true);
+  const std::string mixed = error_of([&] { MaterialSet::open({paths[0], dir / "other.binary"}); });
+  EXPECT_NE(mixed.find("other.binary: grid 4x4x8 differs"), std::string::npos) << mixed;
+  EXPECT_NE(error_of([&] { MaterialSet::open({paths[0]}); }).find("at least 2"), std::string::npos);
+  EXPECT_NE(error_of([&] { MaterialSet::open({dir / "nope"}); }).find("no such file"), std::string::npos);
+  BuildOptions bad = small_options(0);
+  EXPECT_NE(error_of([&] { build_model(MaterialSet::open({paths[0], paths[2]}), bad, dir / "x"); }).find("--dim"),
+            std::string::npos);
+}
+
+TEST(BuildModel, CorruptedOrForeignModelsAreRejected) {
+  TempDir dir;
+  test::write_database(dir / "db", 5);
+  build_model(MaterialSet::open({dir / "db"}), small_options(), dir / "m.matlas");
+  const auto size = std::filesystem::file_size(dir / "m.matlas");
+  std::filesystem::copy_file(dir / "m.matlas", dir / "t.matlas");
+  std::filesystem::resize_file(dir / "t.matlas", size - 10);
+  EXPECT_NE(error_of([&] { Model::open(dir / "t.matlas"); }).find("truncated"), std::string::npos);
+  // Flip one byte in the latent tensor: the checksum catches it.
+  std::filesystem::copy_file(dir / "m.matlas", dir / "c.matlas");
+  {
+    std::fstream f(dir / "c.matlas", std::ios::in | std::ios::out | std::ios::binary);
+    std::uint64_t header = 0;
+    f.read(reinterpret_cast<char*>(&header), 8);
+    f.seekp(static_cast<std::streamoff>(8 + header + 3));
+    f.put('\x55');
+  }
+  EXPECT_NE(error_of([&] { Model::open(dir / "c.matlas"); }).find("checksum"), std::string::npos);
+  // A MERL file is not a model.
+  EXPECT_NE(error_of([&] { Model::open(dir / "db" / "mat00.binary"); }).find("not a"), std::string::npos);
+}
+
+TEST(BuildModel, Float16StorageStaysAccurate) {
+  TempDir dir;
+  auto paths = test::write_database(dir / "db", 6);
+  BuildOptions o = small_options();
+  o.storage = Storage::f16;
+  const BuildReport r = build_model(MaterialSet::open({dir / "db"}), o, dir / "h.matlas");
+  EXPECT_GT(r.storage_relative_error, 1e-5);  // really rounded to half precision
+  EXPECT_LT(r.storage_relative_error, 1e-3);
+  const Model m = Model::open(dir / "h.matlas");
+  EXPECT_EQ(m.storage(), "F16");
+  EXPECT_LE(relative_l2(m.table(m.material_weights(2)), read_merl(paths[2]), m), 1e-3);
+}
+
+TEST(BuildModel, ExportClampsNegativeValues) {
+  TempDir dir;
+  test::write_database(dir / "db", 6);
+  build_model(MaterialSet::open({dir / "db"}), small_options(), dir / "m.matlas");
+  const Model m = Model::open(dir / "m.matlas");
+  // Extrapolating weights produce negative values somewhere.
+  Eigen::VectorXd w = Eigen::VectorXd::Zero(6);
+  w[0] = 4.0;
+  w[1] = -3.0;
+  ExportStats stats;
+  const BrdfTable t = export_table(m, w, &stats);
+  EXPECT_GT(stats.clamped, 0u);
+  EXPECT_LT(stats.most_negative, 0.0);
+  for (double v : t.stored()) EXPECT_GE(v, 0.0);
+}
+
+}  // namespace
+}  // namespace matlas
