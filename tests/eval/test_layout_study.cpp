@@ -1,0 +1,163 @@
+// The leave-one-out / latent-path harness on a tiny synthetic database (small MERL grid).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include <Eigen/SVD>
+
+#include "brdf/catalog.h"
+#include "core/error.h"
+#include "eval/brdf_distance.h"
+#include "eval/combination_pass.h"
+#include "eval/layout_study.h"
+#include "formats/merl_file.h"
+#include "formats/synth_database.h"
+#include "manifold/material_set.h"
+#include "support/temp_dir.h"
+
+namespace matlas::eval {
+namespace {
+
+const MerlDims kTiny{6, 6, 12};
+
+/// 6 random analytic materials plus an exact copy of the third one ("zz-copy").
+class TinyDatabase : public ::testing::Test {
+protected:
+  void SetUp() override {
+    write_database(dir_.path(), random_catalog(6, 7), null_progress(), kTiny);
+    std::vector<std::filesystem::path> files;
+    for (const auto& e : std::filesystem::directory_iterator(dir_.path())) files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    std::filesystem::copy_file(files[2], dir_ / "zz-copy.binary");
+    set_ = std::make_unique<MaterialSet>(MaterialSet::open({dir_.path()}));
+    for (std::size_t i = 0; i < set_->size(); ++i) tables_.push_back(read_merl(set_->file(i).path()));
+  }
+  test::TempDir dir_{"matlas-eval-study"};
+  std::unique_ptr<MaterialSet> set_;
+  std::vector<BrdfTable> tables_;
+};
+
+TEST_F(TinyDatabase, CombinationPassMatchesDirectDistances) {
+  CombinationQuery q;
+  const auto n = static_cast<Eigen::Index>(set_->size());
+  q.coefficients = Eigen::MatrixXd::Identity(n, n);
+  q.coefficients.conservativeResize(n + 1, n);
+  q.coefficients.row(n).setZero();
+  q.coefficients(n, 0) = 0.5, q.coefficients(n, 1) = 0.5;  // midpoint of materials 0 and 1
+  q.pairs = {{0, 1}, {1, 0}, {3, 3}, {static_cast<int>(n), 0}};
+  q.memory_budget = 4096;  // many small blocks
+  const CombinationResult r = evaluate_combinations(*set_, q);
+  const BrdfDistance direct = brdf_distance(tables_[0], tables_[1]);
+  EXPECT_NEAR(r.distances[0].cbrt_cosine, direct.cbrt_cosine, 1e-12 * (1 + direct.cbrt_cosine));
+  EXPECT_NEAR(r.distances[0].cosine_rmse, direct.cosine_rmse, 1e-12 * (1 + direct.cosine_rmse));
+  EXPECT_EQ(r.distances[0].values, direct.values);
+  EXPECT_EQ(r.distances[1].cbrt_cosine, r.distances[0].cbrt_cosine);
+  EXPECT_EQ(r.distances[2].cbrt_cosine, 0.0);
+  BrdfTable mid(kTiny);
+  for (int c = 0; c < 3; ++c)
+    for (std::size_t b = 0; b < mid.bins(); ++b)
+      mid.set_value(c, b, 0.5 * (tables_[0].value(c, b) + tables_[1].value(c, b)));
+  EXPECT_NEAR(r.distances[3].cbrt_cosine, brdf_distance(mid, tables_[0]).cbrt_cosine, 1e-9);
+  for (std::size_t i = 0; i < r.negatives.size(); ++i) EXPECT_EQ(r.negatives[i], 0u);
+}
+
+TEST_F(TinyDatabase, LeaveOneOutAgainstExplicitComputation) {
+  StudyOptions o;
+  o.dims = {2};
+  o.layouts = {LayoutTransform{}};
+  o.pairs = 4;
+  o.path_segments = 4;
+  o.block_columns = 1000;
+  const StudyResult r = run_layout_study(*set_, o);
+  const int n = static_cast<int>(set_->size());
+  ASSERT_EQ(r.configs.size(), 1u);
+  const ConfigResult& c = r.configs[0];
+  ASSERT_EQ(c.loo.size(), static_cast<std::size_t>(n));
+  ASSERT_EQ(c.paths.size(), 4u);
+  EXPECT_EQ(c.latent.rows(), n);
+
+  // Material distances: symmetric and equal to the direct computation.
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      EXPECT_EQ(r.material_cbrt(i, j), r.material_cbrt(j, i));
+      if (i < j) {
+        EXPECT_NEAR(r.material_cbrt(i, j),
+                    brdf_distance(tables_[static_cast<std::size_t>(i)], tables_[static_cast<std::size_t>(j)]).cbrt_cosine,
+                    1e-10);
+      }
+    }
+
+  // The copy: its nearest material is the original at distance 0, and the projection finds it.
+  const int copy = n - 1;
+  const LooEntry& e = c.loo[static_cast<std::size_t>(copy)];
+  EXPECT_EQ(e.nearest_material, 2);
+  EXPECT_EQ(e.nearest.cbrt_cosine, 0.0);
+  EXPECT_LT(e.gp.cbrt_cosine, 1e-3 * r.material_cbrt.maxCoeff());
+
+  // PCA entry of material 0 recomputed from the explicit tables.
+  const std::size_t D = tables_[0].size();
+  Eigen::MatrixXd Z(n - 1, static_cast<Eigen::Index>(D));
+  for (int i = 1; i < n; ++i)
+    for (int ch = 0; ch < 3; ++ch)
+      for (std::size_t b = 0; b < tables_[0].bins(); ++b)
+        Z(i - 1, static_cast<Eigen::Index>(ch * tables_[0].bins() + b)) = tables_[static_cast<std::size_t>(i)].value(ch, b);
+  const Eigen::RowVectorXd mean = Z.colwise().mean();
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(Z.rowwise() - mean, Eigen::ComputeThinV);
+  const Eigen::MatrixXd U = svd.matrixV().leftCols(2);
+  Eigen::RowVectorXd z0(static_cast<Eigen::Index>(D));
+  for (int ch = 0; ch < 3; ++ch)
+    for (std::size_t b = 0; b < tables_[0].bins(); ++b)
+      z0(static_cast<Eigen::Index>(ch * tables_[0].bins() + b)) = tables_[0].value(ch, b);
+  const Eigen::RowVectorXd rec = mean + ((z0 - mean) * U) * U.transpose();
+  BrdfTable pca(kTiny);
+  for (int ch = 0; ch < 3; ++ch)
+    for (std::size_t b = 0; b < pca.bins(); ++b)
+      pca.set_value(ch, b, rec(static_cast<Eigen::Index>(ch * pca.bins() + b)));
+  // set_value divides by the channel scale and value() multiplies back: compare with tolerance.
+  const BrdfDistance expected = brdf_distance(pca, tables_[0]);
+  EXPECT_NEAR(c.loo[0].pca.cosine_rmse, expected.cosine_rmse, 1e-8 * (1 + expected.cosine_rmse));
+  EXPECT_NEAR(c.loo[0].pca.cbrt_cosine, expected.cbrt_cosine, 1e-6 * (1 + expected.cbrt_cosine));
+
+  // Paths: steps obey the triangle inequality against the ends.
+  for (const PathEntry& p : c.paths) {
+    ASSERT_EQ(p.steps.size(), 4u);
+    double length = 0;
+    for (const auto& s : p.steps) length += s.cbrt_cosine;
+    EXPECT_GE(length, p.ends.cbrt_cosine * (1 - 1e-9));
+  }
+  EXPECT_GE(c.path_length_ratio, 1.0 - 1e-9);
+  EXPECT_FALSE(r.recommendation.empty());
+}
+
+TEST_F(TinyDatabase, MaterialsOptionLimitsTheLeftOutSet) {
+  StudyOptions o;
+  o.dims = {1, 2};
+  o.layouts = {LayoutTransform::parse("cbrt"), LayoutTransform::parse("cosine-linear")};
+  o.materials = 3;
+  o.pairs = 0;
+  const StudyResult r = run_layout_study(*set_, o);
+  ASSERT_EQ(r.configs.size(), 4u);
+  for (const auto& c : r.configs) {
+    EXPECT_EQ(c.loo.size(), 3u);
+    EXPECT_TRUE(c.paths.empty());
+    EXPECT_GE(c.loo_pca_cbrt, 0.0);
+  }
+  EXPECT_NO_THROW(r.config(LayoutTransform::parse("cbrt"), 2));
+  EXPECT_THROW(r.config(LayoutTransform::parse("log"), 2), Error);
+}
+
+TEST(ChoosePairs, DistinctDeterministicAndLimited) {
+  const auto a = choose_pairs(10, 7, 3), b = choose_pairs(10, 7, 3);
+  EXPECT_EQ(a, b);
+  ASSERT_EQ(a.size(), 7u);
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    EXPECT_LT(a[k].first, a[k].second);
+    if (k) {
+      EXPECT_NE(a[k], a[k - 1]);
+    }
+  }
+  EXPECT_EQ(choose_pairs(4, 100, 1).size(), 6u);
+}
+
+}  // namespace
+}  // namespace matlas::eval
