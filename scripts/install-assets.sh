@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# Installs the rendering assets (idempotent): the CC0 environment maps and meshes of the npm
+# package @pmndrs/assets, decoded from their JS modules (`export default 'data:...;base64,...'`)
+# into <repo>/assets/hdri/NAME.exr and <repo>/assets/models/NAME.glb (both git-ignored).
+#
+#   scripts/install-assets.sh [--force]
+#
+# Needs npm (registry access) the first time; afterwards it only decodes what is missing.
+set -euo pipefail
+
+repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+version="1.7.0"
+prefix="$repo/.cache/npm-assets"
+package="$prefix/node_modules/@pmndrs/assets"
+force=0
+[[ "${1:-}" == "--force" ]] && force=1
+
+hdris=(apartment bridge city dawn esplanade forest hall lab lobby night park sky studio sunrise
+       sunset venice warehouse workshop)
+models=(bunny suzi)
+
+installed_version() {
+  [[ -f "$package/package.json" ]] || return 1
+  sed -n 's/.*"version": *"\([^"]*\)".*/\1/p' "$package/package.json" | head -n 1
+}
+
+if [[ "$(installed_version || true)" != "$version" ]]; then
+  command -v npm > /dev/null || { echo "install-assets: npm is needed to fetch @pmndrs/assets" >&2; exit 1; }
+  mkdir -p "$prefix"
+  npm install --prefix "$prefix" --no-audit --no-fund --no-save "@pmndrs/assets@$version" >&2
+fi
+
+# decode SOURCE.js TARGET: strips `export default '<mime>;base64,` and the closing quote.
+decode() {
+  local source="$1" target="$2"
+  if [[ -s "$target" && "$force" == 0 ]]; then return 0; fi
+  [[ -f "$source" ]] || { echo "install-assets: missing $source" >&2; exit 1; }
+  local tmp="$target.tmp-$$"
+  sed -e "s/^export default '[^,]*,//" -e "s/'[;[:space:]]*\$//" "$source" | tr -d '\n' | base64 -d > "$tmp"
+  [[ -s "$tmp" ]] || { rm -f "$tmp"; echo "install-assets: could not decode $source" >&2; exit 1; }
+  mv "$tmp" "$target"
+}
+
+mkdir -p "$repo/assets/hdri" "$repo/assets/models"
+for name in "${hdris[@]}"; do decode "$package/hdri/$name.exr.js" "$repo/assets/hdri/$name.exr"; done
+for name in "${models[@]}"; do decode "$package/models/$name.glb.js" "$repo/assets/models/$name.glb"; done
+echo "install-assets: ${#hdris[@]} environment maps and ${#models[@]} meshes in $repo/assets" >&2

@@ -1,0 +1,531 @@
+#include "render/image_basis.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <mutex>
+
+#include <Eigen/Eigenvalues>
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+#include "core/parallel.h"
+#include "formats/safetensors.h"
+#include "manifold/model.h"
+#include "render/material.h"
+#include "render/render.h"
+#include "render/scene.h"
+
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+#define MATLAS_X86 1
+#endif
+
+namespace matlas::render {
+
+namespace {
+
+constexpr const char* kFormat = "matlas-image-basis";
+constexpr std::size_t kChunk = 2048;  // packed floats per accumulation block (8 KiB)
+
+const float* half_table() {
+  static const std::vector<float> table = [] {
+    std::vector<float> t(65536);
+    for (std::uint32_t h = 0; h < 65536; ++h) t[h] = half_to_float(static_cast<std::uint16_t>(h));
+    return t;
+  }();
+  return table.data();
+}
+
+// --- accumulation kernels: acc[0, len) += sum_i w[i] * row_i[begin, begin + len) -------------
+
+void accumulate_f32_portable(const float* values, std::size_t stride, std::size_t begin, std::size_t len,
+                             const float* w, int n, float* acc) {
+  for (int i = 0; i < n; ++i) {
+    const float wi = w[i];
+    if (wi == 0.0f) continue;
+    const float* row = values + static_cast<std::size_t>(i) * stride + begin;
+    for (std::size_t j = 0; j < len; ++j) acc[j] += wi * row[j];
+  }
+}
+
+void accumulate_f16_portable(const std::uint16_t* values, std::size_t stride, std::size_t begin, std::size_t len,
+                             const float* w, int n, float* acc) {
+  const float* table = half_table();
+  for (int i = 0; i < n; ++i) {
+    const float wi = w[i];
+    if (wi == 0.0f) continue;
+    const std::uint16_t* row = values + static_cast<std::size_t>(i) * stride + begin;
+    for (std::size_t j = 0; j < len; ++j) acc[j] += wi * table[row[j]];
+  }
+}
+
+#ifdef MATLAS_X86
+__attribute__((target("avx2,fma"))) void accumulate_f32_avx2(const float* values, std::size_t stride,
+                                                             std::size_t begin, std::size_t len, const float* w,
+                                                             int n, float* acc) {
+  for (int i = 0; i < n; ++i) {
+    const float wi = w[i];
+    if (wi == 0.0f) continue;
+    const float* row = values + static_cast<std::size_t>(i) * stride + begin;
+    const __m256 wv = _mm256_set1_ps(wi);
+    std::size_t j = 0;
+    for (; j + 8 <= len; j += 8)
+      _mm256_storeu_ps(acc + j, _mm256_fmadd_ps(wv, _mm256_loadu_ps(row + j), _mm256_loadu_ps(acc + j)));
+    for (; j < len; ++j) acc[j] += wi * row[j];
+  }
+}
+
+__attribute__((target("avx2,fma,f16c"))) void accumulate_f16_f16c(const std::uint16_t* values, std::size_t stride,
+                                                                  std::size_t begin, std::size_t len, const float* w,
+                                                                  int n, float* acc) {
+  const float* table = half_table();
+  for (int i = 0; i < n; ++i) {
+    const float wi = w[i];
+    if (wi == 0.0f) continue;
+    const std::uint16_t* row = values + static_cast<std::size_t>(i) * stride + begin;
+    const __m256 wv = _mm256_set1_ps(wi);
+    std::size_t j = 0;
+    for (; j + 8 <= len; j += 8) {
+      const __m256 x = _mm256_cvtph_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(row + j)));
+      _mm256_storeu_ps(acc + j, _mm256_fmadd_ps(wv, x, _mm256_loadu_ps(acc + j)));
+    }
+    for (; j < len; ++j) acc[j] += wi * table[row[j]];
+  }
+}
+
+bool cpu_has_avx2_fma() {
+  static const bool ok = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  return ok;
+}
+bool cpu_has_f16c() {
+  static const bool ok = cpu_has_avx2_fma() && __builtin_cpu_supports("f16c");
+  return ok;
+}
+#endif
+
+void accumulate_f32(const float* values, std::size_t stride, std::size_t begin, std::size_t len, const float* w,
+                    int n, float* acc) {
+#ifdef MATLAS_X86
+  if (cpu_has_avx2_fma()) return accumulate_f32_avx2(values, stride, begin, len, w, n, acc);
+#endif
+  accumulate_f32_portable(values, stride, begin, len, w, n, acc);
+}
+
+void accumulate_f16(const std::uint16_t* values, std::size_t stride, std::size_t begin, std::size_t len,
+                    const float* w, int n, float* acc) {
+#ifdef MATLAS_X86
+  if (cpu_has_f16c()) return accumulate_f16_f16c(values, stride, begin, len, w, n, acc);
+#endif
+  accumulate_f16_portable(values, stride, begin, len, w, n, acc);
+}
+
+std::uint64_t fnv1a(const void* data, std::size_t bytes, std::uint64_t h = 0xcbf29ce484222325ull) {
+  const auto* p = static_cast<const unsigned char*>(data);
+  for (std::size_t i = 0; i < bytes; ++i) h = (h ^ p[i]) * 0x100000001b3ull;
+  return h;
+}
+
+template <class T>
+bool same_value(T a, T b) {
+  return std::memcmp(&a, &b, sizeof(T)) == 0;
+}
+
+}  // namespace
+
+// --- construction and packing -------------------------------------------------------------------
+
+ImageBasis::ImageBasis(Image mean, const std::vector<Image>& images, std::vector<std::string> names,
+                       std::map<std::string, std::string> metadata)
+    : width_(mean.width), height_(mean.height), n_(static_cast<int>(images.size())), names_(std::move(names)),
+      metadata_(std::move(metadata)) {
+  if (mean.empty()) throw Error("image basis: empty mean image");
+  if (images.empty()) throw Error("image basis: no material images");
+  if (!names_.empty() && names_.size() != images.size()) throw Error("image basis: names and images differ in count");
+  std::vector<const float*> pointers;
+  for (const Image& im : images) {
+    if (im.width != width_ || im.height != height_) throw Error("image basis: images differ in size");
+    pointers.push_back(im.rgb.data());
+  }
+  mean_ = std::move(mean.rgb);
+  pack(mean_.data(), pointers);
+}
+
+void ImageBasis::pack(const float* mean, const std::vector<const float*>& images) {
+  const std::size_t pixels = static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_);
+  active_.clear();
+  for (std::size_t p = 0; p < pixels; ++p) {
+    bool differs = false;
+    for (std::size_t i = 1; i < images.size() && !differs; ++i)
+      for (std::size_t c = 0; c < 3; ++c)
+        if (!same_value(images[i][3 * p + c], images[0][3 * p + c])) differs = true;
+    if (differs) active_.push_back(static_cast<std::uint32_t>(p));
+  }
+  packed_ = 3 * active_.size();
+  packed_mean_.resize(packed_);
+  values_f32_.assign(static_cast<std::size_t>(n_) * packed_, 0.0f);
+  values_f16_.clear();
+  precision_ = BasisPrecision::f32;
+  for (std::size_t a = 0; a < active_.size(); ++a)
+    for (std::size_t c = 0; c < 3; ++c) {
+      packed_mean_[3 * a + c] = mean[3 * active_[a] + c];
+      for (std::size_t i = 0; i < images.size(); ++i) values_f32_[i * packed_ + 3 * a + c] = images[i][3 * active_[a] + c];
+    }
+  rank_ = 0;
+  factors_.clear();
+}
+
+double ImageBasis::active_fraction() const {
+  const double pixels = static_cast<double>(width_) * static_cast<double>(height_);
+  return pixels > 0 ? static_cast<double>(active_.size()) / pixels : 0.0;
+}
+
+std::size_t ImageBasis::compose_bytes() const {
+  return static_cast<std::size_t>(n_) * packed_ * (precision_ == BasisPrecision::f16 ? 2 : 4);
+}
+
+double ImageBasis::convert_to_half() {
+  if (precision_ == BasisPrecision::f16) return 0.0;
+  values_f16_.resize(values_f32_.size());
+  double err = 0, norm = 0;
+  for (std::size_t k = 0; k < values_f32_.size(); ++k) {
+    values_f16_[k] = float_to_half(values_f32_[k]);
+    const double d = static_cast<double>(half_to_float(values_f16_[k])) - values_f32_[k];
+    err += d * d;
+    norm += static_cast<double>(values_f32_[k]) * values_f32_[k];
+  }
+  std::vector<float>().swap(values_f32_);
+  precision_ = BasisPrecision::f16;
+  return norm > 0 ? std::sqrt(err / norm) : 0.0;
+}
+
+void ImageBasis::unpack_into(int i, float* rgb) const {
+  std::copy(mean_.begin(), mean_.end(), rgb);
+  const std::size_t base = static_cast<std::size_t>(i) * packed_;
+  for (std::size_t a = 0; a < active_.size(); ++a)
+    for (std::size_t c = 0; c < 3; ++c) {
+      const std::size_t k = base + 3 * a + c;
+      rgb[3 * active_[a] + c] = precision_ == BasisPrecision::f32 ? values_f32_[k] : half_to_float(values_f16_[k]);
+    }
+}
+
+Image ImageBasis::mean_image() const {
+  Image im(width_, height_);
+  im.rgb = mean_;
+  return im;
+}
+
+Image ImageBasis::material_image(int i) const {
+  if (i < 0 || i >= n_) throw Error("image basis: material index out of range: " + std::to_string(i));
+  Image im(width_, height_);
+  unpack_into(i, im.rgb.data());
+  return im;
+}
+
+// --- composition ------------------------------------------------------------------------------
+
+void ImageBasis::compose(const Eigen::Ref<const Eigen::VectorXd>& w, float* rgb) const {
+  if (w.size() != n_)
+    throw Error("image basis: weight vector has " + std::to_string(w.size()) + " entries, expected " +
+                std::to_string(n_));
+  // I(w) = (1 - sum w) I_mean + sum_i w_i I_i on the active pixels, I_mean elsewhere.
+  std::vector<float> wf(static_cast<std::size_t>(n_));
+  for (int i = 0; i < n_; ++i) wf[static_cast<std::size_t>(i)] = static_cast<float>(w[i]);
+  const auto mean_weight = static_cast<float>(1.0 - w.sum());
+  const std::size_t chunks = (packed_ + kChunk - 1) / kChunk;
+  std::copy(mean_.begin(), mean_.end(), rgb);
+  parallel_for(0, chunks, [&](std::size_t c0, std::size_t c1) {
+    alignas(64) float acc[kChunk];
+    for (std::size_t chunk = c0; chunk < c1; ++chunk) {
+      const std::size_t begin = chunk * kChunk, len = std::min(kChunk, packed_ - begin);
+      for (std::size_t j = 0; j < len; ++j) acc[j] = mean_weight * packed_mean_[begin + j];
+      if (precision_ == BasisPrecision::f32)
+        accumulate_f32(values_f32_.data(), packed_, begin, len, wf.data(), n_, acc);
+      else
+        accumulate_f16(values_f16_.data(), packed_, begin, len, wf.data(), n_, acc);
+      for (std::size_t j = 0; j < len; ++j) {
+        const std::size_t k = begin + j;
+        rgb[3 * static_cast<std::size_t>(active_[k / 3]) + k % 3] = acc[j];
+      }
+    }
+  }, 8);
+}
+
+Image ImageBasis::compose(const Eigen::Ref<const Eigen::VectorXd>& w) const {
+  Image im(width_, height_);
+  compose(w, im.rgb.data());
+  return im;
+}
+
+void ImageBasis::compose_low_rank(const Eigen::Ref<const Eigen::VectorXd>& w, float* rgb) const {
+  if (rank_ == 0) return compose(w, rgb);
+  if (w.size() != n_) throw Error("image basis: weight vector has the wrong length");
+  const Eigen::VectorXd c = coefficients_.transpose() * w;
+  std::vector<float> cf(static_cast<std::size_t>(rank_));
+  for (int k = 0; k < rank_; ++k) cf[static_cast<std::size_t>(k)] = static_cast<float>(c[k]);
+  const std::size_t chunks = (packed_ + kChunk - 1) / kChunk;
+  std::copy(mean_.begin(), mean_.end(), rgb);
+  parallel_for(0, chunks, [&](std::size_t c0, std::size_t c1) {
+    alignas(64) float acc[kChunk];
+    for (std::size_t chunk = c0; chunk < c1; ++chunk) {
+      const std::size_t begin = chunk * kChunk, len = std::min(kChunk, packed_ - begin);
+      std::copy_n(packed_mean_.data() + begin, len, acc);
+      accumulate_f32(factors_.data(), packed_, begin, len, cf.data(), rank_, acc);
+      for (std::size_t j = 0; j < len; ++j) {
+        const std::size_t k = begin + j;
+        rgb[3 * static_cast<std::size_t>(active_[k / 3]) + k % 3] = acc[j];
+      }
+    }
+  }, 8);
+}
+
+Image ImageBasis::compose_low_rank(const Eigen::Ref<const Eigen::VectorXd>& w) const {
+  Image im(width_, height_);
+  compose_low_rank(w, im.rgb.data());
+  return im;
+}
+
+// --- low rank -----------------------------------------------------------------------------------
+
+LowRankReport ImageBasis::compress(double tolerance, int max_rank) {
+  if (!(tolerance >= 0)) throw Error("image basis: low-rank tolerance must be >= 0");
+  const int n = n_;
+  const std::size_t blocks = (packed_ + kChunk - 1) / kChunk;
+  auto centred_block = [&](std::size_t b, Eigen::MatrixXd& block) {
+    const std::size_t begin = b * kChunk, len = std::min(kChunk, packed_ - begin);
+    block.resize(n, static_cast<Eigen::Index>(len));
+    for (int i = 0; i < n; ++i)
+      for (std::size_t j = 0; j < len; ++j) {
+        const std::size_t k = static_cast<std::size_t>(i) * packed_ + begin + j;
+        const double v = precision_ == BasisPrecision::f32 ? values_f32_[k] : half_to_float(values_f16_[k]);
+        block(i, static_cast<Eigen::Index>(j)) = v - packed_mean_[begin + j];
+      }
+  };
+  // Gram matrix of the centred images (double), accumulated per block in parallel.
+  std::mutex mutex;
+  Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(n, n);
+  double image_norm2 = 0;
+  parallel_for(0, blocks, [&](std::size_t b0, std::size_t b1) {
+    Eigen::MatrixXd local = Eigen::MatrixXd::Zero(n, n), block;
+    double local_norm = 0;
+    for (std::size_t b = b0; b < b1; ++b) {
+      centred_block(b, block);
+      local.selfadjointView<Eigen::Lower>().rankUpdate(block);
+      const std::size_t begin = b * kChunk;
+      for (Eigen::Index j = 0; j < block.cols(); ++j) {
+        const double m = packed_mean_[begin + static_cast<std::size_t>(j)];
+        local_norm += (block.col(j).array() + m).square().sum();
+      }
+    }
+    std::lock_guard lock(mutex);
+    gram += local.selfadjointView<Eigen::Lower>();
+    image_norm2 += local_norm;
+  });
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(gram);
+  const Eigen::VectorXd lambda = eig.eigenvalues().reverse().cwiseMax(0.0);
+  const Eigen::MatrixXd vectors = eig.eigenvectors().rowwise().reverse();
+  const double total = lambda.sum();
+  const int limit = max_rank > 0 ? std::min(max_rank, n) : n;
+  int rank = limit;
+  for (int r = 1; r <= limit; ++r) {
+    const double rest = lambda.tail(n - r).sum();
+    if (total <= 0 || std::sqrt(rest / total) <= tolerance) {
+      rank = r;
+      break;
+    }
+  }
+  coefficients_ = vectors.leftCols(rank);
+  factors_.assign(static_cast<std::size_t>(rank) * packed_, 0.0f);
+  std::vector<double> max_err(blocks, 0.0);
+  parallel_for(0, blocks, [&](std::size_t b0, std::size_t b1) {
+    Eigen::MatrixXd block;
+    for (std::size_t b = b0; b < b1; ++b) {
+      centred_block(b, block);
+      const Eigen::MatrixXd f = coefficients_.transpose() * block;  // rank x len
+      const std::size_t begin = b * kChunk;
+      for (int k = 0; k < rank; ++k)
+        for (Eigen::Index j = 0; j < f.cols(); ++j)
+          factors_[static_cast<std::size_t>(k) * packed_ + begin + static_cast<std::size_t>(j)] =
+              static_cast<float>(f(k, j));
+      max_err[b] = (block - coefficients_ * f).cwiseAbs().maxCoeff();
+    }
+  });
+  rank_ = rank;
+  low_rank_report_.rank = rank;
+  const double rest = lambda.tail(n - rank).sum();
+  low_rank_report_.relative_error = total > 0 ? std::sqrt(rest / total) : 0.0;
+  low_rank_report_.image_relative_error = image_norm2 > 0 ? std::sqrt(rest / image_norm2) : 0.0;
+  low_rank_report_.max_abs_error = blocks ? *std::max_element(max_err.begin(), max_err.end()) : 0.0;
+  return low_rank_report_;
+}
+
+// --- files --------------------------------------------------------------------------------------
+
+void ImageBasis::save(const std::filesystem::path& path, BasisPrecision precision) const {
+  const std::int64_t h = height_, w = width_;
+  const std::size_t pixels3 = mean_.size();
+  SafetensorsWriter writer;
+  std::map<std::string, std::string> meta = metadata_;
+  meta["format"] = kFormat;
+  meta["version"] = "1";
+  meta["width"] = std::to_string(width_);
+  meta["height"] = std::to_string(height_);
+  meta["count"] = std::to_string(n_);
+  meta["names"] = nlohmann::json(names_).dump();
+  meta["precision"] = precision == BasisPrecision::f16 ? "f16" : "f32";
+  if (rank_ > 0) {
+    meta["lowrank_rank"] = std::to_string(rank_);
+    meta["lowrank_relative_error"] = std::to_string(low_rank_report_.relative_error);
+    meta["lowrank_max_abs_error"] = std::to_string(low_rank_report_.max_abs_error);
+  }
+  for (const auto& [k, v] : meta) writer.add_metadata(k, v);
+  if (rank_ > 0) writer.declare("lowrank_coefficients", DType::F64, {n_, rank_});
+  writer.declare("mean", DType::F32, {h, w, 3});
+  if (rank_ > 0) writer.declare("lowrank_factors", DType::F32, {rank_, h, w, 3});
+  writer.declare("images", precision == BasisPrecision::f16 ? DType::F16 : DType::F32, {n_, h, w, 3});
+  writer.begin(path);
+  if (rank_ > 0) {
+    const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> c = coefficients_;
+    writer.write(c.data(), static_cast<std::size_t>(c.size()) * sizeof(double));
+  }
+  writer.write(mean_.data(), pixels3 * sizeof(float));
+  std::vector<float> buffer(pixels3);
+  for (int k = 0; k < rank_; ++k) {
+    std::fill(buffer.begin(), buffer.end(), 0.0f);
+    for (std::size_t a = 0; a < active_.size(); ++a)
+      for (std::size_t c = 0; c < 3; ++c)
+        buffer[3 * active_[a] + c] = factors_[static_cast<std::size_t>(k) * packed_ + 3 * a + c];
+    writer.write(buffer.data(), pixels3 * sizeof(float));
+  }
+  std::vector<std::uint16_t> halves(precision == BasisPrecision::f16 ? pixels3 : 0);
+  for (int i = 0; i < n_; ++i) {
+    unpack_into(i, buffer.data());
+    if (precision == BasisPrecision::f16) {
+      for (std::size_t k = 0; k < pixels3; ++k) halves[k] = float_to_half(buffer[k]);
+      writer.write(halves.data(), pixels3 * sizeof(std::uint16_t));
+    } else {
+      writer.write(buffer.data(), pixels3 * sizeof(float));
+    }
+  }
+  writer.commit();
+}
+
+ImageBasis ImageBasis::open(const std::filesystem::path& path) {
+  const SafetensorsFile file = SafetensorsFile::open(path);
+  const auto& meta = file.metadata();
+  auto field = [&](const std::string& key) -> const std::string& {
+    const auto it = meta.find(key);
+    if (it == meta.end()) throw file_error(path, "not an image basis (metadata '" + key + "' missing)");
+    return it->second;
+  };
+  if (field("format") != kFormat) throw file_error(path, "not an image basis (format is '" + field("format") + "')");
+  ImageBasis basis;
+  try {
+    basis.width_ = std::stoi(field("width"));
+    basis.height_ = std::stoi(field("height"));
+    basis.n_ = std::stoi(field("count"));
+    basis.names_ = nlohmann::json::parse(field("names")).get<std::vector<std::string>>();
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw file_error(path, std::string("image basis metadata is malformed: ") + e.what());
+  }
+  if (basis.width_ <= 0 || basis.height_ <= 0 || basis.n_ <= 0)
+    throw file_error(path, "image basis has a non-positive size or count");
+  if (!basis.names_.empty() && static_cast<int>(basis.names_.size()) != basis.n_)
+    throw file_error(path, "image basis has " + std::to_string(basis.names_.size()) + " names for " +
+                               std::to_string(basis.n_) + " images");
+  basis.metadata_ = meta;
+  const std::int64_t h = basis.height_, w = basis.width_, n = basis.n_;
+  const auto mean = file.view<float>("mean", DType::F32, {h, w, 3});
+  basis.mean_.assign(mean.begin(), mean.end());
+  const std::size_t pixels3 = basis.mean_.size();
+  const TensorInfo* images = file.find("images");
+  if (!images) throw file_error(path, "image basis has no 'images' tensor");
+  std::vector<std::vector<float>> decoded;
+  std::vector<const float*> pointers;
+  if (images->dtype == DType::F32) {
+    const auto v = file.view<float>("images", DType::F32, {n, h, w, 3});
+    for (std::int64_t i = 0; i < n; ++i) pointers.push_back(v.data() + static_cast<std::size_t>(i) * pixels3);
+    basis.pack(basis.mean_.data(), pointers);
+  } else {
+    const auto v = file.view<std::uint16_t>("images", DType::F16, {n, h, w, 3});
+    const float* table = half_table();
+    decoded.resize(static_cast<std::size_t>(n));
+    for (std::int64_t i = 0; i < n; ++i) {
+      auto& d = decoded[static_cast<std::size_t>(i)];
+      d.resize(pixels3);
+      const std::uint16_t* src = v.data() + static_cast<std::size_t>(i) * pixels3;
+      for (std::size_t k = 0; k < pixels3; ++k) d[k] = table[src[k]];
+      pointers.push_back(d.data());
+    }
+    basis.pack(basis.mean_.data(), pointers);
+    decoded.clear();
+    basis.convert_to_half();  // exact: the values came from halves
+  }
+  for (float x : basis.mean_)
+    if (!std::isfinite(x)) throw file_error(path, "image basis has NaN or infinite pixels");
+  if (const TensorInfo* f = file.find("lowrank_factors")) {
+    if (f->shape.empty()) throw file_error(path, "bad low-rank factors");
+    const std::int64_t r = f->shape[0];
+    const auto factors = file.view<float>("lowrank_factors", DType::F32, {r, h, w, 3});
+    const auto coeffs = file.view<double>("lowrank_coefficients", DType::F64, {n, r});
+    basis.rank_ = static_cast<int>(r);
+    basis.coefficients_ = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+        coeffs.data(), n, r);
+    basis.factors_.resize(static_cast<std::size_t>(r) * basis.packed_);
+    for (std::int64_t k = 0; k < r; ++k)
+      for (std::size_t a = 0; a < basis.active_.size(); ++a)
+        for (std::size_t c = 0; c < 3; ++c)
+          basis.factors_[static_cast<std::size_t>(k) * basis.packed_ + 3 * a + c] =
+              factors[static_cast<std::size_t>(k) * pixels3 + 3 * basis.active_[a] + c];
+    basis.low_rank_report_.rank = basis.rank_;
+    if (auto it = meta.find("lowrank_relative_error"); it != meta.end())
+      basis.low_rank_report_.relative_error = std::atof(it->second.c_str());
+    if (auto it = meta.find("lowrank_max_abs_error"); it != meta.end())
+      basis.low_rank_report_.max_abs_error = std::atof(it->second.c_str());
+  }
+  return basis;
+}
+
+// --- rendering a basis ------------------------------------------------------------------------
+
+std::string model_fingerprint(const Model& model) {
+  const std::string meta = model.metadata().dump();
+  std::uint64_t h = fnv1a(meta.data(), meta.size());
+  const Eigen::MatrixXd& x = model.latent();
+  h = fnv1a(x.data(), static_cast<std::size_t>(x.size()) * sizeof(double), h);
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
+  return buf;
+}
+
+ImageBasis render_basis(const Model& model, const Scene& scene, const RenderSettings& settings,
+                        ProgressSink& progress) {
+  const ModelBank bank(model);
+  std::vector<Image> images = render_bank(scene, bank, settings, progress);
+  Image mean = std::move(images.front());
+  images.erase(images.begin());
+  const SceneDescription& d = scene.description();
+  std::map<std::string, std::string> meta;
+  meta["scene"] = d.object + (d.ground ? "+ground" : "");
+  meta["env"] = d.environment;
+  meta["env_rotation"] = std::to_string(d.environment_rotation);
+  meta["env_intensity"] = std::to_string(d.environment_intensity);
+  meta["camera"] = nlohmann::json{{"orthographic", d.camera.orthographic},
+                                  {"position", {d.camera.position.x(), d.camera.position.y(), d.camera.position.z()}},
+                                  {"target", {d.camera.target.x(), d.camera.target.y(), d.camera.target.z()}},
+                                  {"fov_degrees", d.camera.fov_degrees},
+                                  {"ortho_height", d.camera.ortho_height}}
+                       .dump();
+  meta["lights"] = std::to_string(d.lights.size());
+  meta["spp"] = std::to_string(settings.spp);
+  meta["seed"] = std::to_string(settings.seed);
+  meta["model"] = model.path().filename().string();
+  meta["model_fingerprint"] = model_fingerprint(model);
+  return ImageBasis(std::move(mean), images, model.names(), std::move(meta));
+}
+
+}  // namespace matlas::render

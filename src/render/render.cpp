@@ -1,0 +1,258 @@
+#include "render/render.h"
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <mutex>
+
+#include "core/error.h"
+#include "core/parallel.h"
+#include "render/sampling.h"
+
+namespace matlas::render {
+
+namespace {
+
+constexpr double kRayOffset = 1e-4;
+
+struct Frame {
+  Vec3 t, b, n;
+  Vec3 to_local(const Vec3& v) const { return {t.dot(v), b.dot(v), n.dot(v)}; }
+  Vec3 to_world(const Vec3& v) const { return t * v.x() + b * v.y() + n * v.z(); }
+};
+
+/// The fixed sampling mixture (normalised probabilities).
+struct Mixture {
+  double env, cosine, sharp, rough, alpha_sharp, alpha_rough;
+  explicit Mixture(const RenderSettings& s) {
+    const double total = s.mix_environment + s.mix_cosine + s.mix_sharp + s.mix_rough;
+    env = s.mix_environment / total;
+    cosine = s.mix_cosine / total;
+    sharp = s.mix_sharp / total;
+    rough = s.mix_rough / total;
+    alpha_sharp = s.alpha_sharp;
+    alpha_rough = s.alpha_rough;
+  }
+};
+
+/// One camera sample: returns the material-independent radiance C and reports each BRDF tap
+/// through tap(wi, wo, W) (local frame, W includes 1/pdf and the light).
+template <class Tap>
+Rgb trace_sample(const Scene& scene, const Mixture& mix, SampleStream& rng, const Vec3& origin,
+                 const Vec3& dir, bool* hit_object, Tap&& tap) {
+  // Always draw the same numbers in the same order so every path sees the same stream.
+  const double u_pick = rng.next(), u0 = rng.next(), u1 = rng.next();
+  *hit_object = false;
+  const std::optional<Hit> hit = scene.intersect(origin, dir);
+  const SceneDescription& desc = scene.description();
+  const Environment& env = scene.environment();
+  if (!hit) return desc.show_environment ? env.eval(dir) : Rgb::Zero();
+
+  Frame f;
+  f.n = hit->normal;
+  orthonormal_basis(f.n, f.t, f.b);
+  const Vec3 wo = f.to_local(-dir);
+  const Vec3 p = hit->position + hit->geometric_normal * kRayOffset;
+  const Vec3& ng = hit->geometric_normal;
+
+  if (hit->object) {
+    *hit_object = true;
+    if (wo.z() <= 0) return Rgb::Zero();
+    Vec3 wi_world, wi;
+    if (u_pick < mix.env) {
+      double pdf;
+      wi_world = env.sample(u0, u1, &pdf);
+      wi = f.to_local(wi_world);
+    } else {
+      if (u_pick < mix.env + mix.cosine)
+        wi = sample_cosine(u0, u1);
+      else if (u_pick < mix.env + mix.cosine + mix.sharp)
+        wi = sample_ggx_reflection(wo, mix.alpha_sharp, u0, u1);
+      else
+        wi = sample_ggx_reflection(wo, mix.alpha_rough, u0, u1);
+      wi_world = f.to_world(wi);
+    }
+    if (wi.z() > 0 && wi_world.dot(ng) > 0) {
+      const double pdf = mix.env * env.pdf(wi_world) + mix.cosine * cosine_pdf(wi) +
+                         mix.sharp * ggx_reflection_pdf(wo, wi, mix.alpha_sharp) +
+                         mix.rough * ggx_reflection_pdf(wo, wi, mix.alpha_rough);
+      if (pdf > 0 && !scene.occluded(p, wi_world, 0.0)) {
+        const Rgb w = env.eval(wi_world) * (wi.z() / pdf);
+        if ((w > 0).any()) tap(wi.normalized(), wo, w);
+      }
+    }
+    for (const DirectionalLight& light : desc.lights) {
+      const Vec3 l = light.direction.normalized();
+      const Vec3 wl = f.to_local(l);
+      if (wl.z() > 0 && l.dot(ng) > 0 && !scene.occluded(p, l, 0.0)) tap(wl, wo, light.irradiance * wl.z());
+    }
+    return Rgb::Zero();
+  }
+
+  // Ground: Lambertian, sampled with the environment and cosine strategies only.
+  const Rgb f_ground = desc.ground_albedo / kPi;
+  const double pe = mix.env / (mix.env + mix.cosine), pc = 1.0 - pe;
+  Vec3 wi_world, wi;
+  if (u_pick < pe || pc <= 0) {
+    double pdf;
+    wi_world = env.sample(u0, u1, &pdf);
+    wi = f.to_local(wi_world);
+  } else {
+    wi = sample_cosine(u0, u1);
+    wi_world = f.to_world(wi);
+  }
+  Rgb radiance = Rgb::Zero();
+  if (wi.z() > 0) {
+    const double pdf = pe * env.pdf(wi_world) + pc * cosine_pdf(wi);
+    if (pdf > 0 && !scene.occluded(p, wi_world, 0.0)) radiance += f_ground * env.eval(wi_world) * (wi.z() / pdf);
+  }
+  for (const DirectionalLight& light : desc.lights) {
+    const Vec3 l = light.direction.normalized();
+    if (l.dot(ng) > 0 && !scene.occluded(p, l, 0.0)) radiance += f_ground * light.irradiance * l.dot(ng);
+  }
+  return radiance;
+}
+
+/// Runs body(pixel x, y, stream per sample) for every pixel, rows in parallel, with progress.
+template <class PixelBody>
+void for_each_pixel(const RenderSettings& settings, ProgressSink& progress, const std::string& label,
+                    PixelBody&& body) {
+  std::atomic<std::uint64_t> rows_done{0};
+  std::mutex progress_mutex;
+  const auto rows = static_cast<std::uint64_t>(settings.height);
+  progress.update(label, 0, rows);
+  parallel_for(0, static_cast<std::size_t>(settings.height), [&](std::size_t y0, std::size_t y1) {
+    for (std::size_t y = y0; y < y1; ++y) {
+      for (int x = 0; x < settings.width; ++x) body(x, static_cast<int>(y));
+      const std::uint64_t done = ++rows_done;
+      std::lock_guard lock(progress_mutex);
+      progress.update(label, done, rows);
+    }
+  });
+  progress.finish(label);
+}
+
+}  // namespace
+
+void RenderSettings::validate() const {
+  if (width <= 0 || height <= 0 || width > 16384 || height > 16384)
+    throw Error("render size must be between 1 and 16384 pixels, got " + std::to_string(width) + "x" +
+                std::to_string(height));
+  if (spp <= 0) throw Error("samples per pixel must be positive, got " + std::to_string(spp));
+  if (mix_environment < 0 || mix_cosine < 0 || mix_sharp < 0 || mix_rough < 0 ||
+      !(mix_environment + mix_cosine + mix_sharp + mix_rough > 0))
+    throw Error("sampling mixture probabilities must be non-negative and not all zero");
+  if (!(alpha_sharp > 0) || !(alpha_rough > 0)) throw Error("GGX sampling widths must be positive");
+}
+
+Image render(const Scene& scene, const Material& material, const RenderSettings& settings,
+             ProgressSink& progress, RenderStats* stats) {
+  settings.validate();
+  const auto start = std::chrono::steady_clock::now();
+  const Mixture mix(settings);
+  Image image(settings.width, settings.height);
+  std::atomic<std::uint64_t> taps{0};
+  for_each_pixel(settings, progress, "render", [&](int x, int y) {
+    const std::uint64_t pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(settings.width) +
+                                static_cast<std::uint64_t>(x);
+    Rgb sum = Rgb::Zero();
+    std::uint64_t local_taps = 0;
+    for (int s = 0; s < settings.spp; ++s) {
+      SampleStream rng(settings.seed, pixel, static_cast<std::uint64_t>(s));
+      const double jx = rng.next(), jy = rng.next();
+      Vec3 o, d;
+      scene.camera_ray(x + jx, y + jy, settings.width, settings.height, &o, &d);
+      bool hit_object;
+      sum += trace_sample(scene, mix, rng, o, d, &hit_object, [&](const Vec3& wi, const Vec3& wo, const Rgb& w) {
+        sum += w * material.eval(wi, wo);
+        ++local_taps;
+      });
+    }
+    sum /= static_cast<double>(settings.spp);
+    float* out = image.pixel(x, y);
+    for (int c = 0; c < 3; ++c) out[c] = static_cast<float>(sum[c]);
+    taps += local_taps;
+  });
+  if (stats) {
+    stats->camera_samples = static_cast<std::uint64_t>(settings.width) * static_cast<std::uint64_t>(settings.height) *
+                            static_cast<std::uint64_t>(settings.spp);
+    stats->object_samples = taps.load();
+    stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  return image;
+}
+
+std::vector<Image> render_bank(const Scene& scene, const MaterialBank& bank, const RenderSettings& settings,
+                               ProgressSink& progress, RenderStats* stats) {
+  settings.validate();
+  const auto start = std::chrono::steady_clock::now();
+  const Mixture mix(settings);
+  const int k_count = bank.count();
+  if (k_count <= 0) throw Error("material bank is empty");
+  std::vector<Image> images(static_cast<std::size_t>(k_count), Image(settings.width, settings.height));
+  std::atomic<std::uint64_t> taps{0};
+  const std::size_t values = 3 * static_cast<std::size_t>(k_count);
+  for_each_pixel(settings, progress, "render basis", [&](int x, int y) {
+    thread_local std::vector<double> acc, f;
+    acc.assign(values, 0.0);
+    f.resize(values);
+    const std::uint64_t pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(settings.width) +
+                                static_cast<std::uint64_t>(x);
+    Rgb constant = Rgb::Zero();
+    std::uint64_t local_taps = 0;
+    for (int s = 0; s < settings.spp; ++s) {
+      SampleStream rng(settings.seed, pixel, static_cast<std::uint64_t>(s));
+      const double jx = rng.next(), jy = rng.next();
+      Vec3 o, d;
+      scene.camera_ray(x + jx, y + jy, settings.width, settings.height, &o, &d);
+      bool hit_object;
+      constant += trace_sample(scene, mix, rng, o, d, &hit_object, [&](const Vec3& wi, const Vec3& wo, const Rgb& w) {
+        bank.eval_all(wi, wo, f.data());
+        for (std::size_t k = 0; k < values; k += 3) {
+          acc[k] += w[0] * f[k];
+          acc[k + 1] += w[1] * f[k + 1];
+          acc[k + 2] += w[2] * f[k + 2];
+        }
+        ++local_taps;
+      });
+    }
+    const double inv = 1.0 / static_cast<double>(settings.spp);
+    for (int k = 0; k < k_count; ++k) {
+      float* out = images[static_cast<std::size_t>(k)].pixel(x, y);
+      for (int c = 0; c < 3; ++c)
+        out[c] = static_cast<float>((constant[c] + acc[3 * static_cast<std::size_t>(k) + static_cast<std::size_t>(c)]) * inv);
+    }
+    taps += local_taps;
+  });
+  if (stats) {
+    stats->camera_samples = static_cast<std::uint64_t>(settings.width) * static_cast<std::uint64_t>(settings.height) *
+                            static_cast<std::uint64_t>(settings.spp);
+    stats->object_samples = taps.load();
+    stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  return images;
+}
+
+std::vector<float> object_coverage(const Scene& scene, const RenderSettings& settings) {
+  settings.validate();
+  std::vector<float> coverage(static_cast<std::size_t>(settings.width) * static_cast<std::size_t>(settings.height));
+  parallel_for(0, static_cast<std::size_t>(settings.height), [&](std::size_t y0, std::size_t y1) {
+    for (std::size_t y = y0; y < y1; ++y)
+      for (int x = 0; x < settings.width; ++x) {
+        const std::uint64_t pixel = y * static_cast<std::uint64_t>(settings.width) + static_cast<std::uint64_t>(x);
+        int hits = 0;
+        for (int s = 0; s < settings.spp; ++s) {
+          SampleStream rng(settings.seed, pixel, static_cast<std::uint64_t>(s));
+          const double jx = rng.next(), jy = rng.next();
+          Vec3 o, d;
+          scene.camera_ray(x + jx, static_cast<double>(y) + jy, settings.width, settings.height, &o, &d);
+          const auto hit = scene.intersect(o, d);
+          hits += hit && hit->object;
+        }
+        coverage[pixel] = static_cast<float>(hits) / static_cast<float>(settings.spp);
+      }
+  });
+  return coverage;
+}
+
+}  // namespace matlas::render

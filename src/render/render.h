@@ -1,0 +1,59 @@
+#pragma once
+// The renderer: direct lighting of one object by an environment map and directional lights,
+// with shadows, for tabulated (or any) BRDFs.
+//
+// Estimator. Per pixel, `spp` primary rays (jittered in the pixel). At the object, one direction
+// wi is drawn from a FIXED one-sample mixture (environment importance sampling, cosine lobe, and
+// two GGX lobes of fixed widths around the view's mirror direction) and weighted by the
+// balance-heuristic mixture density; every directional light adds one shadow ray. The pixel is
+//
+//     I = C + sum_s W_s * f(wi_s, wo_s)           (W_s: RGB, independent of f)
+//
+// where C collects everything that does not see the object's BRDF (background, ground). The
+// directions and weights depend only on the scene, the settings and the seed, never on the
+// material, so I is LINEAR in f and renders of different materials share their samples exactly:
+// the image of a manifold point is the same combination of images as its BRDF is of tables.
+#include <cstdint>
+#include <vector>
+
+#include "core/progress.h"
+#include "formats/image_io.h"
+#include "render/material.h"
+#include "render/scene.h"
+
+namespace matlas::render {
+
+struct RenderSettings {
+  int width = 512;
+  int height = 512;
+  int spp = 64;             ///< samples (primary rays, each with one environment sample) per pixel
+  std::uint64_t seed = 1;
+  /// Mixture probabilities of the sampling strategies (normalised): environment, cosine,
+  /// GGX lobe alpha_sharp, GGX lobe alpha_rough. Fixed, material-independent.
+  double mix_environment = 0.5, mix_cosine = 0.2, mix_sharp = 0.15, mix_rough = 0.15;
+  double alpha_sharp = 0.05, alpha_rough = 0.3;
+
+  /// Throws matlas::Error for non-positive sizes or spp, or an all-zero mixture.
+  void validate() const;
+};
+
+/// Counters of one render.
+struct RenderStats {
+  std::uint64_t camera_samples = 0;  ///< primary rays
+  std::uint64_t object_samples = 0;  ///< BRDF evaluations (taps)
+  double seconds = 0;
+};
+
+/// Renders one material. Deterministic for a seed (independent of the thread count).
+Image render(const Scene& scene, const Material& material, const RenderSettings& settings,
+             ProgressSink& progress = null_progress(), RenderStats* stats = nullptr);
+
+/// Renders every material of a bank with the same samples: images[k] for material k. Equal to
+/// calling render() for each material (to rounding), at a fraction of the cost.
+std::vector<Image> render_bank(const Scene& scene, const MaterialBank& bank, const RenderSettings& settings,
+                               ProgressSink& progress = null_progress(), RenderStats* stats = nullptr);
+
+/// Per pixel, the fraction of primary rays that hit the object (0 = background only).
+std::vector<float> object_coverage(const Scene& scene, const RenderSettings& settings);
+
+}  // namespace matlas::render

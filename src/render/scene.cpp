@@ -1,0 +1,222 @@
+#include "render/scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <embree3/rtcore.h>
+
+#include "core/error.h"
+#include "render/assets.h"
+
+namespace matlas::render {
+
+namespace {
+
+constexpr unsigned kObjectGeometry = 0;
+constexpr unsigned kGroundGeometry = 1;
+constexpr float kGroundHalfSize = 50.0f;
+
+void embree_error(void*, RTCError code, const char* message) {
+  // Reported through the return values below; keep the message for the exception.
+  (void)code;
+  (void)message;
+}
+
+Environment load_environment(const SceneDescription& d) {
+  if (d.environment == "constant") return Environment::constant(d.constant_radiance * d.environment_intensity);
+  return Environment::load(resolve_environment(d.environment), d.environment_rotation, d.environment_intensity);
+}
+
+std::optional<TriangleMesh> load_object(const SceneDescription& d) {
+  if (d.object == "sphere") return std::nullopt;
+  return read_mesh(resolve_mesh(d.object));
+}
+
+}  // namespace
+
+void normalize_mesh(TriangleMesh& mesh) {
+  const auto [lo, hi] = mesh.bounds();
+  const Eigen::Vector3f centre = 0.5f * (lo + hi);
+  float radius = 0;
+  for (const auto& p : mesh.positions) radius = std::max(radius, (p - centre).norm());
+  if (!(radius > 0)) throw Error("mesh has no extent");
+  for (auto& p : mesh.positions) p = (p - centre) / radius;
+}
+
+struct Scene::Impl {
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  bool sphere = true;
+  std::vector<Eigen::Vector3f> normals;            // mesh shading normals
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  float ground_y = -1.0f;
+
+  ~Impl() {
+    if (scene) rtcReleaseScene(scene);
+    if (device) rtcReleaseDevice(device);
+  }
+};
+
+Scene::Scene(const SceneDescription& description)
+    : Scene(description, load_object(description), load_environment(description)) {}
+
+Scene::Scene(const SceneDescription& description, std::optional<TriangleMesh> mesh, Environment environment)
+    : description_(description), environment_(std::move(environment)), impl_(std::make_unique<Impl>()) {
+  build(std::move(mesh));
+}
+
+Scene::Scene(Scene&&) noexcept = default;
+Scene& Scene::operator=(Scene&&) noexcept = default;
+Scene::~Scene() = default;
+
+void Scene::build(std::optional<TriangleMesh> mesh) {
+  Impl& s = *impl_;
+  s.device = rtcNewDevice("threads=1");  // queries only: no build threads needed
+  if (!s.device) throw Error("cannot create the Embree device");
+  rtcSetDeviceErrorFunction(s.device, embree_error, nullptr);
+  s.scene = rtcNewScene(s.device);
+  rtcSetSceneBuildQuality(s.scene, RTC_BUILD_QUALITY_HIGH);
+
+  if (!mesh) {
+    s.sphere = true;
+    RTCGeometry g = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
+                                                          4 * sizeof(float), 1));
+    v[0] = v[1] = v[2] = 0.0f;
+    v[3] = 1.0f;
+    rtcCommitGeometry(g);
+    rtcAttachGeometryByID(s.scene, g, kObjectGeometry);
+    rtcReleaseGeometry(g);
+    s.ground_y = -1.0f;
+  } else {
+    s.sphere = false;
+    normalize_mesh(*mesh);
+    if (mesh->normals.size() != mesh->positions.size()) mesh->compute_normals();
+    RTCGeometry g = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                          3 * sizeof(float), mesh->positions.size()));
+    float ymin = 1.0f;
+    for (std::size_t i = 0; i < mesh->positions.size(); ++i) {
+      for (int c = 0; c < 3; ++c) v[3 * i + static_cast<std::size_t>(c)] = mesh->positions[i][c];
+      ymin = std::min(ymin, mesh->positions[i].y());
+    }
+    auto* t = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                             3 * sizeof(unsigned), mesh->triangles.size()));
+    for (std::size_t i = 0; i < mesh->triangles.size(); ++i)
+      for (int c = 0; c < 3; ++c) t[3 * i + static_cast<std::size_t>(c)] = mesh->triangles[i][static_cast<std::size_t>(c)];
+    rtcCommitGeometry(g);
+    rtcAttachGeometryByID(s.scene, g, kObjectGeometry);
+    rtcReleaseGeometry(g);
+    s.normals = std::move(mesh->normals);
+    s.triangles = std::move(mesh->triangles);
+    s.ground_y = ymin;
+  }
+  if (description_.ground) {
+    RTCGeometry g = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_QUAD);
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                          3 * sizeof(float), 4));
+    const float h = kGroundHalfSize, y = s.ground_y;
+    const float corners[4][3] = {{-h, y, -h}, {-h, y, h}, {h, y, h}, {h, y, -h}};
+    for (int i = 0; i < 4; ++i)
+      for (int c = 0; c < 3; ++c) v[3 * i + c] = corners[i][c];
+    auto* q = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4,
+                                                             4 * sizeof(unsigned), 1));
+    q[0] = 0, q[1] = 1, q[2] = 2, q[3] = 3;
+    rtcCommitGeometry(g);
+    rtcAttachGeometryByID(s.scene, g, kGroundGeometry);
+    rtcReleaseGeometry(g);
+  }
+  rtcCommitScene(s.scene);
+  if (rtcGetDeviceError(s.device) != RTC_ERROR_NONE) throw Error("Embree failed to build the scene");
+}
+
+std::optional<Hit> Scene::intersect(const Vec3& origin, const Vec3& dir, double tmin, double tmax) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh{};
+  rh.ray.org_x = static_cast<float>(origin.x());
+  rh.ray.org_y = static_cast<float>(origin.y());
+  rh.ray.org_z = static_cast<float>(origin.z());
+  rh.ray.dir_x = static_cast<float>(dir.x());
+  rh.ray.dir_y = static_cast<float>(dir.y());
+  rh.ray.dir_z = static_cast<float>(dir.z());
+  rh.ray.tnear = static_cast<float>(tmin);
+  rh.ray.tfar = static_cast<float>(std::min(tmax, 1e30));
+  rh.ray.mask = 0xffffffffu;
+  rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(impl_->scene, &context, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+  Hit hit;
+  hit.object = rh.hit.geomID == kObjectGeometry;
+  double t = rh.ray.tfar;
+  if (hit.object && impl_->sphere) {
+    // Refine the sphere hit in double precision: |o + t d| = 1.
+    const double b = origin.dot(dir), c = origin.squaredNorm() - 1.0;
+    const double disc = b * b - c;
+    if (disc >= 0) {
+      const double s = std::sqrt(disc);
+      const double t0 = -b - s, t1 = -b + s;
+      t = (t0 > tmin) ? t0 : t1;
+    }
+  }
+  hit.position = origin + t * dir;
+  if (!hit.object) {
+    hit.geometric_normal = hit.normal = Vec3(0, 1, 0);
+  } else if (impl_->sphere) {
+    hit.geometric_normal = hit.normal = hit.position.normalized();
+  } else {
+    hit.geometric_normal = Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z).normalized();
+    const auto& tri = impl_->triangles[rh.hit.primID];
+    const double u = rh.hit.u, v = rh.hit.v;
+    const Eigen::Vector3d n = (1.0 - u - v) * impl_->normals[tri[0]].cast<double>() +
+                              u * impl_->normals[tri[1]].cast<double>() + v * impl_->normals[tri[2]].cast<double>();
+    hit.normal = n.norm() > 0 ? Vec3(n.normalized()) : hit.geometric_normal;
+  }
+  // Face the side the ray came from (double-sided surfaces).
+  if (hit.geometric_normal.dot(dir) > 0) hit.geometric_normal = -hit.geometric_normal;
+  if (hit.normal.dot(hit.geometric_normal) < 0) hit.normal = -hit.normal;
+  return hit;
+}
+
+bool Scene::occluded(const Vec3& origin, const Vec3& dir, double tmin, double tmax) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay ray{};
+  ray.org_x = static_cast<float>(origin.x());
+  ray.org_y = static_cast<float>(origin.y());
+  ray.org_z = static_cast<float>(origin.z());
+  ray.dir_x = static_cast<float>(dir.x());
+  ray.dir_y = static_cast<float>(dir.y());
+  ray.dir_z = static_cast<float>(dir.z());
+  ray.tnear = static_cast<float>(tmin);
+  ray.tfar = static_cast<float>(std::min(tmax, 1e30));
+  ray.mask = 0xffffffffu;
+  rtcOccluded1(impl_->scene, &context, &ray);
+  return ray.tfar == -std::numeric_limits<float>::infinity();
+}
+
+void Scene::camera_ray(double px, double py, int width, int height, Vec3* origin, Vec3* dir) const {
+  const Camera& c = description_.camera;
+  const Vec3 forward = (c.target - c.position).normalized();
+  Vec3 right = forward.cross(Vec3(0, 1, 0));
+  if (right.norm() < 1e-9) right = Vec3(1, 0, 0);
+  right.normalize();
+  const Vec3 up = right.cross(forward);
+  const double aspect = static_cast<double>(width) / static_cast<double>(height);
+  const double sx = (2.0 * px / width - 1.0) * aspect;
+  const double sy = 1.0 - 2.0 * py / height;
+  if (c.orthographic) {
+    const double half = 0.5 * c.ortho_height;
+    *origin = c.position + right * (sx * half) + up * (sy * half);
+    *dir = forward;
+  } else {
+    const double t = std::tan(0.5 * c.fov_degrees * kPi / 180.0);
+    *origin = c.position;
+    *dir = (forward + right * (sx * t) + up * (sy * t)).normalized();
+  }
+}
+
+}  // namespace matlas::render

@@ -1,0 +1,95 @@
+#pragma once
+// The scene of a material preview: one object (an exact sphere or a triangle mesh, scaled into
+// the unit sphere at the origin), an optional diffuse ground plane under it, an environment map,
+// directional lights and a camera. Ray queries go through Embree 3.
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "brdf/types.h"
+#include "formats/mesh_io.h"
+#include "render/environment.h"
+
+namespace matlas::render {
+
+/// A light infinitely far away: radiance arriving from `direction` (towards the light, unit)
+/// producing `irradiance` on a surface facing it.
+struct DirectionalLight {
+  Vec3 direction = Vec3(0, 1, 0);
+  Rgb irradiance = Rgb::Constant(1.0);
+};
+
+/// Pinhole or orthographic camera looking at the origin from `position`, +y up. The default
+/// frames the unit sphere from the front (+z) and slightly above.
+struct Camera {
+  bool orthographic = false;
+  Vec3 position = Vec3(0.0, 0.35, 4.0);
+  Vec3 target = Vec3::Zero();
+  double fov_degrees = 32.0;     ///< vertical field of view (perspective)
+  double ortho_height = 2.3;     ///< height of the view in world units (orthographic)
+};
+
+/// What the scene is made of (the part of a render request that is not the material).
+struct SceneDescription {
+  /// "sphere", an installed mesh name ("bunny", "suzi"), or a .glb/.gltf/.obj path.
+  std::string object = "sphere";
+  /// An installed map name ("studio"), an .exr/.hdr path, or "constant" (uniform radiance
+  /// `constant_radiance`).
+  std::string environment = "constant";
+  Rgb constant_radiance = Rgb::Constant(1.0);
+  double environment_rotation = 0.0;  ///< degrees about +y
+  double environment_intensity = 1.0;
+  bool ground = false;
+  Rgb ground_albedo = Rgb::Constant(0.5);
+  std::vector<DirectionalLight> lights;
+  Camera camera;
+  /// Whether the background shows the environment (else black).
+  bool show_environment = true;
+};
+
+/// A surface point found by a ray.
+struct Hit {
+  bool object = false;      ///< the previewed object (else the ground)
+  Vec3 position;            ///< world position
+  Vec3 normal;              ///< shading normal, facing the ray's origin side
+  Vec3 geometric_normal;    ///< facing the ray's origin side
+};
+
+class Scene {
+public:
+  /// Builds the scene; throws matlas::Error naming the file for unreadable meshes or maps.
+  explicit Scene(const SceneDescription& description);
+  /// A scene with an already loaded mesh and environment (tests, servers caching assets).
+  Scene(const SceneDescription& description, std::optional<TriangleMesh> mesh, Environment environment);
+  Scene(Scene&&) noexcept;
+  Scene& operator=(Scene&&) noexcept;
+  ~Scene();
+
+  const SceneDescription& description() const { return description_; }
+  const Environment& environment() const { return environment_; }
+
+  /// Closest hit along origin + t dir, t in (tmin, tmax); nullopt when nothing is hit.
+  std::optional<Hit> intersect(const Vec3& origin, const Vec3& dir, double tmin = 0.0,
+                               double tmax = 1e30) const;
+  /// Whether anything blocks origin + t dir for t in (tmin, tmax).
+  bool occluded(const Vec3& origin, const Vec3& dir, double tmin, double tmax = 1e30) const;
+
+  /// Primary ray through image position (px, py) in pixels (0..width, 0..height, top-left
+  /// origin) of a width x height image.
+  void camera_ray(double px, double py, int width, int height, Vec3* origin, Vec3* dir) const;
+
+private:
+  struct Impl;
+  void build(std::optional<TriangleMesh> mesh);
+  SceneDescription description_;
+  Environment environment_;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Scales and centres a mesh into the unit sphere at the origin (bounding-box centre, radius of
+/// the farthest vertex = 1).
+void normalize_mesh(TriangleMesh& mesh);
+
+}  // namespace matlas::render

@@ -1,0 +1,204 @@
+// Renderer against closed forms: Lambertian spheres and cubes under a constant environment and
+// under a directional light, analytic GGX vs its table, linearity and determinism.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "brdf/analytic.h"
+#include "core/error.h"
+#include "brdf/tabulate.h"
+#include "render/material.h"
+#include "render/render.h"
+#include "render/scene.h"
+#include "render_test_util.h"
+
+namespace matlas::render {
+namespace {
+
+RenderSettings small(int size, int spp) {
+  RenderSettings s;
+  s.width = s.height = size;
+  s.spp = spp;
+  s.seed = 7;
+  return s;
+}
+
+RenderSettings cosine_only(RenderSettings s) {
+  s.mix_environment = s.mix_sharp = s.mix_rough = 0.0;
+  s.mix_cosine = 1.0;
+  return s;
+}
+
+TEST(Render, LambertianSphereUnderConstantEnvironmentEqualsAlbedoExactly) {
+  SceneDescription d;
+  d.constant_radiance = Rgb(1.0, 0.5, 2.0);
+  const Scene scene(d);
+  const Lambertian lambert{Rgb(0.8, 0.4, 0.2)};
+  const FunctionMaterial material([&](const Vec3& wi, const Vec3& wo) { return lambert(wi, wo); });
+  // With cosine sampling alone the estimator is albedo * L for every sample: exact per pixel.
+  const RenderSettings settings = cosine_only(small(24, 4));
+  const Image image = render(scene, material, settings);
+  const std::vector<float> coverage = object_coverage(scene, settings);
+  int covered = 0;
+  for (std::size_t p = 0; p < coverage.size(); ++p) {
+    if (coverage[p] != 1.0f) continue;
+    ++covered;
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(image.rgb[3 * p + c], lambert.albedo[c] * d.constant_radiance[c], 1e-5) << "pixel " << p;
+  }
+  EXPECT_GT(covered, 200);
+}
+
+TEST(Render, LambertianSphereWithTheDefaultMixtureIsUnbiased) {
+  SceneDescription d;
+  const Scene scene(d);
+  const Lambertian lambert{Rgb(0.8, 0.4, 0.2)};
+  const FunctionMaterial material([&](const Vec3& wi, const Vec3& wo) { return lambert(wi, wo); });
+  const RenderSettings settings = small(16, 64);
+  const Image image = render(scene, material, settings);
+  const std::vector<float> coverage = object_coverage(scene, settings);
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(test::covered_mean(image, coverage, c), lambert.albedo[c], 0.01 * lambert.albedo[c]);
+  // Per pixel the estimate is noisy (64 samples) but centred on the albedo.
+  double sq = 0;
+  int count = 0;
+  for (std::size_t p = 0; p < coverage.size(); ++p)
+    if (coverage[p] == 1.0f) {
+      sq += std::pow(image.rgb[3 * p] / 0.8 - 1.0, 2);
+      ++count;
+    }
+  EXPECT_LT(std::sqrt(sq / count), 0.2);
+}
+
+TEST(Render, LambertianCubeMeshUnderConstantEnvironmentEqualsAlbedo) {
+  // A cube with flat (per-face) normals: every visible point sees the whole upper hemisphere.
+  TriangleMesh cube;
+  const int faces[6][4][3] = {{{-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1}},     {{1, -1, -1}, {-1, -1, -1}, {-1, 1, -1}, {1, 1, -1}},
+                              {{1, -1, 1}, {1, -1, -1}, {1, 1, -1}, {1, 1, 1}},      {{-1, -1, -1}, {-1, -1, 1}, {-1, 1, 1}, {-1, 1, -1}},
+                              {{-1, 1, 1}, {1, 1, 1}, {1, 1, -1}, {-1, 1, -1}},      {{-1, -1, -1}, {1, -1, -1}, {1, -1, 1}, {-1, -1, 1}}};
+  for (const auto& f : faces) {
+    const auto base = static_cast<std::uint32_t>(cube.positions.size());
+    Eigen::Vector3f q[4];
+    for (int k = 0; k < 4; ++k) q[k] = Eigen::Vector3f(f[k][0], f[k][1], f[k][2]);
+    const Eigen::Vector3f n = (q[1] - q[0]).cross(q[2] - q[0]).normalized();
+    for (const auto& p : q) {
+      cube.positions.push_back(p);
+      cube.normals.push_back(n);
+    }
+    cube.triangles.push_back({base, base + 1, base + 2});
+    cube.triangles.push_back({base, base + 2, base + 3});
+  }
+  SceneDescription d;
+  d.object = "cube";
+  d.camera.position = Vec3(2.5, 2.0, 3.5);
+  const Scene scene(d, cube, Environment::constant(Rgb::Constant(1.0)));
+  const FunctionMaterial material([](const Vec3&, const Vec3&) -> Rgb { return Rgb(0.5, 0.25, 0.125) / kPi; });
+  const RenderSettings settings = cosine_only(small(24, 4));
+  const Image image = render(scene, material, settings);
+  const std::vector<float> coverage = object_coverage(scene, settings);
+  int covered = 0;
+  for (std::size_t p = 0; p < coverage.size(); ++p)
+    if (coverage[p] == 1.0f) {
+      ++covered;
+      EXPECT_NEAR(image.rgb[3 * p], 0.5, 1e-4);
+      EXPECT_NEAR(image.rgb[3 * p + 2], 0.125, 1e-4);
+    }
+  EXPECT_GT(covered, 100);
+}
+
+TEST(Render, LambertianSphereUnderDirectionalLightIsAlbedoOverPiTimesCosine) {
+  SceneDescription d;
+  d.constant_radiance = Rgb::Zero();
+  d.camera.orthographic = true;
+  d.camera.position = Vec3(0, 0, 5);
+  d.camera.ortho_height = 2.2;
+  const Vec3 light = Vec3(0.3, 0.5, 0.8).normalized();
+  d.lights.push_back({light, Rgb(2.0, 1.0, 0.5)});
+  d.show_environment = false;
+  const Scene scene(d);
+  const Rgb albedo(0.9, 0.6, 0.3);
+  const FunctionMaterial material([&](const Vec3& wi, const Vec3& wo) { return Lambertian{albedo}(wi, wo); });
+  const RenderSettings settings = small(48, 16);
+  const Image image = render(scene, material, settings);
+  int checked = 0;
+  for (int y = 0; y < settings.height; ++y)
+    for (int x = 0; x < settings.width; ++x) {
+      // The orthographic camera sees the sphere point (sx, sy, sqrt(1 - sx^2 - sy^2)).
+      const double sx = (2.0 * (x + 0.5) / settings.width - 1.0) * 1.1;
+      const double sy = (1.0 - 2.0 * (y + 0.5) / settings.height) * 1.1;
+      const double r2 = sx * sx + sy * sy;
+      if (r2 > 0.8) continue;  // keep away from the silhouette
+      const Vec3 n(sx, sy, std::sqrt(1.0 - r2));
+      const double cos_theta = n.dot(light);
+      if (std::abs(cos_theta) < 0.1) continue;  // and from the terminator
+      ++checked;
+      for (int c = 0; c < 3; ++c) {
+        const double expected = albedo[c] / kPi * d.lights[0].irradiance[c] * std::max(cos_theta, 0.0);
+        EXPECT_NEAR(image.pixel(x, y)[c], expected, 0.01) << x << "," << y;
+      }
+    }
+  EXPECT_GT(checked, 800);
+}
+
+TEST(Render, TabulatedGgxRendersLikeTheAnalyticBrdf) {
+  const GgxConductor ggx{Rgb(0.95, 0.64, 0.54), 0.3};
+  const BrdfTable table = tabulate(ggx);
+  SceneDescription d;
+  const Scene scene(d, std::nullopt, Environment(test::synthetic_environment()));
+  const RenderSettings settings = small(32, 32);
+  const Image analytic = render(scene, FunctionMaterial([&](const Vec3& wi, const Vec3& wo) { return ggx(wi, wo); }), settings);
+  const Image tabulated = render(scene, TableMaterial(table), settings);
+  const std::vector<float> coverage = object_coverage(scene, settings);
+  for (int c = 0; c < 3; ++c) {
+    const double a = test::covered_mean(analytic, coverage, c), t = test::covered_mean(tabulated, coverage, c);
+    EXPECT_GT(a, 0.01);
+    EXPECT_NEAR(t, a, 0.03 * a) << "channel " << c;
+  }
+  double diff2 = 0, norm2 = 0;
+  for (std::size_t p = 0; p < coverage.size(); ++p)
+    if (coverage[p] == 1.0f) {
+      const double dlt = analytic.rgb[3 * p + 1] - tabulated.rgb[3 * p + 1];
+      diff2 += dlt * dlt;
+      norm2 += analytic.rgb[3 * p + 1] * analytic.rgb[3 * p + 1];
+    }
+  EXPECT_LT(std::sqrt(diff2 / norm2), 0.08);
+}
+
+TEST(Render, IsLinearInTheBrdfAndDeterministic) {
+  SceneDescription d;
+  d.ground = true;
+  d.lights.push_back({Vec3(0.5, 1.0, 0.3).normalized(), Rgb::Constant(1.5)});
+  const Scene scene(d, std::nullopt, Environment(test::synthetic_environment(), 40.0));
+  const GgxConductor a{Rgb(0.9, 0.8, 0.5), 0.1};
+  const Lambertian b{Rgb(0.2, 0.5, 0.7)};
+  const FunctionMaterial fa([&](const Vec3& wi, const Vec3& wo) { return a(wi, wo); });
+  const FunctionMaterial fb([&](const Vec3& wi, const Vec3& wo) { return b(wi, wo); });
+  const FunctionMaterial mix([&](const Vec3& wi, const Vec3& wo) { return Rgb(0.3 * a(wi, wo) + 0.7 * b(wi, wo)); });
+  const RenderSettings settings = small(20, 8);
+  const Image ia = render(scene, fa, settings), ib = render(scene, fb, settings), im = render(scene, mix, settings);
+  for (std::size_t k = 0; k < im.rgb.size(); ++k)
+    EXPECT_NEAR(im.rgb[k], 0.3f * ia.rgb[k] + 0.7f * ib.rgb[k], 1e-5f * (1.0f + std::abs(im.rgb[k])));
+  // Same seed: identical; the bank renders both with the very same samples.
+  EXPECT_EQ(render(scene, fa, settings).rgb, ia.rgb);
+  const std::vector<Image> bank = render_bank(scene, MaterialList({&fa, &fb}), settings);
+  ASSERT_EQ(bank.size(), 2u);
+  for (std::size_t k = 0; k < ia.rgb.size(); ++k) {
+    EXPECT_NEAR(bank[0].rgb[k], ia.rgb[k], 1e-6f * (1.0f + ia.rgb[k]));
+    EXPECT_NEAR(bank[1].rgb[k], ib.rgb[k], 1e-6f * (1.0f + ib.rgb[k]));
+  }
+  RenderSettings other = settings;
+  other.seed = 8;
+  EXPECT_NE(render(scene, fa, other).rgb, ia.rgb);
+}
+
+TEST(Render, RejectsBadSettings) {
+  const Scene scene{SceneDescription{}};
+  const FunctionMaterial black([](const Vec3&, const Vec3&) { return Rgb(Rgb::Zero()); });
+  RenderSettings s = small(8, 0);
+  EXPECT_THROW(render(scene, black, s), Error);
+  s = small(0, 4);
+  EXPECT_THROW(render(scene, black, s), Error);
+}
+
+}  // namespace
+}  // namespace matlas::render
