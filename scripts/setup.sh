@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# Sets up matlas on a fresh Debian machine (idempotent): installs the Debian packages it needs,
+# builds the C++ code in Release, installs the rendering assets (npm package @pmndrs/assets) and
+# builds the web UI. Usage: scripts/setup.sh [--sanitize]  (a second build in build-sanitize/).
+set -euo pipefail
+repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$repo"
+
+packages=(
+  build-essential cmake ninja-build pkg-config
+  libeigen3-dev libcli11-dev nlohmann-json3-dev libcpp-httplib-dev libopenblas-dev libxxhash-dev
+  liblbfgspp-dev libtinyexr-dev libstb-dev libembree-dev libtbb-dev libtinygltf-dev
+  libgtest-dev libbenchmark-dev
+  nodejs npm chromium fonts-dejavu-core
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+# A machine may have node and npm from elsewhere (not from Debian): keep those.
+if command -v node > /dev/null && command -v npm > /dev/null; then
+  missing=("${missing[@]/nodejs}")
+  missing=("${missing[@]/npm}")
+fi
+read -r -a missing <<< "${missing[*]}"
+if ((${#missing[@]})); then
+  echo "setup: installing ${missing[*]}" >&2
+  sudo_cmd=()
+  [[ $(id -u) -eq 0 ]] || sudo_cmd=(sudo)
+  "${sudo_cmd[@]}" apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+jobs=$(nproc)
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release > /dev/null
+cmake --build build -j "$jobs"
+if [[ "${1:-}" == "--sanitize" ]]; then
+  cmake -S . -B build-sanitize -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMATLAS_SANITIZE=ON \
+        -DMATLAS_BUILD_BENCH=OFF > /dev/null
+  cmake --build build-sanitize -j "$jobs"
+fi
+
+[[ -x scripts/install-assets.sh ]] && scripts/install-assets.sh
+if [[ -f web/package.json ]]; then
+  (cd web && npm ci --no-audit --no-fund --loglevel=error && npm run build --silent)
+fi
+echo "setup: done; the matlas command is build/matlas" >&2
