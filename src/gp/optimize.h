@@ -29,16 +29,23 @@ struct OptimizeOptions {
   double time_limit_seconds = 0;  ///< 0 = none; checked at every evaluation
   /// Stop as soon as an evaluated L reaches this value (benchmarks: time to reach a given L).
   double target_value = std::numeric_limits<double>::infinity();
+  /// Number of starting points: X0 itself, then X0 scaled about its centroid by 2^(-1/2), 2^(1/2),
+  /// 2^-1, 2^1, 2^(-3/2), ... Each start is optimised on its own and the best result is returned.
+  /// The likelihood is multimodal (mostly for q <= 2) and the spread of the start decides the
+  /// basin; with L-BFGS a few starts cost little. The limits (iterations per start, time and
+  /// target overall) apply as documented above.
+  int starts = 1;
 };
 
 struct OptimizeResult {
   Eigen::MatrixXd latent;       ///< the best latent points found (n x q)
   double value = 0;             ///< L(latent), true units (log_likelihood)
-  int iterations = 0;           ///< L-BFGS iterations or Hooke-Jeeves sweeps
-  int evaluations = 0;          ///< likelihood evaluations (with gradient for L-BFGS)
+  int iterations = 0;           ///< L-BFGS iterations or Hooke-Jeeves sweeps (all starts)
+  int evaluations = 0;          ///< likelihood evaluations, with gradient for L-BFGS (all starts)
   double seconds = 0;           ///< wall time
-  std::vector<double> history;  ///< best L after each iteration (history[0] = L(X0))
+  std::vector<double> history;  ///< best L after each iteration of the winning start (history[0] = its L(X0))
   std::string stop_reason;      ///< why it stopped, in words
+  int best_start = 0;           ///< which start won (0 = X0 itself)
 };
 
 /// Maximises log_likelihood over X from X0. Reports progress lines ("iter 12  L = ...") through

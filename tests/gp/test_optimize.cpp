@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <vector>
 
@@ -146,6 +147,34 @@ TEST(Optimize, ReportsProgressAndRejectsBadInput) {
   Eigen::MatrixXd bad = pca_initialization(p, 2);
   bad(0, 0) = std::nan("");
   EXPECT_THROW(optimize_latent(p, bad, o, null_progress()), Error);
+}
+
+TEST(Optimize, MultipleStartsKeepTheBest) {
+  // q = 1 on 2-D data: a multimodal case where the spread of the start matters.
+  const LikelihoodProblem p = test::problem_for(test::random_low_rank_data(14, 30, 2, 5));
+  const Eigen::MatrixXd X0 = pca_initialization(p, 1);
+  OptimizeOptions o;
+  o.starts = 5;
+  const OptimizeResult multi = optimize_latent(p, X0, o, null_progress());
+  EXPECT_EQ(multi.value, log_likelihood(p, multi.latent));
+  EXPECT_GE(multi.best_start, 0);
+  EXPECT_LT(multi.best_start, 5);
+  EXPECT_NE(multi.stop_reason.find("best of 5 starts"), std::string::npos) << multi.stop_reason;
+  // Each start alone, from X0 scaled about its centroid by 1, 2^-1/2, 2^1/2, 2^-1, 2^1.
+  const double scales[] = {1.0, std::sqrt(0.5), std::sqrt(2.0), 0.5, 2.0};
+  double best = -std::numeric_limits<double>::infinity();
+  int evaluations = 0;
+  const Eigen::RowVectorXd centroid = X0.colwise().mean();
+  for (double s : scales) {
+    const Eigen::MatrixXd start = (s * (X0.rowwise() - centroid)).rowwise() + centroid;
+    const OptimizeResult one = run(p, start, Optimizer::lbfgs, o.tolerance, o.max_iterations);
+    best = std::max(best, one.value);
+    evaluations += one.evaluations;
+  }
+  EXPECT_EQ(multi.value, best);
+  EXPECT_EQ(multi.evaluations, evaluations);
+  o.starts = 0;
+  EXPECT_THROW(optimize_latent(p, X0, o, null_progress()), Error);
 }
 
 TEST(Optimize, NamesRoundTrip) {
