@@ -1,0 +1,86 @@
+// matlas serve MODEL: the material browser (web UI + JSON API, docs/API.md) for a built model.
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "cli/commands.h"
+#include "core/error.h"
+#include "core/progress.h"
+#include "manifold/model.h"
+#include "server/atlas_server.h"
+#include "server/basis_previews.h"
+#include "server/serving.h"
+
+namespace matlas::cli {
+
+namespace {
+
+struct ServeArgs {
+  std::string model;
+  std::string host = "127.0.0.1";
+  int port = 8080;
+  std::string web_root;
+  std::string cache;
+  std::string env = "studio";
+  int size = 256;
+  int spp = 32;
+  int threads = 64;
+  bool log = false;
+};
+
+void run_serve(const ServeArgs& a) {
+  server::block_stop_signals();  // before any thread starts: every thread inherits the mask
+  const Model model = Model::open(a.model);
+  server::BasisPreviewOptions po;
+  po.default_environment = a.env;
+  po.size = a.size;
+  po.spp = a.spp;
+  po.cache_dir = a.cache.empty() ? server::default_cache_dir() / "bases" : std::filesystem::path(a.cache);
+  auto previews = std::make_shared<server::BasisPreviews>(model, po);
+  {
+    TerminalProgress progress;
+    std::fprintf(stderr, "preparing previews (%s on %s, %dx%d, %d spp; cached in %s)\n",
+                 previews->default_environment().c_str(), previews->default_object().c_str(), a.size, a.size, a.spp,
+                 po.cache_dir.string().c_str());
+    previews->prepare_default(progress);
+  }
+  server::ServerOptions so;
+  so.host = a.host;
+  so.port = a.port;
+  so.web_root = a.web_root;
+  so.threads = a.threads;
+  if (a.log)
+    so.log = [](const std::string& method, const std::string& path, int status, double ms) {
+      std::fprintf(stderr, "%s %s %d %.1f ms\n", method.c_str(), path.c_str(), status, ms);
+    };
+  server::AtlasServer srv(model, previews, so);
+  if (!srv.web_root())
+    std::fprintf(stderr, "note: the web UI is not built (run `npm ci && npm run build` in web/); serving the API only\n");
+  server::serve_until_signal(srv, [&](const std::string& url) {
+    std::printf("matlas: serving %s (%d materials, q = %d) at %s\n", model.path().filename().string().c_str(),
+                model.count(), model.dim(), url.c_str());
+    std::fflush(stdout);
+  });
+}
+
+void add_serve_command(CLI::App& app) {
+  auto a = std::make_shared<ServeArgs>();
+  auto* cmd = app.add_subcommand("serve", "Serve the material browser (web UI and JSON API) for a model");
+  cmd->add_option("model", a->model, ".matlas model")->required();
+  cmd->add_option("--host", a->host, "Address to listen on")->capture_default_str();
+  cmd->add_option("--port", a->port, "Port (0: any free port)")->check(CLI::Range(0, 65535))->capture_default_str();
+  cmd->add_option("--web-root", a->web_root, "Built web UI folder (default: $MATLAS_WEB_ROOT, or web/dist near the executable)");
+  cmd->add_option("--cache", a->cache, "Folder of cached image bases (default: ~/.cache/matlas/bases)");
+  cmd->add_option("--env", a->env, "Default environment map of the previews")->capture_default_str();
+  cmd->add_option("--size", a->size, "Preview size in pixels")->check(CLI::Range(32, 1024))->capture_default_str();
+  cmd->add_option("--spp", a->spp, "Samples per pixel of the preview bases")->check(CLI::Range(1, 4096))->capture_default_str();
+  cmd->add_option("--threads", a->threads, "Connection threads")->check(CLI::Range(2, 1024))->capture_default_str();
+  cmd->add_flag("--log", a->log, "Print one line per request on stderr");
+  cmd->callback([a] { run_serve(*a); });
+}
+
+}  // namespace
+
+MATLAS_COMMAND(90, add_serve_command);
+
+}  // namespace matlas::cli

@@ -1,0 +1,322 @@
+#include "server/api.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <numeric>
+#include <unistd.h>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/parallel.h"
+#include "formats/merl_file.h"
+#include "manifold/model.h"
+#include "manifold/project.h"
+#include "server/http_error.h"
+#include "server/latent_map_layer.h"
+#include "server/material_panels.h"
+#include "server/merl_bytes.h"
+#include "server/preview_source.h"
+
+namespace matlas::server {
+
+namespace {
+
+constexpr const char* kPng = "image/png";
+
+nlohmann::json to_json(const Eigen::VectorXd& v) {
+  return nlohmann::json(std::vector<double>(v.data(), v.data() + v.size()));
+}
+
+std::string point_key(const Eigen::VectorXd& x) {
+  std::string key;
+  char buf[32];
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    std::snprintf(buf, sizeof buf, "%.17g,", x[i]);
+    key += buf;
+  }
+  return key;
+}
+
+std::string model_name(const Model& model) {
+  const auto& meta = model.metadata();
+  if (meta.contains("name") && meta["name"].is_string()) return meta["name"].get<std::string>();
+  return model.path().stem().string();
+}
+
+/// A temporary file removed on scope exit.
+class TempUpload {
+public:
+  explicit TempUpload(const std::string& bytes) {
+    static std::atomic<unsigned> counter{0};
+    path_ = std::filesystem::temp_directory_path() /
+            ("matlas-upload-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ".binary");
+    write_file_atomic(path_, bytes.data(), bytes.size());
+  }
+  ~TempUpload() {
+    std::error_code ec;
+    std::filesystem::remove(path_, ec);
+  }
+  TempUpload(const TempUpload&) = delete;
+  TempUpload& operator=(const TempUpload&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+
+private:
+  std::filesystem::path path_;
+};
+
+}  // namespace
+
+Reply Reply::json(const nlohmann::json& j) {
+  Reply r;
+  r.body = j.dump();
+  return r;
+}
+
+Reply Reply::bytes(std::string data, std::string content_type) {
+  Reply r;
+  r.body = std::move(data);
+  r.content_type = std::move(content_type);
+  return r;
+}
+
+Api::Api(const Model& model, std::shared_ptr<const PreviewSource> previews, const ServerOptions& options)
+    : model_(model),
+      previews_(std::move(previews)),
+      options_(options),
+      domain_(LatentDomain::around(model.latent_min(), model.latent_max(), options.domain_margin)),
+      envs_(previews_->environments()),
+      objects_(previews_->objects()),
+      compute_(options.compute_slots > 0 ? options.compute_slots : static_cast<int>(worker_count())),
+      heavy_(options.heavy_slots),
+      cache_(options.cache_entries) {
+  nlohmann::json j;
+  j["name"] = model_name(model);
+  j["count"] = model.count();
+  j["dim"] = model.dim();
+  j["names"] = model.names();
+  nlohmann::json latent = nlohmann::json::array(), colors = nlohmann::json::array();
+  for (int i = 0; i < model.count(); ++i) {
+    latent.push_back(to_json(model.latent().row(i).transpose()));
+    nlohmann::json rgb = nlohmann::json::array();
+    for (int c = 0; c < 3; ++c) {
+      const double a = std::clamp(model.material_albedo()(i, c), 0.0, 1.0);
+      rgb.push_back(std::lround(255.0 * srgb_encode(static_cast<float>(a))));
+    }
+    colors.push_back(rgb);
+  }
+  j["latent"] = latent;
+  j["colors"] = colors;
+  j["bounds"] = {{"min", to_json(model.latent_min())}, {"max", to_json(model.latent_max())}};
+  j["domain"] = {{"min", to_json(domain_.lo)}, {"max", to_json(domain_.hi)}};
+  j["dims"] = {model.dims().theta_h, model.dims().theta_d, model.dims().phi_d};
+  j["scenes"] = {{"envs", envs_},
+                 {"objects", objects_},
+                 {"default_env", previews_->default_environment()},
+                 {"default_object", previews_->default_object()}};
+  j["preview"] = {{"size", previews_->size()}, {"drag_size", previews_->drag_size()}, {"max_size", 512}};
+  j["layers"] = {"albedo", "variance"};
+  j["albedo_angles"] = kAlbedoAngles;
+  model_json_ = j.dump();
+}
+
+ComputeGate::Slot Api::acquire(ComputeGate& gate) {
+  ComputeGate::Slot slot = gate.acquire(options_.queue_timeout);
+  if (!slot) throw HttpError(503, "the server is busy; try again");
+  return slot;
+}
+
+Reply Api::model_info() const { return Reply::bytes(model_json_, "application/json"); }
+
+std::string Api::preview_png(const Eigen::VectorXd& w, const std::string& key, const std::string& env,
+                             const std::string& object, int size) {
+  const std::string full_key = key + "|" + env + "|" + object + "|" + std::to_string(size);
+  if (auto hit = cache_.get(full_key)) return *hit;
+  std::string png;
+  {
+    auto slot = acquire(compute_);
+    png = encode_png(previews_->render(w, env, object, size), previews_->tone());
+  }
+  cache_.put(full_key, png);
+  return png;
+}
+
+Reply Api::preview(const std::string& body) {
+  const auto j = parse_json_object(body);
+  const Eigen::VectorXd x = parse_latent(j, "x", domain_);
+  const std::string env = parse_choice(j, "env", envs_, previews_->default_environment());
+  const std::string object = parse_choice(j, "object", objects_, previews_->default_object());
+  const int size = parse_int(j, "size", 16, 512, previews_->size());
+  Reply r = Reply::bytes(preview_png(model_.weights(x), "x" + point_key(x), env, object, size), kPng);
+  r.headers.emplace_back("Cache-Control", "no-store");
+  return r;
+}
+
+Reply Api::thumbnail(int index, const std::string& env, const std::string& object, int size) {
+  if (index < 0 || index >= model_.count())
+    throw HttpError(404, "no material " + std::to_string(index) + " (the model has " +
+                             std::to_string(model_.count()) + ")");
+  const nlohmann::json j = {{"env", env.empty() ? nlohmann::json() : nlohmann::json(env)},
+                            {"object", object.empty() ? nlohmann::json() : nlohmann::json(object)}};
+  const std::string e = parse_choice(j, "env", envs_, previews_->default_environment());
+  const std::string o = parse_choice(j, "object", objects_, previews_->default_object());
+  Reply r = Reply::bytes(
+      preview_png(model_.material_weights(index), "m" + std::to_string(index), e, o, size), kPng);
+  r.headers.emplace_back("Cache-Control", "max-age=3600");
+  return r;
+}
+
+nlohmann::json Api::top_weights(const Eigen::VectorXd& w, int count) const {
+  std::vector<int> order(static_cast<std::size_t>(w.size()));
+  std::iota(order.begin(), order.end(), 0);
+  const auto k = static_cast<std::size_t>(std::min<Eigen::Index>(count, w.size()));
+  std::partial_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(k), order.end(),
+                    [&](int a, int b) { return std::abs(w[a]) > std::abs(w[b]); });
+  nlohmann::json top = nlohmann::json::array();
+  for (std::size_t i = 0; i < k; ++i)
+    top.push_back({{"index", order[i]}, {"name", model_.names()[static_cast<std::size_t>(order[i])]},
+                   {"weight", w[order[i]]}});
+  return top;
+}
+
+Reply Api::weights(const std::string& body) {
+  const auto j = parse_json_object(body);
+  const Eigen::VectorXd x = parse_latent(j, "x", domain_);
+  const int top = parse_int(j, "top", 0, model_.count(), std::min(8, model_.count()));
+  const Eigen::VectorXd w = model_.weights(x);
+  return Reply::json({{"x", to_json(x)}, {"weights", to_json(w)}, {"variance", model_.variance(x)},
+                      {"top", top_weights(w, top)}});
+}
+
+Reply Api::slice(const std::string& body) {
+  const auto j = parse_json_object(body);
+  const Eigen::VectorXd x = parse_latent(j, "x", domain_);
+  const double phi_d = parse_number(j, "phi_d", 0.0, 180.0, 90.0);
+  double vmax = 0;
+  std::string png;
+  {
+    auto slot = acquire(compute_);
+    png = slice_png(model_, model_.weights(x), phi_d, &vmax);
+  }
+  Reply r = Reply::bytes(std::move(png), kPng);
+  r.headers.emplace_back("X-Matlas-Max", std::to_string(vmax));
+  return r;
+}
+
+Reply Api::lobe(const std::string& body) {
+  const auto j = parse_json_object(body);
+  const Eigen::VectorXd x = parse_latent(j, "x", domain_);
+  const double theta_i = parse_number(j, "theta_i", 0.0, 89.0, 30.0);
+  const int samples = parse_int(j, "samples", 8, 721, 181);
+  const Lobe lobe = incidence_plane_lobe(model_, model_.weights(x), theta_i, samples);
+  nlohmann::json rgb = nlohmann::json::array();
+  for (const Rgb& v : lobe.value) rgb.push_back({v[0], v[1], v[2]});
+  return Reply::json({{"theta_i", theta_i}, {"theta_o", lobe.theta_o_degrees}, {"rgb", rgb}});
+}
+
+Reply Api::albedo(const std::string& body) {
+  const auto j = parse_json_object(body);
+  const Eigen::VectorXd x = parse_latent(j, "x", domain_);
+  const auto curve = model_.albedo_curve(model_.weights(x));
+  nlohmann::json rgb = nlohmann::json::array();
+  for (const Rgb& v : curve) rgb.push_back({v[0], v[1], v[2]});
+  return Reply::json({{"theta_o", albedo_angles_degrees()}, {"rgb", rgb}});
+}
+
+Reply Api::map_layer(const std::string& body) {
+  const auto j = parse_json_object(body);
+  MapLayerRequest r;
+  r.layer = parse_choice(j, "layer", {"albedo", "variance"}, "albedo") == "variance" ? MapLayer::variance
+                                                                                    : MapLayer::albedo;
+  r.base = parse_latent(j, "x", domain_);
+  const int q = model_.dim();
+  if (q < 2) throw bad_request("map layers need a latent space of at least 2 dimensions");
+  if (j.contains("axes")) {
+    const auto& axes = j["axes"];
+    if (!axes.is_array() || axes.size() != 2 || !axes[0].is_number_integer() || !axes[1].is_number_integer())
+      throw bad_request("\"axes\" must be two integers");
+    r.axis_x = axes[0].get<int>();
+    r.axis_y = axes[1].get<int>();
+    if (r.axis_x < 0 || r.axis_x >= q || r.axis_y < 0 || r.axis_y >= q || r.axis_x == r.axis_y)
+      throw bad_request("\"axes\" must be two different axes in [0, " + std::to_string(q - 1) + "]");
+  }
+  if (!j.contains("rect") || !j["rect"].is_array() || j["rect"].size() != 4)
+    throw bad_request("\"rect\" must be [x0, x1, y0, y1]");
+  double rect[4];
+  for (int i = 0; i < 4; ++i) {
+    const auto& v = j["rect"][static_cast<std::size_t>(i)];
+    if (!v.is_number() || !std::isfinite(v.get<double>()) || std::abs(v.get<double>()) > 1e6)
+      throw bad_request("\"rect\" values must be finite numbers of magnitude at most 1e6");
+    rect[i] = v.get<double>();
+  }
+  if (!(rect[0] < rect[1] && rect[2] < rect[3])) throw bad_request("\"rect\" must have x0 < x1 and y0 < y1");
+  r.x0 = rect[0], r.x1 = rect[1], r.y0 = rect[2], r.y1 = rect[3];
+  if (j.contains("size")) {
+    const auto& s = j["size"];
+    if (!s.is_array() || s.size() != 2 || !s[0].is_number_integer() || !s[1].is_number_integer())
+      throw bad_request("\"size\" must be [width, height]");
+    r.width = s[0].get<int>();
+    r.height = s[1].get<int>();
+    if (r.width < 4 || r.width > 256 || r.height < 4 || r.height > 256)
+      throw bad_request("\"size\" must be between 4 and 256 pixels per side");
+  }
+  auto slot = acquire(heavy_);
+  return Reply::bytes(map_layer_png(model_, r), kPng);
+}
+
+Reply Api::export_merl(const std::string& body) {
+  const auto j = parse_json_object(body);
+  const Eigen::VectorXd x = parse_latent(j, "x", domain_);
+  std::string bytes;
+  {
+    auto slot = acquire(heavy_);
+    bytes = merl_bytes(model_.table(model_.weights(x)));
+  }
+  Reply r = Reply::bytes(std::move(bytes), "application/octet-stream");
+  std::string name = "matlas";
+  char buf[32];
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    std::snprintf(buf, sizeof buf, "_%.4f", x[i]);
+    name += buf;
+  }
+  r.headers.emplace_back("Content-Disposition", "attachment; filename=\"" + name + ".binary\"");
+  return r;
+}
+
+Reply Api::project(const std::string& file_bytes) {
+  if (file_bytes.empty()) throw bad_request("the upload is empty: send a MERL .binary file as the body");
+  BrdfTable table;
+  {
+    TempUpload upload(file_bytes);
+    try {
+      table = read_merl(upload.path());
+    } catch (const Error& e) {
+      std::string message = e.what();
+      const std::string prefix = upload.path().string() + ": ";
+      if (message.rfind(prefix, 0) == 0) message = message.substr(prefix.size());
+      throw HttpError(422, "the upload is not a valid MERL .binary file: " + message);
+    }
+  }
+  if (!(table.dims() == model_.dims()))
+    throw HttpError(422, "the upload's grid is " + table.dims().to_string() + " but the model's is " +
+                             model_.dims().to_string());
+  Projection p;
+  {
+    auto slot = acquire(heavy_);
+    p = project_material(model_, table);
+  }
+  nlohmann::json nearest = nullptr;
+  if (p.nearest >= 0)
+    nearest = {{"index", p.nearest}, {"name", model_.names()[static_cast<std::size_t>(p.nearest)]},
+               {"residual", p.nearest_relative_error}};
+  return Reply::json({{"x", to_json(p.x)},
+                      {"residual", p.relative_error},
+                      {"variance", p.variance},
+                      {"nearest", nearest},
+                      {"missing", p.missing},
+                      {"top", top_weights(model_.weights(p.x), 8)}});
+}
+
+}  // namespace matlas::server

@@ -1,0 +1,75 @@
+#pragma once
+// Api: the JSON API of the material browser (docs/API.md), independent of the HTTP library: each
+// endpoint takes the request body (and parameters) and returns a Reply. Invalid requests throw
+// HttpError with a 4xx status and a message; AtlasServer turns it into {"error": message}.
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "server/atlas_server.h"
+#include "server/compute_gate.h"
+#include "server/png_cache.h"
+#include "server/request_parsing.h"
+
+namespace matlas::server {
+
+struct Reply {
+  int status = 200;
+  std::string content_type = "application/json";
+  std::string body;
+  std::vector<std::pair<std::string, std::string>> headers;
+
+  static Reply json(const nlohmann::json& j);
+  static Reply bytes(std::string data, std::string content_type);
+};
+
+class Api {
+public:
+  Api(const Model& model, std::shared_ptr<const PreviewSource> previews, const ServerOptions& options);
+
+  /// GET /api/model
+  Reply model_info() const;
+  /// POST /api/preview {"x", "env", "object", "size"} -> PNG
+  Reply preview(const std::string& body);
+  /// GET /api/thumbnail/INDEX?env=&object=&size= -> PNG
+  Reply thumbnail(int index, const std::string& env, const std::string& object, int size);
+  /// POST /api/weights {"x", "top"}
+  Reply weights(const std::string& body);
+  /// POST /api/slice {"x", "phi_d"} -> PNG
+  Reply slice(const std::string& body);
+  /// POST /api/lobe {"x", "theta_i", "samples"}
+  Reply lobe(const std::string& body);
+  /// POST /api/albedo {"x"}
+  Reply albedo(const std::string& body);
+  /// POST /api/map {"layer", "axes", "x", "rect", "size"} -> PNG
+  Reply map_layer(const std::string& body);
+  /// POST /api/export {"x"} -> MERL .binary
+  Reply export_merl(const std::string& body);
+  /// POST /api/project: a MERL .binary file as the body -> its latent point and residual
+  Reply project(const std::string& file_bytes);
+
+  const LatentDomain& domain() const { return domain_; }
+  const ComputeGate& compute_gate() const { return compute_; }
+
+private:
+  ComputeGate::Slot acquire(ComputeGate& gate);
+  std::string preview_png(const Eigen::VectorXd& w, const std::string& key, const std::string& env,
+                          const std::string& object, int size);
+  nlohmann::json top_weights(const Eigen::VectorXd& w, int count) const;
+
+  const Model& model_;
+  std::shared_ptr<const PreviewSource> previews_;
+  ServerOptions options_;
+  LatentDomain domain_;
+  std::vector<std::string> envs_, objects_;
+  std::string model_json_;
+  ComputeGate compute_;
+  ComputeGate heavy_;
+  PngCache cache_;
+};
+
+}  // namespace matlas::server

@@ -1,0 +1,244 @@
+#include "server/basis_previews.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <condition_variable>
+#include <deque>
+#include <map>
+#include <mutex>
+#include <set>
+#include <thread>
+
+#include "core/error.h"
+#include "manifold/model.h"
+#include "render/assets.h"
+#include "render/image_basis.h"
+#include "render/render.h"
+#include "render/scene.h"
+#include "server/http_error.h"
+#include "server/image_resize.h"
+
+namespace matlas::server {
+
+namespace {
+
+struct Cancelled {};
+
+/// Forwards progress, and aborts the render (by throwing) once `stop` is set.
+class CancellableSink final : public ProgressSink {
+public:
+  CancellableSink(ProgressSink& inner, const std::atomic<bool>& stop) : inner_(inner), stop_(stop) {}
+  void update(const std::string& label, std::uint64_t done, std::uint64_t total) override {
+    if (stop_) throw Cancelled{};
+    inner_.update(label, done, total);
+  }
+  void message(const std::string& line) override { inner_.message(line); }
+  void finish(const std::string& label) override { inner_.finish(label); }
+
+private:
+  ProgressSink& inner_;
+  const std::atomic<bool>& stop_;
+};
+
+std::string safe_name(const std::string& s) {
+  std::string out;
+  for (char c : s) out += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_') ? c : '_';
+  return out;
+}
+
+}  // namespace
+
+struct BasisPreviews::Impl {
+  const Model& model;
+  BasisPreviewOptions options;
+  std::string fingerprint;
+  std::vector<std::string> envs, objects;
+
+  struct Entry {
+    std::shared_ptr<const render::ImageBasis> full, half;
+    std::uint64_t used = 0;
+  };
+  mutable std::mutex mutex;
+  mutable std::map<std::string, Entry> loaded;
+  mutable std::uint64_t clock = 0;
+  mutable std::deque<std::pair<std::string, std::string>> queue;
+  mutable std::set<std::string> queued;
+  mutable std::map<std::string, std::string> failed;
+  mutable std::condition_variable cv;
+  std::atomic<bool> stop{false};
+  std::thread worker;
+
+  Impl(const Model& m, BasisPreviewOptions o) : model(m), options(std::move(o)) {
+    fingerprint = render::model_fingerprint(model);
+    envs = options.environments;
+    if (envs.empty()) {
+      envs = installed_environments();
+      if (envs.empty()) envs.push_back("constant");
+    }
+    if (const auto it = std::find(envs.begin(), envs.end(), options.default_environment); it != envs.end())
+      std::rotate(envs.begin(), it, it + 1);
+    objects = options.objects;
+    if (objects.empty()) {
+      objects.push_back("sphere");
+      for (const char* mesh : {"bunny", "suzi"}) {
+        try {
+          resolve_mesh(mesh);
+          objects.emplace_back(mesh);
+        } catch (const Error&) {
+        }
+      }
+    }
+    worker = std::thread([this] { work(); });
+  }
+
+  ~Impl() {
+    {
+      std::lock_guard lock(mutex);
+      stop = true;
+    }
+    cv.notify_all();
+    worker.join();
+  }
+
+  static std::string key(const std::string& env, const std::string& object) { return env + "\n" + object; }
+
+  std::filesystem::path cache_path(const std::string& env, const std::string& object) const {
+    if (options.cache_dir.empty()) return {};
+    return options.cache_dir / ("basis-" + fingerprint + "-" + safe_name(env) + "-" + safe_name(object) + "-" +
+                                std::to_string(options.size) + "px-" + std::to_string(options.spp) + "spp-s" +
+                                std::to_string(options.seed) + ".safetensors");
+  }
+
+  Entry build(const std::string& env, const std::string& object, ProgressSink& progress) const {
+    const auto path = cache_path(env, object);
+    std::shared_ptr<render::ImageBasis> full;
+    if (!path.empty() && std::filesystem::exists(path)) {
+      try {
+        auto b = std::make_shared<render::ImageBasis>(render::ImageBasis::open(path));
+        const auto& meta = b->metadata();
+        const auto fp = meta.find("model_fingerprint");
+        if (b->count() == model.count() && b->width() == options.size && fp != meta.end() && fp->second == fingerprint)
+          full = std::move(b);
+      } catch (const Error&) {
+        // A damaged or foreign cache file: render again and replace it.
+      }
+    }
+    if (!full) {
+      render::SceneDescription desc;
+      desc.environment = env;
+      desc.object = object;
+      const render::Scene scene(desc);
+      render::RenderSettings settings;
+      settings.width = settings.height = options.size;
+      settings.spp = options.spp;
+      settings.seed = options.seed;
+      CancellableSink sink(progress, stop);
+      full = std::make_shared<render::ImageBasis>(render::render_basis(model, scene, settings, sink));
+      full->convert_to_half();
+      if (!path.empty()) {
+        std::filesystem::create_directories(path.parent_path());
+        full->save(path, render::BasisPrecision::f16);
+      }
+    }
+    // The half-resolution basis for drag previews: the same images, area-averaged.
+    const int half = std::max(16, options.size / 2);
+    std::vector<Image> images;
+    images.reserve(static_cast<std::size_t>(full->count()));
+    for (int i = 0; i < full->count(); ++i) images.push_back(resize_area(full->material_image(i), half, half));
+    auto small = std::make_shared<render::ImageBasis>(resize_area(full->mean_image(), half, half), images);
+    small->convert_to_half();
+    return Entry{full, small, 0};
+  }
+
+  void insert(const std::string& k, Entry e) const {
+    std::lock_guard lock(mutex);
+    e.used = ++clock;
+    loaded[k] = std::move(e);
+    const std::string pinned = key(envs.front(), objects.front());
+    while (static_cast<int>(loaded.size()) > std::max(1, options.max_loaded)) {
+      auto oldest = loaded.end();
+      for (auto it = loaded.begin(); it != loaded.end(); ++it)
+        if (it->first != pinned && it->first != k && (oldest == loaded.end() || it->second.used < oldest->second.used))
+          oldest = it;
+      if (oldest == loaded.end()) break;
+      loaded.erase(oldest);
+    }
+  }
+
+  void work() {
+    for (;;) {
+      std::pair<std::string, std::string> job;
+      {
+        std::unique_lock lock(mutex);
+        cv.wait(lock, [&] { return stop || !queue.empty(); });
+        if (stop) return;
+        job = queue.front();
+        queue.pop_front();
+      }
+      const std::string k = key(job.first, job.second);
+      try {
+        insert(k, build(job.first, job.second, null_progress()));
+      } catch (const Cancelled&) {
+        return;
+      } catch (const std::exception& e) {
+        std::lock_guard lock(mutex);
+        failed[k] = e.what();
+      }
+      std::lock_guard lock(mutex);
+      queued.erase(k);
+    }
+  }
+};
+
+BasisPreviews::BasisPreviews(const Model& model, BasisPreviewOptions options)
+    : impl_(std::make_unique<Impl>(model, std::move(options))) {}
+
+BasisPreviews::~BasisPreviews() = default;
+
+void BasisPreviews::prepare_default(ProgressSink& progress) {
+  const auto& env = impl_->envs.front();
+  const auto& object = impl_->objects.front();
+  impl_->insert(Impl::key(env, object), impl_->build(env, object, progress));
+}
+
+std::filesystem::path BasisPreviews::cache_path(const std::string& environment, const std::string& object) const {
+  return impl_->cache_path(environment, object);
+}
+
+std::vector<std::string> BasisPreviews::environments() const { return impl_->envs; }
+std::vector<std::string> BasisPreviews::objects() const { return impl_->objects; }
+std::string BasisPreviews::default_environment() const { return impl_->envs.front(); }
+std::string BasisPreviews::default_object() const { return impl_->objects.front(); }
+int BasisPreviews::size() const { return impl_->options.size; }
+int BasisPreviews::drag_size() const { return std::max(16, impl_->options.size / 2); }
+ToneMap BasisPreviews::tone() const { return impl_->options.tone; }
+
+Image BasisPreviews::render(const Eigen::VectorXd& w, const std::string& environment, const std::string& object,
+                            int size) const {
+  const std::string k = Impl::key(environment, object);
+  std::shared_ptr<const render::ImageBasis> full, half;
+  {
+    std::lock_guard lock(impl_->mutex);
+    if (const auto it = impl_->loaded.find(k); it != impl_->loaded.end()) {
+      it->second.used = ++impl_->clock;
+      full = it->second.full;
+      half = it->second.half;
+    } else if (const auto f = impl_->failed.find(k); f != impl_->failed.end()) {
+      throw HttpError(500, "the preview scene (" + environment + ", " + object + ") failed: " + f->second);
+    } else {
+      if (impl_->queued.insert(k).second) {
+        impl_->queue.emplace_back(environment, object);
+        impl_->cv.notify_one();
+      }
+      throw HttpError(503, "the preview scene (" + environment + ", " + object +
+                               ") is being prepared; try again in a few seconds");
+    }
+  }
+  const render::ImageBasis& basis = size <= half->width() ? *half : *full;
+  Image image = basis.compose(w);
+  if (image.width != size) image = resize_area(image, size, size);
+  return image;
+}
+
+}  // namespace matlas::server

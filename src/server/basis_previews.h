@@ -1,0 +1,62 @@
+#pragma once
+// BasisPreviews: the renderer-backed PreviewSource. For each offered scene (environment x object)
+// an image basis (render/image_basis.h) turns a preview into one linear combination of n images,
+// plus a half-resolution copy of it for the smaller previews sent while dragging.
+//
+// Bases are rendered once per scene and cached on disk (cache_dir, keyed by the model's
+// fingerprint, the scene and the render settings), so a restart loads them in a moment. The
+// default scene is prepared before serving (prepare_default); any other scene is rendered in the
+// background on its first request, which gets 503 "being prepared" meanwhile. At most
+// `max_loaded` bases stay in memory (least recently used dropped).
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/progress.h"
+#include "server/preview_source.h"
+
+namespace matlas {
+class Model;
+}
+
+namespace matlas::server {
+
+struct BasisPreviewOptions {
+  std::vector<std::string> environments;  ///< empty: the installed maps (else "constant"); first = default
+  std::vector<std::string> objects;       ///< empty: "sphere" and the installed meshes; first = default
+  std::string default_environment = "studio";  ///< used when offered
+  int size = 256;                         ///< full preview side
+  int spp = 32;                           ///< samples per pixel of the basis renders
+  std::uint64_t seed = 1;
+  ToneMap tone{ToneMap::Curve::aces, 0.0};
+  std::filesystem::path cache_dir;        ///< empty: no disk cache
+  int max_loaded = 4;
+};
+
+class BasisPreviews final : public PreviewSource {
+public:
+  BasisPreviews(const Model& model, BasisPreviewOptions options);
+  ~BasisPreviews() override;
+
+  /// Renders (or loads from the cache) the default scene's basis now.
+  void prepare_default(ProgressSink& progress = null_progress());
+  /// Path of the cached basis of a scene (whether or not it exists yet).
+  std::filesystem::path cache_path(const std::string& environment, const std::string& object) const;
+
+  std::vector<std::string> environments() const override;
+  std::vector<std::string> objects() const override;
+  std::string default_environment() const override;
+  std::string default_object() const override;
+  int size() const override;
+  int drag_size() const override;
+  ToneMap tone() const override;
+  Image render(const Eigen::VectorXd& w, const std::string& environment, const std::string& object,
+               int size) const override;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace matlas::server

@@ -1,0 +1,34 @@
+#pragma once
+// Background layers of the latent map: a quantity of m(x) on a grid over a rectangle of one plane
+// (two latent axes; the other coordinates fixed), as an RGB PNG with the top row at the rectangle's
+// largest second coordinate (so that "up" is +y on screen).
+#include <string>
+
+#include <Eigen/Core>
+
+namespace matlas {
+class Model;
+}
+
+namespace matlas::server {
+
+enum class MapLayer {
+  albedo,    ///< directional albedo at normal incidence, as a colour (sRGB, clamped to [0, 1])
+  variance,  ///< GP predictive variance (0 at the data .. 1 far away), as a colour ramp
+};
+
+struct MapLayerRequest {
+  MapLayer layer = MapLayer::albedo;
+  int axis_x = 0, axis_y = 1;   ///< latent axes shown horizontally and vertically
+  Eigen::VectorXd base;         ///< full latent point giving the other coordinates
+  double x0 = 0, x1 = 1, y0 = 0, y1 = 1;  ///< the rectangle
+  int width = 64, height = 64;  ///< grid size (pixel centres sample the rectangle)
+};
+
+/// Computes the layer (in parallel) and returns the PNG bytes.
+std::string map_layer_png(const Model& model, const MapLayerRequest& request);
+
+/// The ramp used for the variance layer, t in [0, 1] -> sRGB8.
+void variance_colour(double t, unsigned char rgb[3]);
+
+}  // namespace matlas::server

@@ -1,0 +1,33 @@
+#pragma once
+// PreviewSource: what the server needs to show a material: a linear RGB image of m(x), given its
+// weights w(x), for one of the offered environments and objects. The renderer-backed source is
+// BasisPreviews (server/basis_previews.h): per scene an image basis, composed linearly.
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "formats/image_io.h"
+
+namespace matlas::server {
+
+class PreviewSource {
+public:
+  virtual ~PreviewSource() = default;
+  virtual std::vector<std::string> environments() const = 0;
+  virtual std::vector<std::string> objects() const = 0;
+  virtual std::string default_environment() const = 0;
+  virtual std::string default_object() const = 0;
+  /// Side of the full-size preview in pixels, and of the smaller one sent while dragging.
+  virtual int size() const = 0;
+  virtual int drag_size() const = 0;
+  /// The display transform of preview images.
+  virtual ToneMap tone() const = 0;
+  /// The image of the material with weights w (side `size` or `drag_size`, or any other side
+  /// the source supports by resampling). Throws HttpError(503) while the scene is still being
+  /// prepared and HttpError(400) for an unknown scene.
+  virtual Image render(const Eigen::VectorXd& w, const std::string& environment,
+                       const std::string& object, int size) const = 0;
+};
+
+}  // namespace matlas::server

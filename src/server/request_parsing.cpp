@@ -1,0 +1,125 @@
+#include "server/request_parsing.h"
+
+#include <charconv>
+#include <cmath>
+#include <sstream>
+
+#include "server/http_error.h"
+
+namespace matlas::server {
+
+namespace {
+
+std::string number_text(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+const nlohmann::json* field(const nlohmann::json& body, const std::string& key) {
+  const auto it = body.find(key);
+  if (it == body.end() || it->is_null()) return nullptr;
+  return &*it;
+}
+
+double finite_number(const nlohmann::json& value, const std::string& what) {
+  if (!value.is_number()) throw bad_request(what + " must be a number, got " + std::string(value.type_name()));
+  const double v = value.get<double>();
+  if (!std::isfinite(v)) throw bad_request(what + " must be finite");
+  return v;
+}
+
+}  // namespace
+
+LatentDomain LatentDomain::around(const Eigen::VectorXd& data_min, const Eigen::VectorXd& data_max,
+                                  double margin) {
+  LatentDomain d;
+  d.lo.resize(data_min.size());
+  d.hi.resize(data_min.size());
+  for (Eigen::Index i = 0; i < data_min.size(); ++i) {
+    const double extent = data_max[i] - data_min[i];
+    const double pad = extent > 0 ? margin * extent : 1.0;
+    d.lo[i] = data_min[i] - pad;
+    d.hi[i] = data_max[i] + pad;
+  }
+  return d;
+}
+
+nlohmann::json parse_json_object(const std::string& body) {
+  // nlohmann's parser rejects NaN/Infinity literals, so every number that gets through is finite
+  // unless it overflows (1e999 parses as inf), which finite_number() catches.
+  nlohmann::json j = nlohmann::json::parse(body, nullptr, /*allow_exceptions=*/false);
+  if (j.is_discarded()) throw bad_request("the request body is not valid JSON");
+  if (!j.is_object()) throw bad_request("the request body must be a JSON object");
+  return j;
+}
+
+Eigen::VectorXd parse_latent(const nlohmann::json& body, const std::string& key,
+                             const LatentDomain& domain) {
+  const nlohmann::json* value = field(body, key);
+  if (!value) throw bad_request("missing field \"" + key + "\" (the latent point, an array of " +
+                                std::to_string(domain.dim()) + " numbers)");
+  if (!value->is_array())
+    throw bad_request("\"" + key + "\" must be an array of numbers, got " + std::string(value->type_name()));
+  if (static_cast<int>(value->size()) != domain.dim())
+    throw bad_request("\"" + key + "\" has " + std::to_string(value->size()) +
+                      " coordinates but the model's latent space has " + std::to_string(domain.dim()));
+  Eigen::VectorXd x(domain.dim());
+  for (int i = 0; i < domain.dim(); ++i) {
+    const std::string what = key + "[" + std::to_string(i) + "]";
+    x[i] = finite_number((*value)[static_cast<std::size_t>(i)], what);
+    if (x[i] < domain.lo[i] || x[i] > domain.hi[i])
+      throw bad_request(what + " = " + number_text(x[i]) + " is outside the allowed range [" +
+                        number_text(domain.lo[i]) + ", " + number_text(domain.hi[i]) + "]");
+  }
+  return x;
+}
+
+double parse_number(const nlohmann::json& body, const std::string& key, double lo, double hi,
+                    double fallback) {
+  const nlohmann::json* value = field(body, key);
+  if (!value) return fallback;
+  const double v = finite_number(*value, "\"" + key + "\"");
+  if (v < lo || v > hi)
+    throw bad_request("\"" + key + "\" = " + number_text(v) + " is outside [" + number_text(lo) + ", " +
+                      number_text(hi) + "]");
+  return v;
+}
+
+int parse_int(const nlohmann::json& body, const std::string& key, int lo, int hi, int fallback) {
+  const nlohmann::json* value = field(body, key);
+  if (!value) return fallback;
+  if (!value->is_number_integer())
+    throw bad_request("\"" + key + "\" must be an integer, got " + value->dump());
+  const auto v = value->get<long long>();
+  if (v < lo || v > hi)
+    throw bad_request("\"" + key + "\" = " + std::to_string(v) + " is outside [" + std::to_string(lo) +
+                      ", " + std::to_string(hi) + "]");
+  return static_cast<int>(v);
+}
+
+std::string parse_choice(const nlohmann::json& body, const std::string& key,
+                         const std::vector<std::string>& allowed, const std::string& fallback) {
+  const nlohmann::json* value = field(body, key);
+  if (!value) return fallback;
+  if (!value->is_string()) throw bad_request("\"" + key + "\" must be a string");
+  const std::string s = value->get<std::string>();
+  for (const auto& a : allowed)
+    if (a == s) return s;
+  std::string list;
+  for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+  throw bad_request("unknown " + key + " \"" + s + "\" (choose one of: " + list + ")");
+}
+
+int parse_int_text(const std::string& text, const std::string& what, int lo, int hi) {
+  int v = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc() || end != text.data() + text.size())
+    throw bad_request(what + " must be an integer, got \"" + text + "\"");
+  if (v < lo || v > hi)
+    throw bad_request(what + " = " + std::to_string(v) + " is outside [" + std::to_string(lo) + ", " +
+                      std::to_string(hi) + "]");
+  return v;
+}
+
+}  // namespace matlas::server

@@ -1,0 +1,46 @@
+#pragma once
+// Parsing and validation of JSON request bodies. Every function throws HttpError(400) with a
+// message naming the field and the problem (malformed JSON, wrong type, wrong dimension, NaN,
+// out of range), so that a handler never sees an invalid value.
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+namespace matlas::server {
+
+/// The latent coordinates a request may ask for: a box around the data's bounding box, enlarged
+/// by `margin` times its extent on every side (far from the data the GP returns the mean).
+struct LatentDomain {
+  Eigen::VectorXd lo, hi;
+
+  /// The box [min - margin * extent, max + margin * extent] per dimension; a dimension of zero
+  /// extent gets a half-width of 1.
+  static LatentDomain around(const Eigen::VectorXd& data_min, const Eigen::VectorXd& data_max,
+                             double margin = 1.0);
+  int dim() const { return static_cast<int>(lo.size()); }
+};
+
+/// Parses a request body that must be a JSON object.
+nlohmann::json parse_json_object(const std::string& body);
+
+/// The latent point `body[key]`: an array of exactly domain.dim() finite numbers inside the domain.
+Eigen::VectorXd parse_latent(const nlohmann::json& body, const std::string& key,
+                             const LatentDomain& domain);
+
+/// Optional number `body[key]` in [lo, hi] (default when absent or null).
+double parse_number(const nlohmann::json& body, const std::string& key, double lo, double hi,
+                    double fallback);
+
+/// Optional integer `body[key]` in [lo, hi] (default when absent or null).
+int parse_int(const nlohmann::json& body, const std::string& key, int lo, int hi, int fallback);
+
+/// Optional string `body[key]` that must be one of `allowed` (default when absent or null).
+std::string parse_choice(const nlohmann::json& body, const std::string& key,
+                         const std::vector<std::string>& allowed, const std::string& fallback);
+
+/// Integer text (a query parameter or a path segment) in [lo, hi]; `what` names it in errors.
+int parse_int_text(const std::string& text, const std::string& what, int lo, int hi);
+
+}  // namespace matlas::server
