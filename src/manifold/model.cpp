@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "core/parallel.h"
 #include "formats/safetensors.h"
+#include "manifold/dot_kernel.h"
 #include "manifold/model_format.h"
 
 namespace matlas {
@@ -36,14 +37,10 @@ struct Model::Impl {
 
   double centred_dot(std::size_t column, const Eigen::Ref<const Eigen::VectorXd>& w) const {
     const std::size_t base = column * static_cast<std::size_t>(n);
+    if (centred_f32) return dot_f32_f64(centred_f32 + base, w.data(), n);
+    const std::uint16_t* row = centred_f16 + base;
     double sum = 0.0;
-    if (centred_f32) {
-      const float* row = centred_f32 + base;
-      for (int i = 0; i < n; ++i) sum += w[i] * static_cast<double>(row[i]);
-    } else {
-      const std::uint16_t* row = centred_f16 + base;
-      for (int i = 0; i < n; ++i) sum += w[i] * static_cast<double>(half_to_float(row[i]));
-    }
+    for (int i = 0; i < n; ++i) sum += w[i] * static_cast<double>(half_to_float(row[i]));
     return sum;
   }
 };
