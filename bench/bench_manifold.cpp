@@ -1,0 +1,186 @@
+// Manifold build and query benchmarks on the 100-material database (bench/make_bench_db.sh),
+// each reported as a ratio to a physical limit measured in the same run:
+//   - pass 1 (mask, mean, Gram) vs reading the same files raw from the page cache;
+//   - the Gram's dsyrk vs the machine's dense matrix-product (dgemm) throughput;
+//   - the whole table at x vs one streaming read of the stored data;
+//   - one value at x once w(x) is known (absolute, ns).
+// Set MATLAS_BENCH_DB to the database folder (default /tmp/matlas-bench-db).
+#include <chrono>
+#include <cstdlib>
+#include <fcntl.h>
+#include <filesystem>
+#include <random>
+#include <unistd.h>
+
+#include <benchmark/benchmark.h>
+#include <cblas.h>
+
+#include "core/parallel.h"
+#include "manifold/build.h"
+#include "manifold/column_blocks.h"
+#include "manifold/gram.h"
+#include "manifold/model.h"
+
+namespace fs = std::filesystem;
+using namespace matlas;
+
+namespace {
+
+double now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+fs::path database() {
+  const char* env = std::getenv("MATLAS_BENCH_DB");
+  return env ? fs::path(env) : fs::path("/tmp/matlas-bench-db");
+}
+
+bool have_database(benchmark::State& state) {
+  if (fs::is_directory(database())) return true;
+  state.SkipWithError("no benchmark database: run bench/make_bench_db.sh (or set MATLAS_BENCH_DB)");
+  return false;
+}
+
+/// Reads every .binary file of the set raw into one reused buffer; returns bytes read.
+std::size_t raw_read(const MaterialSet& set) {
+  static std::vector<char> buffer(64 << 20);
+  std::size_t total = 0;
+  for (std::size_t i = 0; i < set.size(); ++i) {
+    const int fd = ::open(set.file(i).path().c_str(), O_RDONLY);
+    ssize_t got;
+    while ((got = ::read(fd, buffer.data(), buffer.size())) > 0) total += static_cast<std::size_t>(got);
+    ::close(fd);
+  }
+  return total;
+}
+
+void BM_Pass1VsRawRead(benchmark::State& state) {
+  if (!have_database(state)) return;
+  const MaterialSet set = MaterialSet::open({database()});
+  raw_read(set);  // warm the page cache
+  double raw = 0, pass = 0;
+  std::size_t bytes = 0;
+  for (auto _ : state) {
+    double t0 = now();
+    bytes = raw_read(set);
+    raw += now() - t0;
+    t0 = now();
+    const GramResult g = accumulate_gram(set, LayoutTransform{}, 32768, null_progress());
+    benchmark::DoNotOptimize(g.gram.data());
+    pass += now() - t0;
+  }
+  const double it = static_cast<double>(state.iterations());
+  state.counters["materials"] = static_cast<double>(set.size());
+  state.counters["raw_GBps"] = static_cast<double>(bytes) / (raw / it) / 1e9;
+  state.counters["pass1_s"] = pass / it;
+  state.counters["raw_read_s"] = raw / it;
+  state.counters["ratio_to_raw"] = pass / raw;
+}
+BENCHMARK(BM_Pass1VsRawRead)->Unit(benchmark::kMillisecond)->Iterations(2)->UseRealTime();
+
+void BM_GramVsGemm(benchmark::State& state) {
+  const int n = 100, k = 32768, g = 1024;
+  std::mt19937_64 rng(1);
+  std::normal_distribution<double> d;
+  std::vector<double> a(static_cast<std::size_t>(n) * k), s(static_cast<std::size_t>(n) * n);
+  for (double& v : a) v = d(rng);
+  std::vector<double> x(static_cast<std::size_t>(g) * g), y(x.size()), z(x.size());
+  for (double& v : x) v = d(rng);
+  for (double& v : y) v = d(rng);
+  double t_syrk = 0, t_gemm = 0;
+  for (auto _ : state) {
+    double t0 = now();
+    for (int r = 0; r < 10; ++r)
+      cblas_dsyrk(CblasColMajor, CblasUpper, CblasTrans, n, k, 1.0, a.data(), k, 1.0, s.data(), n);
+    t_syrk += now() - t0;
+    t0 = now();
+    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, g, g, g, 1.0, x.data(), g, y.data(), g, 0.0, z.data(), g);
+    t_gemm += now() - t0;
+  }
+  const double it = static_cast<double>(state.iterations());
+  const double syrk_flops = 10.0 * n * (n + 1.0) * k;  // n(n+1)/2 dot products of length k, 2 flops each
+  const double gemm_flops = 2.0 * g * g * g;
+  state.counters["gram_GFLOPs"] = syrk_flops / (t_syrk / it) / 1e9;
+  state.counters["gemm_GFLOPs"] = gemm_flops / (t_gemm / it) / 1e9;
+  state.counters["ratio_to_gemm"] = (syrk_flops / t_syrk) / (gemm_flops / t_gemm);
+}
+BENCHMARK(BM_GramVsGemm)->Unit(benchmark::kMillisecond)->Iterations(5)->UseRealTime();
+
+const Model* bench_model() {
+  static std::unique_ptr<Model> model;
+  if (!model) {
+    const fs::path path = fs::temp_directory_path() / "matlas-bench-q5.matlas";
+    if (!fs::exists(path)) {
+      BuildOptions o;
+      o.dim = 5;
+      build_model(MaterialSet::open({database()}), o, path);
+    }
+    model = std::make_unique<Model>(Model::open(path));
+  }
+  return model.get();
+}
+
+void BM_TableAtXVsStreamingRead(benchmark::State& state) {
+  if (!have_database(state)) return;
+  const Model& m = *bench_model();
+  const Eigen::VectorXd w = m.weights(0.5 * (m.latent().row(0) + m.latent().row(1)).transpose());
+  const std::size_t floats = m.kept_columns() * static_cast<std::size_t>(m.count());
+  double t_table = 0, t_read = 0;
+  for (auto _ : state) {
+    double t0 = now();
+    std::vector<double> partial(worker_count(), 0.0);
+    parallel_for(0, worker_count(), [&](std::size_t lo, std::size_t hi) {
+      for (std::size_t t = lo; t < hi; ++t) {
+        const std::size_t a = floats * t / worker_count(), b = floats * (t + 1) / worker_count();
+        const float* p = m.centred_f32(0);
+        float s0 = 0, s1 = 0, s2 = 0, s3 = 0;
+        std::size_t i = a;
+        for (; i + 4 <= b; i += 4) {
+          s0 += p[i];
+          s1 += p[i + 1];
+          s2 += p[i + 2];
+          s3 += p[i + 3];
+        }
+        partial[t] = s0 + s1 + s2 + s3;
+      }
+    });
+    benchmark::DoNotOptimize(partial.data());
+    t_read += now() - t0;
+    t0 = now();
+    const BrdfTable table = m.table(w);
+    benchmark::DoNotOptimize(table.stored().data());
+    t_table += now() - t0;
+  }
+  const double it = static_cast<double>(state.iterations());
+  state.counters["materials"] = m.count();
+  state.counters["data_GB"] = static_cast<double>(floats) * 4 / 1e9;
+  state.counters["read_GBps"] = static_cast<double>(floats) * 4 / (t_read / it) / 1e9;
+  state.counters["table_s"] = t_table / it;
+  state.counters["ratio_to_read"] = t_table / t_read;
+}
+BENCHMARK(BM_TableAtXVsStreamingRead)->Unit(benchmark::kMillisecond)->Iterations(3)->UseRealTime();
+
+void BM_ValueAtX(benchmark::State& state) {
+  if (!have_database(state)) return;
+  const Model& m = *bench_model();
+  const Eigen::VectorXd w = m.weights(m.latent().colwise().mean().transpose());
+  std::mt19937_64 rng(3);
+  std::vector<std::size_t> indices(4096);
+  std::size_t found = 0;
+  while (found < indices.size()) {
+    const std::size_t v = rng() % (3 * m.dims().bins());
+    if (m.kept(v)) indices[found++] = v;
+  }
+  // Touch the data once so the benchmark measures the query, not page faults.
+  for (std::size_t v : indices) benchmark::DoNotOptimize(m.value(v, w));
+  std::size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(m.value(indices[i++ & 4095], w));
+  }
+  state.counters["materials"] = m.count();
+}
+BENCHMARK(BM_ValueAtX);
+
+}  // namespace
+
+BENCHMARK_MAIN();
