@@ -95,7 +95,7 @@ void run_demo(const DemoArgs& a) {
 
   const fs::path db = a.dir.empty() ? demo_database(cache, parse_grid(a.grid), progress) : fs::path(a.dir);
   const MaterialSet set = MaterialSet::open({db});
-  const fs::path model_path = cache / "models" / (inputs_key(set, a.dim) + ".matlas");
+  const fs::path model_path = cache / "models" / (fs::weakly_canonical(fs::absolute(db)).filename().string() + "-" + inputs_key(set, a.dim).substr(0, 8) + ".matlas");
   if (!fs::exists(model_path)) {
     std::fprintf(stderr, "building the model of %zu materials from %s (q = %d)\n", set.size(), db.string().c_str(),
                  a.dim);

@@ -270,11 +270,22 @@ Reply Api::export_merl(const std::string& body) {
   const auto j = parse_json_object(body);
   const Eigen::VectorXd x = parse_latent(j, "x", domain_);
   std::string bytes;
+  std::size_t clamped = 0;
   {
     auto slot = acquire(heavy_);
-    bytes = merl_bytes(model_.table(model_.weights(x)));
+    BrdfTable table = model_.table(model_.weights(x));
+    // Away from the data the interpolation can dip below 0, and a MERL reader takes a negative
+    // value for "not measured": measured columns are clamped to 0, only dropped ones stay -1.
+    auto values = table.stored();
+    for (std::size_t v = 0; v < values.size(); ++v)
+      if (values[v] < 0 && model_.kept(v)) {
+        values[v] = 0;
+        ++clamped;
+      }
+    bytes = merl_bytes(table);
   }
   Reply r = Reply::bytes(std::move(bytes), "application/octet-stream");
+  r.headers.emplace_back("X-Matlas-Clamped", std::to_string(clamped));
   std::string name = "matlas";
   char buf[32];
   for (Eigen::Index i = 0; i < x.size(); ++i) {

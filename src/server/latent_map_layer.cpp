@@ -37,10 +37,14 @@ std::string map_layer_png(const Model& model, const MapLayerRequest& r) {
         if (r.layer == MapLayer::variance) {
           variance_colour(model.variance(x), px);
         } else {
+          // Faded towards the map's background where the GP is uncertain (far from the data).
           const Rgb a = model.albedo_curve(model.weights(x)).front();
-          for (int c = 0; c < 3; ++c)
-            px[c] = static_cast<unsigned char>(
-                std::lround(255.0 * srgb_encode(static_cast<float>(std::clamp(a[c], 0.0, 1.0)))));
+          const double confidence = 1.0 - 0.8 * std::clamp(model.variance(x), 0.0, 1.0);
+          for (int c = 0; c < 3; ++c) {
+            const double shown = confidence * srgb_encode(static_cast<float>(std::clamp(a[c], 0.0, 1.0))) +
+                                 (1.0 - confidence) * 0.07;
+            px[c] = static_cast<unsigned char>(std::lround(255.0 * shown));
+          }
         }
       }
     }

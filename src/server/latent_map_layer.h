@@ -13,7 +13,7 @@ class Model;
 namespace matlas::server {
 
 enum class MapLayer {
-  albedo,    ///< directional albedo at normal incidence, as a colour (sRGB, clamped to [0, 1])
+  albedo,    ///< albedo at normal incidence as a colour (sRGB, clamped), faded where variance is high
   variance,  ///< GP predictive variance (0 at the data .. 1 far away), as a colour ramp
 };
 

@@ -1,0 +1,288 @@
+// The HTTP API end to end: a small synthetic model (8x8x16 grid), the real image-basis previews,
+// an AtlasServer on an ephemeral loopback port, and cpp-httplib clients.
+#include <cmath>
+#include <fstream>
+#include <random>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "brdf/catalog.h"
+#include "core/atomic_file.h"
+#include "formats/merl_file.h"
+#include "formats/synth_database.h"
+#include "manifold/build.h"
+#include "manifold/material_set.h"
+#include "manifold/model.h"
+#include "server/atlas_server.h"
+#include "server/basis_previews.h"
+#include "support/temp_dir.h"
+
+// Last: httplib.h defines a `_res` macro (from <resolv.h>) that breaks Eigen headers after it.
+#include <httplib.h>
+
+namespace matlas::server {
+namespace {
+
+using nlohmann::json;
+
+class ApiServerTest : public ::testing::Test {
+protected:
+  static void SetUpTestSuite() {
+    dir_ = new test::TempDir("matlas-server");
+    write_database(dir_->path() / "db", random_catalog(6, 11), null_progress(), MerlDims{8, 8, 16});
+    const MaterialSet set = MaterialSet::open({dir_->path() / "db"});
+    BuildOptions options;
+    options.dim = 2;
+    build_model(set, options, dir_->path() / "m.matlas");
+    model_ = new Model(Model::open(dir_->path() / "m.matlas"));
+
+    BasisPreviewOptions po;
+    po.environments = {"constant"};
+    po.objects = {"sphere"};
+    po.size = 32;
+    po.spp = 2;
+    previews_ = std::make_shared<BasisPreviews>(*model_, po);
+    previews_->prepare_default();
+
+    std::filesystem::create_directories(dir_->path() / "www");
+    write_file_atomic(dir_->path() / "www" / "index.html", std::string("<p>matlas test page</p>"));
+    ServerOptions so;
+    so.port = 0;
+    so.web_root = dir_->path() / "www";
+    so.max_upload_bytes = 1u << 20;
+    so.threads = 24;
+    server_ = new AtlasServer(*model_, previews_, so);
+    server_->start();
+  }
+  static void TearDownTestSuite() {
+    delete server_;
+    previews_.reset();
+    delete model_;
+    delete dir_;
+  }
+
+  static httplib::Client client() {
+    httplib::Client c("127.0.0.1", server_->port());
+    c.set_read_timeout(30, 0);
+    return c;
+  }
+  static httplib::Result post(const std::string& path, const json& body) {
+    return client().Post(path.c_str(), body.dump(), "application/json");
+  }
+  static std::vector<double> point(int i) {
+    return {model_->latent()(i, 0), model_->latent()(i, 1)};
+  }
+  static Eigen::VectorXd vec(const std::vector<double>& v) {
+    return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
+  }
+  static std::pair<int, int> png_size(const std::string& png) {
+    EXPECT_GE(png.size(), 24u);
+    EXPECT_EQ(png.substr(1, 3), "PNG");
+    auto be32 = [&](std::size_t at) {
+      return (static_cast<unsigned char>(png[at]) << 24) | (static_cast<unsigned char>(png[at + 1]) << 16) |
+             (static_cast<unsigned char>(png[at + 2]) << 8) | static_cast<unsigned char>(png[at + 3]);
+    };
+    return {be32(16), be32(20)};
+  }
+  static void expect_error(const httplib::Result& r, int status) {
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, status) << r->body;
+    const json j = json::parse(r->body, nullptr, false);
+    ASSERT_TRUE(j.is_object()) << r->body;
+    ASSERT_TRUE(j.contains("error")) << r->body;
+    EXPECT_FALSE(j["error"].get<std::string>().empty());
+  }
+
+  static test::TempDir* dir_;
+  static Model* model_;
+  static std::shared_ptr<BasisPreviews> previews_;
+  static AtlasServer* server_;
+};
+
+test::TempDir* ApiServerTest::dir_ = nullptr;
+Model* ApiServerTest::model_ = nullptr;
+std::shared_ptr<BasisPreviews> ApiServerTest::previews_;
+AtlasServer* ApiServerTest::server_ = nullptr;
+
+TEST_F(ApiServerTest, ModelDescribesNamesLatentPointsAndBounds) {
+  auto r = client().Get("/api/model");
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200);
+  const json j = json::parse(r->body);
+  EXPECT_EQ(j["count"], model_->count());
+  EXPECT_EQ(j["dim"], 2);
+  EXPECT_EQ(j["names"].get<std::vector<std::string>>(), model_->names());
+  for (int i = 0; i < model_->count(); ++i)
+    for (int d = 0; d < 2; ++d) EXPECT_DOUBLE_EQ(j["latent"][i][d].get<double>(), model_->latent()(i, d));
+  EXPECT_DOUBLE_EQ(j["bounds"]["min"][0].get<double>(), model_->latent_min()[0]);
+  EXPECT_DOUBLE_EQ(j["bounds"]["max"][1].get<double>(), model_->latent_max()[1]);
+  EXPECT_LT(j["domain"]["min"][0].get<double>(), model_->latent_min()[0]);
+  EXPECT_EQ(j["scenes"]["default_env"], "constant");
+}
+
+TEST_F(ApiServerTest, PreviewIsTheImageBasisComposedAtTheWeightsOfX) {
+  const auto a = point(0), b = point(1);
+  const std::vector<double> mid = {0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])};
+  auto r = post("/api/preview", {{"x", mid}, {"size", 32}});
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200) << r->body;
+  EXPECT_EQ(r->get_header_value("Content-Type"), "image/png");
+  const std::string expected =
+      encode_png(previews_->render(model_->weights(vec(mid)), "constant", "sphere", 32), previews_->tone());
+  EXPECT_EQ(r->body, expected);
+  EXPECT_EQ(png_size(r->body), std::make_pair(32, 32));
+
+  auto other = post("/api/preview", {{"x", a}, {"size", 32}});
+  ASSERT_TRUE(other);
+  EXPECT_NE(other->body, r->body);
+  auto small = post("/api/preview", {{"x", mid}, {"size", 16}});
+  ASSERT_TRUE(small);
+  EXPECT_EQ(png_size(small->body), std::make_pair(16, 16));
+}
+
+TEST_F(ApiServerTest, WeightsAtAMaterialPointSelectThatMaterial) {
+  auto r = post("/api/weights", {{"x", point(2)}, {"top", 3}});
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200) << r->body;
+  const json j = json::parse(r->body);
+  ASSERT_EQ(j["weights"].size(), static_cast<std::size_t>(model_->count()));
+  for (int i = 0; i < model_->count(); ++i) EXPECT_NEAR(j["weights"][i].get<double>(), i == 2 ? 1.0 : 0.0, 1e-6);
+  EXPECT_LT(j["variance"].get<double>(), 1e-3);
+  EXPECT_EQ(j["top"][0]["index"], 2);
+  EXPECT_EQ(j["top"][0]["name"], model_->names()[2]);
+  EXPECT_EQ(j["top"].size(), 3u);
+}
+
+TEST_F(ApiServerTest, ExportIsAMerlTableOfThePoint) {
+  const std::vector<double> x = {point(3)[0] * 0.6 + point(4)[0] * 0.4, point(3)[1] * 0.6 + point(4)[1] * 0.4};
+  auto r = post("/api/export", {{"x", x}});
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200) << r->body;
+  EXPECT_NE(r->get_header_value("Content-Disposition").find(".binary"), std::string::npos);
+  const auto path = dir_->path() / "export.binary";
+  write_file_atomic(path, r->body);
+  const BrdfTable got = read_merl(path);
+  ASSERT_EQ(got.dims(), model_->dims());
+  const BrdfTable want = model_->table(model_->weights(vec(x)));
+  std::size_t checked = 0;
+  for (std::size_t v = 0; v < want.size(); ++v) {
+    const double w = want.stored()[v], g = got.stored()[v];
+    if (!model_->kept(v)) EXPECT_LT(g, 0.0);  // dropped column: missing
+    else if (w < 0) EXPECT_EQ(g, 0.0);        // clamped: a MERL reader takes negatives as missing
+    else {
+      EXPECT_DOUBLE_EQ(g, w);
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, want.size() / 2);
+}
+
+TEST_F(ApiServerTest, ProjectionOfADatabaseFilePutsItAtItsLatentPoint) {
+  const std::string bytes = read_file(model_->path().parent_path() / "db" / (model_->names()[3] + ".binary"));
+  auto r = client().Post("/api/project", bytes, "application/octet-stream");
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200) << r->body;
+  const json j = json::parse(r->body);
+  const Eigen::VectorXd extent = model_->latent_max() - model_->latent_min();
+  for (int d = 0; d < 2; ++d) EXPECT_NEAR(j["x"][d].get<double>(), point(3)[static_cast<std::size_t>(d)], 0.02 * extent[d]);
+  EXPECT_LT(j["residual"].get<double>(), 0.02);
+  EXPECT_EQ(j["nearest"]["index"], 3);
+
+  // Also as a multipart form upload (field "file").
+  httplib::MultipartFormDataItems items = {{"file", bytes, "m.binary", "application/octet-stream"}};
+  auto m = client().Post("/api/project", items);
+  ASSERT_TRUE(m);
+  ASSERT_EQ(m->status, 200) << m->body;
+  EXPECT_NEAR(json::parse(m->body)["x"][0].get<double>(), j["x"][0].get<double>(), 1e-9);
+}
+
+TEST_F(ApiServerTest, PanelsSliceLobeAlbedoAndMapLayers) {
+  const auto x = point(1);
+  auto s = post("/api/slice", {{"x", x}, {"phi_d", 45}});
+  ASSERT_TRUE(s);
+  ASSERT_EQ(s->status, 200) << s->body;
+  EXPECT_EQ(png_size(s->body), std::make_pair(model_->dims().theta_h, model_->dims().theta_d));
+
+  auto l = post("/api/lobe", {{"x", x}, {"theta_i", 40}, {"samples", 37}});
+  ASSERT_TRUE(l);
+  const json lobe = json::parse(l->body);
+  ASSERT_EQ(lobe["theta_o"].size(), 37u);
+  EXPECT_NEAR(lobe["theta_o"][18].get<double>(), 0.0, 1e-12);
+  // theta_o = 0 lies in the plane of incidence: f(wi, normal) through the model.
+  const double ti = 40 * kPi / 180;
+  const Rgb f = model_->lookup(Vec3(-std::sin(ti), 0, std::cos(ti)), Vec3(0, 0, 1), model_->weights(vec(x)));
+  EXPECT_NEAR(lobe["rgb"][18][1].get<double>(), std::max(0.0, f[1]), 1e-12);
+
+  auto a = post("/api/albedo", {{"x", x}});
+  ASSERT_TRUE(a);
+  const json albedo = json::parse(a->body);
+  const auto curve = model_->albedo_curve(model_->weights(vec(x)));
+  ASSERT_EQ(albedo["rgb"].size(), curve.size());
+  EXPECT_NEAR(albedo["rgb"][10][2].get<double>(), curve[10][2], 1e-12);
+
+  for (const char* layer : {"albedo", "variance"}) {
+    auto m = post("/api/map", {{"layer", layer}, {"axes", {0, 1}}, {"x", x}, {"rect", {-1, 1, -1, 1}}, {"size", {24, 16}}});
+    ASSERT_TRUE(m);
+    ASSERT_EQ(m->status, 200) << m->body;
+    EXPECT_EQ(png_size(m->body), std::make_pair(24, 16));
+  }
+
+  auto t = client().Get("/api/thumbnail/2?size=24");
+  ASSERT_TRUE(t);
+  ASSERT_EQ(t->status, 200) << t->body;
+  EXPECT_EQ(png_size(t->body), std::make_pair(24, 24));
+}
+
+TEST_F(ApiServerTest, BadRequestsGet4xxWithAMessage) {
+  expect_error(post("/api/preview", {{"x", {0.0}}}), 400);                          // wrong dimension
+  expect_error(post("/api/preview", {{"x", {1e9, 0.0}}}), 400);                     // out of range
+  expect_error(post("/api/weights", {{"x", {0.0, "a"}}}), 400);                     // not a number
+  expect_error(post("/api/export", {{"y", {0.0, 0.0}}}), 400);                      // missing field
+  expect_error(post("/api/preview", {{"x", point(0)}, {"env", "moon"}}), 400);      // unknown scene
+  expect_error(post("/api/preview", {{"x", point(0)}, {"size", 100000}}), 400);     // size
+  expect_error(post("/api/map", {{"x", point(0)}, {"rect", {1, 0, 0, 1}}}), 400);    // empty rect
+  expect_error(client().Post("/api/weights", "{\"x\": [0, NaN]}", "application/json"), 400);
+  expect_error(client().Post("/api/weights", "{\"x\": [0, 0", "application/json"), 400);
+  expect_error(client().Post("/api/project", std::string(2u << 20, 'a'), "application/octet-stream"), 413);
+  expect_error(client().Post("/api/project", std::string(1000, 'a'), "application/octet-stream"), 422);
+  expect_error(client().Post("/api/project", "", "application/octet-stream"), 400);
+  expect_error(client().Get("/api/thumbnail/999"), 404);
+  expect_error(client().Get("/api/nothing"), 404);
+  // The server is still fine.
+  auto r = client().Get("/api/model");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 200);
+}
+
+TEST_F(ApiServerTest, ServesTheWebRoot) {
+  auto r = client().Get("/");
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200);
+  EXPECT_NE(r->body.find("matlas test page"), std::string::npos);
+}
+
+TEST_F(ApiServerTest, ManyConcurrentClientsAllGetTheirPreviews) {
+  const Eigen::VectorXd lo = model_->latent_min(), hi = model_->latent_max();
+  std::atomic<int> ok{0}, failed{0};
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 12; ++t)
+    threads.emplace_back([&, t] {
+      std::mt19937 rng(static_cast<unsigned>(t));
+      std::uniform_real_distribution<double> u(0, 1);
+      auto c = client();
+      for (int k = 0; k < 8; ++k) {
+        const json body = {{"x", {lo[0] + u(rng) * (hi[0] - lo[0]), lo[1] + u(rng) * (hi[1] - lo[1])}}, {"size", 16}};
+        auto r = c.Post("/api/preview", body.dump(), "application/json");
+        (r && r->status == 200 && r->body.substr(1, 3) == "PNG" ? ok : failed)++;
+      }
+    });
+  for (auto& t : threads) t.join();
+  EXPECT_EQ(ok.load(), 96);
+  EXPECT_EQ(failed.load(), 0);
+}
+
+}  // namespace
+}  // namespace matlas::server
