@@ -22,6 +22,7 @@ double start_scale(int k) {
 OptimizeResult optimize_one(const LikelihoodProblem& p, const Eigen::MatrixXd& X0, const OptimizeOptions& o,
                             ProgressSink& sink) {
   detail::OptimizationRun run(p, X0, o, sink);
+  if (run.target_reached()) return run.finish("target value reached");
   if (o.max_iterations == 0) return run.finish("iteration limit reached");
   switch (o.method) {
     case Optimizer::lbfgs: return run.finish(detail::run_lbfgs(run));

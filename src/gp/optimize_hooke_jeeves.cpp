@@ -1,12 +1,25 @@
 // Hooke-Jeeves pattern search (Hooke & Jeeves 1961), as used by Soler et al. 2018 to fit the
 // latent points: derivative-free, one value-only likelihood evaluation per trial move.
 #include <cmath>
+#include <limits>
+
+#include "core/error.h"
 
 #include "gp/optimize_methods.h"
 
 namespace matlas::gp::detail {
 
 namespace {
+
+/// l at a trial point; a trial where K is not positive definite (possible only with nugget 0 when
+/// two points meet) counts as no improvement.
+double trial_value(OptimizationRun& run, const Eigen::MatrixXd& point) {
+  try {
+    return run.evaluate(point);
+  } catch (const Error&) {
+    return -std::numeric_limits<double>::infinity();
+  }
+}
 
 /// Exploratory moves around `point` (value `value`): each coordinate in turn tries +h, then -h,
 /// keeping a move when it improves l. Updates point and value in place; one iteration.
@@ -15,13 +28,13 @@ void explore(OptimizationRun& run, Eigen::MatrixXd& point, double& value, double
     double& coordinate = point.data()[k];
     const double original = coordinate;
     coordinate = original + h;
-    double trial = run.evaluate(point);
+    double trial = trial_value(run, point);
     if (trial > value) {
       value = trial;
       continue;
     }
     coordinate = original - h;
-    trial = run.evaluate(point);
+    trial = trial_value(run, point);
     if (trial > value) {
       value = trial;
       continue;
@@ -56,7 +69,7 @@ std::string run_hooke_jeeves(OptimizationRun& run) {
         Eigen::MatrixXd pattern = 2.0 * x - base;
         base = x;
         base_value = x_value;
-        double pattern_value = run.evaluate(pattern);
+        double pattern_value = trial_value(run, pattern);
         explore(run, pattern, pattern_value, h);
         if (!(pattern_value > base_value)) break;
         x = pattern;

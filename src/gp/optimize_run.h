@@ -27,6 +27,7 @@ public:
   double initial_value() const { return initial_value_; }
   int iterations() const { return iterations_; }
   const LikelihoodEvaluator& evaluator() const { return evaluator_; }
+  bool target_reached() const { return best_value_ >= target_normalized_; }
 
   /// Normalised l(X) (and dl/dX when gradient != nullptr); tracks the best point. Throws
   /// StopRequested when the time limit or the target value is reached, matlas::Error if K is not

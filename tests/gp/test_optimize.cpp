@@ -128,6 +128,11 @@ TEST(Optimize, StopsAtLimitsAndTargets) {
   EXPECT_EQ(targeted.stop_reason, "target value reached");
   EXPECT_GE(targeted.value, o.target_value);
   EXPECT_LT(targeted.evaluations, full.evaluations);
+  o.target_value = full.history.front();  // already reached at X0
+  const OptimizeResult at_start = optimize_latent(p, X0, o, null_progress());
+  EXPECT_EQ(at_start.stop_reason, "target value reached");
+  EXPECT_EQ(at_start.evaluations, 1);
+  EXPECT_EQ(at_start.latent, X0);
 }
 
 TEST(Optimize, ReportsProgressAndRejectsBadInput) {

@@ -1,0 +1,133 @@
+// L-BFGS (analytic gradient) versus Hooke-Jeeves (the paper's derivative-free pattern search) on a
+// realistic GP-LVM problem: n = 100 synthetic "BRDF-like" materials, each a mixture of smooth
+// basis curves over a (theta_h, theta_d) grid of 20000 bins, log-mapped like MERL data; the Gram
+// is computed from those 20000 columns and then D' = 4.37e6 (MERL's column count) is used.
+//
+//   BM_Evaluation/q/grad     one likelihood evaluation (grad = 1: with gradient; 0: value only)
+//   BM_Optimizers/q          Hooke-Jeeves to convergence (the baseline), then L-BFGS from the same
+//                            PCA start until it reaches Hooke-Jeeves' final L, with 1 start
+//                            (lbfgs1_*) and with 5 scaled starts (lbfgs5_*); counters give the
+//                            times, whether HJ's L was reached, and t(L-BFGS) / t(HJ). Also
+//                            L-BFGS (1 start) run to its own convergence (lbfgs_full_*).
+//
+// Environment: MATLAS_BENCH_HJ_TOL (Hooke-Jeeves tolerance, default 1e-7),
+//              MATLAS_BENCH_HJ_MAX_SECONDS (cap on its run time, default 0 = none).
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <random>
+
+#include "gp/initialize.h"
+#include "gp/optimize.h"
+
+namespace {
+
+using namespace matlas::gp;
+
+constexpr int kItems = 100;
+constexpr int kThetaH = 200, kThetaD = 100;  // 20000 columns
+constexpr double kMerlColumns = 4.37e6;
+
+/// Rows: log(1 + f cos) of a diffuse + specular-lobe + Fresnel-like mixture with random albedo,
+/// lobe width, lobe strength and grazing boost; a smooth 4-parameter family (like measured BRDFs,
+/// whose principal axes are diffuse colour, roughness and specularity).
+Eigen::MatrixXd synthetic_brdfs() {
+  std::mt19937_64 rng(2018);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  Eigen::MatrixXd Z(kItems, kThetaH * kThetaD);
+  for (int i = 0; i < kItems; ++i) {
+    const double diffuse = 0.02 + 0.5 * unit(rng);
+    const double width = std::exp(std::log(0.02) + unit(rng) * (std::log(0.6) - std::log(0.02)));
+    const double strength = std::exp(std::log(0.05) + unit(rng) * std::log(200.0));
+    const double fresnel = unit(rng);
+    for (int d = 0; d < kThetaD; ++d) {
+      const double theta_d = (d + 0.5) / kThetaD * (M_PI / 2);
+      const double f = 1.0 + fresnel * std::pow(1.0 - std::cos(theta_d), 5.0) * 10.0;
+      for (int h = 0; h < kThetaH; ++h) {
+        const double theta_h = std::pow((h + 0.5) / kThetaH, 2.0) * (M_PI / 2);  // MERL-like sqrt spacing
+        const double t = std::tan(theta_h) / width;
+        const double lobe = strength * std::exp(-t * t) / (width * width);
+        const double value = diffuse / M_PI + f * lobe;
+        Z(i, d * kThetaH + h) = std::log1p(value * std::cos(theta_h));
+      }
+    }
+  }
+  return Z;
+}
+
+const LikelihoodProblem& problem() {
+  static const LikelihoodProblem p = [] {
+    const Eigen::MatrixXd Z = synthetic_brdfs();
+    const Eigen::MatrixXd centred = Z.rowwise() - Z.colwise().mean();
+    LikelihoodProblem lp;
+    lp.gram = centred * centred.transpose();
+    lp.columns = kMerlColumns;
+    return lp;
+  }();
+  return p;
+}
+
+double env_or(const char* name, double fallback) {
+  const char* v = std::getenv(name);
+  return v ? std::atof(v) : fallback;
+}
+
+void BM_Evaluation(benchmark::State& state) {
+  const int q = static_cast<int>(state.range(0));
+  const bool gradient = state.range(1) != 0;
+  LikelihoodEvaluator evaluator(problem());
+  const Eigen::MatrixXd X = pca_initialization(problem(), q);
+  Eigen::MatrixXd G;
+  for (auto _ : state) benchmark::DoNotOptimize(evaluator.normalized(X, gradient ? &G : nullptr));
+}
+BENCHMARK(BM_Evaluation)->ArgsProduct({{2, 5}, {0, 1}})->Unit(benchmark::kMicrosecond);
+
+void BM_Optimizers(benchmark::State& state) {
+  const int q = static_cast<int>(state.range(0));
+  const Eigen::MatrixXd X0 = pca_initialization(problem(), q);
+  for (auto _ : state) {
+    OptimizeOptions hj_options;
+    hj_options.method = Optimizer::hooke_jeeves;
+    hj_options.tolerance = env_or("MATLAS_BENCH_HJ_TOL", 1e-7);
+    hj_options.max_iterations = 1000000;
+    hj_options.time_limit_seconds = env_or("MATLAS_BENCH_HJ_MAX_SECONDS", 0);
+    const OptimizeResult hj = optimize_latent(problem(), X0, hj_options, matlas::null_progress());
+
+    // L-BFGS from the same start until it reaches HJ's final L (or converges below it: the
+    // likelihood is multimodal and the two methods can end in different basins) ...
+    OptimizeOptions to_target;
+    to_target.target_value = hj.value;
+    to_target.max_iterations = 100000;
+    to_target.tolerance = 1e-9;
+    const OptimizeResult lbfgs = optimize_latent(problem(), X0, to_target, matlas::null_progress());
+    // ... and with 5 scaled starts (OptimizeOptions::starts), stopping at HJ's L.
+    to_target.starts = 5;
+    const OptimizeResult multi = optimize_latent(problem(), X0, to_target, matlas::null_progress());
+    // L-BFGS to its own convergence (single start, no target).
+    OptimizeOptions full;
+    full.tolerance = 1e-9;
+    full.max_iterations = 100000;
+    const OptimizeResult converged = optimize_latent(problem(), X0, full, matlas::null_progress());
+
+    state.counters["L0_per_col"] = hj.history.front() / kMerlColumns;
+    state.counters["hj_s"] = hj.seconds;
+    state.counters["hj_evals"] = hj.evaluations;
+    state.counters["hj_L_per_col"] = hj.value / kMerlColumns;
+    state.counters["lbfgs1_s"] = lbfgs.seconds;
+    state.counters["lbfgs1_reached"] = lbfgs.value >= hj.value ? 1 : 0;
+    state.counters["lbfgs1_over_hj"] = lbfgs.seconds / hj.seconds;
+    state.counters["lbfgs5_s"] = multi.seconds;
+    state.counters["lbfgs5_reached"] = multi.value >= hj.value ? 1 : 0;
+    state.counters["lbfgs5_over_hj"] = multi.seconds / hj.seconds;
+    state.counters["lbfgs5_evals"] = multi.evaluations;
+    state.counters["lbfgs_full_s"] = converged.seconds;
+    state.counters["lbfgs_full_L_per_col"] = converged.value / kMerlColumns;
+    state.SetLabel("hj: " + hj.stop_reason + "; lbfgs 1 start: " + lbfgs.stop_reason + "; 5 starts: " + multi.stop_reason);
+  }
+}
+BENCHMARK(BM_Optimizers)->Arg(2)->Arg(5)->Iterations(1)->Unit(benchmark::kSecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
