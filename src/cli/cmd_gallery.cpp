@@ -1,0 +1,69 @@
+// matlas gallery: the plausibility figure (generated and real materials, shuffled, with a key).
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "cli/commands.h"
+#include "cli/render_options.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "manifold/model.h"
+#include "render/gallery.h"
+#include "render/image_basis.h"
+
+namespace matlas::cli {
+
+namespace {
+
+struct GalleryArgs {
+  std::string model, output;
+  std::optional<std::string> key, basis;
+  render::GalleryOptions gallery;
+  RenderOptions options;
+};
+
+void run_gallery(GalleryArgs a) {
+  const Model model = Model::open(a.model);
+  const std::vector<render::GalleryEntry> entries = render::pick_gallery(model, a.gallery);
+  TerminalProgress progress;
+  Image image;
+  if (a.basis) {
+    const render::ImageBasis basis = render::ImageBasis::open(*a.basis);
+    image = render::render_gallery(model, entries, nullptr, nullptr, &basis, progress);
+  } else {
+    const render::Scene scene(a.options.scene_description());
+    const render::RenderSettings settings = a.options.settings();
+    image = render::render_gallery(model, entries, &scene, &settings, nullptr, progress);
+  }
+  write_image(a.output, image, a.options.tone());
+  std::filesystem::path key = a.key ? std::filesystem::path(*a.key) : std::filesystem::path(a.output).replace_extension(".json");
+  write_file_atomic(key, render::gallery_key(entries).dump(2) + "\n");
+  std::printf("wrote %s and its answer key %s (%d generated, %d real)\n", a.output.c_str(), key.string().c_str(),
+              a.gallery.random, a.gallery.real);
+}
+
+void add_gallery_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand("gallery", "Plausibility gallery: generated and real materials, shuffled, with a key");
+  auto a = std::make_shared<GalleryArgs>();
+  a->options.width = a->options.height = 256;
+  a->options.spp = 32;
+  cmd->add_option("model", a->model, ".matlas model")->required();
+  cmd->add_option("-o,--output", a->output, "Output image (.png or .exr)")->required();
+  add_render_options(*cmd, a->options);
+  cmd->remove_option(cmd->get_option("--seed"));  // --seed picks the materials here
+  cmd->add_option("--key", a->key, "Answer key JSON (default: output with .json)");
+  cmd->add_option("--random", a->gallery.random, "Generated materials")->capture_default_str();
+  cmd->add_option("--real", a->gallery.real, "Database materials")->capture_default_str();
+  cmd->add_option("--seed", a->gallery.seed, "Seed of the picks and the shuffle")->capture_default_str();
+  cmd->add_option("--max-variance", a->gallery.max_variance, "Largest predictive variance of generated points")
+      ->capture_default_str();
+  cmd->add_option("--basis", a->basis, "Compose the cells from an image basis instead of rendering them");
+  cmd->callback([a] { run_gallery(*a); });
+}
+
+}  // namespace
+
+MATLAS_COMMAND(64, add_gallery_command);
+
+}  // namespace matlas::cli

@@ -1,0 +1,92 @@
+// matlas map: the latent map of a model as a picture (albedo, predictive variance or thumbnails).
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "cli/commands.h"
+#include "cli/latent_point.h"
+#include "core/error.h"
+#include "manifold/model.h"
+#include "render/image_basis.h"
+#include "render/latent_map.h"
+#include "render/text.h"
+
+namespace matlas::cli {
+
+namespace {
+
+struct MapArgs {
+  std::string model, output, layer = "albedo", plane = "dims", dims = "0,1";
+  std::optional<std::string> at, basis;
+  int size = 768, cells = 160, thumbnails = 10;
+  double margin = 0.1, gain = 1.0;
+  bool no_labels = false;
+};
+
+void run_map(const MapArgs& a) {
+  const Model model = Model::open(a.model);
+  render::MapOptions o;
+  o.size = a.size;
+  o.cells = a.cells;
+  o.thumbnails = a.thumbnails;
+  o.labels = !a.no_labels;
+  o.albedo_gain = a.gain;
+  if (a.layer == "albedo") o.layer = render::MapLayer::albedo;
+  else if (a.layer == "variance") o.layer = render::MapLayer::variance;
+  else if (a.layer == "image") o.layer = render::MapLayer::image;
+  else throw Error("--layer '" + a.layer + "': expected albedo, variance or image");
+  Eigen::VectorXd at = model.latent().colwise().mean().transpose();
+  if (a.at) {
+    at = parse_point(*a.at);
+    if (at.size() != model.dim()) throw Error("--at has " + std::to_string(at.size()) + " coordinates, the model q = " + std::to_string(model.dim()));
+  }
+  render::LatentPlane plane;
+  if (model.dim() == 1) {
+    plane = render::LatentPlane::automatic(model, a.margin);
+  } else if (a.plane == "pca") {
+    plane = render::LatentPlane::pca(model, at, a.margin);
+  } else if (a.plane == "dims") {
+    const Eigen::VectorXd d = parse_point(a.dims);
+    if (d.size() != 2) throw Error("--dims '" + a.dims + "': expected two dimensions, e.g. 0,1");
+    plane = render::LatentPlane::from_dims(model, static_cast<int>(d[0]), static_cast<int>(d[1]), at, a.margin);
+  } else {
+    throw Error("--plane '" + a.plane + "': expected dims or pca");
+  }
+  std::optional<render::ImageBasis> basis;
+  if (a.basis) {
+    basis = render::ImageBasis::open(*a.basis);
+    o.basis = &*basis;
+  }
+  TerminalProgress progress;
+  const Image map = render::render_latent_map(model, plane, o, progress);
+  write_image(a.output, map, ToneMap{});
+  std::printf("wrote %s (%s layer, u in [%.3g, %.3g], v in [%.3g, %.3g])%s\n", a.output.c_str(), a.layer.c_str(),
+              plane.u_min, plane.u_max, plane.v_min, plane.v_max,
+              o.labels && !render::text_available() ? "; labels skipped: install fonts-dejavu-core" : "");
+}
+
+void add_map_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand("map", "Draw the latent map of a model (albedo, variance or rendered thumbnails)");
+  auto a = std::make_shared<MapArgs>();
+  cmd->add_option("model", a->model, ".matlas model")->required();
+  cmd->add_option("-o,--output", a->output, "Output image (.png or .exr)")->required();
+  cmd->add_option("--layer", a->layer, "albedo, variance or image (needs --basis)")->capture_default_str();
+  cmd->add_option("--basis", a->basis, "Image basis for the image layer (matlas basis)");
+  cmd->add_option("--plane", a->plane, "For q > 2: dims (see --dims) or pca")->capture_default_str();
+  cmd->add_option("--dims", a->dims, "The two latent dimensions of the plane")->capture_default_str();
+  cmd->add_option("--at", a->at, "Point fixing the other coordinates (default: latent mean)");
+  cmd->add_option("--size", a->size, "Picture size in pixels")->capture_default_str();
+  cmd->add_option("--cells", a->cells, "Grid cells per side (albedo, variance)")->capture_default_str();
+  cmd->add_option("--thumbnails", a->thumbnails, "Thumbnails per side (image layer)")->capture_default_str();
+  cmd->add_option("--margin", a->margin, "Margin around the data, fraction of its extent")->capture_default_str();
+  cmd->add_option("--gain", a->gain, "Albedo display gain")->capture_default_str();
+  cmd->add_flag("--no-labels", a->no_labels, "Do not write material names");
+  cmd->callback([a] { run_map(*a); });
+}
+
+}  // namespace
+
+MATLAS_COMMAND(63, add_map_command);
+
+}  // namespace matlas::cli
