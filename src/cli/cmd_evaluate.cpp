@@ -1,0 +1,196 @@
+// matlas evaluate (MODEL | DIR) -o REPORT_DIR [--dims 2,3,5,8]: measures what the paper claims
+// (exact interpolation, reciprocity, albedo linearity, plausibility over the map, perceptual
+// distance along latent paths, leave-one-out against PCA and the nearest material, layout
+// transforms) and writes an HTML report with the data as CSV/JSON (docs/EVALUATION.md).
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+#include "cli/commands.h"
+#include "core/error.h"
+#include "core/progress.h"
+#include "eval/layout_study.h"
+#include "eval/model_checks.h"
+#include "eval/report.h"
+#include "manifold/build.h"
+#include "manifold/model.h"
+
+namespace matlas::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct EvaluateArgs {
+  std::string input;
+  std::string output;
+  std::vector<int> dims{2, 3, 5, 8};
+  std::vector<std::string> layouts;  // empty = all six
+  int materials = 0;
+  int pairs = 20;
+  int segments = 8;
+  int stride = 1;
+  int map_resolution = 32;
+  int model_dim = 2;
+  bool skip_study = false;
+  bool skip_checks = false;
+  bool quiet = false;
+  std::string command_line;
+};
+
+/// A model file removed when this goes out of scope (the temporary model of a folder evaluation).
+struct TemporaryModel {
+  fs::path path;
+  ~TemporaryModel() {
+    std::error_code ec;
+    if (!path.empty()) fs::remove(path, ec);
+  }
+};
+
+/// The source files listed in a model's metadata, if they all still exist.
+std::vector<fs::path> model_sources(const Model& model) {
+  std::vector<fs::path> files;
+  const auto& meta = model.metadata();
+  if (!meta.contains("sources") || !meta["sources"].is_array()) return {};
+  for (const auto& s : meta["sources"]) {
+    const fs::path p = s.value("path", std::string());
+    std::error_code ec;
+    if (p.empty() || !fs::is_regular_file(p, ec)) return {};
+    files.push_back(p);
+  }
+  return files;
+}
+
+void print_summary(const eval::StudyResult* study, const eval::ModelChecks* checks) {
+  if (checks) {
+    const auto& ic = checks->interpolation;
+    double worst = 0;
+    for (double v : ic.max_relative_error) worst = std::max(worst, v);
+    if (ic.available) std::printf("  exact interpolation   max error / peak %.3g (weights %.3g)\n", worst, ic.max_weight_error);
+    std::printf("  reciprocity           %zu of %d direction pairs differ (max rel. %.3g)\n", checks->reciprocity.unequal,
+                checks->reciprocity.pairs, checks->reciprocity.max_relative_difference);
+    std::printf("  albedo linearity      max rel. error %.3g (after the export clamp %.3g)\n",
+                checks->albedo.max_relative_error, checks->albedo.max_relative_error_clamped);
+    std::printf("  plausibility map      negative values up to %.3f%%, largest albedo %.3f (inputs %.3f)\n",
+                100 * checks->map.worst_negative_fraction, checks->map.worst_max_albedo, checks->map.data_max_albedo);
+  }
+  if (study) {
+    std::printf("  recommended layout    %s\n", study->recommendation.c_str());
+    std::printf("  %-14s %3s %10s %10s %10s %9s\n", "layout", "q", "LOO matlas", "LOO PCA", "nearest", "Spearman");
+    for (const auto& c : study->configs)
+      std::printf("  %-14s %3d %10.4f %10.4f %10.4f %9.3f\n", c.layout.to_string().c_str(), c.dim, c.loo_gp_cbrt,
+                  c.loo_pca_cbrt, c.loo_nearest_cbrt, c.spearman_pairs);
+  }
+}
+
+void run_evaluate(const EvaluateArgs& a) {
+  TerminalProgress progress(!a.quiet);
+  const fs::path input = a.input, out = a.output;
+  std::error_code ec;
+  if (!fs::exists(input, ec)) throw file_error(input, "no such model or folder");
+
+  eval::StudyOptions so;
+  so.dims = a.dims;
+  if (!a.layouts.empty()) {
+    so.layouts.clear();
+    for (const auto& l : a.layouts) so.layouts.push_back(LayoutTransform::parse(l));
+  }
+  so.materials = a.materials;
+  so.pairs = a.pairs;
+  so.path_segments = a.segments;
+  so.value_stride = a.stride;
+  eval::ModelCheckOptions co;
+  co.map_resolution = a.map_resolution;
+
+  std::unique_ptr<MaterialSet> set;
+  std::unique_ptr<Model> model;
+  TemporaryModel temporary;
+  std::string notes;
+  if (fs::is_directory(input, ec)) {
+    set = std::make_unique<MaterialSet>(MaterialSet::open({input}));
+  } else {
+    model = std::make_unique<Model>(Model::open(input));
+    const std::vector<fs::path> sources = model_sources(*model);
+    if (!sources.empty()) set = std::make_unique<MaterialSet>(MaterialSet::open(sources));
+    else notes = "The model's source files are not available: only the checks of the model itself were run.";
+  }
+
+  std::unique_ptr<eval::StudyResult> study;
+  if (set && !a.skip_study) {
+    if (!a.quiet) std::fprintf(stderr, "evaluating %zu materials: q in {%s}, %zu layouts\n", set->size(),
+                               [&] { std::string s; for (int q : so.dims) s += (s.empty() ? "" : ",") + std::to_string(q); return s; }().c_str(),
+                               so.layouts.size());
+    study = std::make_unique<eval::StudyResult>(eval::run_layout_study(*set, so, progress));
+  }
+
+  std::unique_ptr<eval::ModelChecks> checks;
+  if (!a.skip_checks) {
+    if (!model) {
+      // A folder: build a model the way `matlas build` does (recommended layout, q = --model-dim).
+      BuildOptions bo;
+      bo.dim = a.model_dim;
+      if (study) bo.layout = study->recommended;
+      temporary.path = fs::temp_directory_path() / ("matlas-evaluate-" + std::to_string(::getpid()) + ".matlas");
+      progress.message("building a q=" + std::to_string(bo.dim) + " model (" + bo.layout.to_string() + ") for the model checks");
+      build_model(*set, bo, temporary.path, progress);
+      model = std::make_unique<Model>(Model::open(temporary.path));
+      notes += (notes.empty() ? "" : " ") + std::string("Items 1-4 were measured on a q=") + std::to_string(bo.dim) +
+               " model built from the folder with layout " + bo.layout.to_string() + ".";
+    }
+    checks = std::make_unique<eval::ModelChecks>(eval::run_model_checks(*model, set.get(), co, progress));
+  }
+
+  eval::ReportInput ri;
+  ri.command = a.command_line;
+  ri.input = fs::absolute(input).string();
+  ri.study = study.get();
+  ri.checks = checks.get();
+  ri.notes = notes;
+  ri.repo_root = fs::current_path();
+  eval::write_report(out, ri);
+  std::printf("wrote %s\n", (out / "index.html").string().c_str());
+  print_summary(study.get(), checks.get());
+}
+
+void add_evaluate_command(CLI::App& app) {
+  auto args = std::make_shared<EvaluateArgs>();
+  auto* cmd = app.add_subcommand("evaluate", "Measure a model or a database (interpolation, plausibility, "
+                                             "leave-one-out, latent paths, layouts) and write an HTML report");
+  cmd->add_option("input", args->input, "A .matlas model or a folder of MERL .binary files")->required();
+  cmd->add_option("-o,--output", args->output, "Report folder (index.html, report.json, CSV, PNG)")->required();
+  cmd->add_option("--dims", args->dims, "Latent dimensions to evaluate")->delimiter(',')->check(CLI::Range(1, 10))->capture_default_str();
+  cmd->add_option("--layouts", args->layouts, "Layout transforms to compare (default: all six: linear, cbrt, log, "
+                                              "each also cosine-)")->delimiter(',');
+  cmd->add_option("--materials", args->materials, "Leave out only this many materials, spread over the list (0 = all)")
+      ->check(CLI::NonNegativeNumber)->capture_default_str();
+  cmd->add_option("--pairs", args->pairs, "Material pairs for latent paths")->check(CLI::NonNegativeNumber)->capture_default_str();
+  cmd->add_option("--segments", args->segments, "Segments per latent path")->check(CLI::Range(1, 100))->capture_default_str();
+  cmd->add_option("--stride", args->stride, "Use every STRIDE-th value for perceptual distances (faster, approximate)")
+      ->check(CLI::Range(1, 1000))->capture_default_str();
+  cmd->add_option("--map-resolution", args->map_resolution, "Grid cells per axis of the plausibility map")
+      ->check(CLI::Range(2, 256))->capture_default_str();
+  cmd->add_option("--model-dim", args->model_dim, "q of the model built for the model checks when DIR is given")
+      ->check(CLI::Range(1, 10))->capture_default_str();
+  cmd->add_flag("--no-study", args->skip_study, "Skip items 5-7 (paths, leave-one-out, layouts)");
+  cmd->add_flag("--no-checks", args->skip_checks, "Skip items 1-4 (checks of a model)");
+  cmd->add_flag("--quiet", args->quiet, "No progress output");
+  cmd->callback([args, cmd] {
+    args->command_line = "matlas evaluate";
+    for (const auto& o : cmd->get_options())
+      if (o->count() > 0) {
+        if (o->get_name() == "input") args->command_line += " " + args->input;
+        else args->command_line += " " + o->get_name(false, true).substr(0, o->get_name(false, true).find(',')) +
+                                   (o->get_expected_min() > 0 ? " " + o->as<std::string>() : "");
+      }
+    run_evaluate(*args);
+  });
+}
+
+}  // namespace
+
+MATLAS_COMMAND(70, add_evaluate_command);
+
+}  // namespace matlas::cli

@@ -1,0 +1,125 @@
+// Checks of a built model (items 1-4) on a tiny synthetic database, and the report files.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+
+#include "brdf/catalog.h"
+#include "core/atomic_file.h"
+#include "eval/model_checks.h"
+#include "eval/report.h"
+#include "formats/merl_file.h"
+#include "formats/synth_database.h"
+#include "manifold/build.h"
+#include "manifold/export.h"
+#include "support/temp_dir.h"
+
+namespace matlas::eval {
+namespace {
+
+class TinyModel : public ::testing::Test {
+protected:
+  void SetUp() override {
+    write_database(dir_ / "db", random_catalog(6, 11), null_progress(), MerlDims{6, 6, 12});
+    set_ = std::make_unique<MaterialSet>(MaterialSet::open({dir_ / "db"}));
+    BuildOptions o;
+    o.dim = 2;
+    o.block_columns = 500;
+    build_model(*set_, o, dir_ / "m.matlas");
+    model_ = std::make_unique<Model>(Model::open(dir_ / "m.matlas"));
+  }
+  test::TempDir dir_{"matlas-eval-model"};
+  std::unique_ptr<MaterialSet> set_;
+  std::unique_ptr<Model> model_;
+};
+
+TEST_F(TinyModel, ChecksHoldOnAGoodModel) {
+  ModelCheckOptions o;
+  o.reciprocity_pairs = 300;
+  o.sample_points = 4;
+  o.map_resolution = 6;
+  const ModelChecks c = run_model_checks(*model_, set_.get(), o);
+  ASSERT_TRUE(c.interpolation.available);
+  ASSERT_EQ(c.interpolation.max_relative_error.size(), 6u);
+  // float32 storage of mean and centred data: rounding relative to the largest value of a column.
+  double peak = 0;
+  for (std::size_t i = 0; i < set_->size(); ++i) {
+    const BrdfTable t = read_merl(set_->file(i).path());
+    for (int ch = 0; ch < 3; ++ch)
+      for (std::size_t b = 0; b < t.bins(); ++b) peak = std::max(peak, t.value(ch, b));
+  }
+  for (double e : c.interpolation.max_abs_error) EXPECT_LT(e, 1e-6 * peak);  // float32 storage
+  EXPECT_LT(c.interpolation.max_weight_error, 1e-8);
+  EXPECT_EQ(c.interpolation.column_mismatches, 0u);
+  EXPECT_EQ(c.reciprocity.pairs, 4 * 300);
+  EXPECT_LT(c.reciprocity.max_relative_difference, 1e-12);
+  EXPECT_LT(c.albedo.max_relative_error, 1e-6);        // albedo is linear in the table
+  EXPECT_LT(c.albedo.max_relative_error_model, 1e-3);  // stored curves: same quadrature, float data
+  EXPECT_GE(c.albedo.max_relative_error_clamped, c.albedo.max_relative_error * 0.5);
+  ASSERT_EQ(c.map.negative_fraction.size(), 36u);
+  for (double f : c.map.negative_fraction) {
+    EXPECT_GE(f, 0.0);
+    EXPECT_LE(f, 1.0);
+  }
+  EXPECT_GT(c.map.worst_max_albedo, 0.0);
+}
+
+TEST_F(TinyModel, NegativeCountsMatchTheExportClamp) {
+  // Far outside the data the GP extrapolates to the mean; between far-apart points it can
+  // overshoot. Whatever the count, it must be what export_table clamps.
+  const int n = model_->count();
+  Eigen::MatrixXd W(n, 3);
+  W.col(0) = model_->material_weights(0);
+  W.col(1) = Eigen::VectorXd::Constant(n, 0.0);
+  W(0, 1) = 3.0, W(1, 1) = -2.0;  // strong extrapolation: surely some negative values
+  W.col(2) = model_->weights(0.5 * (model_->latent().row(0) + model_->latent().row(1)).transpose());
+  const std::vector<std::size_t> neg = count_negative_values(*model_, W);
+  EXPECT_EQ(neg[0], 0u);
+  EXPECT_GT(neg[1], 0u);
+  for (int k = 0; k < 3; ++k) {
+    ExportStats s;
+    const BrdfTable t = export_table(*model_, W.col(k), &s);
+    EXPECT_EQ(s.clamped, neg[static_cast<std::size_t>(k)]) << k;
+    for (int ch = 0; ch < 3; ++ch)
+      for (std::size_t b = 0; b < t.bins(); ++b)
+        if (model_->kept(ch * t.bins() + b)) {
+          EXPECT_GE(t.value(ch, b), 0.0);
+        }
+  }
+}
+
+TEST_F(TinyModel, ReportIsWrittenAndSelfContained) {
+  ModelCheckOptions o;
+  o.reciprocity_pairs = 50;
+  o.sample_points = 2;
+  o.map_resolution = 4;
+  const ModelChecks c = run_model_checks(*model_, set_.get(), o);
+  StudyOptions so;
+  so.dims = {2};
+  so.layouts = {LayoutTransform{}};
+  so.pairs = 2;
+  so.path_segments = 3;
+  const StudyResult s = run_layout_study(*set_, so);
+  ReportInput ri;
+  ri.command = "test";
+  ri.input = "tiny";
+  ri.study = &s;
+  ri.checks = &c;
+  write_report(dir_ / "report", ri);
+  for (const char* f : {"index.html", "report.json", "loo.csv", "configs.csv", "paths.csv", "map.csv",
+                        "material_distances.csv", "interpolation.csv", "map_negative.png", "map_albedo.png"})
+    EXPECT_TRUE(std::filesystem::is_regular_file(dir_ / "report" / f)) << f;
+  const std::string html = read_file(dir_ / "report" / "index.html");
+  EXPECT_EQ(html.find("/*MATLAS_DATA*/"), std::string::npos);
+  EXPECT_EQ(html.find("/*MATLAS_CHARTJS*/"), std::string::npos);
+  EXPECT_EQ(html.find("<script src="), std::string::npos);  // nothing loaded from outside
+  const nlohmann::json j = nlohmann::json::parse(read_file(dir_ / "report" / "report.json"));
+  EXPECT_EQ(j["study"]["configs"].size(), 1u);
+  EXPECT_EQ(j["study"]["configs"][0]["loo"].size(), 6u);
+  EXPECT_EQ(j["model_checks"]["map"]["negative_fraction"].size(), 16u);
+  const std::string loo = read_file(dir_ / "report" / "loo.csv");
+  EXPECT_EQ(std::count(loo.begin(), loo.end(), '\n'), 7);
+}
+
+}  // namespace
+}  // namespace matlas::eval
