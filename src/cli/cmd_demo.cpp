@@ -2,6 +2,7 @@
 // MERL files), builds its model, prepares the previews and serves the material browser. Everything
 // is cached (~/.cache/matlas, or --cache): a second run starts in seconds, and the model is rebuilt
 // only when the input files (names, sizes, modification times) or the build options change.
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -40,6 +41,8 @@ struct DemoArgs {
   int size = 256;
   int spp = 32;
   std::string grid;  ///< "TH,TD,PD" (tests)
+  int count = 0;     ///< > 0: a random catalogue of this many materials (benchmarks)
+  std::uint64_t seed = 1;
   bool log = false;
 };
 
@@ -61,11 +64,13 @@ std::string hex(std::size_t v) {
 }
 
 /// The demo database in the cache, written once (again only if the catalogue or grid changed).
-fs::path demo_database(const fs::path& cache, const MerlDims& dims, ProgressSink& progress) {
-  const auto catalog = demo_catalog();
+fs::path demo_database(const fs::path& cache, const MerlDims& dims, int count, std::uint64_t seed,
+                       ProgressSink& progress) {
+  const auto catalog = count > 0 ? random_catalog(count, seed) : demo_catalog();
   std::string stamp = dims.to_string() + "\n";
   for (const auto& m : catalog) stamp += m.name + "\n";
-  const fs::path dir = cache / ("demo-db-" + std::to_string(dims.theta_h) + "x" + std::to_string(dims.theta_d) +
+  const std::string kind = count > 0 ? "random" + std::to_string(count) + "-s" + std::to_string(seed) + "-" : "";
+  const fs::path dir = cache / ("demo-db-" + kind + std::to_string(dims.theta_h) + "x" + std::to_string(dims.theta_d) +
                                 "x" + std::to_string(dims.phi_d));
   const fs::path stamp_file = dir / "catalog.txt";
   std::error_code ec;
@@ -93,7 +98,7 @@ void run_demo(const DemoArgs& a) {
   const fs::path cache = a.cache.empty() ? server::default_cache_dir() : fs::path(a.cache);
   TerminalProgress progress;
 
-  const fs::path db = a.dir.empty() ? demo_database(cache, parse_grid(a.grid), progress) : fs::path(a.dir);
+  const fs::path db = a.dir.empty() ? demo_database(cache, parse_grid(a.grid), a.count, a.seed, progress) : fs::path(a.dir);
   const MaterialSet set = MaterialSet::open({db});
   const fs::path model_path = cache / "models" / (fs::weakly_canonical(fs::absolute(db)).filename().string() + "-" + inputs_key(set, a.dim).substr(0, 8) + ".matlas");
   if (!fs::exists(model_path)) {
@@ -152,6 +157,9 @@ void add_demo_command(CLI::App& app) {
   cmd->add_option("--size", a->size, "Preview size in pixels")->check(CLI::Range(32, 1024))->capture_default_str();
   cmd->add_option("--spp", a->spp, "Samples per pixel of the preview bases")->check(CLI::Range(1, 4096))->capture_default_str();
   cmd->add_option("--grid", a->grid, "Grid of the synthetic database, THETA_H,THETA_D,PHI_D (small grids for tests)");
+  cmd->add_option("--count", a->count, "A random synthetic catalogue of N materials instead of the demo set (benchmarks)")
+      ->check(CLI::Range(2, 10000));
+  cmd->add_option("--seed", a->seed, "Seed of the random catalogue")->capture_default_str();
   cmd->add_flag("--log", a->log, "Print one line per request on stderr");
   cmd->callback([a] { run_demo(*a); });
 }

@@ -14,6 +14,7 @@
 #include "formats/merl_file.h"
 #include "manifold/model.h"
 #include "manifold/project.h"
+#include "server/fast_png.h"
 #include "server/http_error.h"
 #include "server/latent_map_layer.h"
 #include "server/material_panels.h"
@@ -137,7 +138,7 @@ std::string Api::preview_png(const Eigen::VectorXd& w, const std::string& key, c
   std::string png;
   {
     auto slot = acquire(compute_);
-    png = encode_png(previews_->render(w, env, object, size), previews_->tone());
+    png = encode_png_fast(previews_->render(w, env, object, size), previews_->tone());
   }
   cache_.put(full_key, png);
   return png;

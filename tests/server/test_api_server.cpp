@@ -18,6 +18,7 @@
 #include "manifold/model.h"
 #include "server/atlas_server.h"
 #include "server/basis_previews.h"
+#include "server/fast_png.h"
 #include "support/temp_dir.h"
 
 // Last: httplib.h defines a `_res` macro (from <resolv.h>) that breaks Eigen headers after it.
@@ -131,7 +132,7 @@ TEST_F(ApiServerTest, PreviewIsTheImageBasisComposedAtTheWeightsOfX) {
   ASSERT_EQ(r->status, 200) << r->body;
   EXPECT_EQ(r->get_header_value("Content-Type"), "image/png");
   const std::string expected =
-      encode_png(previews_->render(model_->weights(vec(mid)), "constant", "sphere", 32), previews_->tone());
+      encode_png_fast(previews_->render(model_->weights(vec(mid)), "constant", "sphere", 32), previews_->tone());
   EXPECT_EQ(r->body, expected);
   EXPECT_EQ(png_size(r->body), std::make_pair(32, 32));
 

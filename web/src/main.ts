@@ -137,11 +137,23 @@ async function main(): Promise<void> {
   };
 
   const fullSize = model.preview.size, dragSize = model.preview.drag_size;
+  let lastPanels = 0, panelTimer = 0;
   const moveTo = (x: number[], dragging: boolean, t = performance.now()) => {
     state.x = x.slice();
     $("coords").textContent = `x = (${fmtX(x)})`;
     preview.request({ x: state.x, size: dragging ? dragSize : fullSize }, t);
-    panels.request(state.x);
+    // While dragging, the panels follow at most 10 times a second (the preview has priority).
+    clearTimeout(panelTimer);
+    const now = performance.now();
+    if (!dragging || now - lastPanels > 100) {
+      lastPanels = now;
+      panels.request(state.x);
+    } else {
+      panelTimer = window.setTimeout(() => {
+        lastPanels = performance.now();
+        panels.request(state.x);
+      }, 100);
+    }
     syncSliders();
   };
 

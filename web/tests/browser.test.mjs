@@ -1,0 +1,179 @@
+// Browser tests of the material browser: Debian's Chromium (headless) driven by playwright-core,
+// against `matlas demo` on a small synthetic database (16x16x32 grid) on an ephemeral port.
+//
+//   MATLAS_BIN=../build/matlas node --test tests/
+//
+// Checks: the page loads; a click on the map updates the preview, which equals the server's image
+// for that point; dragging streams previews (latencies are printed); export downloads a valid MERL
+// table of the current point; uploading a database file projects it next to its latent point; the
+// path tool fills its strip. A screenshot goes to test-results/browser.png.
+import { test, before, after } from "node:test";
+import assert from "node:assert/strict";
+import { spawn } from "node:child_process";
+import { mkdtempSync, readFileSync, mkdirSync, rmSync, readdirSync } from "node:fs";
+import { tmpdir } from "node:os";
+import { join, resolve } from "node:path";
+import { chromium } from "playwright-core";
+
+const here = resolve(import.meta.dirname, "..");
+const bin = resolve(process.env.MATLAS_BIN ?? join(here, "..", "build", "matlas"));
+const chromiumPath = process.env.CHROMIUM ?? "/usr/bin/chromium";
+const work = mkdtempSync(join(tmpdir(), "matlas-browser-"));
+const results = join(here, "test-results");
+mkdirSync(results, { recursive: true });
+
+let server, url, context, page;
+
+function startServer() {
+  return new Promise((resolvePromise, reject) => {
+    server = spawn(bin, [
+      "demo", "--grid", "16,16,32", "--size", "128", "--spp", "8", "--port", "0",
+      "--cache", join(work, "cache"), "--web-root", join(here, "dist"),
+    ], { stdio: ["ignore", "pipe", "pipe"] });
+    let out = "", err = "";
+    const timer = setTimeout(() => reject(new Error(`matlas demo did not start:\n${out}\n${err}`)), 120_000);
+    server.stdout.on("data", (d) => {
+      out += d;
+      const m = out.match(/open (http:\/\/\S+)/);
+      if (m) {
+        clearTimeout(timer);
+        resolvePromise(m[1]);
+      }
+    });
+    server.stderr.on("data", (d) => (err += d));
+    server.on("exit", (code) => reject(new Error(`matlas demo exited (${code}):\n${out}\n${err}`)));
+  });
+}
+
+async function api(path, body) {
+  const res = await fetch(new URL(path, url), body === undefined ? {} : {
+    method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify(body),
+  });
+  assert.equal(res.status, 200, `${path}: ${res.status}`);
+  return Buffer.from(await res.arrayBuffer());
+}
+
+/** Bytes of the image shown by an <img> (a blob: URL) in the page. */
+async function imageBytes(selector) {
+  const b64 = await page.$eval(selector, async (img) => {
+    const buf = new Uint8Array(await (await fetch(img.src)).arrayBuffer());
+    let s = "";
+    for (const v of buf) s += String.fromCharCode(v);
+    return btoa(s);
+  });
+  return Buffer.from(b64, "base64");
+}
+
+/** Waits until the preview shows the full-size image of the current point. */
+async function settled() {
+  await page.waitForFunction(() => {
+    const m = window.matlas;
+    return m && m.shown && m.shown.size === m.model.preview.size &&
+      JSON.stringify(m.shown.x) === JSON.stringify(m.x);
+  }, null, { timeout: 20_000 });
+}
+
+before(async () => {
+  url = await startServer();
+  context = await chromium.launchPersistentContext(join(work, "profile"), {
+    executablePath: chromiumPath,
+    headless: true,
+    acceptDownloads: true,
+    viewport: { width: 1440, height: 1000 },
+    args: ["--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run", "--disable-background-networking",
+      "--disable-component-update", "--disable-sync"],
+  });
+  page = context.pages()[0] ?? (await context.newPage());
+  page.on("pageerror", (e) => console.error("page error:", e));
+  await page.goto(url);
+  await page.waitForFunction(() => window.matlas && window.matlas.previews >= 1, null, { timeout: 30_000 });
+});
+
+after(async () => {
+  await context?.close();
+  server?.kill("SIGTERM");
+  rmSync(work, { recursive: true, force: true });
+});
+
+test("the page loads the model and shows a preview", async () => {
+  const info = await page.textContent("#model-info");
+  assert.match(info, /materials · q = 2/);
+  const count = await page.evaluate(() => window.matlas.model.count);
+  assert.ok(count >= 20, `demo catalogue has ${count} materials`);
+});
+
+test("a click on the map shows the server's image of that point", async () => {
+  await settled();
+  const before = await imageBytes("#preview");
+  const box = await page.locator("#map").boundingBox();
+  await page.mouse.click(box.x + box.width * 0.37, box.y + box.height * 0.58);
+  await settled();
+  const state = await page.evaluate(() => ({ x: window.matlas.x, env: window.matlas.env, object: window.matlas.object, size: window.matlas.model.preview.size }));
+  const shown = await imageBytes("#preview");
+  assert.notDeepEqual(shown, before, "the preview changed");
+  const expected = await api("api/preview", { x: state.x, env: state.env, object: state.object, size: state.size });
+  assert.deepEqual(shown, expected, "the preview is the server's image for the clicked point");
+});
+
+test("dragging streams previews with one request in flight", async () => {
+  const box = await page.locator("#map").boundingBox();
+  const n0 = await page.evaluate(() => window.matlas.previews);
+  await page.evaluate(() => (window.matlas.latencies.length = 0));
+  await page.mouse.move(box.x + box.width * 0.3, box.y + box.height * 0.5);
+  await page.mouse.down();
+  for (let k = 0; k <= 40; k++) {
+    await page.mouse.move(box.x + box.width * (0.3 + 0.01 * k), box.y + box.height * (0.5 - 0.005 * k));
+    await page.waitForTimeout(16);
+  }
+  await page.mouse.up();
+  await settled();
+  const lat = (await page.evaluate(() => window.matlas.latencies)).slice().sort((a, b) => a - b);
+  const n1 = await page.evaluate(() => window.matlas.previews);
+  assert.ok(n1 - n0 >= 5, `previews during the drag: ${n1 - n0}`);
+  const q = (p) => lat[Math.min(lat.length - 1, Math.floor(p * lat.length))];
+  console.log(`drag: ${lat.length} previews, pointer-to-image latency median ${q(0.5).toFixed(1)} ms, p90 ${q(0.9).toFixed(1)} ms, max ${lat[lat.length - 1].toFixed(1)} ms`);
+});
+
+test("export downloads the MERL table of the current point", async () => {
+  const x = await page.evaluate(() => window.matlas.x);
+  const [download] = await Promise.all([page.waitForEvent("download"), page.click("#export-binary")]);
+  const path = join(work, "download.binary");
+  await download.saveAs(path);
+  const bytes = readFileSync(path);
+  const dims = [bytes.readInt32LE(0), bytes.readInt32LE(4), bytes.readInt32LE(8)];
+  assert.deepEqual(dims, [16, 16, 32]);
+  assert.equal(bytes.length, 12 + 3 * 16 * 16 * 32 * 8);
+  const values = new Float64Array(bytes.buffer.slice(bytes.byteOffset + 12, bytes.byteOffset + bytes.length));
+  assert.ok(values.every((v) => Number.isFinite(v) && (v >= 0 || v === -1)), "finite, non-negative or missing");
+  assert.ok(values.some((v) => v > 0), "not all zero");
+  const expected = await api("api/export", { x });
+  assert.deepEqual(bytes, expected, "the download is the table of the current point");
+});
+
+test("uploading a .binary projects it next to its latent point", async () => {
+  const cache = join(work, "cache");
+  const db = join(cache, readdirSync(cache).find((d) => d.startsWith("demo-db-")));
+  const model = await page.evaluate(() => window.matlas.model);
+  const i = 3;
+  await page.setInputFiles("#upload", join(db, `${model.names[i]}.binary`));
+  await page.waitForFunction(() => window.matlas.projected !== null, null, { timeout: 30_000 });
+  const projected = await page.evaluate(() => window.matlas.projected);
+  for (let d = 0; d < 2; d++) {
+    const extent = model.bounds.max[d] - model.bounds.min[d];
+    assert.ok(Math.abs(projected.x[d] - model.latent[i][d]) < 0.02 * extent,
+      `coordinate ${d}: ${projected.x[d]} vs ${model.latent[i][d]}`);
+  }
+  assert.ok(projected.residual < 0.05, `residual ${projected.residual}`);
+  assert.match(await page.textContent("#status"), /residual/);
+  await settled();
+});
+
+test("the path tool shows a strip of previews", async () => {
+  await page.selectOption("#path-a", "0");
+  await page.selectOption("#path-b", "5");
+  await page.click("#path-go");
+  await page.waitForFunction(() => [...document.querySelectorAll("#strip img")].length === 8 &&
+    [...document.querySelectorAll("#strip img")].every((im) => im.src.startsWith("blob:") && im.complete), null,
+    { timeout: 20_000 });
+  await page.screenshot({ path: join(results, "browser.png"), fullPage: true });
+});
