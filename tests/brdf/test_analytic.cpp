@@ -103,7 +103,7 @@ TEST(Analytic, SmithMaskingPassesTheWeakWhiteFurnaceTest) {
   // Heitz 2014, eq. 17: the projected area of the visible microfacets equals that of the macro
   // surface, integral of G1(wo) <wo.h>+ D(h) dh = cos(theta_o). An independent check of Lambda.
   // Midpoint rule in (theta_h, phi_h) on the exact D (the integrand is smooth there).
-  const int nt = 3000, np = 720;
+  const int nt = 1500, np = 360;
   for (double alpha : {0.1, 0.5, 1.0}) {
     for (double theta : {0.0, 0.8, 1.4}) {
       const Vec3 wo(std::sin(theta), 0, std::cos(theta));
