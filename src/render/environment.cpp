@@ -59,6 +59,25 @@ Rgb Environment::eval(const Vec3& d) const {
   return {p[0], p[1], p[2]};
 }
 
+Rgb Environment::eval_smooth(const Vec3& d) const {
+  if (constant_) return radiance_;
+  double u, v;
+  to_uv(d, &u, &v);
+  const double fx = u * map_.width - 0.5, fy = v * map_.height - 0.5;
+  const int x0 = static_cast<int>(std::floor(fx)), y0 = static_cast<int>(std::floor(fy));
+  const double tx = fx - x0, ty = fy - y0;
+  Rgb sum = Rgb::Zero();
+  for (int dy = 0; dy < 2; ++dy)
+    for (int dx = 0; dx < 2; ++dx) {
+      const int x = ((x0 + dx) % map_.width + map_.width) % map_.width;  // wraps in phi
+      const int y = std::clamp(y0 + dy, 0, map_.height - 1);
+      const double wgt = (dx ? tx : 1 - tx) * (dy ? ty : 1 - ty);
+      const float* p = map_.pixel(x, y);
+      sum += wgt * Rgb(p[0], p[1], p[2]);
+    }
+  return sum;
+}
+
 Vec3 Environment::sample(double u0, double u1, double* pdf_out) const {
   if (constant_) {
     const double z = 1.0 - 2.0 * u0, r = std::sqrt(std::max(0.0, 1.0 - z * z)), phi = 2.0 * kPi * u1;

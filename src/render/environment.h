@@ -25,6 +25,9 @@ public:
 
   /// Radiance arriving from world direction d (unit).
   Rgb eval(const Vec3& d) const;
+  /// Bilinearly filtered radiance, for display of the background only (lighting uses eval, whose
+  /// piecewise-constant values match the sampling density exactly).
+  Rgb eval_smooth(const Vec3& d) const;
   /// A direction drawn with density pdf (per unit solid angle).
   Vec3 sample(double u0, double u1, double* pdf) const;
   /// Density of sample() for direction d.

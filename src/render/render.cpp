@@ -23,11 +23,13 @@ struct Frame {
 
 /// The fixed sampling mixture (normalised probabilities).
 struct Mixture {
-  double env, cosine, sharp, rough, alpha_sharp, alpha_rough;
+  double env, cosine, mirror, sharp, rough, alpha_mirror, alpha_sharp, alpha_rough;
   explicit Mixture(const RenderSettings& s) {
-    const double total = s.mix_environment + s.mix_cosine + s.mix_sharp + s.mix_rough;
+    const double total = s.mix_environment + s.mix_cosine + s.mix_mirror + s.mix_sharp + s.mix_rough;
     env = s.mix_environment / total;
     cosine = s.mix_cosine / total;
+    mirror = s.mix_mirror / total;
+    alpha_mirror = s.alpha_mirror;
     sharp = s.mix_sharp / total;
     rough = s.mix_rough / total;
     alpha_sharp = s.alpha_sharp;
@@ -46,7 +48,7 @@ Rgb trace_sample(const Scene& scene, const Mixture& mix, SampleStream& rng, cons
   const std::optional<Hit> hit = scene.intersect(origin, dir);
   const SceneDescription& desc = scene.description();
   const Environment& env = scene.environment();
-  if (!hit) return desc.show_environment ? env.eval(dir) : Rgb::Zero();
+  if (!hit) return desc.show_environment ? env.eval_smooth(dir) : Rgb::Zero();
 
   Frame f;
   f.n = hit->normal;
@@ -66,7 +68,9 @@ Rgb trace_sample(const Scene& scene, const Mixture& mix, SampleStream& rng, cons
     } else {
       if (u_pick < mix.env + mix.cosine)
         wi = sample_cosine(u0, u1);
-      else if (u_pick < mix.env + mix.cosine + mix.sharp)
+      else if (u_pick < mix.env + mix.cosine + mix.mirror)
+        wi = sample_ggx_reflection(wo, mix.alpha_mirror, u0, u1);
+      else if (u_pick < mix.env + mix.cosine + mix.mirror + mix.sharp)
         wi = sample_ggx_reflection(wo, mix.alpha_sharp, u0, u1);
       else
         wi = sample_ggx_reflection(wo, mix.alpha_rough, u0, u1);
@@ -74,6 +78,7 @@ Rgb trace_sample(const Scene& scene, const Mixture& mix, SampleStream& rng, cons
     }
     if (wi.z() > 0 && wi_world.dot(ng) > 0) {
       const double pdf = mix.env * env.pdf(wi_world) + mix.cosine * cosine_pdf(wi) +
+                         mix.mirror * ggx_reflection_pdf(wo, wi, mix.alpha_mirror) +
                          mix.sharp * ggx_reflection_pdf(wo, wi, mix.alpha_sharp) +
                          mix.rough * ggx_reflection_pdf(wo, wi, mix.alpha_rough);
       if (pdf > 0 && !scene.occluded(p, wi_world, 0.0)) {
@@ -139,10 +144,10 @@ void RenderSettings::validate() const {
     throw Error("render size must be between 1 and 16384 pixels, got " + std::to_string(width) + "x" +
                 std::to_string(height));
   if (spp <= 0) throw Error("samples per pixel must be positive, got " + std::to_string(spp));
-  if (mix_environment < 0 || mix_cosine < 0 || mix_sharp < 0 || mix_rough < 0 ||
-      !(mix_environment + mix_cosine + mix_sharp + mix_rough > 0))
+  if (mix_environment < 0 || mix_cosine < 0 || mix_mirror < 0 || mix_sharp < 0 || mix_rough < 0 ||
+      !(mix_environment + mix_cosine + mix_mirror + mix_sharp + mix_rough > 0))
     throw Error("sampling mixture probabilities must be non-negative and not all zero");
-  if (!(alpha_sharp > 0) || !(alpha_rough > 0)) throw Error("GGX sampling widths must be positive");
+  if (!(alpha_mirror > 0) || !(alpha_sharp > 0) || !(alpha_rough > 0)) throw Error("GGX sampling widths must be positive");
 }
 
 Image render(const Scene& scene, const Material& material, const RenderSettings& settings,

@@ -4,7 +4,7 @@
 //
 // Estimator. Per pixel, `spp` primary rays (jittered in the pixel). At the object, one direction
 // wi is drawn from a FIXED one-sample mixture (environment importance sampling, cosine lobe, and
-// two GGX lobes of fixed widths around the view's mirror direction) and weighted by the
+// three GGX lobes of fixed widths around the view's mirror direction) and weighted by the
 // balance-heuristic mixture density; every directional light adds one shadow ray. The pixel is
 //
 //     I = C + sum_s W_s * f(wi_s, wo_s)           (W_s: RGB, independent of f)
@@ -28,10 +28,11 @@ struct RenderSettings {
   int height = 512;
   int spp = 64;             ///< samples (primary rays, each with one environment sample) per pixel
   std::uint64_t seed = 1;
-  /// Mixture probabilities of the sampling strategies (normalised): environment, cosine,
-  /// GGX lobe alpha_sharp, GGX lobe alpha_rough. Fixed, material-independent.
-  double mix_environment = 0.5, mix_cosine = 0.2, mix_sharp = 0.15, mix_rough = 0.15;
-  double alpha_sharp = 0.05, alpha_rough = 0.3;
+  /// Mixture probabilities of the sampling strategies (normalised): environment, cosine, and
+  /// GGX lobes of widths alpha_mirror, alpha_sharp, alpha_rough around the mirror direction.
+  /// Fixed, material-independent.
+  double mix_environment = 0.4, mix_cosine = 0.15, mix_mirror = 0.15, mix_sharp = 0.15, mix_rough = 0.15;
+  double alpha_mirror = 0.012, alpha_sharp = 0.06, alpha_rough = 0.3;
 
   /// Throws matlas::Error for non-positive sizes or spp, or an all-zero mixture.
   void validate() const;
