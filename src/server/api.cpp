@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <numeric>
+#include <thread>
 #include <unistd.h>
 
 #include "core/atomic_file.h"
@@ -90,7 +91,8 @@ Api::Api(const Model& model, std::shared_ptr<const PreviewSource> previews, cons
       domain_(LatentDomain::around(model.latent_min(), model.latent_max(), options.domain_margin)),
       envs_(previews_->environments()),
       objects_(previews_->objects()),
-      compute_(options.compute_slots > 0 ? options.compute_slots : static_cast<int>(worker_count())),
+      compute_(options.compute_slots > 0 ? options.compute_slots
+                                         : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))),
       heavy_(options.heavy_slots),
       cache_(options.cache_entries) {
   nlohmann::json j;

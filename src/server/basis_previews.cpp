@@ -147,7 +147,13 @@ struct BasisPreviews::Impl {
     images.reserve(static_cast<std::size_t>(full->count()));
     for (int i = 0; i < full->count(); ++i) images.push_back(resize_area(full->material_image(i), half, half));
     auto small = std::make_shared<render::ImageBasis>(resize_area(full->mean_image(), half, half), images);
-    small->convert_to_half();
+    // Drag previews go through the low-rank form when it is much smaller (fewer values to read).
+    if (options.drag_tolerance > 0) {
+      small->compress(options.drag_tolerance);
+      if (small->low_rank() * 2 > small->count()) small = std::make_shared<render::ImageBasis>(
+          resize_area(full->mean_image(), half, half), images);
+    }
+    if (small->low_rank() == 0) small->convert_to_half();
     return Entry{full, small, 0};
   }
 
@@ -235,8 +241,7 @@ Image BasisPreviews::render(const Eigen::VectorXd& w, const std::string& environ
                                ") is being prepared; try again in a few seconds");
     }
   }
-  const render::ImageBasis& basis = size <= half->width() ? *half : *full;
-  Image image = basis.compose(w);
+  Image image = size <= half->width() ? half->compose_low_rank(w) : full->compose(w);
   if (image.width != size) image = resize_area(image, size, size);
   return image;
 }
