@@ -331,7 +331,9 @@ async function main(): Promise<void> {
   const showPath = async () => {
     const a = pointOf(pathA.value), b = pointOf(pathB.value);
     const steps = Math.max(2, Math.min(16, Number($<HTMLInputElement>("path-steps").value) || 8));
-    const samples = Array.from({ length: steps }, (_, k) => a.map((v, d) => v + ((b[d] - v) * k) / (steps - 1)));
+    // The ends are the exact points (a rounded endpoint would miss a material's exact weights).
+    const samples = Array.from({ length: steps }, (_, k) =>
+      k === steps - 1 ? b.slice() : a.map((v, d) => v + ((b[d] - v) * k) / (steps - 1)));
     map.path = { a, b, samples };
     map.redraw();
     const run = ++pathRun;
