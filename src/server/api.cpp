@@ -152,7 +152,7 @@ Reply Api::preview(const std::string& body) {
   const std::string env = parse_choice(j, "env", envs_, previews_->default_environment());
   const std::string object = parse_choice(j, "object", objects_, previews_->default_object());
   const int size = parse_int(j, "size", 16, 512, previews_->size());
-  Reply r = Reply::bytes(preview_png(model_.weights(x), "x" + point_key(x), env, object, size), kPng);
+  Reply r = Reply::bytes(preview_png(model_.weights(x), point_key(x).insert(0, 1, 'x'), env, object, size), kPng);
   r.headers.emplace_back("Cache-Control", "no-store");
   return r;
 }
@@ -166,7 +166,7 @@ Reply Api::thumbnail(int index, const std::string& env, const std::string& objec
   const std::string e = parse_choice(j, "env", envs_, previews_->default_environment());
   const std::string o = parse_choice(j, "object", objects_, previews_->default_object());
   Reply r = Reply::bytes(
-      preview_png(model_.material_weights(index), "m" + std::to_string(index), e, o, size), kPng);
+      preview_png(model_.material_weights(index), std::to_string(index).insert(0, 1, 'm'), e, o, size), kPng);
   r.headers.emplace_back("Cache-Control", "max-age=3600");
   return r;
 }
