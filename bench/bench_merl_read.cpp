@@ -2,9 +2,8 @@
 // page cache with read() into a preallocated, already touched buffer. The ratio (target <= 1.3)
 // is measured in one benchmark that alternates the two in every iteration; it is reported for wall
 // time (`ratio`) and for the thread's CPU time (`cpu_ratio`, system time included), which stays
-// meaningful when other processes load the machine. The other cases break read_merl's cost down
-// (fresh pages, zero-filling, the 12-byte shift of the values, the finite check) and measure a
-// proposed read path that removes most of it (see docs/ANALYTIC.md, "Reading speed").
+// meaningful when other processes load the machine. read_merl reads into huge-page storage left
+// uninitialised, in 1 MiB chunks each checked for NaN/Inf while in cache (docs/ANALYTIC.md).
 #include <benchmark/benchmark.h>
 
 #include <chrono>
@@ -122,62 +121,6 @@ void versus_raw(benchmark::State& state, Read read) {
   set_bytes(state);
 }
 
-// --- A proposed read path (what src/formats/merl_file.cpp and BrdfTable could do) ----------------
-
-/// True when no value is NaN or infinite (std::isfinite, as read_values; a branch-free OR over
-/// the exponent bits was measured too and is no faster: the check is memory-bound).
-bool all_finite(const double* v, std::size_t n) {
-  for (std::size_t i = 0; i < n; ++i)
-    if (!std::isfinite(v[i])) return false;
-  return true;
-}
-
-/// pread straight into the table in 1 MiB chunks, each checked right after it arrives, while it
-/// is still in the cache (read_values checks in a second pass over 35 MB, which no longer fits).
-/// (A 4 KiB-aligned bounce buffer, to avoid the kernel's copy with a 12-byte misalignment, was
-/// measured too: no faster once the destination is in huge pages.)
-void proposed_read(const fs::path& path, double* out, std::size_t count) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) throw std::runtime_error("open failed");
-  constexpr std::size_t kChunk = (1u << 20) / sizeof(double);
-  for (std::size_t first = 0; first < count; first += kChunk) {
-    const std::size_t n = std::min(kChunk, count - first);
-    char* dst = reinterpret_cast<char*>(out + first);
-    for (std::size_t done = 0; done < n * sizeof(double);) {
-      const ssize_t got = ::pread(fd, dst + done, n * sizeof(double) - done,
-                                  static_cast<off_t>(kHeader + first * sizeof(double) + done));
-      if (got <= 0) {
-        ::close(fd);
-        throw std::runtime_error("short read");
-      }
-      done += static_cast<std::size_t>(got);
-    }
-    if (!all_finite(out + first, n)) {
-      ::close(fd);
-      throw std::runtime_error("non-finite value");
-    }
-  }
-  ::close(fd);
-}
-
-/// Storage for a table: 2 MiB-aligned, advised for transparent huge pages (17 page faults for a
-/// MERL table instead of about 8,600), and not zero-filled.
-struct HugeBuffer {
-  static constexpr std::size_t kHuge = 2u << 20;
-  explicit HugeBuffer(std::size_t count)
-      : bytes((count * sizeof(double) + kHuge - 1) / kHuge * kHuge),
-        data(static_cast<double*>(std::aligned_alloc(kHuge, bytes))) {
-    ::madvise(data, bytes, MADV_HUGEPAGE);
-  }
-  ~HugeBuffer() { std::free(data); }
-  HugeBuffer(const HugeBuffer&) = delete;
-  HugeBuffer& operator=(const HugeBuffer&) = delete;
-  std::size_t bytes;
-  double* data;
-};
-
-// --- The comparisons ---------------------------------------------------------------------------
-
 void BM_ReadMerlVsRaw(benchmark::State& state) {
   const BenchFile& file = bench_file();
   versus_raw(state, [&] {
@@ -186,112 +129,6 @@ void BM_ReadMerlVsRaw(benchmark::State& state) {
   });
 }
 BENCHMARK(BM_ReadMerlVsRaw)->UseManualTime()->Unit(benchmark::kMillisecond)->MinTime(2.0);
-
-/// The proposed path into fresh storage, as a new BrdfTable would get it.
-void BM_ProposedFreshVsRaw(benchmark::State& state) {
-  const BenchFile& file = bench_file();
-  versus_raw(state, [&] {
-    HugeBuffer table(file.values());
-    proposed_read(file.path(), table.data, file.values());
-    benchmark::DoNotOptimize(table.data);
-  });
-}
-BENCHMARK(BM_ProposedFreshVsRaw)->UseManualTime()->Unit(benchmark::kMillisecond)->MinTime(2.0);
-
-/// The proposed path into reused storage (a `read_merl(path, BrdfTable& reuse)` in a streaming loop).
-void BM_ProposedReusedVsRaw(benchmark::State& state) {
-  const BenchFile& file = bench_file();
-  HugeBuffer table(file.values());
-  std::memset(table.data, 0, table.bytes);
-  versus_raw(state, [&] {
-    proposed_read(file.path(), table.data, file.values());
-    benchmark::ClobberMemory();
-  });
-}
-BENCHMARK(BM_ProposedReusedVsRaw)->UseManualTime()->Unit(benchmark::kMillisecond)->MinTime(2.0);
-
-// --- Where read_merl's time goes (each one step away from the floor) ----------------------------
-
-/// The floor alone.
-void BM_Step0_RawReadPreallocated(benchmark::State& state) {
-  const BenchFile& file = bench_file();
-  for (auto _ : state) {
-    file.read_raw(file.buffer());
-    benchmark::ClobberMemory();
-  }
-  set_bytes(state);
-}
-BENCHMARK(BM_Step0_RawReadPreallocated)->Unit(benchmark::kMillisecond);
-
-/// pread of the values only (file offset 12) into the preallocated buffer: misaligned kernel copy.
-void BM_Step1_PreadValuesAtOffset12(benchmark::State& state) {
-  const BenchFile& file = bench_file();
-  const std::size_t bytes = file.bytes() - kHeader;
-  for (auto _ : state) {
-    const int fd = ::open(file.path().c_str(), O_RDONLY | O_CLOEXEC);
-    for (std::size_t done = 0; done < bytes;) {
-      const ssize_t got = ::pread(fd, file.buffer() + done, bytes - done, static_cast<off_t>(kHeader + done));
-      if (got <= 0) break;
-      done += static_cast<std::size_t>(got);
-    }
-    ::close(fd);
-    benchmark::ClobberMemory();
-  }
-  set_bytes(state);
-}
-BENCHMARK(BM_Step1_PreadValuesAtOffset12)->Unit(benchmark::kMillisecond);
-
-/// MerlFile::read_values (pread at offset 12 + a second pass of std::isfinite) into the
-/// preallocated buffer: read_merl without the allocation.
-void BM_Step2_ReadValuesPreallocated(benchmark::State& state) {
-  const BenchFile& file = bench_file();
-  std::vector<double> values(file.values(), 0.0);
-  for (auto _ : state) {
-    matlas::MerlFile merl(file.path());
-    merl.read_values(0, values.size(), values.data());
-    benchmark::ClobberMemory();
-  }
-  set_bytes(state);
-}
-BENCHMARK(BM_Step2_ReadValuesPreallocated)->Unit(benchmark::kMillisecond);
-
-/// Raw read into a fresh, untouched allocation (4 KiB page faults, no zero-filling).
-void BM_Step3_RawReadFreshBuffer(benchmark::State& state) {
-  const BenchFile& file = bench_file();
-  for (auto _ : state) {
-    std::unique_ptr<char[]> fresh(new char[file.bytes()]);
-    file.read_raw(fresh.get());
-    benchmark::DoNotOptimize(fresh.get());
-  }
-  set_bytes(state);
-}
-BENCHMARK(BM_Step3_RawReadFreshBuffer)->Unit(benchmark::kMillisecond);
-
-/// Raw read into a fresh zero-filled vector (what BrdfTable's constructor allocates).
-void BM_Step4_RawReadZeroedVector(benchmark::State& state) {
-  const BenchFile& file = bench_file();
-  for (auto _ : state) {
-    std::vector<double> v(file.bytes() / sizeof(double) + 1, 0.0);
-    file.read_raw(reinterpret_cast<char*>(v.data()));
-    benchmark::DoNotOptimize(v.data());
-  }
-  set_bytes(state);
-}
-BENCHMARK(BM_Step4_RawReadZeroedVector)->Unit(benchmark::kMillisecond);
-
-/// The std::isfinite pass alone over 35 MB, as read_values does it (a throw inside the loop).
-void BM_FiniteCheckIsfinite(benchmark::State& state) {
-  const BenchFile& file = bench_file();
-  std::vector<double> values(file.values());
-  std::memcpy(values.data(), file.buffer() + kHeader, values.size() * sizeof(double));
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < values.size(); ++i)
-      if (!std::isfinite(values[i])) throw std::runtime_error("non-finite value at " + std::to_string(i));
-    benchmark::ClobberMemory();
-  }
-  set_bytes(state);
-}
-BENCHMARK(BM_FiniteCheckIsfinite)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -9,7 +9,8 @@ cd "$repo"
 packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libcli11-dev nlohmann-json3-dev libcpp-httplib-dev libopenblas-dev libxxhash-dev
-  liblbfgspp-dev libtinyexr-dev libstb-dev libembree-dev libtbb-dev libtinygltf-dev
+  liblbfgspp-dev libtinyexr-dev libopenexr-dev libdraco-dev libstb-dev libembree-dev libtbb-dev
+  libtinygltf-dev
   libgtest-dev libbenchmark-dev
   nodejs npm chromium fonts-dejavu-core
 )

@@ -5,7 +5,9 @@
 
 namespace matlas {
 
-BrdfTable::BrdfTable(MerlDims dims) : dims_(dims), stored_(3 * dims.bins(), 0.0) {}
+BrdfTable::BrdfTable(MerlDims dims) : dims_(dims), stored_(3 * dims.bins()) {}
+
+BrdfTable::BrdfTable(MerlDims dims, ValueBuffer::Uninitialized u) : dims_(dims), stored_(3 * dims.bins(), u) {}
 
 std::size_t BrdfTable::missing_count() const {
   return static_cast<std::size_t>(

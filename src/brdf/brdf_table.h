@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "brdf/merl_grid.h"
+#include "brdf/value_buffer.h"
 
 namespace matlas {
 
@@ -25,6 +26,8 @@ public:
   BrdfTable() = default;
   /// A table of the given size with every value 0 and measured.
   explicit BrdfTable(MerlDims dims);
+  /// A table whose values are unspecified, for a caller that fills every value (file readers).
+  BrdfTable(MerlDims dims, ValueBuffer::Uninitialized);
 
   const MerlDims& dims() const { return dims_; }
   std::size_t bins() const { return dims_.bins(); }
@@ -66,7 +69,7 @@ private:
   }
 
   MerlDims dims_{};
-  std::vector<double> stored_;
+  ValueBuffer stored_;
 };
 
 }  // namespace matlas

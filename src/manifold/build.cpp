@@ -14,6 +14,7 @@
 #include "gp/initialize.h"
 #include "gp/likelihood.h"
 #include "gp/posterior.h"
+#include "manifold/block_centring.h"
 #include "manifold/column_blocks.h"
 #include "manifold/model_format.h"
 
@@ -189,33 +190,51 @@ BuildReport build_model(const MaterialSet& set, const BuildOptions& options, con
   std::vector<float> out_f32;
   std::vector<std::uint16_t> out_f16;
   std::vector<std::uint64_t> hashes;
+  Eigen::RowVectorXd block_mean;
+  std::vector<Eigen::Index> tile_columns;
   BlockOptions block_options;
   block_options.block_columns = options.block_columns;
   block_options.label = "pass 2/2: data";
   block_options.hashes = &hashes;
   for_each_column_block(set, [&](const ColumnBlock& block) {
-    out_f32.clear();
-    out_f16.clear();
-    for (std::size_t j = 0; j < block.count; ++j) {
-      const std::int32_t c = columns[block.first + j];
-      if (c < 0) continue;
-      const double m = g.mean[c];
+    // Same centring as pass 1 (same arithmetic, so the same means), then a tiled transpose of
+    // the kept columns into column-interleaved rows of n values.
+    centre_kept_columns(block.values, block.kept, block_mean);
+    std::size_t kept_here = 0;
+    for (std::size_t j = 0; j < block.count; ++j) kept_here += block.kept[j];
+    const std::size_t un = static_cast<std::size_t>(n);
+    out_f32.resize(kept_here * un);
+    constexpr std::size_t kTile = 64;
+    std::size_t out_column = 0;
+    for (std::size_t j0 = 0; j0 < block.count; j0 += kTile) {
+      tile_columns.clear();
+      for (std::size_t j = j0; j < std::min(block.count, j0 + kTile); ++j)
+        if (block.kept[j]) tile_columns.push_back(static_cast<Eigen::Index>(j));
       for (Eigen::Index i = 0; i < n; ++i) {
-        const double exact = block.values(i, static_cast<Eigen::Index>(j)) - m;
-        double stored;
-        if (storage == DType::F16) {
-          out_f16.push_back(float_to_half(static_cast<float>(exact)));
-          stored = half_to_float(out_f16.back());
-        } else {
-          out_f32.push_back(static_cast<float>(exact));
-          stored = out_f32.back();
+        const double* row = block.values.row(i).data();
+        float* out = out_f32.data() + out_column * un + static_cast<std::size_t>(i);
+        for (std::size_t t = 0; t < tile_columns.size(); ++t) {
+          const double exact = row[tile_columns[t]];
+          const float rounded = static_cast<float>(exact);
+          out[t * un] = rounded;
+          norm2 += exact * exact;
+          error2 += (rounded - exact) * (rounded - exact);
         }
-        error2 += (stored - exact) * (stored - exact);
-        norm2 += exact * exact;
       }
+      out_column += tile_columns.size();
     }
-    if (storage == DType::F16) writer.write(out_f16.data(), out_f16.size() * 2u);
-    else writer.write(out_f32.data(), out_f32.size() * 4u);
+    if (storage == DType::F16) {
+      // Re-measure the error against half precision: the value stored is half(float(x)).
+      out_f16.resize(out_f32.size());
+      for (std::size_t e = 0; e < out_f32.size(); ++e) {
+        out_f16[e] = float_to_half(out_f32[e]);
+        const double rounding = static_cast<double>(half_to_float(out_f16[e])) - out_f32[e];
+        error2 += rounding * rounding;
+      }
+      writer.write(out_f16.data(), out_f16.size() * 2u);
+    } else {
+      writer.write(out_f32.data(), out_f32.size() * 4u);
+    }
   }, block_options, progress);
   for (std::size_t i = 0; i < set.size(); ++i)
     if (hashes[i] != g.hashes[i])

@@ -21,13 +21,14 @@ void read_block(const MaterialSet& set, std::size_t first, std::size_t count, Bl
     set.file(i).read_values(first, count, row);
     if (!hashers.empty()) XXH3_64bits_update(hashers[i], row, count * sizeof(double));
     // Scale to physical units channel by channel; a column is kept only if all are measured.
+    std::uint8_t* keep = kept.data();
     std::size_t j = 0;
     while (j < count) {
       const std::size_t channel = (first + j) / bins;
       const std::size_t channel_end = std::min(count, (channel + 1) * bins - first);
       const double scale = BrdfTable::kChannelScale[channel];
       for (; j < channel_end; ++j) {
-        kept[j] &= static_cast<std::uint8_t>(row[j] >= 0.0);
+        keep[j] &= static_cast<std::uint8_t>(row[j] >= 0.0);
         row[j] *= scale;
       }
     }

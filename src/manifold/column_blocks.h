@@ -24,8 +24,9 @@ struct ColumnBlock {
   std::size_t first = 0;
   std::size_t count = 0;
   /// n x count, physical units (stored * channel scale). Where a material has no measurement
-  /// the value is negative and meaningless: use `kept`.
-  const BlockMatrix& values;
+  /// the value is negative and meaningless: use `kept`. The visitor may modify the values in
+  /// place (the buffer is refilled for the next block).
+  BlockMatrix& values;
   /// count entries: 1 where every material has a measurement (the column is kept), else 0.
   const std::vector<std::uint8_t>& kept;
 };

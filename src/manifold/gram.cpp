@@ -8,6 +8,7 @@
 #include "brdf/albedo_operator.h"
 #include "core/error.h"
 #include "core/parallel.h"
+#include "manifold/block_centring.h"
 #include "manifold/column_blocks.h"
 
 namespace matlas {
@@ -67,11 +68,23 @@ void add_gram(const BlockMatrix& a, Eigen::MatrixXd& s) {
               static_cast<int>(s.rows()));
 }
 
-/// Centres every column of a over the materials (rows), returning the column means.
-Eigen::RowVectorXd centre_columns(BlockMatrix& a) {
-  Eigen::RowVectorXd mean = a.colwise().mean();
-  a.rowwise() -= mean;
-  return mean;
+/// Albedo-operator entries touching a block: column j of the block contributes weight * value
+/// to albedo slot (theta bin * 3 + channel).
+struct AlbedoEntry {
+  Eigen::Index column;
+  Eigen::Index slot;
+  double weight;
+};
+
+std::vector<AlbedoEntry> albedo_entries(const Eigen::SparseMatrix<double, Eigen::RowMajor>& op,
+                                        std::size_t bins, std::size_t first, std::size_t count) {
+  std::vector<AlbedoEntry> entries;
+  for (std::size_t j = 0; j < count; ++j) {
+    const std::size_t v = first + j, channel = v / bins;
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(op, static_cast<Eigen::Index>(v % bins)); it; ++it)
+      entries.push_back({static_cast<Eigen::Index>(j), it.col() * 3 + static_cast<Eigen::Index>(channel), it.value()});
+  }
+  return entries;
 }
 
 }  // namespace
@@ -86,61 +99,56 @@ GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout
   r.gram = Eigen::MatrixXd::Zero(n, n);
   const bool separate_layout = !layout.is_identity();
   if (separate_layout) r.layout_gram = Eigen::MatrixXd::Zero(n, n);
-  r.albedo = Eigen::MatrixXd::Zero(n, 90 * 3);
   std::vector<double> mean;
   mean.reserve(set.value_count());
 
   const auto albedo_op = albedo_operator(dims, 90);
   const std::vector<double> cos_w = layout.cosine_weighted ? cosine_weights(dims) : std::vector<double>{};
 
-  BlockMatrix kept_values, transformed;
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  RowMajor albedo_centred = RowMajor::Zero(n, 90 * 3);
+  Eigen::RowVectorXd albedo_of_mean = Eigen::RowVectorXd::Zero(90 * 3);
+  BlockMatrix transformed;
+  Eigen::RowVectorXd block_mean, transformed_mean;
   BlockOptions options;
   options.block_columns = block_columns;
   options.label = "pass 1/2: gram";
   options.hashes = &r.hashes;
   for_each_column_block(set, [&](const ColumnBlock& block) {
-    // Gather the kept columns, remembering their value indices.
-    std::vector<std::size_t> index;
-    index.reserve(block.count);
-    for (std::size_t j = 0; j < block.count; ++j)
-      if (block.kept[j]) {
-        index.push_back(block.first + j);
-        r.kept[block.first + j] = true;
-      }
-    const auto k = static_cast<Eigen::Index>(index.size());
-    kept_values.resize(n, k);
-    for (Eigen::Index c = 0; c < k; ++c)
-      kept_values.col(c) = block.values.col(static_cast<Eigen::Index>(index[static_cast<std::size_t>(c)] - block.first));
-
-    // Albedo curves: a linear functional of the (uncentred) kept data.
-    for (Eigen::Index c = 0; c < k; ++c) {
-      const std::size_t v = index[static_cast<std::size_t>(c)];
-      const auto channel = static_cast<Eigen::Index>(v / bins);
-      const auto bin = static_cast<Eigen::Index>(v % bins);
-      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(albedo_op, bin); it; ++it)
-        r.albedo.col(it.col() * 3 + channel) += it.value() * kept_values.col(c);
-    }
-
     if (separate_layout) {
-      transformed = kept_values;
-      parallel_for(0, static_cast<std::size_t>(k), [&](std::size_t lo, std::size_t hi) {
-        for (std::size_t c = lo; c < hi; ++c) {
-          const double w = layout.cosine_weighted ? cos_w[index[c] % bins] : 1.0;
-          for (Eigen::Index i = 0; i < n; ++i) {
-            double& x = transformed(i, static_cast<Eigen::Index>(c));
+      transformed = block.values;
+      const auto k = static_cast<std::size_t>(block.count);
+      parallel_for(0, static_cast<std::size_t>(n), [&](std::size_t lo, std::size_t hi) {
+        for (std::size_t i = lo; i < hi; ++i) {
+          double* row = transformed.row(static_cast<Eigen::Index>(i)).data();
+          for (std::size_t j = 0; j < k; ++j) {
+            double x = row[j];
             if (layout.map == LayoutTransform::Map::cube_root) x = fast_cbrt(x);
             else if (layout.map == LayoutTransform::Map::log) x = std::log1p(100.0 * std::max(x, 0.0));
-            x *= w;
+            row[j] = layout.cosine_weighted ? x * cos_w[(block.first + j) % bins] : x;
           }
         }
-      }, 256);
-      centre_columns(transformed);
+      });
+      centre_kept_columns(transformed, block.kept, transformed_mean);
       add_gram(transformed, r.layout_gram);
     }
-    const Eigen::RowVectorXd m = centre_columns(kept_values);
-    mean.insert(mean.end(), m.data(), m.data() + m.size());
-    add_gram(kept_values, r.gram);
+    centre_kept_columns(block.values, block.kept, block_mean);
+    add_gram(block.values, r.gram);
+    for (std::size_t j = 0; j < block.count; ++j)
+      if (block.kept[j]) {
+        r.kept[block.first + j] = true;
+        mean.push_back(block_mean[static_cast<Eigen::Index>(j)]);
+      }
+    // Albedo curves are linear: A(z_i) = A(z_i - mean) + A(mean).
+    const auto entries = albedo_entries(albedo_op, bins, block.first, block.count);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double* row = block.values.row(i).data();
+      double* out = albedo_centred.row(i).data();
+      for (const AlbedoEntry& e : entries) out[e.slot] += e.weight * row[e.column];
+    }
+    for (const AlbedoEntry& e : entries) albedo_of_mean[e.slot] += e.weight * block_mean[e.column];
   }, options, progress);
+  r.albedo = albedo_centred.rowwise() + albedo_of_mean;
 
   r.kept_columns = mean.size();
   if (r.kept_columns == 0)

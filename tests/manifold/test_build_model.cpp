@@ -182,14 +182,18 @@ TEST(BuildModel, ResultDoesNotDependOnFileOrderOrDataScale) {
   build_model(MaterialSet::open({dir / "scaled"}), small_options(), dir / "s.matlas");
   const Model a = Model::open(dir / "a.matlas"), r = Model::open(dir / "r.matlas"),
               s = Model::open(dir / "s.matlas");
-  // Latent layouts agree up to a rigid motion: compare pairwise distances.
+  // The same optimum (L is invariant to the order; scaling the data shifts L by a constant)...
+  const double la = a.metadata()["log_likelihood"].get<double>();
+  EXPECT_NEAR(r.metadata()["log_likelihood"].get<double>(), la, 1e-6 * std::abs(la));
+  // ...and the same layout up to a rigid motion and the optimiser's tolerance: compare pairwise
+  // distances (latent spreads are O(1)).
   for (int i = 0; i < 8; ++i)
     for (int j = 0; j < 8; ++j) {
       const double d = (a.latent().row(i) - a.latent().row(j)).norm();
       const int ri = r.index_of(a.names()[static_cast<std::size_t>(i)]);
       const int rj = r.index_of(a.names()[static_cast<std::size_t>(j)]);
-      EXPECT_NEAR((r.latent().row(ri) - r.latent().row(rj)).norm(), d, 1e-3);
-      EXPECT_NEAR((s.latent().row(i) - s.latent().row(j)).norm(), d, 1e-3);
+      EXPECT_NEAR((r.latent().row(ri) - r.latent().row(rj)).norm(), d, 1e-2);
+      EXPECT_NEAR((s.latent().row(i) - s.latent().row(j)).norm(), d, 1e-2);
     }
 }
 
