@@ -18,6 +18,5 @@ if [[ "${1:-}" == "--sanitize" ]]; then
     ctest --test-dir build-sanitize --output-on-failure -j "$jobs"
 fi
 
-if [[ -f web/package.json ]] && grep -q '"test:browser"' web/package.json; then
-  (cd web && npm run --silent test:browser)
-fi
+# Browser tests: Playwright (playwright-core) drives Debian's Chromium against `matlas demo`.
+web/run-browser-tests.sh build/matlas

@@ -245,7 +245,15 @@ std::vector<SynthMaterial> random_catalog(int count, std::uint64_t seed) {
   std::vector<SynthMaterial> c;
   c.reserve(static_cast<std::size_t>(std::max(0, count)));
   SplitMix64 rng(seed);
-  for (int n = 0; n < count; ++n) c.push_back(random_material(rng));
+  // Parameters are rounded for readable names, so two draws can coincide: redraw duplicates
+  // (identical materials cannot be placed on a map).
+  std::set<std::string> seen;
+  for (int n = 0; n < count; ++n) {
+    SynthMaterial m = random_material(rng);
+    for (int attempt = 0; attempt < 1000 && !seen.insert(describe(m.brdf)).second; ++attempt)
+      m = random_material(rng);
+    c.push_back(std::move(m));
+  }
   make_names_unique(c);
   return c;
 }
