@@ -110,6 +110,13 @@ GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout
   Eigen::RowVectorXd albedo_of_mean = Eigen::RowVectorXd::Zero(90 * 3);
   BlockMatrix transformed;
   Eigen::RowVectorXd block_mean, transformed_mean;
+  // The reader thread streams the next block while this thread computes on the current one: one
+  // core each. OpenBLAS's own threads would only compete with the reader (and spin).
+  struct BlasThreads {
+    int saved = openblas_get_num_threads();
+    BlasThreads() { openblas_set_num_threads(1); }
+    ~BlasThreads() { openblas_set_num_threads(saved); }
+  } single_threaded_blas;
   BlockOptions options;
   options.block_columns = block_columns;
   options.label = "pass 1/2: gram";
