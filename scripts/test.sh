@@ -2,7 +2,8 @@
 # Runs every test: the GoogleTest suites (ctest) on the Release build, then the browser tests of
 # the web UI (Playwright driving Debian's Chromium). Run scripts/setup.sh first.
 #   scripts/test.sh              all tests
-#   scripts/test.sh --sanitize   also the suites built with ASan/UBSan (setup.sh --sanitize)
+#   scripts/test.sh --sanitize   also the numerical core's suites (brdf, formats, gp, manifold) built
+#                                with ASan/UBSan in build-sanitize/ (setup.sh --sanitize configures it)
 set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$repo"
@@ -13,9 +14,12 @@ cmake --build build -j "$jobs"
 ctest --test-dir build --output-on-failure -j "$jobs"
 
 if [[ "${1:-}" == "--sanitize" ]]; then
-  cmake --build build-sanitize -j "$jobs"
+  suites=(brdf formats gp manifold)
+  targets=()
+  for s in "${suites[@]}"; do targets+=("matlas_${s}_tests"); done
+  cmake --build build-sanitize -j "$jobs" --target "${targets[@]}" | tail -n 2
   ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
-    ctest --test-dir build-sanitize --output-on-failure -j "$jobs"
+    ctest --test-dir build-sanitize --output-on-failure -j "$jobs" -L "^($(IFS='|'; echo "${suites[*]}"))\$"
 fi
 
 # Browser tests: Playwright (playwright-core) drives Debian's Chromium against `matlas demo`.

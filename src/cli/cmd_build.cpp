@@ -22,6 +22,7 @@ struct BuildArgs {
   std::string layout = "linear";
   std::string storage = "f32";
   int max_iterations = 1000;
+  int starts = 0;  ///< 0: 3 for q <= 2 (the likelihood is multimodal there), else 1
   double tolerance = 1e-7;
   std::size_t block_columns = 32768;
   bool quiet = false;
@@ -38,6 +39,7 @@ void run_build(const BuildArgs& a) {
   o.optimize.method = gp::optimizer_from_string(a.optimizer);
   o.optimize.max_iterations = a.max_iterations;
   o.optimize.tolerance = a.tolerance;
+  o.optimize.starts = a.starts > 0 ? a.starts : (a.dim <= 2 ? 3 : 1);
   if (a.storage == "f16") o.storage = Storage::f16;
   else if (a.storage != "f32") throw Error("--storage must be f32 or f16, got '" + a.storage + "'");
   o.block_columns = a.block_columns;
@@ -83,6 +85,9 @@ void add_build_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--storage", args->storage, "Precision of the stored data: f32 or f16")->capture_default_str();
   cmd->add_option("--max-iterations", args->max_iterations, "Optimiser iteration limit")->capture_default_str();
+  cmd->add_option("--starts", args->starts,
+                  "Optimiser starts (the PCA start and rescaled copies; the best wins). Default: 3 "
+                  "for q <= 2, where the likelihood has several maxima, else 1");
   cmd->add_option("--tolerance", args->tolerance, "Optimiser relative tolerance")->capture_default_str();
   cmd->add_option("--block-columns", args->block_columns, "Columns per streamed block")->capture_default_str();
   cmd->add_flag("--quiet", args->quiet, "No progress output");
