@@ -3,13 +3,12 @@
 #include <bit>
 #include <cmath>
 
-#include <cblas.h>
-
 #include "brdf/albedo_operator.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "manifold/block_centring.h"
 #include "manifold/column_blocks.h"
+#include "manifold/gram_update.h"
 
 namespace matlas {
 
@@ -60,14 +59,6 @@ std::vector<double> cosine_weights(const MerlDims& dims) {
   return w;
 }
 
-/// S += A A^T for row-major A (n x k), upper triangle, via OpenBLAS dsyrk.
-void add_gram(const BlockMatrix& a, Eigen::MatrixXd& s) {
-  if (a.cols() == 0) return;
-  cblas_dsyrk(CblasColMajor, CblasUpper, CblasTrans, static_cast<int>(a.rows()),
-              static_cast<int>(a.cols()), 1.0, a.data(), static_cast<int>(a.cols()), 1.0, s.data(),
-              static_cast<int>(s.rows()));
-}
-
 /// Albedo-operator entries touching a block: column j of the block contributes weight * value
 /// to albedo slot (theta bin * 3 + channel).
 struct AlbedoEntry {
@@ -110,13 +101,6 @@ GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout
   Eigen::RowVectorXd albedo_of_mean = Eigen::RowVectorXd::Zero(90 * 3);
   BlockMatrix transformed;
   Eigen::RowVectorXd block_mean, transformed_mean;
-  // The reader thread streams the next block while this thread computes on the current one: one
-  // core each. OpenBLAS's own threads would only compete with the reader (and spin).
-  struct BlasThreads {
-    int saved = openblas_get_num_threads();
-    BlasThreads() { openblas_set_num_threads(1); }
-    ~BlasThreads() { openblas_set_num_threads(saved); }
-  } single_threaded_blas;
   BlockOptions options;
   options.block_columns = block_columns;
   options.label = "pass 1/2: gram";
@@ -137,10 +121,10 @@ GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout
         }
       });
       centre_kept_columns(transformed, block.kept, transformed_mean);
-      add_gram(transformed, r.layout_gram);
+      add_gram_upper(transformed, r.layout_gram);
     }
     centre_kept_columns(block.values, block.kept, block_mean);
-    add_gram(block.values, r.gram);
+    add_gram_upper(block.values, r.gram);
     for (std::size_t j = 0; j < block.count; ++j)
       if (block.kept[j]) {
         r.kept[block.first + j] = true;
@@ -161,8 +145,8 @@ GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout
   if (r.kept_columns == 0)
     throw Error("no column is measured in every material: the inputs have no common measurements");
   r.mean = Eigen::Map<const Eigen::VectorXd>(mean.data(), static_cast<Eigen::Index>(mean.size()));
-  r.gram.triangularView<Eigen::StrictlyLower>() = r.gram.transpose();
-  if (separate_layout) r.layout_gram.triangularView<Eigen::StrictlyLower>() = r.layout_gram.transpose();
+  symmetrize_from_upper(r.gram);
+  if (separate_layout) symmetrize_from_upper(r.layout_gram);
   else r.layout_gram = r.gram;
   return r;
 }

@@ -1,0 +1,17 @@
+#pragma once
+// S += A A^T for a row-major block A (n materials x k columns): the Gram update of a build pass.
+// OpenBLAS's dsyrk does not speed up with threads for this thin shape (n ~ 100, k ~ 30000), so the
+// k columns are split over the workers, each running a single-threaded dsyrk into its own n x n
+// accumulator; the partial results are summed. Only the upper triangle of S is updated.
+#include <Eigen/Core>
+
+#include "manifold/column_blocks.h"
+
+namespace matlas {
+
+void add_gram_upper(const BlockMatrix& a, Eigen::MatrixXd& upper);
+
+/// Copies the upper triangle of S into its lower triangle.
+void symmetrize_from_upper(Eigen::MatrixXd& s);
+
+}  // namespace matlas
