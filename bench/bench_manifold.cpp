@@ -139,7 +139,7 @@ void BM_TableAtXVsStreamingRead(benchmark::State& state) {
     parallel_for(0, worker_count(), [&](std::size_t lo, std::size_t hi) {
       for (std::size_t t = lo; t < hi; ++t) {
         const std::size_t a = floats * t / worker_count(), b = floats * (t + 1) / worker_count();
-        const float* p = m.centred_f32(0);
+        const float* p = m.data_f32(0);
         float s0 = 0, s1 = 0, s2 = 0, s3 = 0;
         std::size_t i = a;
         for (; i + 4 <= b; i += 4) {

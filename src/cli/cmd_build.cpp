@@ -19,7 +19,7 @@ struct BuildArgs {
   int dim = 2;
   double nugget = 1e-4;
   std::string optimizer = "lbfgs";
-  std::string layout = "linear";
+  std::string layout = "cosine-linear";  // best in docs/EVALUATION.md
   std::string storage = "f32";
   int max_iterations = 1000;
   int starts = 0;  ///< 0: 3 for q <= 2 (the likelihood is multimodal there), else 1

@@ -76,7 +76,7 @@ std::vector<std::size_t> count_negative_values(const Model& model, const Eigen::
   const Eigen::Index m = weights.cols();
   const std::size_t values = 3 * model.dims().bins();
   const Eigen::MatrixXd wt = weights.transpose();  // m x n
-  const bool f32 = model.kept_columns() > 0 && model.centred_f32(0) != nullptr;
+  const bool f32 = model.kept_columns() > 0 && model.data_f32(0) != nullptr;
   std::vector<std::size_t> total(static_cast<std::size_t>(m), 0);
   std::mutex mutex;
   constexpr std::size_t kChunk = 8192;
@@ -92,9 +92,9 @@ std::vector<std::size_t> count_negative_values(const Model& model, const Eigen::
         const int c = model.column_of(v);
         if (c < 0) continue;
         if (f32) {
-          const float* p = model.centred_f32(static_cast<std::size_t>(c));
-          for (int i = 0; i < n; ++i) z(i, cols) = p[i];
+          const float* p = model.data_f32(static_cast<std::size_t>(c));
           mean(cols) = model.mean(static_cast<std::size_t>(c));
+          for (int i = 0; i < n; ++i) z(i, cols) = static_cast<double>(p[i]) - mean(cols);
         } else {
           for (int i = 0; i < n; ++i) z(i, cols) = model.value(v, Eigen::VectorXd::Unit(n, i)) - model.value(v, Eigen::VectorXd::Zero(n));
           mean(cols) = model.value(v, Eigen::VectorXd::Zero(n));
@@ -141,9 +141,10 @@ InterpolationCheck check_interpolation(const Model& model, const MaterialSet& se
           if ((c >= 0) != static_cast<bool>(block.kept[j])) ++r.column_mismatches;
           if (c < 0 || !block.kept[j]) continue;
           const auto col = static_cast<std::size_t>(c);
-          if (const float* p = model.centred_f32(col)) {
+          if (const float* p = model.data_f32(col)) {
+            // m = (1 - sum w) mean + sum_i w_i z_i, as Model::value computes it.
             for (int i = 0; i < n; ++i) centred(i) = p[i];
-            rec = (Wt * centred).array() + static_cast<double>(model.mean(col));
+            rec = (Wt * centred).array() + (1.0 - Wt.rowwise().sum().array()) * static_cast<double>(model.mean(col));
           } else {
             for (int i = 0; i < n; ++i) rec(i) = model.value(v, W.col(i));
           }

@@ -14,7 +14,6 @@
 #include "gp/initialize.h"
 #include "gp/likelihood.h"
 #include "gp/posterior.h"
-#include "manifold/block_centring.h"
 #include "manifold/column_blocks.h"
 #include "manifold/model_format.h"
 
@@ -152,8 +151,8 @@ BuildReport build_model(const MaterialSet& set, const BuildOptions& options, con
       {"grid", {set.dims().theta_h, set.dims().theta_d, set.dims().phi_d}},
       {"kernel", {{"type", "squared-exponential"}, {"lengthscale", 1.0}, {"nugget", options.nugget}}},
       {"data_layout",
-       "centred[c, i] = z_i[v] - mean[c] for the kept column c of value index v "
-       "(value_column[v] = c; v = channel * bins + bin; physical units)"},
+       "data[c, i] = z_i[v] for the kept column c of value index v (value_column[v] = c; "
+       "v = channel * bins + bin; physical units); m(x)[v] = (1 - sum w) mean[c] + sum_i w_i data[c, i]"},
       {"storage", dtype_name(storage)},
       {"layout_transform", options.layout.to_string()},
       {"log_likelihood", report.log_likelihood},
@@ -178,7 +177,7 @@ BuildReport build_model(const MaterialSet& set, const BuildOptions& options, con
   writer.declare(model_format::kAlbedo, DType::F64, {n, 90, 3});
   writer.declare(model_format::kMean, DType::F32, {d});
   writer.declare(model_format::kValueColumn, DType::I32, {static_cast<std::int64_t>(columns.size())});
-  writer.declare(model_format::kCentred, storage, {d, n});
+  writer.declare(model_format::kData, storage, {d, n});
   writer.begin(output);
   writer.write(latent_rows.data(), latent_rows.size() * 8u);
   writer.write(gram_rows.data(), gram_rows.size() * 8u);
@@ -190,16 +189,13 @@ BuildReport build_model(const MaterialSet& set, const BuildOptions& options, con
   std::vector<float> out_f32;
   std::vector<std::uint16_t> out_f16;
   std::vector<std::uint64_t> hashes;
-  Eigen::RowVectorXd block_mean;
   std::vector<Eigen::Index> tile_columns;
   BlockOptions block_options;
   block_options.block_columns = options.block_columns;
   block_options.label = "pass 2/2: data";
   block_options.hashes = &hashes;
   for_each_column_block(set, [&](const ColumnBlock& block) {
-    // Same centring as pass 1 (same arithmetic, so the same means), then a tiled transpose of
-    // the kept columns into column-interleaved rows of n values.
-    centre_kept_columns(block.values, block.kept, block_mean);
+    // A tiled transpose of the kept columns into column-interleaved rows of n input values.
     std::size_t kept_here = 0;
     for (std::size_t j = 0; j < block.count; ++j) kept_here += block.kept[j];
     const std::size_t un = static_cast<std::size_t>(n);

@@ -31,14 +31,15 @@ struct Model::Impl {
   std::string storage;
   const float* mean = nullptr;
   const std::int32_t* value_column = nullptr;
-  const float* centred_f32 = nullptr;
-  const std::uint16_t* centred_f16 = nullptr;
+  const float* data_f32 = nullptr;
+  const std::uint16_t* data_f16 = nullptr;
   std::unique_ptr<gp::GpPosterior> posterior;
 
-  double centred_dot(std::size_t column, const Eigen::Ref<const Eigen::VectorXd>& w) const {
+  /// sum_i w_i z_i[column] over the stored inputs.
+  double data_dot(std::size_t column, const Eigen::Ref<const Eigen::VectorXd>& w) const {
     const std::size_t base = column * static_cast<std::size_t>(n);
-    if (centred_f32) return dot_f32_f64(centred_f32 + base, w.data(), n);
-    const std::uint16_t* row = centred_f16 + base;
+    if (data_f32) return dot_f32_f64(data_f32 + base, w.data(), n);
+    const std::uint16_t* row = data_f16 + base;
     double sum = 0.0;
     for (int i = 0; i < n; ++i) sum += w[i] * static_cast<double>(half_to_float(row[i]));
     return sum;
@@ -112,9 +113,9 @@ Model Model::open(const fs::path& path) {
   m->value_column = columns.data();
   const auto d = static_cast<std::int64_t>(m->kept);
   if (m->storage == "F32")
-    m->centred_f32 = f.view<float>(model_format::kCentred, DType::F32, {d, n}).data();
+    m->data_f32 = f.view<float>(model_format::kData, DType::F32, {d, n}).data();
   else if (m->storage == "F16")
-    m->centred_f16 = f.view<std::uint16_t>(model_format::kCentred, DType::F16, {d, n}).data();
+    m->data_f16 = f.view<std::uint16_t>(model_format::kData, DType::F16, {d, n}).data();
   else
     throw file_error(path, "corrupted model: unknown storage '" + m->storage + "'");
 
@@ -195,21 +196,22 @@ double Model::variance(const Eigen::Ref<const Eigen::VectorXd>& x) const {
 bool Model::kept(std::size_t v) const { return impl_->value_column[v] >= 0; }
 int Model::column_of(std::size_t v) const { return impl_->value_column[v]; }
 float Model::mean(std::size_t column) const { return impl_->mean[column]; }
-const float* Model::centred_f32(std::size_t column) const {
-  return impl_->centred_f32 ? impl_->centred_f32 + column * static_cast<std::size_t>(impl_->n) : nullptr;
+const float* Model::data_f32(std::size_t column) const {
+  return impl_->data_f32 ? impl_->data_f32 + column * static_cast<std::size_t>(impl_->n) : nullptr;
 }
 
-void Model::centred(std::size_t column, float* out) const {
+void Model::data(std::size_t column, float* out) const {
   const std::size_t base = column * static_cast<std::size_t>(impl_->n);
   for (int i = 0; i < impl_->n; ++i)
-    out[i] = impl_->centred_f32 ? impl_->centred_f32[base + static_cast<std::size_t>(i)]
-                                : half_to_float(impl_->centred_f16[base + static_cast<std::size_t>(i)]);
+    out[i] = impl_->data_f32 ? impl_->data_f32[base + static_cast<std::size_t>(i)]
+                             : half_to_float(impl_->data_f16[base + static_cast<std::size_t>(i)]);
 }
 
 double Model::value(std::size_t v, const Eigen::Ref<const Eigen::VectorXd>& w) const {
   const std::int32_t c = impl_->value_column[v];
   if (c < 0) return std::numeric_limits<double>::quiet_NaN();
-  return impl_->mean[c] + impl_->centred_dot(static_cast<std::size_t>(c), w);
+  // mean + sum_i w_i (z_i - mean), written so that w = e_i returns z_i exactly.
+  return (1.0 - w.sum()) * impl_->mean[c] + impl_->data_dot(static_cast<std::size_t>(c), w);
 }
 
 Rgb Model::bin_rgb(std::size_t bin, const Eigen::Ref<const Eigen::VectorXd>& w) const {
@@ -228,14 +230,19 @@ Rgb Model::lookup(const Vec3& wi, const Vec3& wo, const Eigen::Ref<const Eigen::
 
 BrdfTable Model::table(const Eigen::Ref<const Eigen::VectorXd>& w) const {
   if (w.size() != count()) throw Error("weight vector has the wrong length");
-  BrdfTable t(impl_->dims);
+  BrdfTable t(impl_->dims, ValueBuffer::Uninitialized{});
   const std::size_t bins = impl_->dims.bins();
+  const double mean_weight = 1.0 - w.sum();
   parallel_for(0, t.size(), [&](std::size_t lo, std::size_t hi) {
     for (std::size_t v = lo; v < hi; ++v) {
       const auto channel = static_cast<int>(v / bins);
-      const double x = value(v, w);
-      if (std::isnan(x)) t.set_missing(channel, v % bins);
-      else t.set_value(channel, v % bins, x);
+      const std::int32_t c = impl_->value_column[v];
+      if (c < 0) {
+        t.set_missing(channel, v % bins);
+        continue;
+      }
+      const auto column = static_cast<std::size_t>(c);
+      t.set_value(channel, v % bins, mean_weight * impl_->mean[column] + impl_->data_dot(column, w));
     }
   }, 65536);
   return t;

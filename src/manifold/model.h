@@ -5,9 +5,9 @@
 //     m(x) = mean + sum_i w_i(x) (z_i - mean),   w(x) = K^-1 k(x),
 //
 // where z_i are the n input tables restricted to the kept columns (columns where every input has a
-// measurement; the others read as missing). The centred data is stored column-interleaved (one
+// measurement; the others read as missing). The inputs are stored column-interleaved (one
 // contiguous run of n values per column), so a single value at x costs one dot product of length n
-// once w(x) is known.
+// once w(x) is known: m(x) = (1 - sum w) mean + sum_i w_i z_i, which returns z_i exactly at x_i.
 #include <cstddef>
 #include <filesystem>
 #include <memory>
@@ -84,12 +84,12 @@ public:
   int column_of(std::size_t value_index) const;
   /// Mean over materials of kept column c.
   float mean(std::size_t column) const;
-  /// The centred data: n contiguous values of kept column c (float32 storage), or nullptr when
-  /// the model stores float16 (use value()).
-  const float* centred_f32(std::size_t column) const;
-  /// The n centred values of kept column c, converted to float whatever the storage.
-  void centred(std::size_t column, float* out) const;
-  /// Storage precision of the centred data: "F32" or "F16".
+  /// The n input values of kept column c, contiguous (float32 storage), or nullptr when the model
+  /// stores float16 (use data()).
+  const float* data_f32(std::size_t column) const;
+  /// The n input values of kept column c, converted to float whatever the storage.
+  void data(std::size_t column, float* out) const;
+  /// Storage precision of the stored input data: "F32" or "F16".
   const std::string& storage() const;
 
 private:

@@ -3,7 +3,7 @@
 namespace matlas::model_format {
 
 inline constexpr const char* kFormatName = "matlas-model";
-inline constexpr int kVersion = 1;
+inline constexpr int kVersion = 2;
 /// Key of the JSON metadata string in the safetensors "__metadata__" map.
 inline constexpr const char* kMetadataKey = "matlas";
 
@@ -13,6 +13,6 @@ inline constexpr const char* kGram = "gram";                ///< F64 [n, n] cent
 inline constexpr const char* kAlbedo = "albedo";            ///< F64 [n, 90, 3] albedo curves
 inline constexpr const char* kMean = "mean";                ///< F32 [D'] mean of each kept column
 inline constexpr const char* kValueColumn = "value_column"; ///< I32 [3 * bins] kept column or -1
-inline constexpr const char* kCentred = "centred";          ///< F32|F16 [D', n] column-interleaved
+inline constexpr const char* kData = "data";                ///< F32|F16 [D', n] column-interleaved inputs
 
 }  // namespace matlas::model_format

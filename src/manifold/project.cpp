@@ -12,23 +12,22 @@
 
 namespace matlas {
 
-MaterialInnerProducts inner_products(const Model& model, const BrdfTable& table) {
-  if (table.dims() != model.dims())
-    throw Error("material grid " + table.dims().to_string() + " differs from the model's " +
-                model.dims().to_string());
+namespace {
+
+/// Sums f(v, column, z, out) over the kept, measured values of the table into per-thread n-vectors.
+template <class F>
+Eigen::VectorXd sum_over_values(const Model& model, const BrdfTable& table, double* norm2,
+                                std::size_t* missing, F f) {
   const int n = model.count();
-  const std::size_t bins = table.bins();
+  const std::size_t bins = table.bins(), total = table.size();
   const unsigned workers = worker_count();
-  std::vector<Eigen::VectorXd> partial_b(workers, Eigen::VectorXd::Zero(n));
-  std::vector<double> partial_c(workers, 0.0), partial_z(workers, 0.0);
+  std::vector<Eigen::VectorXd> partial(workers, Eigen::VectorXd::Zero(n));
+  std::vector<double> partial_norm(workers, 0.0);
   std::vector<std::size_t> partial_missing(workers, 0);
-  const std::size_t total = table.size();
   parallel_for(0, workers, [&](std::size_t lo, std::size_t hi) {
+    std::vector<float> row(static_cast<std::size_t>(n));
     for (std::size_t t = lo; t < hi; ++t) {
-      const std::size_t begin = total * t / workers, end = total * (t + 1) / workers;
-      Eigen::VectorXd& b = partial_b[t];
-      std::vector<float> row(static_cast<std::size_t>(n));
-      for (std::size_t v = begin; v < end; ++v) {
+      for (std::size_t v = total * t / workers; v < total * (t + 1) / workers; ++v) {
         const int c = model.column_of(v);
         if (c < 0) continue;
         const auto channel = static_cast<int>(v / bins);
@@ -37,39 +36,64 @@ MaterialInnerProducts inner_products(const Model& model, const BrdfTable& table)
           continue;
         }
         const double z = table.value(channel, v % bins);
-        const double zc = z - model.mean(static_cast<std::size_t>(c));
-        partial_c[t] += zc * zc;
-        partial_z[t] += z * z;
-        const float* data = model.centred_f32(static_cast<std::size_t>(c));
+        partial_norm[t] += z * z;
+        const float* data = model.data_f32(static_cast<std::size_t>(c));
         if (!data) {
-          model.centred(static_cast<std::size_t>(c), row.data());
+          model.data(static_cast<std::size_t>(c), row.data());
           data = row.data();
         }
-        for (int i = 0; i < n; ++i) b[i] += zc * static_cast<double>(data[i]);
+        f(static_cast<std::size_t>(c), z, data, partial[t]);
       }
     }
   });
-  MaterialInnerProducts ip;
-  ip.b = Eigen::VectorXd::Zero(n);
+  Eigen::VectorXd sum = Eigen::VectorXd::Zero(n);
+  if (norm2) *norm2 = 0;
+  if (missing) *missing = 0;
   for (unsigned t = 0; t < workers; ++t) {
-    ip.b += partial_b[t];
-    ip.centred_norm2 += partial_c[t];
-    ip.norm2 += partial_z[t];
-    ip.missing += partial_missing[t];
+    sum += partial[t];
+    if (norm2) *norm2 += partial_norm[t];
+    if (missing) *missing += partial_missing[t];
   }
+  return sum;
+}
+
+}  // namespace
+
+MaterialInnerProducts inner_products(const Model& model, const BrdfTable& table) {
+  if (table.dims() != model.dims())
+    throw Error("material grid " + table.dims().to_string() + " differs from the model's " +
+                model.dims().to_string());
+  const int n = model.count();
+  MaterialInnerProducts ip;
+  ip.distance2 = sum_over_values(model, table, &ip.norm2, &ip.missing,
+                                 [n](std::size_t, double z, const float* data, Eigen::VectorXd& out) {
+                                   for (int i = 0; i < n; ++i) {
+                                     const double d = z - static_cast<double>(data[i]);
+                                     out[i] += d * d;
+                                   }
+                                 });
+  ip.distance2.minCoeff(&ip.anchor);
+  const int j = ip.anchor;
+  ip.g = sum_over_values(model, table, nullptr, nullptr,
+                         [&](std::size_t c, double z, const float* data, Eigen::VectorXd& out) {
+                           const double diff = z - static_cast<double>(data[j]);
+                           const double mean = model.mean(c);
+                           for (int i = 0; i < n; ++i) out[i] += diff * (static_cast<double>(data[i]) - mean);
+                         });
   return ip;
 }
 
 double projection_residual(const Model& model, const MaterialInnerProducts& ip,
                            const Eigen::VectorXd& x, Eigen::VectorXd* gradient) {
   const Eigen::MatrixXd& s = model.gram();
-  const Eigen::VectorXd w = model.weights(x);
-  const Eigen::VectorXd sw = s * w;
-  const double r = ip.centred_norm2 - 2.0 * w.dot(ip.b) + w.dot(sw);
+  Eigen::VectorXd u = model.weights(x);
+  u[ip.anchor] -= 1.0;
+  const Eigen::VectorXd su = s * u;
+  const double r = ip.distance2[ip.anchor] - 2.0 * u.dot(ip.g) + u.dot(su);
   if (gradient) {
-    // dr/dx = sum_i g_i dk_i/dx with g = K^-1 (2 S w - 2 b), dk_i/dx = -2 (x - x_i) k_i / l^2.
+    // dr/dx = sum_i g_i dk_i/dx with g = K^-1 (2 S u - 2 g), dk_i/dx = -2 (x - x_i) k_i / l^2.
     const gp::GpPosterior& post = model.posterior();
-    const Eigen::VectorXd g = post.cholesky().solve(2.0 * (sw - ip.b));
+    const Eigen::VectorXd g = post.cholesky().solve(2.0 * (su - ip.g));
     const Eigen::MatrixXd& xs = model.latent();
     const double l2 = post.kernel().lengthscale * post.kernel().lengthscale;
     gradient->setZero(x.size());
@@ -84,13 +108,11 @@ double projection_residual(const Model& model, const MaterialInnerProducts& ip,
 
 Projection project_material(const Model& model, const BrdfTable& table, int starts) {
   const MaterialInnerProducts ip = inner_products(model, table);
-  const Eigen::MatrixXd& s = model.gram();
   const int n = model.count();
   Projection p;
   p.missing = ip.missing;
-  // Nearest materials in data space: |z - z_i|^2 = |z-mean|^2 - 2 b_i + S_ii.
-  std::vector<double> d2(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) d2[static_cast<std::size_t>(i)] = std::max(0.0, ip.centred_norm2 - 2.0 * ip.b[i] + s(i, i));
+  // Nearest materials in data space.
+  std::vector<double> d2(ip.distance2.data(), ip.distance2.data() + n);
   std::vector<int> order(static_cast<std::size_t>(n));
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](int a, int b) { return d2[static_cast<std::size_t>(a)] < d2[static_cast<std::size_t>(b)]; });
@@ -129,7 +151,9 @@ Projection project_material(const Model& model, const BrdfTable& table, int star
     try {
       solver.minimize(objective, x, fx);
     } catch (const std::exception&) {
-      // A failed line search still leaves x at its best point so far.
+      // A failed line search leaves x at its last point, which may have left the finite range
+      // (a step into a flat region): keep it only if it is a usable point.
+      if (!x.allFinite()) continue;
       Eigen::VectorXd g;
       fx = objective(x, g);
     }

@@ -2,10 +2,12 @@
 // Projection of a new measured material onto a model's map: the latent point x whose BRDF m(x)
 // is closest (L2 over the model's kept columns) to the material.
 //
-// One pass over the file computes b_i = <z - mean, z_i - mean> and |z - mean|^2; after that the
-// residual of any x is |z - m(x)|^2 = |z - mean|^2 - 2 w(x)^T b + w(x)^T S w(x) with the model's
-// Gram S, so the search runs entirely in n-space: L-BFGS with the analytic gradient, started
-// from the latent points of the nearest materials.
+// Two passes over the table: the first measures d_i = |z - z_i|^2 for every input and picks the
+// nearest input j; the second computes g_i = <z - z_j, z_i - mean>. With u = w(x) - e_j the
+// residual of any x is then |z - m(x)|^2 = d_j - 2 u^T g + u^T S u (S the model's centred Gram),
+// anchored at the nearest input so that no large terms cancel; the search runs entirely in
+// n-space: L-BFGS with the analytic gradient, started from the latent points of the nearest
+// materials.
 #include <filesystem>
 #include <string>
 
@@ -17,8 +19,9 @@ namespace matlas {
 
 /// What the pass over a material measures against a model.
 struct MaterialInnerProducts {
-  Eigen::VectorXd b;            ///< <z - mean, z_i - mean> over the kept columns
-  double centred_norm2 = 0;     ///< |z - mean|^2
+  Eigen::VectorXd distance2;    ///< d_i = |z - z_i|^2 over the kept columns
+  int anchor = 0;               ///< j, the nearest input
+  Eigen::VectorXd g;            ///< g_i = <z - z_j, z_i - mean>
   double norm2 = 0;             ///< |z|^2 (for relative errors)
   std::size_t missing = 0;      ///< kept columns the material has no measurement for (skipped)
 };

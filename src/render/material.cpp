@@ -24,9 +24,9 @@ void ModelBank::eval_all(const Vec3& wi, const Vec3& wo, double* out) const {
       continue;
     }
     const double mean = model_.mean(static_cast<std::size_t>(col));
-    model_.centred(static_cast<std::size_t>(col), run.data());
+    model_.data(static_cast<std::size_t>(col), run.data());
     out[c] = mean;
-    for (int i = 0; i < n; ++i) out[3 * (i + 1) + c] = mean + static_cast<double>(run[static_cast<std::size_t>(i)]);
+    for (int i = 0; i < n; ++i) out[3 * (i + 1) + c] = static_cast<double>(run[static_cast<std::size_t>(i)]);
   }
 }
 

@@ -273,3 +273,28 @@ TEST(BuildModel, ExportClampsNegativeValues) {
 
 }  // namespace
 }  // namespace matlas
+
+namespace matlas {
+namespace {
+
+TEST(BuildModel, DarkMaterialsBesideABrightOneAreReproducedAndProjectedExactly) {
+  // A mirror-like table 10^4 times brighter than the others dominates the mean: storing the
+  // inputs (not the centred data) keeps the dark ones exact at their own points.
+  test::TempDir dir;
+  auto paths = test::write_database(dir / "db", 5);
+  BrdfTable bright = test::smooth_table(0.9, 0.1);
+  for (double& v : bright.stored()) v *= 1e4;
+  write_merl(dir / "db" / "zz-bright.binary", bright, true);
+  build_model(MaterialSet::open({dir / "db"}), small_options(), dir / "m.matlas");
+  const Model m = Model::open(dir / "m.matlas");
+  for (int i = 0; i < 5; ++i) {
+    const BrdfTable input = read_merl(paths[static_cast<std::size_t>(i)]);
+    EXPECT_LE(relative_l2(m.table(m.weights(m.latent().row(i).transpose())), input, m), 1e-6);
+    const Projection p = project_material(m, input);
+    EXPECT_EQ(p.nearest, i);
+    EXPECT_LT(p.relative_error, 1e-6);
+  }
+}
+
+}  // namespace
+}  // namespace matlas
