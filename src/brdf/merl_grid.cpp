@@ -87,6 +87,17 @@ HalfDiffAngles bin_centre(const MerlDims& dims, int i, int j, int k) {
   return a;
 }
 
+std::vector<double> bin_cosine_factors(const MerlDims& dims) {
+  std::vector<double> c(dims.bins());
+  for (int i = 0; i < dims.theta_h; ++i)
+    for (int j = 0; j < dims.theta_d; ++j)
+      for (int k = 0; k < dims.phi_d; ++k) {
+        const DirectionPair d = from_half_diff(bin_centre(dims, i, j, k));
+        c[dims.flat(i, j, k)] = std::max(0.0, d.wi.z()) * std::max(0.0, d.wo.z());
+      }
+  return c;
+}
+
 std::size_t bin_of(const MerlDims& dims, const Vec3& wi, const Vec3& wo) {
   const HalfDiffAngles a = to_half_diff(wi, wo);
   return dims.flat(theta_h_index(a.theta_h, dims.theta_h), theta_d_index(a.theta_d, dims.theta_d),

@@ -8,6 +8,7 @@
 // (i * N_d + j) * N_phi + k, as in MERL's reference reader.
 #include <cstddef>
 #include <string>
+#include <vector>
 
 #include "brdf/types.h"
 
@@ -65,6 +66,10 @@ double theta_d_centre(int j, int n_theta_d);
 double phi_d_centre(int k, int n_phi_d);
 /// The half/difference angles at the centre of bin (i, j, k), with phi_h = 0.
 HalfDiffAngles bin_centre(const MerlDims& dims, int i, int j, int k);
+
+/// cos(theta_i) cos(theta_o) at each bin centre (0 below the horizon), by flat bin index: the
+/// cosine weighting of perceptual metrics and layout transforms.
+std::vector<double> bin_cosine_factors(const MerlDims& dims);
 
 /// The bin holding (wi, wo), as the flat index of MerlDims::flat.
 std::size_t bin_of(const MerlDims& dims, const Vec3& wi, const Vec3& wo);

@@ -6,17 +6,6 @@
 
 namespace matlas::eval {
 
-std::vector<double> bin_cosine_factors(const MerlDims& dims) {
-  std::vector<double> c(dims.bins());
-  for (int i = 0; i < dims.theta_h; ++i)
-    for (int j = 0; j < dims.theta_d; ++j)
-      for (int k = 0; k < dims.phi_d; ++k) {
-        const DirectionPair d = from_half_diff(bin_centre(dims, i, j, k));
-        c[dims.flat(i, j, k)] = std::max(0.0, d.wi.z()) * std::max(0.0, d.wo.z());
-      }
-  return c;
-}
-
 BrdfDistance DistanceSums::finish() const {
   BrdfDistance d;
   d.values = values;

@@ -22,8 +22,9 @@
 
 namespace matlas::eval {
 
-/// c_b = max(0, cos(theta_i) cos(theta_o)) at the centre of every bin (phi_h = 0), flat order.
-std::vector<double> bin_cosine_factors(const MerlDims& dims);
+/// c_b = max(0, cos(theta_i) cos(theta_o)) at the centre of every bin: matlas::bin_cosine_factors
+/// (brdf/merl_grid.h).
+using matlas::bin_cosine_factors;
 
 /// The two distances between a pair of tables.
 struct BrdfDistance {

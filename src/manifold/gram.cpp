@@ -47,18 +47,6 @@ inline double fast_cbrt(double x) {
   return y;
 }
 
-/// cos(theta_i) cos(theta_o) at each bin centre (0 below the horizon).
-std::vector<double> cosine_weights(const MerlDims& dims) {
-  std::vector<double> w(dims.bins());
-  for (int i = 0; i < dims.theta_h; ++i)
-    for (int j = 0; j < dims.theta_d; ++j)
-      for (int k = 0; k < dims.phi_d; ++k) {
-        const DirectionPair d = from_half_diff(bin_centre(dims, i, j, k));
-        w[dims.flat(i, j, k)] = std::max(0.0, d.wi.z()) * std::max(0.0, d.wo.z());
-      }
-  return w;
-}
-
 /// Albedo-operator entries touching a block: column j of the block contributes weight * value
 /// to albedo slot (theta bin * 3 + channel).
 struct AlbedoEntry {
@@ -94,7 +82,7 @@ GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout
   mean.reserve(set.value_count());
 
   const auto albedo_op = albedo_operator(dims, 90);
-  const std::vector<double> cos_w = layout.cosine_weighted ? cosine_weights(dims) : std::vector<double>{};
+  const std::vector<double> cos_w = layout.cosine_weighted ? bin_cosine_factors(dims) : std::vector<double>{};
 
   using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   RowMajor albedo_centred = RowMajor::Zero(n, 90 * 3);
