@@ -182,8 +182,12 @@ void add_evaluate_command(CLI::App& app) {
     for (const auto& o : cmd->get_options())
       if (o->count() > 0) {
         if (o->get_name() == "input") args->command_line += " " + args->input;
-        else args->command_line += " " + o->get_name(false, true).substr(0, o->get_name(false, true).find(',')) +
-                                   (o->get_expected_min() > 0 ? " " + o->as<std::string>() : "");
+        else {
+          std::string values;  // every value given (a vector option has several)
+          for (const auto& r : o->results()) values += (values.empty() ? "" : ",") + r;
+          args->command_line += " " + o->get_name(false, true).substr(0, o->get_name(false, true).find(',')) +
+                                (o->get_expected_min() > 0 ? " " + values : "");
+        }
       }
     run_evaluate(*args);
   });
