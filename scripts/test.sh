@@ -10,6 +10,8 @@ cd "$repo"
 [[ -x build/matlas ]] || { echo "test: build/matlas is missing: run scripts/setup.sh first" >&2; exit 1; }
 
 jobs=$(nproc)
+# Tests that use the installed environment maps and meshes find them here (setup.sh installs them).
+[[ -d assets ]] && export MATLAS_ASSETS="$repo/assets"
 cmake --build build -j "$jobs"
 ctest --test-dir build --output-on-failure -j "$jobs"
 
