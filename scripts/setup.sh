@@ -12,7 +12,7 @@ packages=(
   liblbfgspp-dev libtinyexr-dev libopenexr-dev libdraco-dev libstb-dev libembree-dev libtbb-dev
   libtinygltf-dev
   libgtest-dev libbenchmark-dev
-  nodejs npm chromium fonts-dejavu-core
+  nodejs npm chromium fonts-dejavu-core libjs-chart.js
 )
 missing=()
 for p in "${packages[@]}"; do
