@@ -13,6 +13,7 @@
 
 #include "brdf/catalog.h"
 #include "cli/commands.h"
+#include "cli/serve_options.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/progress.h"
@@ -126,17 +127,8 @@ void run_demo(const DemoArgs& a) {
     return;
   }
 
-  server::ServerOptions so;
-  so.host = a.host;
-  so.port = a.port;
-  so.web_root = a.web_root;
-  if (a.log)
-    so.log = [](const std::string& method, const std::string& path, int status, double ms) {
-      std::fprintf(stderr, "%s %s %d %.1f ms\n", method.c_str(), path.c_str(), status, ms);
-    };
-  server::AtlasServer srv(model, previews, so);
-  if (!srv.web_root())
-    std::fprintf(stderr, "note: the web UI is not built (run `npm ci && npm run build` in web/); serving the API only\n");
+  server::AtlasServer srv(model, previews, server_options(a.host, a.port, a.web_root, a.log));
+  note_missing_web_ui(srv);
   server::serve_until_signal(srv, [&](const std::string& url) {
     std::printf("matlas demo: open %s  (%d materials; Ctrl-C stops)\n", url.c_str(), model.count());
     std::fflush(stdout);

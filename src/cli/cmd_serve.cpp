@@ -4,6 +4,7 @@
 #include <string>
 
 #include "cli/commands.h"
+#include "cli/serve_options.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "manifold/model.h"
@@ -44,18 +45,10 @@ void run_serve(const ServeArgs& a) {
                  po.cache_dir.string().c_str());
     previews->prepare_default(progress);
   }
-  server::ServerOptions so;
-  so.host = a.host;
-  so.port = a.port;
-  so.web_root = a.web_root;
+  server::ServerOptions so = server_options(a.host, a.port, a.web_root, a.log);
   so.threads = a.threads;
-  if (a.log)
-    so.log = [](const std::string& method, const std::string& path, int status, double ms) {
-      std::fprintf(stderr, "%s %s %d %.1f ms\n", method.c_str(), path.c_str(), status, ms);
-    };
   server::AtlasServer srv(model, previews, so);
-  if (!srv.web_root())
-    std::fprintf(stderr, "note: the web UI is not built (run `npm ci && npm run build` in web/); serving the API only\n");
+  note_missing_web_ui(srv);
   server::serve_until_signal(srv, [&](const std::string& url) {
     std::printf("matlas: serving %s (%d materials, q = %d) at %s\n", model.path().filename().string().c_str(),
                 model.count(), model.dim(), url.c_str());
