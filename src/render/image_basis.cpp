@@ -28,7 +28,18 @@ namespace matlas::render {
 namespace {
 
 constexpr const char* kFormat = "matlas-image-basis";
-constexpr std::size_t kChunk = 2048;  // packed floats per accumulation block (8 KiB)
+// Values are stored in tiles of kChunk packed floats: tile t holds rows 0..rows-1 of packed
+// entries [t * kChunk, (t + 1) * kChunk), one after the other, so one tile of a composition reads
+// one contiguous stretch of memory (the hardware prefetchers follow it across pages) instead of
+// n short runs scattered over n rows.
+constexpr std::size_t kChunk = 2048;  // packed floats per tile row (8 KiB of float32 accumulator)
+
+std::size_t tile_count(std::size_t packed) { return (packed + kChunk - 1) / kChunk; }
+
+/// Position of packed entry k of row `row` in tiled storage of `rows` rows.
+std::size_t tiled(std::size_t row, std::size_t k, std::size_t rows) {
+  return (k / kChunk) * kChunk * rows + row * kChunk + k % kChunk;
+}
 
 const float* half_table() {
   static const std::vector<float> table = [] {
@@ -63,37 +74,57 @@ void accumulate_f16_portable(const std::uint16_t* values, std::size_t stride, st
 }
 
 #ifdef MATLAS_X86
+// The AVX2 kernels add four rows per pass over the accumulator (one load and one store of acc
+// per four products), which keeps them memory-bound rather than bound by L1 traffic.
+template <class Load>
+__attribute__((target("avx2,fma"), always_inline)) inline void accumulate_rows_avx2(Load load, std::size_t len,
+                                                                                  const float* w, int n, float* acc) {
+  int i = 0;
+  for (; i + 4 <= n; i += 4) {
+    const __m256 w0 = _mm256_set1_ps(w[i]), w1 = _mm256_set1_ps(w[i + 1]), w2 = _mm256_set1_ps(w[i + 2]),
+                 w3 = _mm256_set1_ps(w[i + 3]);
+    for (std::size_t j = 0; j + 8 <= len; j += 8) {
+      __m256 a = _mm256_loadu_ps(acc + j);
+      a = _mm256_fmadd_ps(w0, load(i, j), a);
+      a = _mm256_fmadd_ps(w1, load(i + 1, j), a);
+      a = _mm256_fmadd_ps(w2, load(i + 2, j), a);
+      a = _mm256_fmadd_ps(w3, load(i + 3, j), a);
+      _mm256_storeu_ps(acc + j, a);
+    }
+  }
+  for (; i < n; ++i) {
+    const __m256 wi = _mm256_set1_ps(w[i]);
+    for (std::size_t j = 0; j + 8 <= len; j += 8)
+      _mm256_storeu_ps(acc + j, _mm256_fmadd_ps(wi, load(i, j), _mm256_loadu_ps(acc + j)));
+  }
+}
+
 __attribute__((target("avx2,fma"))) void accumulate_f32_avx2(const float* values, std::size_t stride,
                                                              std::size_t begin, std::size_t len, const float* w,
                                                              int n, float* acc) {
-  for (int i = 0; i < n; ++i) {
-    const float wi = w[i];
-    if (wi == 0.0f) continue;
-    const float* row = values + static_cast<std::size_t>(i) * stride + begin;
-    const __m256 wv = _mm256_set1_ps(wi);
-    std::size_t j = 0;
-    for (; j + 8 <= len; j += 8)
-      _mm256_storeu_ps(acc + j, _mm256_fmadd_ps(wv, _mm256_loadu_ps(row + j), _mm256_loadu_ps(acc + j)));
-    for (; j < len; ++j) acc[j] += wi * row[j];
-  }
+  const std::size_t vec = len / 8 * 8;
+  accumulate_rows_avx2(
+      [&](int i, std::size_t j) __attribute__((target("avx2,fma"))) {
+        return _mm256_loadu_ps(values + static_cast<std::size_t>(i) * stride + begin + j);
+      },
+      vec, w, n, acc);
+  for (int i = 0; i < n; ++i)
+    for (std::size_t j = vec; j < len; ++j) acc[j] += w[i] * values[static_cast<std::size_t>(i) * stride + begin + j];
 }
 
 __attribute__((target("avx2,fma,f16c"))) void accumulate_f16_f16c(const std::uint16_t* values, std::size_t stride,
                                                                   std::size_t begin, std::size_t len, const float* w,
                                                                   int n, float* acc) {
+  const std::size_t vec = len / 8 * 8;
+  accumulate_rows_avx2(
+      [&](int i, std::size_t j) __attribute__((target("avx2,fma,f16c"))) {
+        return _mm256_cvtph_ps(
+            _mm_loadu_si128(reinterpret_cast<const __m128i*>(values + static_cast<std::size_t>(i) * stride + begin + j)));
+      },
+      vec, w, n, acc);
   const float* table = half_table();
-  for (int i = 0; i < n; ++i) {
-    const float wi = w[i];
-    if (wi == 0.0f) continue;
-    const std::uint16_t* row = values + static_cast<std::size_t>(i) * stride + begin;
-    const __m256 wv = _mm256_set1_ps(wi);
-    std::size_t j = 0;
-    for (; j + 8 <= len; j += 8) {
-      const __m256 x = _mm256_cvtph_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(row + j)));
-      _mm256_storeu_ps(acc + j, _mm256_fmadd_ps(wv, x, _mm256_loadu_ps(acc + j)));
-    }
-    for (; j < len; ++j) acc[j] += wi * table[row[j]];
-  }
+  for (int i = 0; i < n; ++i)
+    for (std::size_t j = vec; j < len; ++j) acc[j] += w[i] * table[values[static_cast<std::size_t>(i) * stride + begin + j]];
 }
 
 bool cpu_has_avx2_fma() {
@@ -165,13 +196,14 @@ void ImageBasis::pack(const float* mean, const std::vector<const float*>& images
   }
   packed_ = 3 * active_.size();
   packed_mean_.resize(packed_);
-  values_f32_.assign(static_cast<std::size_t>(n_) * packed_, 0.0f);
+  values_f32_.assign(static_cast<std::size_t>(n_) * tile_count(packed_) * kChunk, 0.0f);
   values_f16_.clear();
   precision_ = BasisPrecision::f32;
   for (std::size_t a = 0; a < active_.size(); ++a)
     for (std::size_t c = 0; c < 3; ++c) {
       packed_mean_[3 * a + c] = mean[3 * active_[a] + c];
-      for (std::size_t i = 0; i < images.size(); ++i) values_f32_[i * packed_ + 3 * a + c] = images[i][3 * active_[a] + c];
+      for (std::size_t i = 0; i < images.size(); ++i)
+        values_f32_[tiled(i, 3 * a + c, images.size())] = images[i][3 * active_[a] + c];
     }
   rank_ = 0;
   factors_.clear();
@@ -203,10 +235,10 @@ double ImageBasis::convert_to_half() {
 
 void ImageBasis::unpack_into(int i, float* rgb) const {
   std::copy(mean_.begin(), mean_.end(), rgb);
-  const std::size_t base = static_cast<std::size_t>(i) * packed_;
+  const auto rows = static_cast<std::size_t>(n_);
   for (std::size_t a = 0; a < active_.size(); ++a)
     for (std::size_t c = 0; c < 3; ++c) {
-      const std::size_t k = base + 3 * a + c;
+      const std::size_t k = tiled(static_cast<std::size_t>(i), 3 * a + c, rows);
       rgb[3 * active_[a] + c] = precision_ == BasisPrecision::f32 ? values_f32_[k] : half_to_float(values_f16_[k]);
     }
 }
@@ -226,31 +258,36 @@ Image ImageBasis::material_image(int i) const {
 
 // --- composition ------------------------------------------------------------------------------
 
-void ImageBasis::compose(const Eigen::Ref<const Eigen::VectorXd>& w, float* rgb) const {
-  if (w.size() != n_)
-    throw Error("image basis: weight vector has " + std::to_string(w.size()) + " entries, expected " +
-                std::to_string(n_));
-  // I(w) = (1 - sum w) I_mean + sum_i w_i I_i on the active pixels, I_mean elsewhere.
-  std::vector<float> wf(static_cast<std::size_t>(n_));
-  for (int i = 0; i < n_; ++i) wf[static_cast<std::size_t>(i)] = static_cast<float>(w[i]);
-  const auto mean_weight = static_cast<float>(1.0 - w.sum());
-  const std::size_t chunks = (packed_ + kChunk - 1) / kChunk;
+void ImageBasis::compose_tiles(const float* w, std::size_t rows, float mean_weight, const float* f32,
+                               const std::uint16_t* f16, float* rgb) const {
+  // rgb = mean_weight * mean + sum_r w[r] * row_r on the active pixels, the full-image mean elsewhere.
   std::copy(mean_.begin(), mean_.end(), rgb);
-  parallel_for(0, chunks, [&](std::size_t c0, std::size_t c1) {
+  const int n = static_cast<int>(rows);
+  parallel_for(0, tile_count(packed_), [&](std::size_t t0, std::size_t t1) {
     alignas(64) float acc[kChunk];
-    for (std::size_t chunk = c0; chunk < c1; ++chunk) {
-      const std::size_t begin = chunk * kChunk, len = std::min(kChunk, packed_ - begin);
+    for (std::size_t t = t0; t < t1; ++t) {
+      const std::size_t begin = t * kChunk, len = std::min(kChunk, packed_ - begin), base = t * kChunk * rows;
       for (std::size_t j = 0; j < len; ++j) acc[j] = mean_weight * packed_mean_[begin + j];
-      if (precision_ == BasisPrecision::f32)
-        accumulate_f32(values_f32_.data(), packed_, begin, len, wf.data(), n_, acc);
-      else
-        accumulate_f16(values_f16_.data(), packed_, begin, len, wf.data(), n_, acc);
+      if (f16) accumulate_f16(f16 + base, kChunk, 0, len, w, n, acc);
+      else accumulate_f32(f32 + base, kChunk, 0, len, w, n, acc);
       for (std::size_t j = 0; j < len; ++j) {
         const std::size_t k = begin + j;
         rgb[3 * static_cast<std::size_t>(active_[k / 3]) + k % 3] = acc[j];
       }
     }
   }, 8);
+}
+
+void ImageBasis::compose(const Eigen::Ref<const Eigen::VectorXd>& w, float* rgb) const {
+  if (w.size() != n_)
+    throw Error("image basis: weight vector has " + std::to_string(w.size()) + " entries, expected " +
+                std::to_string(n_));
+  // I(w) = (1 - sum w) I_mean + sum_i w_i I_i.
+  std::vector<float> wf(static_cast<std::size_t>(n_));
+  for (int i = 0; i < n_; ++i) wf[static_cast<std::size_t>(i)] = static_cast<float>(w[i]);
+  const bool half = precision_ == BasisPrecision::f16;
+  compose_tiles(wf.data(), static_cast<std::size_t>(n_), static_cast<float>(1.0 - w.sum()),
+                half ? nullptr : values_f32_.data(), half ? values_f16_.data() : nullptr, rgb);
 }
 
 Image ImageBasis::compose(const Eigen::Ref<const Eigen::VectorXd>& w) const {
@@ -262,23 +299,11 @@ Image ImageBasis::compose(const Eigen::Ref<const Eigen::VectorXd>& w) const {
 void ImageBasis::compose_low_rank(const Eigen::Ref<const Eigen::VectorXd>& w, float* rgb) const {
   if (rank_ == 0) return compose(w, rgb);
   if (w.size() != n_) throw Error("image basis: weight vector has the wrong length");
+  // I(w) ~ I_mean + sum_k c_k F_k with c = C^T w.
   const Eigen::VectorXd c = coefficients_.transpose() * w;
   std::vector<float> cf(static_cast<std::size_t>(rank_));
   for (int k = 0; k < rank_; ++k) cf[static_cast<std::size_t>(k)] = static_cast<float>(c[k]);
-  const std::size_t chunks = (packed_ + kChunk - 1) / kChunk;
-  std::copy(mean_.begin(), mean_.end(), rgb);
-  parallel_for(0, chunks, [&](std::size_t c0, std::size_t c1) {
-    alignas(64) float acc[kChunk];
-    for (std::size_t chunk = c0; chunk < c1; ++chunk) {
-      const std::size_t begin = chunk * kChunk, len = std::min(kChunk, packed_ - begin);
-      std::copy_n(packed_mean_.data() + begin, len, acc);
-      accumulate_f32(factors_.data(), packed_, begin, len, cf.data(), rank_, acc);
-      for (std::size_t j = 0; j < len; ++j) {
-        const std::size_t k = begin + j;
-        rgb[3 * static_cast<std::size_t>(active_[k / 3]) + k % 3] = acc[j];
-      }
-    }
-  }, 8);
+  compose_tiles(cf.data(), static_cast<std::size_t>(rank_), 1.0f, factors_.data(), nullptr, rgb);
 }
 
 Image ImageBasis::compose_low_rank(const Eigen::Ref<const Eigen::VectorXd>& w) const {
@@ -292,13 +317,13 @@ Image ImageBasis::compose_low_rank(const Eigen::Ref<const Eigen::VectorXd>& w) c
 LowRankReport ImageBasis::compress(double tolerance, int max_rank) {
   if (!(tolerance >= 0)) throw Error("image basis: low-rank tolerance must be >= 0");
   const int n = n_;
-  const std::size_t blocks = (packed_ + kChunk - 1) / kChunk;
+  const std::size_t blocks = tile_count(packed_);
   auto centred_block = [&](std::size_t b, Eigen::MatrixXd& block) {
     const std::size_t begin = b * kChunk, len = std::min(kChunk, packed_ - begin);
     block.resize(n, static_cast<Eigen::Index>(len));
     for (int i = 0; i < n; ++i)
       for (std::size_t j = 0; j < len; ++j) {
-        const std::size_t k = static_cast<std::size_t>(i) * packed_ + begin + j;
+        const std::size_t k = tiled(static_cast<std::size_t>(i), begin + j, static_cast<std::size_t>(n));
         const double v = precision_ == BasisPrecision::f32 ? values_f32_[k] : half_to_float(values_f16_[k]);
         block(i, static_cast<Eigen::Index>(j)) = v - packed_mean_[begin + j];
       }
@@ -337,7 +362,7 @@ LowRankReport ImageBasis::compress(double tolerance, int max_rank) {
     }
   }
   coefficients_ = vectors.leftCols(rank);
-  factors_.assign(static_cast<std::size_t>(rank) * packed_, 0.0f);
+  factors_.assign(static_cast<std::size_t>(rank) * blocks * kChunk, 0.0f);
   std::vector<double> max_err(blocks, 0.0);
   parallel_for(0, blocks, [&](std::size_t b0, std::size_t b1) {
     Eigen::MatrixXd block;
@@ -347,8 +372,8 @@ LowRankReport ImageBasis::compress(double tolerance, int max_rank) {
       const std::size_t begin = b * kChunk;
       for (int k = 0; k < rank; ++k)
         for (Eigen::Index j = 0; j < f.cols(); ++j)
-          factors_[static_cast<std::size_t>(k) * packed_ + begin + static_cast<std::size_t>(j)] =
-              static_cast<float>(f(k, j));
+          factors_[tiled(static_cast<std::size_t>(k), begin + static_cast<std::size_t>(j),
+                         static_cast<std::size_t>(rank))] = static_cast<float>(f(k, j));
       max_err[b] = (block - coefficients_ * f).cwiseAbs().maxCoeff();
     }
   });
@@ -396,7 +421,8 @@ void ImageBasis::save(const std::filesystem::path& path, BasisPrecision precisio
     std::fill(buffer.begin(), buffer.end(), 0.0f);
     for (std::size_t a = 0; a < active_.size(); ++a)
       for (std::size_t c = 0; c < 3; ++c)
-        buffer[3 * active_[a] + c] = factors_[static_cast<std::size_t>(k) * packed_ + 3 * a + c];
+        buffer[3 * active_[a] + c] =
+            factors_[tiled(static_cast<std::size_t>(k), 3 * a + c, static_cast<std::size_t>(rank_))];
     writer.write(buffer.data(), pixels3 * sizeof(float));
   }
   std::vector<std::uint16_t> halves(precision == BasisPrecision::f16 ? pixels3 : 0);
@@ -475,11 +501,11 @@ ImageBasis ImageBasis::open(const std::filesystem::path& path) {
     basis.rank_ = static_cast<int>(r);
     basis.coefficients_ = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
         coeffs.data(), n, r);
-    basis.factors_.resize(static_cast<std::size_t>(r) * basis.packed_);
+    basis.factors_.assign(static_cast<std::size_t>(r) * tile_count(basis.packed_) * kChunk, 0.0f);
     for (std::int64_t k = 0; k < r; ++k)
       for (std::size_t a = 0; a < basis.active_.size(); ++a)
         for (std::size_t c = 0; c < 3; ++c)
-          basis.factors_[static_cast<std::size_t>(k) * basis.packed_ + 3 * a + c] =
+          basis.factors_[tiled(static_cast<std::size_t>(k), 3 * a + c, static_cast<std::size_t>(r))] =
               factors[static_cast<std::size_t>(k) * pixels3 + 3 * basis.active_[a] + c];
     basis.low_rank_report_.rank = basis.rank_;
     if (auto it = meta.find("lowrank_relative_error"); it != meta.end())

@@ -102,6 +102,9 @@ public:
 private:
   void pack(const float* mean, const std::vector<const float*>& images);
   void unpack_into(int i, float* rgb) const;
+  /// rgb = mean_weight * mean + sum_r w[r] * row_r over tiled rows (f32 or f16, the other null).
+  void compose_tiles(const float* w, std::size_t rows, float mean_weight, const float* f32, const std::uint16_t* f16,
+                     float* rgb) const;
 
   int width_ = 0, height_ = 0, n_ = 0;
   std::vector<std::string> names_;
@@ -111,10 +114,10 @@ private:
   std::vector<std::uint32_t> active_;     // active pixel indices (ascending)
   std::size_t packed_ = 0;                // 3 * active_.size()
   std::vector<float> packed_mean_;        // mean at the active pixels
-  std::vector<float> values_f32_;         // n x packed_ (material-major)
-  std::vector<std::uint16_t> values_f16_; // n x packed_ when precision_ == f16
+  std::vector<float> values_f32_;         // n rows of packed_ values, tiled (image_basis.cpp)
+  std::vector<std::uint16_t> values_f16_; // the same in float16 when precision_ == f16
   int rank_ = 0;
-  std::vector<float> factors_;            // rank x packed_
+  std::vector<float> factors_;            // rank rows of packed_ values, tiled
   Eigen::MatrixXd coefficients_;          // n x rank
   LowRankReport low_rank_report_;
 };
