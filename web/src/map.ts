@@ -1,8 +1,9 @@
 // LatentMap: the canvas showing one plane of the latent space: the database materials as labelled
 // points, an optional background layer image, the current point, a path segment and an uploaded
-// (projected) material. Pointer: click or drag to move the current point, wheel to zoom around
-// the cursor, double-click to reset the view. Keyboard (canvas focused): arrows move the point
-// (Shift: 5x), +/- zoom, 0 resets the view.
+// (projected) material. Pointer: click or drag to move the current point; Shift+drag, or drag
+// with the middle or right button, pans the view; wheel zooms around the cursor; double-click
+// resets the view. Keyboard (canvas focused): arrows move the point (Shift: 5x), Alt+arrows pan,
+// +/- zoom, 0 resets the view.
 
 export interface ViewRect {
   x0: number;
@@ -35,6 +36,8 @@ export class LatentMap {
   private half = 1;
   private layer: { image: ImageBitmap; rect: ViewRect } | null = null;
   private dragging = false;
+  /** Panning: the latent point held under the pointer. */
+  private panAnchor: [number, number] | null = null;
   private hovered: number | null = null;
   private frame = 0;
 
@@ -57,6 +60,7 @@ export class LatentMap {
     canvas.addEventListener("pointerleave", () => this.setHover(null, 0, 0));
     canvas.addEventListener("wheel", (e) => this.onWheel(e), { passive: false });
     canvas.addEventListener("dblclick", () => this.resetView(true));
+    canvas.addEventListener("contextmenu", (e) => e.preventDefault());
     canvas.addEventListener("keydown", (e) => this.onKey(e));
   }
 
@@ -132,6 +136,16 @@ export class LatentMap {
   }
 
   private onPointerDown(e: PointerEvent): void {
+    const pan = e.button === 1 || e.button === 2 || (e.button === 0 && e.shiftKey);
+    if (pan) {
+      e.preventDefault();
+      this.canvas.focus();
+      this.canvas.setPointerCapture(e.pointerId);
+      const r = this.canvas.getBoundingClientRect();
+      this.panAnchor = this.toLatent(e.clientX - r.left, e.clientY - r.top);
+      this.canvas.style.cursor = "grabbing";
+      return;
+    }
     if (e.button !== 0) return;
     this.canvas.focus();
     this.canvas.setPointerCapture(e.pointerId);
@@ -142,6 +156,13 @@ export class LatentMap {
   }
 
   private onPointerMove(e: PointerEvent): void {
+    if (this.panAnchor) {
+      // Keep the anchored latent point under the pointer.
+      const r = this.canvas.getBoundingClientRect();
+      const [u, v] = this.toLatent(e.clientX - r.left, e.clientY - r.top);
+      this.pan(this.panAnchor[0] - u, this.panAnchor[1] - v);
+      return;
+    }
     if (this.dragging) {
       this.point = this.pointAt(e);
       this.redraw();
@@ -164,6 +185,12 @@ export class LatentMap {
   }
 
   private onPointerUp(e: PointerEvent): void {
+    if (this.panAnchor) {
+      this.panAnchor = null;
+      this.canvas.style.cursor = "";
+      if (this.canvas.hasPointerCapture(e.pointerId)) this.canvas.releasePointerCapture(e.pointerId);
+      return;
+    }
     if (!this.dragging) return;
     this.dragging = false;
     if (this.canvas.hasPointerCapture(e.pointerId)) this.canvas.releasePointerCapture(e.pointerId);
@@ -195,7 +222,23 @@ export class LatentMap {
     this.cb.viewChanged(this.view);
   }
 
+  /** Moves the view by (du, dv) in latent units. */
+  pan(du: number, dv: number): void {
+    this.cx += du;
+    this.cy += dv;
+    this.redraw();
+    this.cb.viewChanged(this.view);
+  }
+
   private onKey(e: KeyboardEvent): void {
+    if (e.altKey && e.key.startsWith("Arrow")) {
+      e.preventDefault();
+      const d = 0.1 * 2 * this.half;
+      const du = e.key === "ArrowLeft" ? -d : e.key === "ArrowRight" ? d : 0;
+      const dv = e.key === "ArrowDown" ? -d : e.key === "ArrowUp" ? d : 0;
+      this.pan(du, dv);
+      return;
+    }
     const step = (e.shiftKey ? 0.05 : 0.01) * 2 * this.half;
     const [a, b] = this.axes;
     const x = this.point.slice();

@@ -6,7 +6,7 @@
 // Checks: the page loads; a click on the map updates the preview, which equals the server's image
 // for that point; dragging streams previews (latencies are printed); export downloads a valid MERL
 // table of the current point; uploading a database file projects it next to its latent point; the
-// path tool fills its strip. A screenshot goes to test-results/browser.png.
+// path tool fills its strip; shift+drag and alt+arrows pan the map. A screenshot goes to test-results/browser.png.
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
 import { spawn } from "node:child_process";
@@ -132,6 +132,28 @@ test("dragging streams previews with one request in flight", async () => {
   assert.ok(n1 - n0 >= 5, `previews during the drag: ${n1 - n0}`);
   const q = (p) => lat[Math.min(lat.length - 1, Math.floor(p * lat.length))];
   console.log(`drag: ${lat.length} previews, pointer-to-image latency median ${q(0.5).toFixed(1)} ms, p90 ${q(0.9).toFixed(1)} ms, max ${lat[lat.length - 1].toFixed(1)} ms`);
+});
+
+test("shift+drag and alt+arrows pan the map without moving the current point", async () => {
+  const box = await page.locator("#map").boundingBox();
+  const where = () => page.evaluate(() => ({ p: window.matlas.map.materialClientPosition(0), x: window.matlas.x.slice() }));
+  const a = await where();
+  const [sx, sy] = [box.x + box.width * 0.5, box.y + box.height * 0.5];
+  await page.keyboard.down("Shift");
+  await page.mouse.move(sx, sy);
+  await page.mouse.down();
+  for (let k = 1; k <= 10; k++) await page.mouse.move(sx + 6 * k, sy - 4 * k);
+  await page.mouse.up();
+  await page.keyboard.up("Shift");
+  const b = await where();
+  assert.ok(Math.abs(b.p[0] - a.p[0] - 60) < 1 && Math.abs(b.p[1] - a.p[1] + 40) < 1,
+    `material 0 moved with the pointer: ${JSON.stringify(a.p)} -> ${JSON.stringify(b.p)}`);
+  assert.deepEqual(b.x, a.x, "panning does not move the current point");
+  await page.locator("#map").focus();
+  await page.keyboard.press("Alt+ArrowRight");
+  const c = await where();
+  assert.ok(Math.abs(c.p[0] - b.p[0] + 0.1 * box.width) < 1, `alt+right pans by a tenth: ${b.p[0]} -> ${c.p[0]}`);
+  await page.keyboard.press("0");  // back to the fitted view for the tests that follow
 });
 
 test("export downloads the MERL table of the current point", async () => {
