@@ -65,8 +65,8 @@ void run_build(const BuildArgs& a) {
               r.optimization.iterations, r.optimization.evaluations, r.optimization.stop_reason.c_str());
   std::printf("  storage          %s, relative L2 rounding error %.3g\n",
               o.storage == Storage::f16 ? "float16" : "float32", r.storage_relative_error);
-  std::printf("  time             pass 1 %.2f s, latent placement %.2f s, pass 2 %.2f s\n",
-              r.pass1_seconds, r.optimize_seconds, r.pass2_seconds);
+  std::printf("  time             reading %.2f s, latent placement %.2f s, finishing the file %.2f s\n",
+              r.pass_seconds, r.optimize_seconds, r.finish_seconds);
 }
 
 void add_build_command(CLI::App& app) {

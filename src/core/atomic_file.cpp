@@ -4,40 +4,91 @@
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
+
+#include "core/direct_appender.h"
 #include "core/error.h"
 
 namespace matlas {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+/// pwrite of the whole buffer (retrying short writes and EINTR).
+void write_all(int fd, const fs::path& target, const void* data, std::size_t bytes, std::uint64_t offset) {
+  const auto* p = static_cast<const char*>(data);
+  while (bytes > 0) {
+    const ssize_t n = ::pwrite(fd, p, bytes, static_cast<off_t>(offset));
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) throw file_error(target, std::string("write failed: ") + std::strerror(n < 0 ? errno : EIO));
+    p += n;
+    bytes -= static_cast<std::size_t>(n);
+    offset += static_cast<std::uint64_t>(n);
+  }
+}
+
+}  // namespace
+
 AtomicFile::AtomicFile(fs::path target) : target_(std::move(target)) {
   temp_ = target_;
   temp_ += ".tmp-" + std::to_string(::getpid());
-  file_ = std::fopen(temp_.c_str(), "wb");
-  if (!file_)
-    throw file_error(target_, std::string("cannot create output file: ") + std::strerror(errno));
+  fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd_ < 0) throw file_error(target_, std::string("cannot create output file: ") + std::strerror(errno));
 }
 
 AtomicFile::~AtomicFile() {
-  if (file_) std::fclose(file_);
+  direct_.reset();
+  if (fd_ >= 0) ::close(fd_);
   if (!committed_) {
     std::error_code ec;
     fs::remove(temp_, ec);
   }
 }
 
+void AtomicFile::stream_appends_to_disk() { direct_wanted_ = true; }
+
 void AtomicFile::write(const void* data, std::size_t bytes) {
-  if (bytes && std::fwrite(data, 1, bytes, file_) != bytes)
-    throw file_error(target_, std::string("write failed: ") + std::strerror(errno));
+  const auto* p = static_cast<const char*>(data);
+  if (direct_wanted_ && !direct_) {
+    // Ordinary writes up to the next aligned offset, direct ones from there on.
+    const std::uint64_t aligned =
+        (position_ + DirectAppender::kAlignment - 1) / DirectAppender::kAlignment * DirectAppender::kAlignment;
+    const std::size_t head = static_cast<std::size_t>(std::min<std::uint64_t>(bytes, aligned - position_));
+    write_all(fd_, target_, p, head, position_);
+    position_ += head;
+    p += head;
+    bytes -= head;
+    if (bytes == 0) return;
+    direct_ = DirectAppender::open(temp_, position_);
+    direct_wanted_ = static_cast<bool>(direct_);
+  }
+  if (direct_) direct_->append(p, bytes);
+  else write_all(fd_, target_, p, bytes, position_);
+  position_ += bytes;
+}
+
+void AtomicFile::write_at(std::uint64_t offset, const void* data, std::size_t bytes) {
+  write_all(fd_, target_, data, bytes, offset);
+}
+
+void AtomicFile::skip(std::uint64_t bytes) {
+  if (direct_) throw file_error(target_, "skip() after direct appends (internal error)");
+  position_ += bytes;
 }
 
 void AtomicFile::commit() {
-  if (std::fflush(file_) != 0 || ::fsync(::fileno(file_)) != 0)
-    throw file_error(target_, std::string("flush failed: ") + std::strerror(errno));
-  std::fclose(file_);
-  file_ = nullptr;
+  if (direct_) {
+    const auto tail = direct_->finish();
+    write_all(fd_, target_, tail.data(), tail.size(), direct_->tail_offset());
+    direct_.reset();
+  }
+  if (::fsync(fd_) != 0) throw file_error(target_, std::string("flush failed: ") + std::strerror(errno));
+  ::close(fd_);
+  fd_ = -1;
   std::error_code ec;
   fs::rename(temp_, target_, ec);
   if (ec) throw file_error(target_, "cannot rename temporary file into place: " + ec.message());

@@ -2,12 +2,15 @@
 // Atomic output: data goes to a temporary file beside the target, which is renamed over the
 // target only once it is complete, so a crash or an error never leaves a half-written output.
 #include <cstddef>
-#include <cstdio>
+#include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <span>
 #include <string>
 
 namespace matlas {
+
+class DirectAppender;
 
 class AtomicFile {
 public:
@@ -18,10 +21,21 @@ public:
   /// Removes the temporary file unless commit() succeeded.
   ~AtomicFile();
 
+  /// Appends at the end of what was appended so far.
   void write(const void* data, std::size_t bytes);
   void write(std::span<const std::byte> bytes) { write(bytes.data(), bytes.size()); }
   void write(const std::string& text) { write(text.data(), text.size()); }
-  /// Flushes, fsyncs and renames the temporary file to the target.
+  /// Writes at an absolute offset outside the appended range (e.g. into a hole left by skip()).
+  void write_at(std::uint64_t offset, const void* data, std::size_t bytes);
+  /// Advances the append position, leaving a hole to be filled with write_at().
+  void skip(std::uint64_t bytes);
+  /// Bytes appended (or skipped) so far.
+  std::uint64_t position() const { return position_; }
+  /// For large outputs written once: later appends go to disk with direct I/O from a background
+  /// thread (core/direct_appender.h) instead of through the page cache. Falls back to ordinary
+  /// writes where the file system has no direct I/O.
+  void stream_appends_to_disk();
+  /// fsyncs and renames the temporary file to the target.
   void commit();
 
   const std::filesystem::path& target() const { return target_; }
@@ -30,7 +44,10 @@ public:
 private:
   std::filesystem::path target_;
   std::filesystem::path temp_;
-  std::FILE* file_ = nullptr;
+  int fd_ = -1;
+  std::uint64_t position_ = 0;
+  bool direct_wanted_ = false;
+  std::unique_ptr<DirectAppender> direct_;
   bool committed_ = false;
 };
 

@@ -1,17 +1,32 @@
 #include "core/parallel.h"
 
+#include <algorithm>
 #include <cstdlib>
-#include <string>
+#include <thread>
+
+#include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
 
 namespace matlas {
 
 unsigned worker_count() {
-  if (const char* env = std::getenv("MATLAS_THREADS")) {
-    const int n = std::atoi(env);
-    if (n > 0) return static_cast<unsigned>(n);
-  }
-  return std::max(1u, std::thread::hardware_concurrency());
+  static const unsigned count = [] {
+    if (const char* env = std::getenv("MATLAS_THREADS")) {
+      const int n = std::atoi(env);
+      if (n > 0) return static_cast<unsigned>(n);
+    }
+    return std::max(1u, std::thread::hardware_concurrency());
+  }();
+  return count;
 }
+
+namespace {
+
+/// Limits oneTBB's pool to worker_count() threads for the life of the process.
+void limit_pool() { static tbb::global_control limit(tbb::global_control::max_allowed_parallelism, worker_count()); }
+
+}  // namespace
 
 void parallel_for(std::size_t begin, std::size_t end,
                   const std::function<void(std::size_t, std::size_t)>& body,
@@ -24,24 +39,29 @@ void parallel_for(std::size_t begin, std::size_t end,
     body(begin, end);
     return;
   }
-  std::exception_ptr failure;
-  std::mutex failure_mutex;
-  std::vector<std::thread> threads;
-  threads.reserve(workers);
-  for (std::size_t w = 0; w < workers; ++w) {
-    const std::size_t lo = begin + count * w / workers;
-    const std::size_t hi = begin + count * (w + 1) / workers;
-    threads.emplace_back([&, lo, hi] {
-      try {
-        body(lo, hi);
-      } catch (...) {
-        std::lock_guard lock(failure_mutex);
-        if (!failure) failure = std::current_exception();
-      }
-    });
+  limit_pool();
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, workers, 1),
+      [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t w = r.begin(); w < r.end(); ++w)
+          body(begin + count * w / workers, begin + count * (w + 1) / workers);
+      },
+      tbb::static_partitioner());
+}
+
+void parallel_for_each(std::size_t begin, std::size_t end, const std::function<void(std::size_t)>& body) {
+  if (end <= begin) return;
+  if (worker_count() <= 1 || end - begin == 1) {
+    for (std::size_t i = begin; i < end; ++i) body(i);
+    return;
   }
-  for (auto& t : threads) t.join();
-  if (failure) std::rethrow_exception(failure);
+  limit_pool();
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(begin, end, 1),
+      [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i < r.end(); ++i) body(i);
+      },
+      tbb::simple_partitioner());
 }
 
 }  // namespace matlas

@@ -1,22 +1,26 @@
 #pragma once
-// parallel_for: splits [begin, end) into contiguous chunks over std::thread workers.
-#include <algorithm>
+// parallel_for: splits [begin, end) into contiguous chunks run on the process's persistent
+// worker threads (oneTBB). Persistent threads matter for libraries that keep per-thread state:
+// OpenBLAS, for one, allocates its packing buffers per calling thread.
 #include <cstddef>
-#include <exception>
 #include <functional>
-#include <mutex>
-#include <thread>
-#include <vector>
 
 namespace matlas {
 
 /// Number of worker threads to use (MATLAS_THREADS environment variable, else the core count).
 unsigned worker_count();
 
-/// Calls body(chunk_begin, chunk_end) on disjoint chunks covering [begin, end), from up to
-/// worker_count() threads. The first exception thrown by a body is rethrown here.
+/// Calls body(chunk_begin, chunk_end) on at most worker_count() disjoint contiguous chunks
+/// covering [begin, end), each at least min_chunk long (except when the range is shorter), in
+/// parallel. Safe to call from several threads at once and from inside a body. The first
+/// exception thrown by a body is rethrown here.
 void parallel_for(std::size_t begin, std::size_t end,
                   const std::function<void(std::size_t, std::size_t)>& body,
                   std::size_t min_chunk = 1);
+
+/// Calls body(i) for every i in [begin, end) on the worker threads, handing out indices as
+/// threads become free: for many small items of uneven cost, or when other threads (a reader,
+/// another request) compete for the cores and a fixed split would leave one core waiting.
+void parallel_for_each(std::size_t begin, std::size_t end, const std::function<void(std::size_t)>& body);
 
 }  // namespace matlas

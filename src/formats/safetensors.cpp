@@ -62,11 +62,14 @@ std::size_t TensorInfo::elements() const {
 // ---------------------------------------------------------------- writer
 
 void SafetensorsWriter::add_metadata(const std::string& key, const std::string& value) {
+  if (file_ && reserved_ == 0) throw Error("SafetensorsWriter: metadata after begin (internal error)");
   metadata_[key] = value;
 }
 
-void SafetensorsWriter::declare(const std::string& name, DType dtype,
-                                std::vector<std::int64_t> shape) {
+void SafetensorsWriter::declare(const std::string& name, DType dtype, std::vector<std::int64_t> shape) {
+  if (file_) throw Error("SafetensorsWriter: declare after begin (internal error)");
+  if (std::find(growing_.begin(), growing_.end(), true) != growing_.end())
+    throw Error("SafetensorsWriter: fixed tensor '" + name + "' declared after a growing one (internal error)");
   TensorInfo t;
   t.name = name;
   t.dtype = dtype;
@@ -75,15 +78,40 @@ void SafetensorsWriter::declare(const std::string& name, DType dtype,
   t.end = expected_ + t.elements() * dtype_size(dtype);
   expected_ = t.end;
   tensors_.push_back(std::move(t));
+  growing_.push_back(false);
+  done_.push_back(false);
+}
+
+void SafetensorsWriter::declare_growing(const std::string& name, DType dtype, std::vector<std::int64_t> row_shape) {
+  if (file_) throw Error("SafetensorsWriter: declare after begin (internal error)");
+  TensorInfo t;
+  t.name = name;
+  t.dtype = dtype;
+  t.shape = std::move(row_shape);
+  t.shape.insert(t.shape.begin(), 0);
+  tensors_.push_back(std::move(t));
+  growing_.push_back(true);
+  done_.push_back(false);
+}
+
+std::string SafetensorsWriter::header_text() const {
+  json header = json::object();
+  for (const auto& t : tensors_)
+    header[t.name] = {{"dtype", dtype_name(t.dtype)}, {"shape", t.shape}, {"data_offsets", {t.begin, t.end}}};
+  if (!metadata_.empty()) header["__metadata__"] = metadata_;
+  return header.dump();
+}
+
+TensorInfo& SafetensorsWriter::tensor(const std::string& name) {
+  for (auto& t : tensors_)
+    if (t.name == name) return t;
+  throw Error("SafetensorsWriter: no tensor '" + name + "' declared (internal error)");
 }
 
 void SafetensorsWriter::begin(const fs::path& path) {
-  json header = json::object();
-  for (const auto& t : tensors_)
-    header[t.name] = {{"dtype", dtype_name(t.dtype)}, {"shape", t.shape},
-                      {"data_offsets", {t.begin, t.end}}};
-  if (!metadata_.empty()) header["__metadata__"] = metadata_;
-  std::string text = header.dump();
+  if (std::find(growing_.begin(), growing_.end(), true) != growing_.end())
+    throw Error("SafetensorsWriter: growing tensors need a reserved header (internal error)");
+  std::string text = header_text();
   const std::size_t padded = (8 + text.size() + kAlignment - 1) / kAlignment * kAlignment - 8;
   text.resize(padded, ' ');
   file_ = std::make_unique<AtomicFile>(path);
@@ -92,19 +120,81 @@ void SafetensorsWriter::begin(const fs::path& path) {
   file_->write(text);
 }
 
+void SafetensorsWriter::begin(const fs::path& path, std::size_t reserved_header_bytes) {
+  reserved_ = (8 + std::max<std::size_t>(reserved_header_bytes, 2) + kAlignment - 1) / kAlignment * kAlignment - 8;
+  file_ = std::make_unique<AtomicFile>(path);
+  // The header and the fixed tensors are filled in by write_tensor() and commit(); growing
+  // tensors are appended after them.
+  file_->skip(8 + reserved_ + expected_);
+  file_->stream_appends_to_disk();
+  current_growing_ = 0;
+  while (current_growing_ < tensors_.size() && !growing_[current_growing_]) ++current_growing_;
+  growing_end_ = expected_;
+  if (current_growing_ < tensors_.size()) tensors_[current_growing_].begin = growing_end_;
+}
+
 void SafetensorsWriter::write(const void* data, std::size_t bytes) {
   if (!file_) throw Error("SafetensorsWriter::write before begin (internal error)");
+  if (reserved_) throw Error("SafetensorsWriter::write in reserved-header mode (internal error)");
   if (written_ + bytes > expected_)
     throw file_error(file_->target(), "more tensor data than declared (internal error)");
   file_->write(data, bytes);
   written_ += bytes;
 }
 
+void SafetensorsWriter::write_tensor(const std::string& name, const void* data, std::size_t bytes) {
+  if (!file_ || !reserved_) throw Error("SafetensorsWriter::write_tensor needs begin(path, reserved) (internal error)");
+  TensorInfo& t = tensor(name);
+  const auto index = static_cast<std::size_t>(&t - tensors_.data());
+  if (growing_[index] || bytes != t.bytes())
+    throw file_error(file_->target(), "tensor '" + name + "' written with " + std::to_string(bytes) + " bytes, declared " +
+                                          std::to_string(t.bytes()) + " (internal error)");
+  file_->write_at(8 + reserved_ + t.begin, data, bytes);
+  if (!done_[index]) written_ += bytes;
+  done_[index] = true;
+}
+
+void SafetensorsWriter::append(const void* data, std::size_t bytes) {
+  if (!file_ || !reserved_ || current_growing_ >= tensors_.size())
+    throw Error("SafetensorsWriter::append without an open growing tensor (internal error)");
+  file_->write(data, bytes);
+  growing_end_ += bytes;
+}
+
+void SafetensorsWriter::end_growing() {
+  if (!file_ || current_growing_ >= tensors_.size())
+    throw Error("SafetensorsWriter::end_growing without an open growing tensor (internal error)");
+  TensorInfo& t = tensors_[current_growing_];
+  std::size_t row_bytes = dtype_size(t.dtype);
+  for (std::size_t k = 1; k < t.shape.size(); ++k) row_bytes *= static_cast<std::size_t>(t.shape[k]);
+  const std::size_t bytes = growing_end_ - t.begin;
+  if (row_bytes == 0 || bytes % row_bytes != 0)
+    throw file_error(file_->target(), "tensor '" + t.name + "' has a partial row (internal error)");
+  t.shape[0] = static_cast<std::int64_t>(bytes / row_bytes);
+  t.end = growing_end_;
+  done_[current_growing_] = true;
+  ++current_growing_;
+  if (current_growing_ < tensors_.size()) tensors_[current_growing_].begin = growing_end_;
+}
+
 void SafetensorsWriter::commit() {
   if (!file_) throw Error("SafetensorsWriter::commit before begin (internal error)");
   if (written_ != expected_)
-    throw file_error(file_->target(), "incomplete tensor data: " + std::to_string(written_) +
-                                          " of " + std::to_string(expected_) + " bytes (internal error)");
+    throw file_error(file_->target(), "incomplete tensor data: " + std::to_string(written_) + " of " +
+                                          std::to_string(expected_) + " bytes (internal error)");
+  if (reserved_) {
+    for (std::size_t k = 0; k < tensors_.size(); ++k)
+      if (!done_[k]) throw file_error(file_->target(), "tensor '" + tensors_[k].name + "' not written (internal error)");
+    std::string text = header_text();
+    if (text.size() > reserved_)
+      throw file_error(file_->target(), "header of " + std::to_string(text.size()) + " bytes exceeds the " +
+                                            std::to_string(reserved_) + " reserved (internal error)");
+    text.resize(reserved_, ' ');
+    const std::uint64_t length = text.size();
+    std::string head(reinterpret_cast<const char*>(&length), 8);
+    head += text;
+    file_->write_at(0, head.data(), head.size());
+  }
   file_->commit();
 }
 

@@ -36,30 +36,57 @@ struct TensorInfo {
   std::size_t bytes() const { return end - begin; }
 };
 
-/// Streaming writer: declare every tensor and the metadata, then write the tensors' bytes in
-/// declaration order (in as many pieces as convenient), then commit. The file appears at its
-/// path only when complete (AtomicFile).
+/// Streaming writer. Two ways to use it:
+///  - Everything known up front: declare every tensor and the metadata, begin(path), write the
+///    tensors' bytes in declaration order (in as many pieces as convenient), commit().
+///  - Sizes or metadata known only at the end (a model build writes its big tensor while it is
+///    still computing the small ones): declare the fixed-size tensors, then the growing ones
+///    (declare_growing: the first dimension is fixed by the rows appended), begin(path,
+///    reserved_header_bytes), then in any order write_tensor() each fixed tensor and append()
+///    the growing ones' rows (one growing tensor after the other, end_growing() closing each),
+///    add or change metadata, commit(): the header is written into the reserved space (padded
+///    with spaces; an error if it does not fit).
+/// The file appears at its path only when complete (AtomicFile).
 class SafetensorsWriter {
 public:
   void add_metadata(const std::string& key, const std::string& value);
   /// Declares a tensor. Tensors are written in the order declared; declare larger element
   /// types first to keep every tensor aligned.
   void declare(const std::string& name, DType dtype, std::vector<std::int64_t> shape);
+  /// Declares a tensor of rows of `row_shape` whose count is known at end_growing(). Growing
+  /// tensors follow every fixed one in the file, in declaration order.
+  void declare_growing(const std::string& name, DType dtype, std::vector<std::int64_t> row_shape);
 
   /// Creates the file and writes the header.
   void begin(const std::filesystem::path& path);
+  /// Creates the file leaving room for a header of up to reserved_header_bytes, written by
+  /// commit(). Appended rows go straight to disk (AtomicFile::stream_appends_to_disk).
+  void begin(const std::filesystem::path& path, std::size_t reserved_header_bytes);
   /// Appends tensor bytes (in declaration order).
   void write(const void* data, std::size_t bytes);
   template <class T>
   void write(std::span<const T> values) { write(values.data(), values.size_bytes()); }
+  /// Writes the whole of a fixed-size tensor at its place (reserved-header mode).
+  void write_tensor(const std::string& name, const void* data, std::size_t bytes);
+  /// Appends rows to the current growing tensor (reserved-header mode).
+  void append(const void* data, std::size_t bytes);
+  /// Closes the current growing tensor: its first dimension is the number of rows appended.
+  void end_growing();
   /// Checks that every declared byte was written, then renames the file into place.
   void commit();
 
 private:
+  std::string header_text() const;
+  TensorInfo& tensor(const std::string& name);
+
   std::vector<TensorInfo> tensors_;
+  std::vector<bool> growing_, done_;
   std::map<std::string, std::string> metadata_;
   std::unique_ptr<AtomicFile> file_;
-  std::size_t expected_ = 0, written_ = 0;
+  std::size_t expected_ = 0, written_ = 0;  ///< bytes of the fixed tensors
+  std::size_t reserved_ = 0;                ///< reserved header bytes (0: header written by begin)
+  std::size_t current_growing_ = 0;         ///< index of the growing tensor being appended
+  std::size_t growing_end_ = 0;             ///< data-buffer offset after the appended rows
 };
 
 /// A read-only memory map of a whole file.

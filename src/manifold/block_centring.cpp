@@ -2,17 +2,22 @@
 
 namespace matlas {
 
-void centre_kept_columns(BlockMatrix& values, const std::vector<std::uint8_t>& kept,
-                         Eigen::RowVectorXd& mean) {
-  const Eigen::Index n = values.rows(), k = values.cols();
-  mean.setZero(k);
-  for (Eigen::Index i = 0; i < n; ++i) mean += values.row(i);
-  mean /= static_cast<double>(n);
-  Eigen::RowVectorXd mask(k);
-  for (Eigen::Index j = 0; j < k; ++j) mask[j] = kept[static_cast<std::size_t>(j)] ? 1.0 : 0.0;
-  mean.array() *= mask.array();
-  for (Eigen::Index i = 0; i < n; ++i)
-    values.row(i).array() = (values.row(i).array() - mean.array()) * mask.array();
+void centre_kept_columns(BlockMatrix& values, const std::vector<std::uint8_t>& kept, std::size_t first,
+                         std::size_t last, double* mean) {
+  const Eigen::Index n = values.rows();
+  const std::size_t len = last - first;
+  double* m = mean + first;
+  std::fill(m, m + len, 0.0);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double* row = values.row(i).data() + first;
+    for (std::size_t j = 0; j < len; ++j) m[j] += row[j];
+  }
+  const double inv_n = 1.0 / static_cast<double>(n);
+  for (std::size_t j = 0; j < len; ++j) m[j] = kept[first + j] ? m[j] * inv_n : 0.0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    double* row = values.row(i).data() + first;
+    for (std::size_t j = 0; j < len; ++j) row[j] = kept[first + j] ? row[j] - m[j] : 0.0;
+  }
 }
 
 }  // namespace matlas

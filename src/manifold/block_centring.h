@@ -1,5 +1,6 @@
 #pragma once
-// Centring a column block over the materials, shared by both passes of a build.
+// Centring a column block over the materials (the pass of a build).
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -7,10 +8,11 @@
 
 namespace matlas {
 
-/// Subtracts from every kept column its mean over the materials and sets dropped columns to 0
-/// (so they add nothing to Gram matrices). Returns the means in `mean` (0 for dropped columns).
-/// Rows are contiguous, so every step runs over contiguous memory.
-void centre_kept_columns(BlockMatrix& values, const std::vector<std::uint8_t>& kept,
-                         Eigen::RowVectorXd& mean);
+/// Subtracts from every kept column in [first, last) its mean over the materials and sets
+/// dropped columns to 0 (so they add nothing to Gram matrices). Writes the means to
+/// mean[first, last) (0 for dropped columns). Meant for ranges that fit in cache: the range is
+/// read twice.
+void centre_kept_columns(BlockMatrix& values, const std::vector<std::uint8_t>& kept, std::size_t first,
+                         std::size_t last, double* mean);
 
 }  // namespace matlas

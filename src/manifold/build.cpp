@@ -14,6 +14,7 @@
 #include "gp/initialize.h"
 #include "gp/likelihood.h"
 #include "gp/posterior.h"
+#include "core/parallel.h"
 #include "manifold/column_blocks.h"
 #include "manifold/model_format.h"
 
@@ -68,6 +69,39 @@ void reject_duplicates(const MaterialSet& set, const Eigen::MatrixXd& s) {
     }
 }
 
+/// The model metadata with everything known before the pass; the rest is filled in at the end.
+json model_metadata_skeleton(const MaterialSet& set, const BuildOptions& options, DType storage) {
+  json sources = json::array();
+  for (std::size_t i = 0; i < set.size(); ++i)
+    sources.push_back({{"name", set.name(i)},
+                       {"file", set.file(i).path().filename().string()},
+                       {"path", fs::absolute(set.file(i).path()).string()},
+                       {"xxh3_64", hex(0)}});
+  return {
+      {"format", model_format::kFormatName},
+      {"format_version", model_format::kVersion},
+      {"matlas_version", MATLAS_VERSION},
+      {"created", utc_now()},
+      {"names", set.names()},
+      {"count", set.size()},
+      {"dim", options.dim},
+      {"grid", {set.dims().theta_h, set.dims().theta_d, set.dims().phi_d}},
+      {"kernel", {{"type", "squared-exponential"}, {"lengthscale", 1.0}, {"nugget", options.nugget}}},
+      {"data_layout",
+       "data[c, i] = z_i[v] for the kept column c of value index v (value_column[v] = c; "
+       "v = channel * bins + bin; physical units); m(x)[v] = (1 - sum w) mean[c] + sum_i w_i data[c, i]"},
+      {"storage", dtype_name(storage)},
+      {"layout_transform", options.layout.to_string()},
+      {"sources", sources},
+  };
+}
+
+/// Header bytes to reserve: the skeleton plus generous room for what the build adds (numbers,
+/// the optimiser's report, the tensor table), so that the header always fits.
+std::size_t header_reserve(const json& skeleton) {
+  return skeleton.dump().size() * 2 + 16384;
+}
+
 /// The value-index -> kept-column map.
 std::vector<std::int32_t> column_map(const std::vector<bool>& kept) {
   std::vector<std::int32_t> map(kept.size(), -1);
@@ -79,17 +113,119 @@ std::vector<std::int32_t> column_map(const std::vector<bool>& kept) {
 
 }  // namespace
 
+namespace {
+
+/// Writes the column-interleaved inputs of each block (the model's "data" tensor) while the
+/// pass runs, and measures the storage rounding error. Tiles of kTile columns are transposed
+/// from several threads; prepare() works out where each tile's kept columns go.
+class DataWriter final : public RawBlockVisitor {
+public:
+  DataWriter(SafetensorsWriter& writer, std::size_t n, DType storage) : writer_(writer), n_(n), storage_(storage) {}
+
+  void prepare(const ColumnBlock& block) override {
+    const std::size_t tiles = (block.count + kTile - 1) / kTile;
+    tile_start_.assign(tiles + 1, 0);
+    for (std::size_t t = 0; t < tiles; ++t) {
+      std::size_t kept = 0;
+      for (std::size_t j = t * kTile; j < std::min(block.count, (t + 1) * kTile); ++j) kept += block.kept[j];
+      tile_start_[t + 1] = tile_start_[t] + kept;
+    }
+    out_f32_.resize(tile_start_[tiles] * n_);
+    if (storage_ == DType::F16) out_f16_.resize(out_f32_.size());
+    tile_error_.assign(tiles, {0.0, 0.0});
+  }
+
+  void visit(const ColumnBlock& block, std::size_t first, std::size_t last) override {
+    static_assert(kSweepColumns % kTile == 0);
+    std::size_t columns[kTile];
+    for (std::size_t t = first / kTile; t < (last + kTile - 1) / kTile; ++t) {
+      std::size_t count = 0;
+      for (std::size_t j = t * kTile; j < std::min(block.count, (t + 1) * kTile); ++j)
+        if (block.kept[j]) columns[count++] = j;
+      // Row by row: each row's reads are contiguous and the tile's kTile output columns stay
+      // in L1. (Column by column reads rows a power-of-two stride apart, which thrashes L1.)
+      // Four partial sums each: one running sum would make the loop latency-bound.
+      double error2[4] = {0, 0, 0, 0}, norm2[4] = {0, 0, 0, 0};
+      for (std::size_t i = 0; i < n_; ++i) {
+        const double* row = block.values.row(static_cast<Eigen::Index>(i)).data();
+        float* out = out_f32_.data() + tile_start_[t] * n_ + i;
+        for (std::size_t c = 0; c < count; ++c) {
+          const double exact = row[columns[c]];
+          const auto rounded = static_cast<float>(exact);
+          out[c * n_] = rounded;
+#ifndef NOERR
+          norm2[c % 4] += exact * exact;
+          error2[c % 4] += (rounded - exact) * (rounded - exact);
+#endif
+        }
+      }
+      if (storage_ == DType::F16) {
+        // The value stored is half(float(x)): add the second rounding.
+        for (std::size_t e = tile_start_[t] * n_; e < tile_start_[t + 1] * n_; ++e) {
+          out_f16_[e] = float_to_half(out_f32_[e]);
+          const double rounding = static_cast<double>(half_to_float(out_f16_[e])) - out_f32_[e];
+          error2[e % 4] += rounding * rounding;
+        }
+      }
+      tile_error_[t] = {error2[0] + error2[1] + error2[2] + error2[3], norm2[0] + norm2[1] + norm2[2] + norm2[3]};
+    }
+  }
+
+  void finish(const ColumnBlock&) override {
+    for (const auto& [e, v] : tile_error_) {
+      error2_ += e;
+      norm2_ += v;
+    }
+    if (storage_ == DType::F16) writer_.append(out_f16_.data(), out_f16_.size() * 2u);
+    else writer_.append(out_f32_.data(), out_f32_.size() * 4u);
+  }
+
+  double relative_error() const { return norm2_ > 0 ? std::sqrt(error2_ / norm2_) : 0.0; }
+
+private:
+  static constexpr std::size_t kTile = 64;
+  SafetensorsWriter& writer_;
+  std::size_t n_;
+  DType storage_;
+  std::vector<std::size_t> tile_start_;
+  std::vector<float> out_f32_;
+  std::vector<std::uint16_t> out_f16_;
+  std::vector<std::pair<double, double>> tile_error_;
+  double error2_ = 0.0, norm2_ = 0.0;
+};
+
+}  // namespace
+
 BuildReport build_model(const MaterialSet& set, const BuildOptions& options, const fs::path& output,
                         ProgressSink& progress) {
   validate(set, options);
   BuildReport report;
   const auto n = static_cast<Eigen::Index>(set.size());
   const int q = options.dim;
+  const DType storage = options.storage == Storage::f16 ? DType::F16 : DType::F32;
 
-  // Pass 1: mask, mean, Gram matrices, albedo curves, hashes.
+  // The model file: fixed-size tensors first (written at the end), then the data and the mean,
+  // whose sizes are known after the pass. The header is written last, into reserved space.
+  SafetensorsWriter writer;
+  writer.declare(model_format::kLatent, DType::F64, {n, q});
+  writer.declare(model_format::kGram, DType::F64, {n, n});
+  writer.declare(model_format::kAlbedo, DType::F64, {n, 90, 3});
+  writer.declare(model_format::kValueColumn, DType::I32, {static_cast<std::int64_t>(set.value_count())});
+  writer.declare_growing(model_format::kData, storage, {n});
+  writer.declare_growing(model_format::kMean, DType::F32, {});
+
+  // One pass: mask, mean, Gram matrices, albedo curves, hashes, and the data written as it goes.
   auto t0 = std::chrono::steady_clock::now();
-  const GramResult g = accumulate_gram(set, options.layout, options.block_columns, progress);
-  report.pass1_seconds = seconds_since(t0);
+  json meta = model_metadata_skeleton(set, options, storage);
+  writer.begin(output, header_reserve(meta));
+  DataWriter data(writer, set.size(), storage);
+  const GramResult g = accumulate_gram(set, options.layout, options.block_columns, progress, &data);
+  writer.end_growing();
+  const Eigen::VectorXf mean_f = g.mean.cast<float>();
+  writer.append(mean_f.data(), static_cast<std::size_t>(mean_f.size()) * 4u);
+  writer.end_growing();
+  report.pass_seconds = seconds_since(t0);
+  report.storage_relative_error = data.relative_error();
   report.kept_columns = g.kept_columns;
   report.dropped_columns = set.value_count() - g.kept_columns;
   reject_duplicates(set, g.gram);
@@ -110,24 +246,19 @@ BuildReport build_model(const MaterialSet& set, const BuildOptions& options, con
   report.optimize_seconds = seconds_since(t0);
   const gp::GpPosterior posterior(report.optimization.latent, problem.kernel);  // checks K is PD
 
-  // Model file: small tensors, then pass 2 streams the centred data.
+  // The small tensors, the metadata, then commit (fsync: most of the data is on disk already,
+  // AtomicFile started writing it back during the pass).
   t0 = std::chrono::steady_clock::now();
   const std::vector<std::int32_t> columns = column_map(g.kept);
-  const auto d = static_cast<std::int64_t>(g.kept_columns);
-  const DType storage = options.storage == Storage::f16 ? DType::F16 : DType::F32;
-  const Eigen::MatrixXd latent = report.optimization.latent;
   using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  const RowMajor latent_rows = latent;
+  const RowMajor latent_rows = report.optimization.latent;
   const RowMajor gram_rows = g.gram;
   const RowMajor albedo_rows = g.albedo;
-  const Eigen::VectorXf mean_f = g.mean.cast<float>();
+  writer.write_tensor(model_format::kLatent, latent_rows.data(), static_cast<std::size_t>(latent_rows.size()) * 8u);
+  writer.write_tensor(model_format::kGram, gram_rows.data(), static_cast<std::size_t>(gram_rows.size()) * 8u);
+  writer.write_tensor(model_format::kAlbedo, albedo_rows.data(), static_cast<std::size_t>(albedo_rows.size()) * 8u);
+  writer.write_tensor(model_format::kValueColumn, columns.data(), columns.size() * 4u);
 
-  json sources = json::array();
-  for (std::size_t i = 0; i < set.size(); ++i)
-    sources.push_back({{"name", set.name(i)},
-                       {"file", set.file(i).path().filename().string()},
-                       {"path", fs::absolute(set.file(i).path()).string()},
-                       {"xxh3_64", hex(g.hashes[i])}});
   XXH3_state_t* small_hash = XXH3_createState();
   XXH3_64bits_reset(small_hash);
   for (const auto& [ptr, bytes] :
@@ -140,104 +271,19 @@ BuildReport build_model(const MaterialSet& set, const BuildOptions& options, con
   const std::uint64_t small_checksum = XXH3_64bits_digest(small_hash);
   XXH3_freeState(small_hash);
 
-  json meta = {
-      {"format", model_format::kFormatName},
-      {"format_version", model_format::kVersion},
-      {"matlas_version", MATLAS_VERSION},
-      {"created", utc_now()},
-      {"names", set.names()},
-      {"count", n},
-      {"dim", q},
-      {"grid", {set.dims().theta_h, set.dims().theta_d, set.dims().phi_d}},
-      {"kernel", {{"type", "squared-exponential"}, {"lengthscale", 1.0}, {"nugget", options.nugget}}},
-      {"data_layout",
-       "data[c, i] = z_i[v] for the kept column c of value index v (value_column[v] = c; "
-       "v = channel * bins + bin; physical units); m(x)[v] = (1 - sum w) mean[c] + sum_i w_i data[c, i]"},
-      {"storage", dtype_name(storage)},
-      {"layout_transform", options.layout.to_string()},
-      {"log_likelihood", report.log_likelihood},
-      {"optimizer",
-       {{"method", gp::to_string(options.optimize.method)},
-        {"iterations", report.optimization.iterations},
-        {"evaluations", report.optimization.evaluations},
-        {"seconds", report.optimization.seconds},
-        {"stop_reason", report.optimization.stop_reason}}},
-      {"kept_columns", g.kept_columns},
-      {"dropped_columns", report.dropped_columns},
-      {"albedo", {{"angles", 90}, {"theta_o", "bin centres of 90 uniform bins over [0, 90) degrees"},
-                  {"quadrature", "cosine-weighted 64x64 midpoint rule, nearest-bin lookup"}}},
-      {"sources", sources},
-      {"small_tensors_xxh3_64", hex(small_checksum)},
-  };
-
-  SafetensorsWriter writer;
+  for (std::size_t i = 0; i < set.size(); ++i) meta["sources"][i]["xxh3_64"] = hex(g.hashes[i]);
+  meta["log_likelihood"] = report.log_likelihood;
+  meta["optimizer"] = {{"method", gp::to_string(options.optimize.method)},
+                       {"iterations", report.optimization.iterations},
+                       {"evaluations", report.optimization.evaluations},
+                       {"seconds", report.optimization.seconds},
+                       {"stop_reason", report.optimization.stop_reason}};
+  meta["kept_columns"] = g.kept_columns;
+  meta["dropped_columns"] = report.dropped_columns;
+  meta["small_tensors_xxh3_64"] = hex(small_checksum);
   writer.add_metadata(model_format::kMetadataKey, meta.dump());
-  writer.declare(model_format::kLatent, DType::F64, {n, q});
-  writer.declare(model_format::kGram, DType::F64, {n, n});
-  writer.declare(model_format::kAlbedo, DType::F64, {n, 90, 3});
-  writer.declare(model_format::kMean, DType::F32, {d});
-  writer.declare(model_format::kValueColumn, DType::I32, {static_cast<std::int64_t>(columns.size())});
-  writer.declare(model_format::kData, storage, {d, n});
-  writer.begin(output);
-  writer.write(latent_rows.data(), latent_rows.size() * 8u);
-  writer.write(gram_rows.data(), gram_rows.size() * 8u);
-  writer.write(albedo_rows.data(), albedo_rows.size() * 8u);
-  writer.write(mean_f.data(), mean_f.size() * 4u);
-  writer.write(columns.data(), columns.size() * 4u);
-
-  double error2 = 0.0, norm2 = 0.0;
-  std::vector<float> out_f32;
-  std::vector<std::uint16_t> out_f16;
-  std::vector<std::uint64_t> hashes;
-  std::vector<Eigen::Index> tile_columns;
-  BlockOptions block_options;
-  block_options.block_columns = options.block_columns;
-  block_options.label = "pass 2/2: data";
-  block_options.hashes = &hashes;
-  for_each_column_block(set, [&](const ColumnBlock& block) {
-    // A tiled transpose of the kept columns into column-interleaved rows of n input values.
-    std::size_t kept_here = 0;
-    for (std::size_t j = 0; j < block.count; ++j) kept_here += block.kept[j];
-    const std::size_t un = static_cast<std::size_t>(n);
-    out_f32.resize(kept_here * un);
-    constexpr std::size_t kTile = 64;
-    std::size_t out_column = 0;
-    for (std::size_t j0 = 0; j0 < block.count; j0 += kTile) {
-      tile_columns.clear();
-      for (std::size_t j = j0; j < std::min(block.count, j0 + kTile); ++j)
-        if (block.kept[j]) tile_columns.push_back(static_cast<Eigen::Index>(j));
-      for (Eigen::Index i = 0; i < n; ++i) {
-        const double* row = block.values.row(i).data();
-        float* out = out_f32.data() + out_column * un + static_cast<std::size_t>(i);
-        for (std::size_t t = 0; t < tile_columns.size(); ++t) {
-          const double exact = row[tile_columns[t]];
-          const float rounded = static_cast<float>(exact);
-          out[t * un] = rounded;
-          norm2 += exact * exact;
-          error2 += (rounded - exact) * (rounded - exact);
-        }
-      }
-      out_column += tile_columns.size();
-    }
-    if (storage == DType::F16) {
-      // Re-measure the error against half precision: the value stored is half(float(x)).
-      out_f16.resize(out_f32.size());
-      for (std::size_t e = 0; e < out_f32.size(); ++e) {
-        out_f16[e] = float_to_half(out_f32[e]);
-        const double rounding = static_cast<double>(half_to_float(out_f16[e])) - out_f32[e];
-        error2 += rounding * rounding;
-      }
-      writer.write(out_f16.data(), out_f16.size() * 2u);
-    } else {
-      writer.write(out_f32.data(), out_f32.size() * 4u);
-    }
-  }, block_options, progress);
-  for (std::size_t i = 0; i < set.size(); ++i)
-    if (hashes[i] != g.hashes[i])
-      throw file_error(set.file(i).path(), "changed while the model was being built; run again");
   writer.commit();
-  report.pass2_seconds = seconds_since(t0);
-  report.storage_relative_error = norm2 > 0 ? std::sqrt(error2 / norm2) : 0.0;
+  report.finish_seconds = seconds_since(t0);
   return report;
 }
 

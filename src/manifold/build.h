@@ -1,10 +1,12 @@
 #pragma once
-// Building a manifold model from a MaterialSet: two streaming passes over the files.
-//   pass 1: validity mask (a column is kept only if every material is measured there), mean,
+// Building a manifold model from a MaterialSet in one streaming pass over the files:
+//   the pass: validity mask (a column is kept only if every material is measured there), mean,
 //           centred Gram S = (Z - mean)(Z - mean)^T of the data (double) and of the layout
-//           transform of the data (used to place the latent points), source file hashes;
+//           transform of the data (used to place the latent points), albedo curves, source file
+//           hashes; the inputs of the kept columns, column-interleaved, go straight into the
+//           model file as each block is read (the stored tensor does not depend on the layout);
 //   latent placement: PCA initialisation, then maximisation of the GP log-likelihood;
-//   pass 2: the centred data, column-interleaved, streamed into the model file.
+//   finishing: the small tensors and the header are written into the space left for them.
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -33,7 +35,8 @@ struct BuildReport {
   std::size_t kept_columns = 0, dropped_columns = 0;
   double log_likelihood = 0;
   gp::OptimizeResult optimization;
-  double pass1_seconds = 0, optimize_seconds = 0, pass2_seconds = 0;
+  /// The pass over the files (and the data written), the latent placement, the rest of the file.
+  double pass_seconds = 0, optimize_seconds = 0, finish_seconds = 0;
   /// Relative L2 error of the stored (rounded) data against the double data: float32 or float16.
   double storage_relative_error = 0;
 };

@@ -1,5 +1,6 @@
 #include "manifold/gram.h"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 
@@ -68,8 +69,8 @@ std::vector<AlbedoEntry> albedo_entries(const Eigen::SparseMatrix<double, Eigen:
 
 }  // namespace
 
-GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout,
-                           std::size_t block_columns, ProgressSink& progress) {
+GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout, std::size_t block_columns,
+                           ProgressSink& progress, RawBlockVisitor* raw) {
   const auto n = static_cast<Eigen::Index>(set.size());
   const MerlDims dims = set.dims();
   const std::size_t bins = dims.bins();
@@ -77,6 +78,7 @@ GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout
   r.kept.assign(set.value_count(), false);
   r.gram = Eigen::MatrixXd::Zero(n, n);
   const bool separate_layout = !layout.is_identity();
+  const bool linear_layout = layout.map == LayoutTransform::Map::linear;
   if (separate_layout) r.layout_gram = Eigen::MatrixXd::Zero(n, n);
   std::vector<double> mean;
   mean.reserve(set.value_count());
@@ -88,44 +90,66 @@ GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout
   RowMajor albedo_centred = RowMajor::Zero(n, 90 * 3);
   Eigen::RowVectorXd albedo_of_mean = Eigen::RowVectorXd::Zero(90 * 3);
   BlockMatrix transformed;
-  Eigen::RowVectorXd block_mean, transformed_mean;
+  std::vector<double> block_mean, transformed_mean;
+  std::vector<double> block_cos;  // cosine factor of each column of the current block
   BlockOptions options;
   options.block_columns = block_columns;
-  options.label = "pass 1/2: gram";
+  options.label = "reading the inputs";
   options.hashes = &r.hashes;
   for_each_column_block(set, [&](const ColumnBlock& block) {
-    if (separate_layout) {
-      transformed = block.values;
-      const auto k = static_cast<std::size_t>(block.count);
-      parallel_for(0, static_cast<std::size_t>(n), [&](std::size_t lo, std::size_t hi) {
-        for (std::size_t i = lo; i < hi; ++i) {
-          double* row = transformed.row(static_cast<Eigen::Index>(i)).data();
-          for (std::size_t j = 0; j < k; ++j) {
-            double x = row[j];
-            if (layout.map == LayoutTransform::Map::cube_root) x = fast_cbrt(x);
-            else if (layout.map == LayoutTransform::Map::log) x = std::log1p(100.0 * std::max(x, 0.0));
-            row[j] = layout.cosine_weighted ? x * cos_w[(block.first + j) % bins] : x;
+    const auto k = static_cast<std::size_t>(block.count);
+    if (layout.cosine_weighted) {
+      block_cos.resize(k);
+      for (std::size_t j = 0; j < k; ++j) block_cos[j] = cos_w[(block.first + j) % bins];
+    }
+    block_mean.resize(k);
+    if (separate_layout) transformed.resize(n, static_cast<Eigen::Index>(k));
+    if (separate_layout && !linear_layout) transformed_mean.resize(k);
+    if (raw) raw->prepare(block);
+    // One sweep over cache-sized column ranges: the raw visitor, the layout transform, centring.
+    const std::size_t sweep = RawBlockVisitor::kSweepColumns;
+    parallel_for_each(0, (k + sweep - 1) / sweep, [&](std::size_t c) {
+      const std::size_t j0 = c * sweep, j1 = std::min(k, j0 + sweep);
+      if (raw) raw->visit(block, j0, j1);
+      if (separate_layout && !linear_layout) {
+        // Non-linear maps apply to the raw values; the result is centred on its own mean.
+        for (Eigen::Index i = 0; i < n; ++i) {
+          const double* in = block.values.row(i).data();
+          double* out = transformed.row(i).data();
+          for (std::size_t j = j0; j < j1; ++j) {
+            const double x = layout.map == LayoutTransform::Map::cube_root ? fast_cbrt(in[j])
+                                                                           : std::log1p(100.0 * std::max(in[j], 0.0));
+            out[j] = layout.cosine_weighted ? x * block_cos[j] : x;
           }
         }
-      });
-      centre_kept_columns(transformed, block.kept, transformed_mean);
-      add_gram_upper(transformed, r.layout_gram);
-    }
-    centre_kept_columns(block.values, block.kept, block_mean);
+        centre_kept_columns(transformed, block.kept, j0, j1, transformed_mean.data());
+      }
+      centre_kept_columns(block.values, block.kept, j0, j1, block_mean.data());
+      if (separate_layout && linear_layout)  // a per-column factor commutes with centring
+        for (Eigen::Index i = 0; i < n; ++i) {
+          const double* in = block.values.row(i).data();
+          double* out = transformed.row(i).data();
+          for (std::size_t j = j0; j < j1; ++j) out[j] = in[j] * block_cos[j];
+        }
+    });
+    if (raw) raw->finish(block);
+    if (separate_layout) add_gram_upper(transformed, r.layout_gram);
     add_gram_upper(block.values, r.gram);
     for (std::size_t j = 0; j < block.count; ++j)
       if (block.kept[j]) {
         r.kept[block.first + j] = true;
-        mean.push_back(block_mean[static_cast<Eigen::Index>(j)]);
+        mean.push_back(block_mean[j]);
       }
     // Albedo curves are linear: A(z_i) = A(z_i - mean) + A(mean).
     const auto entries = albedo_entries(albedo_op, bins, block.first, block.count);
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const double* row = block.values.row(i).data();
-      double* out = albedo_centred.row(i).data();
-      for (const AlbedoEntry& e : entries) out[e.slot] += e.weight * row[e.column];
-    }
-    for (const AlbedoEntry& e : entries) albedo_of_mean[e.slot] += e.weight * block_mean[e.column];
+    parallel_for(0, static_cast<std::size_t>(n), [&](std::size_t lo, std::size_t hi) {
+      for (std::size_t i = lo; i < hi; ++i) {
+        const double* row = block.values.row(static_cast<Eigen::Index>(i)).data();
+        double* out = albedo_centred.row(static_cast<Eigen::Index>(i)).data();
+        for (const AlbedoEntry& e : entries) out[e.slot] += e.weight * row[e.column];
+      }
+    });
+    for (const AlbedoEntry& e : entries) albedo_of_mean[e.slot] += e.weight * block_mean[static_cast<std::size_t>(e.column)];
   }, options, progress);
   r.albedo = albedo_centred.rowwise() + albedo_of_mean;
 

@@ -1,5 +1,6 @@
 #pragma once
 // Pass 1 of a build: validity mask, mean and centred Gram matrices of a MaterialSet, in double.
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -35,7 +36,22 @@ struct GramResult {
   std::vector<std::uint64_t> hashes;  ///< xxh64 of each input file
 };
 
-GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout,
-                           std::size_t block_columns, ProgressSink& progress);
+struct ColumnBlock;
+
+/// Sees the raw data (physical units, before centring) of every block of the pass: prepare()
+/// once per block, then visit() from several threads at once on disjoint column ranges that
+/// together cover the block (each range while it is in cache; range bounds are multiples of
+/// kSweepColumns), then finish(). A build writes the model's data this way, in the same pass.
+struct RawBlockVisitor {
+  static constexpr std::size_t kSweepColumns = 512;
+  virtual ~RawBlockVisitor() = default;
+  virtual void prepare(const ColumnBlock&) {}
+  virtual void visit(const ColumnBlock& block, std::size_t first, std::size_t last) = 0;
+  virtual void finish(const ColumnBlock&) {}
+};
+
+/// One streaming pass over the set.
+GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout, std::size_t block_columns,
+                           ProgressSink& progress, RawBlockVisitor* raw = nullptr);
 
 }  // namespace matlas

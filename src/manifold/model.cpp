@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include <xxhash.h>
@@ -30,6 +31,7 @@ struct Model::Impl {
   int n = 0;
   std::string storage;
   const float* mean = nullptr;
+  std::vector<float> mean_copy;  // the mean when the map leaves it unaligned (float16 data of odd size)
   const std::int32_t* value_column = nullptr;
   const float* data_f32 = nullptr;
   const std::uint16_t* data_f16 = nullptr;
@@ -71,7 +73,7 @@ Model::~Model() = default;
 
 Model Model::open(const fs::path& path) {
   auto m = std::make_unique<Impl>(Impl{path, SafetensorsFile::open(path), {}, {}, {}, {}, {}, {}, 0, 0,
-                                       {}, nullptr, nullptr, nullptr, nullptr, nullptr});
+                                       {}, nullptr, {}, nullptr, nullptr, nullptr, nullptr});
   const SafetensorsFile& f = m->file;
   const auto meta_it = f.metadata().find(model_format::kMetadataKey);
   if (meta_it == f.metadata().end())
@@ -107,7 +109,14 @@ Model Model::open(const fs::path& path) {
   const TensorInfo& mean = f.require(model_format::kMean, DType::F32);
   if (mean.shape.size() != 1) throw file_error(path, "corrupted model: mean tensor shape");
   m->kept = static_cast<std::size_t>(mean.shape[0]);
-  m->mean = reinterpret_cast<const float*>(f.bytes(mean));
+  const std::byte* mean_bytes = f.bytes(mean);
+  if (reinterpret_cast<std::uintptr_t>(mean_bytes) % alignof(float) == 0) {
+    m->mean = reinterpret_cast<const float*>(mean_bytes);
+  } else {
+    m->mean_copy.resize(m->kept);
+    std::memcpy(m->mean_copy.data(), mean_bytes, m->kept * sizeof(float));
+    m->mean = m->mean_copy.data();
+  }
   const auto columns = f.view<std::int32_t>(model_format::kValueColumn, DType::I32,
                                             {static_cast<std::int64_t>(3 * m->dims.bins())});
   m->value_column = columns.data();

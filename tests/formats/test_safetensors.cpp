@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -95,6 +96,72 @@ TEST(Safetensors, IncompleteWriteLeavesNoFile) {
     EXPECT_THROW(w.commit(), Error);
   }
   EXPECT_FALSE(std::filesystem::exists(dir / "t.safetensors"));
+}
+
+TEST(Safetensors, ReservedHeaderTakesGrowingTensorsAndLateMetadata) {
+  // A model build's order: the growing tensors are appended first (large enough to go through
+  // direct I/O), the fixed ones and the metadata come last; the file reads back like any other.
+  test::TempDir dir;
+  const auto path = dir / "g.safetensors";
+  const std::int64_t cols = 3, rows = 1'500'001;  // 18 MB of F32: several direct-I/O buffers
+  std::vector<float> data(static_cast<std::size_t>(rows * cols));
+  for (std::size_t k = 0; k < data.size(); ++k) data[k] = static_cast<float>(k % 9973) * 0.5f;
+  const std::vector<std::uint16_t> tail = {1, 2, 3, 4, 5};
+  const std::vector<double> fixed = {0.25, -1.0};
+  {
+    SafetensorsWriter w;
+    w.declare("fixed", DType::F64, {2});
+    w.declare_growing("data", DType::F32, {cols});
+    w.declare_growing("tail", DType::F16, {});
+    w.begin(path, 4096);
+    for (std::int64_t r = 0; r < rows; r += 100'000) {
+      const std::int64_t count = std::min<std::int64_t>(100'000, rows - r);
+      w.append(data.data() + r * cols, static_cast<std::size_t>(count * cols) * sizeof(float));
+    }
+    w.end_growing();
+    w.append(tail.data(), tail.size() * 2);
+    w.end_growing();
+    w.write_tensor("fixed", fixed.data(), fixed.size() * sizeof(double));
+    w.add_metadata("late", "yes");
+    w.commit();
+  }
+  const auto f = SafetensorsFile::open(path);
+  EXPECT_EQ(f.metadata().at("late"), "yes");
+  EXPECT_EQ(f.view<double>("fixed", DType::F64, {2})[1], -1.0);
+  const auto d = f.view<float>("data", DType::F32, {rows, cols});
+  EXPECT_TRUE(std::equal(d.begin(), d.end(), data.begin()));
+  const auto t = f.view<std::uint16_t>("tail", DType::F16, {5});
+  EXPECT_TRUE(std::equal(t.begin(), t.end(), tail.begin()));
+}
+
+TEST(Safetensors, ReservedHeaderRejectsMissingTensorsPartialRowsAndOverflow) {
+  test::TempDir dir;
+  {
+    SafetensorsWriter w;
+    w.declare("fixed", DType::F64, {2});
+    w.declare_growing("data", DType::F32, {4});
+    w.begin(dir / "a.safetensors", 256);
+    w.append(std::vector<float>(6).data(), 6 * sizeof(float));
+    EXPECT_THROW(w.end_growing(), Error);  // 1.5 rows
+  }
+  {
+    SafetensorsWriter w;
+    w.declare("fixed", DType::F64, {2});
+    w.declare_growing("data", DType::F32, {});
+    w.begin(dir / "b.safetensors", 256);
+    w.end_growing();
+    EXPECT_THROW(w.commit(), Error);  // "fixed" never written
+  }
+  {
+    SafetensorsWriter w;
+    w.declare_growing("data", DType::F32, {});
+    w.begin(dir / "c.safetensors", 64);
+    w.end_growing();
+    w.add_metadata("big", std::string(500, 'x'));
+    EXPECT_THROW(w.commit(), Error);  // header larger than reserved
+  }
+  for (const char* name : {"a.safetensors", "b.safetensors", "c.safetensors"})
+    EXPECT_FALSE(std::filesystem::exists(dir / name)) << name;
 }
 
 TEST(HalfFloat, EveryHalfRoundTripsAndRoundingIsNearest) {

@@ -1,0 +1,151 @@
+#include "core/direct_appender.h"
+
+#include <cerrno>
+#include <condition_variable>
+#include <cstdlib>
+#include <cstring>
+#include <deque>
+#include <exception>
+#include <fcntl.h>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <unistd.h>
+
+#include "core/error.h"
+
+namespace matlas {
+
+namespace {
+
+struct AlignedFree {
+  void operator()(std::byte* p) const { std::free(p); }
+};
+using AlignedBuffer = std::unique_ptr<std::byte, AlignedFree>;
+
+AlignedBuffer aligned_buffer() {
+  void* p = std::aligned_alloc(DirectAppender::kAlignment, DirectAppender::kBufferBytes);
+  if (!p) throw Error("out of memory for a direct-I/O buffer");
+  return AlignedBuffer(static_cast<std::byte*>(p));
+}
+
+}  // namespace
+
+struct DirectAppender::State {
+  std::filesystem::path path;
+  int fd = -1;
+  std::uint64_t next_offset = 0;  ///< file offset of the buffer being filled
+  AlignedBuffer buffers[2];
+  int filling = 0;                ///< index of the buffer being filled
+  std::size_t filled = 0;         ///< bytes staged in it
+
+  // The writer thread: at most one buffer in flight while the other fills.
+  std::mutex mutex;
+  std::condition_variable changed;
+  bool busy = false, stop = false;
+  int pending_buffer = -1;
+  std::uint64_t pending_offset = 0;
+  std::exception_ptr failure;
+  std::thread thread;
+
+  void run() {
+    std::unique_lock lock(mutex);
+    for (;;) {
+      changed.wait(lock, [&] { return stop || pending_buffer >= 0; });
+      if (pending_buffer < 0) return;
+      const int b = pending_buffer;
+      const std::uint64_t offset = pending_offset;
+      lock.unlock();
+      std::exception_ptr error;
+      try {
+        write_buffer(buffers[b].get(), offset);
+      } catch (...) {
+        error = std::current_exception();
+      }
+      lock.lock();
+      if (error && !failure) failure = error;
+      pending_buffer = -1;
+      busy = false;
+      changed.notify_all();
+    }
+  }
+
+  void write_buffer(const std::byte* data, std::uint64_t offset) const {
+    std::size_t done = 0;
+    while (done < kBufferBytes) {
+      const ssize_t n = ::pwrite(fd, data + done, kBufferBytes - done, static_cast<off_t>(offset + done));
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) throw file_error(path, std::string("write failed: ") + std::strerror(n < 0 ? errno : EIO));
+      done += static_cast<std::size_t>(n);
+    }
+  }
+
+  /// Waits until the writer is idle; rethrows its failure.
+  void wait_idle(std::unique_lock<std::mutex>& lock) {
+    changed.wait(lock, [&] { return !busy; });
+    if (failure) std::rethrow_exception(failure);
+  }
+
+  void submit_full_buffer() {
+    std::unique_lock lock(mutex);
+    wait_idle(lock);
+    busy = true;
+    pending_buffer = filling;
+    pending_offset = next_offset;
+    changed.notify_all();
+    next_offset += kBufferBytes;
+    filling = 1 - filling;
+    filled = 0;
+  }
+};
+
+std::unique_ptr<DirectAppender> DirectAppender::open(const std::filesystem::path& path, std::uint64_t offset) {
+  if (offset % kAlignment != 0) throw Error("DirectAppender: unaligned start offset (internal error)");
+  const int fd = ::open(path.c_str(), O_WRONLY | O_DIRECT | O_CLOEXEC);
+  if (fd < 0) return nullptr;  // e.g. tmpfs: EINVAL
+  auto state = std::make_unique<State>();
+  state->path = path;
+  state->fd = fd;
+  state->next_offset = offset;
+  state->buffers[0] = aligned_buffer();
+  state->buffers[1] = aligned_buffer();
+  State* s = state.get();
+  state->thread = std::thread([s] { s->run(); });
+  return std::unique_ptr<DirectAppender>(new DirectAppender(std::move(state)));
+}
+
+DirectAppender::DirectAppender(std::unique_ptr<State> state) : state_(std::move(state)) {}
+
+DirectAppender::~DirectAppender() {
+  {
+    std::lock_guard lock(state_->mutex);
+    state_->stop = true;
+  }
+  state_->changed.notify_all();
+  state_->thread.join();
+  ::close(state_->fd);
+}
+
+void DirectAppender::append(const void* data, std::size_t bytes) {
+  State& s = *state_;
+  const auto* p = static_cast<const std::byte*>(data);
+  while (bytes > 0) {
+    const std::size_t n = std::min(bytes, kBufferBytes - s.filled);
+    std::memcpy(s.buffers[s.filling].get() + s.filled, p, n);
+    s.filled += n;
+    p += n;
+    bytes -= n;
+    if (s.filled == kBufferBytes) s.submit_full_buffer();
+  }
+}
+
+std::span<const std::byte> DirectAppender::finish() {
+  State& s = *state_;
+  std::unique_lock lock(s.mutex);
+  s.wait_idle(lock);
+  return {s.buffers[s.filling].get(), s.filled};
+}
+
+std::uint64_t DirectAppender::tail_offset() const { return state_->next_offset; }
+
+}  // namespace matlas

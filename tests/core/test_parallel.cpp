@@ -1,0 +1,60 @@
+// parallel_for: every index exactly once in contiguous chunks, chunk limits, exceptions,
+// nested calls and calls from several threads at once (the server does that).
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+#include "core/parallel.h"
+
+namespace matlas {
+namespace {
+
+TEST(ParallelFor, CoversTheRangeOnceInAtMostWorkerCountChunks) {
+  for (std::size_t count : {1u, 2u, 7u, 1000u}) {
+    std::vector<std::atomic<int>> hits(count);
+    std::atomic<std::size_t> chunks{0};
+    parallel_for(10, 10 + count, [&](std::size_t lo, std::size_t hi) {
+      ASSERT_LT(lo, hi);
+      ++chunks;
+      for (std::size_t i = lo; i < hi; ++i) ++hits[i - 10];
+    });
+    for (auto& h : hits) EXPECT_EQ(h.load(), 1);
+    EXPECT_LE(chunks.load(), std::min<std::size_t>(count, worker_count()));
+  }
+}
+
+TEST(ParallelFor, RespectsTheMinimumChunk) {
+  std::atomic<std::size_t> chunks{0};
+  parallel_for(0, 100, [&](std::size_t lo, std::size_t hi) {
+    ++chunks;
+    EXPECT_GE(hi - lo, 50u);
+  }, 50);
+  EXPECT_LE(chunks.load(), 2u);
+}
+
+TEST(ParallelFor, RethrowsAnExceptionFromABody) {
+  EXPECT_THROW(parallel_for(0, 64, [&](std::size_t lo, std::size_t) {
+                 if (lo == 0) throw std::runtime_error("boom");
+               }),
+               std::runtime_error);
+}
+
+TEST(ParallelFor, NestedAndConcurrentCallsComplete) {
+  std::atomic<long> total{0};
+  std::vector<std::thread> callers;
+  for (int t = 0; t < 4; ++t)
+    callers.emplace_back([&] {
+      parallel_for(0, 8, [&](std::size_t lo, std::size_t hi) {
+        for (std::size_t i = lo; i < hi; ++i)
+          parallel_for(0, 100, [&](std::size_t a, std::size_t b) { total += static_cast<long>(b - a); });
+      });
+    });
+  for (auto& c : callers) c.join();
+  EXPECT_EQ(total.load(), 4 * 8 * 100);
+}
+
+}  // namespace
+}  // namespace matlas
