@@ -2,7 +2,7 @@
 # Runs every test: the GoogleTest suites (ctest) on the Release build, then the browser tests of
 # the web UI (Playwright driving Debian's Chromium). Run scripts/setup.sh first.
 #   scripts/test.sh              all tests
-#   scripts/test.sh --sanitize   also the numerical core's suites (brdf, formats, gp, manifold) built
+#   scripts/test.sh --sanitize   also the numerical core's suites (core, brdf, formats, gp, manifold) built
 #                                with ASan/UBSan in build-sanitize/ (setup.sh --sanitize configures it)
 set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -16,7 +16,7 @@ cmake --build build -j "$jobs"
 ctest --test-dir build --output-on-failure -j "$jobs"
 
 if [[ "${1:-}" == "--sanitize" ]]; then
-  suites=(brdf formats gp manifold)
+  suites=(core brdf formats gp manifold)
   targets=()
   for s in "${suites[@]}"; do targets+=("matlas_${s}_tests"); done
   cmake --build build-sanitize -j "$jobs" --target "${targets[@]}" | tail -n 2
