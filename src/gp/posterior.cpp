@@ -40,6 +40,23 @@ double GpPosterior::variance(const Eigen::Ref<const Eigen::VectorXd>& x) const {
   return std::max(0.0, prior - explained);
 }
 
+GpPosterior::Batch GpPosterior::predict_batch(const Eigen::MatrixXd& points) const {
+  if (points.cols() != X_.cols())
+    throw Error("GP posterior: points have dimension " + std::to_string(points.cols()) +
+                " but the latent space has " + std::to_string(X_.cols()));
+  Batch b;
+  // V = L^-1 k(x): variance = prior - |v|^2, weights = L^-T V = K^-1 k(x).
+  Eigen::MatrixXd v = llt_.matrixL().solve(cross_covariance_batch(X_, points, kernel_));
+  b.variance.resize(points.rows());
+  for (Eigen::Index j = 0; j < points.rows(); ++j) {
+    const bool at_data = ((X_.rowwise() - points.row(j)).array() == 0.0).rowwise().all().any();
+    b.variance[j] = std::max(0.0, 1.0 + (at_data ? kernel_.nugget : 0.0) - v.col(j).squaredNorm());
+  }
+  llt_.matrixU().solveInPlace(v);
+  b.weights = std::move(v);
+  return b;
+}
+
 double GpPosterior::log_det() const {
   return 2.0 * llt_.matrixLLT().diagonal().array().log().sum();
 }

@@ -34,6 +34,13 @@ public:
   /// points, -> 1 far away from them (kernel units: multiply by the fitted signal variance s^2 for
   /// data units).
   double variance(const Eigen::Ref<const Eigen::VectorXd>& x) const;
+  /// Weights (n x m) and variances (length m) of many points (m x q) at once, from one kernel
+  /// matrix and one pair of triangular solves.
+  struct Batch {
+    Eigen::MatrixXd weights;
+    Eigen::VectorXd variance;
+  };
+  Batch predict_batch(const Eigen::MatrixXd& points) const;
 
   /// log|K| (from the Cholesky factor).
   double log_det() const;

@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "core/parallel.h"
 #include "formats/safetensors.h"
+#include "manifold/dense_product.h"
 #include "manifold/dot_kernel.h"
 #include "manifold/model_format.h"
 
@@ -263,6 +264,13 @@ std::vector<Rgb> Model::albedo_curve(const Eigen::Ref<const Eigen::VectorXd>& w)
   std::vector<Rgb> curve(kAlbedoAngles);
   for (int t = 0; t < kAlbedoAngles; ++t) curve[static_cast<std::size_t>(t)] = Rgb(a[3 * t], a[3 * t + 1], a[3 * t + 2]);
   return curve;
+}
+
+Eigen::MatrixXd Model::albedo_batch(const Eigen::MatrixXd& W) const {
+  const Eigen::RowVectorXd mean = impl_->albedo.colwise().mean();
+  Eigen::MatrixXd a = blas_product((impl_->albedo.rowwise() - mean).transpose(), W);
+  a.colwise() += mean.transpose();
+  return a;
 }
 
 }  // namespace matlas

@@ -78,6 +78,9 @@ public:
   /// Directional albedo curve for weights w, by linearity from the per-material curves:
   /// kAlbedoAngles entries.
   std::vector<Rgb> albedo_curve(const Eigen::Ref<const Eigen::VectorXd>& w) const;
+  /// The albedo curves of many weight vectors (columns of W, n x m) at once:
+  /// (kAlbedoAngles * 3) x m, rows [theta][channel].
+  Eigen::MatrixXd albedo_batch(const Eigen::MatrixXd& W) const;
 
   // --- Raw storage (for fast paths such as rendering and benchmarks) ---
   /// Kept column of value index v, or -1.

@@ -86,6 +86,8 @@ Reply Reply::bytes(std::string data, std::string content_type) {
 
 Api::Api(const Model& model, std::shared_ptr<const PreviewSource> previews, const ServerOptions& options)
     : model_(model),
+      plausibility_(model, 4096),
+      map_plausibility_(model, 256),
       previews_(std::move(previews)),
       options_(options),
       domain_(LatentDomain::around(model.latent_min(), model.latent_max(), options.domain_margin)),
@@ -120,7 +122,7 @@ Api::Api(const Model& model, std::shared_ptr<const PreviewSource> previews, cons
                  {"default_env", previews_->default_environment()},
                  {"default_object", previews_->default_object()}};
   j["preview"] = {{"size", previews_->size()}, {"drag_size", previews_->drag_size()}, {"max_size", 512}};
-  j["layers"] = {"albedo", "variance"};
+  j["layers"] = {"albedo", "variance", "plausibility"};
   j["albedo_angles"] = kAlbedoAngles;
   model_json_ = j.dump();
 }
@@ -189,8 +191,15 @@ Reply Api::weights(const std::string& body) {
   const Eigen::VectorXd x = parse_latent(j, "x", domain_);
   const int top = parse_int(j, "top", 0, model_.count(), std::min(8, model_.count()));
   const Eigen::VectorXd w = model_.weights(x);
+  const Plausibility p = plausibility_(w);
   return Reply::json({{"x", to_json(x)}, {"weights", to_json(w)}, {"variance", model_.variance(x)},
-                      {"top", top_weights(w, top)}});
+                      {"top", top_weights(w, top)},
+                      {"plausibility",
+                       {{"negative_fraction", p.negative_fraction},
+                        {"max_albedo", p.max_albedo},
+                        {"min_albedo", p.min_albedo},
+                        {"sampled_values", plausibility_.samples()},
+                        {"plausible", p.violation() == 0.0}}}});
 }
 
 Reply Api::slice(const std::string& body) {
@@ -231,8 +240,8 @@ Reply Api::albedo(const std::string& body) {
 Reply Api::map_layer(const std::string& body) {
   const auto j = parse_json_object(body);
   MapLayerRequest r;
-  r.layer = parse_choice(j, "layer", {"albedo", "variance"}, "albedo") == "variance" ? MapLayer::variance
-                                                                                    : MapLayer::albedo;
+  const std::string layer = parse_choice(j, "layer", {"albedo", "variance", "plausibility"}, "albedo");
+  r.layer = layer == "variance" ? MapLayer::variance : layer == "plausibility" ? MapLayer::plausibility : MapLayer::albedo;
   r.base = parse_latent(j, "x", domain_);
   const int q = model_.dim();
   if (q < 2) throw bad_request("map layers need a latent space of at least 2 dimensions");
@@ -266,7 +275,7 @@ Reply Api::map_layer(const std::string& body) {
       throw bad_request("\"size\" must be between 4 and 256 pixels per side");
   }
   auto slot = acquire(heavy_);
-  return Reply::bytes(map_layer_png(model_, r), kPng);
+  return Reply::bytes(map_layer_png(model_, r, &map_plausibility_), kPng);
 }
 
 Reply Api::export_merl(const std::string& body) {

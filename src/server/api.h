@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
+#include "manifold/plausibility.h"
 #include "server/atlas_server.h"
 #include "server/compute_gate.h"
 #include "server/png_cache.h"
@@ -62,6 +63,8 @@ private:
   nlohmann::json top_weights(const Eigen::VectorXd& w, int count) const;
 
   const Model& model_;
+  PlausibilityProbe plausibility_;      ///< for one point (weights reply): 4096 sampled columns
+  PlausibilityProbe map_plausibility_;  ///< for map cells: 256 sampled columns
   std::shared_ptr<const PreviewSource> previews_;
   ServerOptions options_;
   LatentDomain domain_;

@@ -5,9 +5,10 @@
 #include <cmath>
 #include <vector>
 
-#include "core/parallel.h"
 #include "formats/image_io.h"
+#include "core/error.h"
 #include "manifold/model.h"
+#include "manifold/plausibility.h"
 
 namespace matlas::server {
 
@@ -24,31 +25,51 @@ void variance_colour(double t, unsigned char rgb[3]) {
   }
 }
 
-std::string map_layer_png(const Model& model, const MapLayerRequest& r) {
+std::string map_layer_png(const Model& model, const MapLayerRequest& r, const PlausibilityProbe* probe) {
+  if (r.layer == MapLayer::plausibility && !probe) throw Error("plausibility layer without a probe (internal error)");
   const auto width = static_cast<std::size_t>(r.width), height = static_cast<std::size_t>(r.height);
-  std::vector<unsigned char> pixels(width * height * 3);
-  parallel_for(0, height, [&](std::size_t row0, std::size_t row1) {
-    Eigen::VectorXd x = r.base;
-    for (std::size_t row = row0; row < row1; ++row) {
+  const std::size_t cells = width * height;
+  // Every cell's latent point, then its weights and variance in batches (one triangular solve
+  // with many right-hand sides), the albedo and plausibility by matrix products.
+  Eigen::MatrixXd points(static_cast<Eigen::Index>(cells), r.base.size());
+  for (std::size_t row = 0; row < height; ++row)
+    for (std::size_t col = 0; col < width; ++col) {
+      Eigen::VectorXd x = r.base;
+      x[r.axis_x] = r.x0 + (r.x1 - r.x0) * (static_cast<double>(col) + 0.5) / static_cast<double>(width);
       x[r.axis_y] = r.y1 + (r.y0 - r.y1) * (static_cast<double>(row) + 0.5) / static_cast<double>(height);
-      for (std::size_t col = 0; col < width; ++col) {
-        x[r.axis_x] = r.x0 + (r.x1 - r.x0) * (static_cast<double>(col) + 0.5) / static_cast<double>(width);
-        unsigned char* px = pixels.data() + (row * width + col) * 3;
-        if (r.layer == MapLayer::variance) {
-          variance_colour(model.variance(x), px);
-        } else {
-          // Faded towards the map's background where the GP is uncertain (far from the data).
-          const Rgb a = model.albedo_curve(model.weights(x)).front();
-          const double confidence = 1.0 - 0.8 * std::clamp(model.variance(x), 0.0, 1.0);
-          for (int c = 0; c < 3; ++c) {
-            const double shown = confidence * srgb_encode(static_cast<float>(std::clamp(a[c], 0.0, 1.0))) +
-                                 (1.0 - confidence) * 0.07;
-            px[c] = static_cast<unsigned char>(std::lround(255.0 * shown));
-          }
-        }
-      }
+      points.row(static_cast<Eigen::Index>(row * width + col)) = x.transpose();
     }
-  }, 4);
+  const gp::GpPosterior::Batch predicted = model.posterior().predict_batch(points);
+  const Eigen::VectorXd& variance = predicted.variance;
+  Eigen::MatrixXd albedo;
+  std::vector<Plausibility> plausibility;
+  if (r.layer != MapLayer::variance) {
+    albedo = model.albedo_batch(predicted.weights);  // rows 0..2: normal incidence
+    if (r.layer == MapLayer::plausibility) plausibility = probe->batch(predicted.weights);
+  }
+  std::vector<unsigned char> pixels(cells * 3);
+  for (std::size_t k = 0; k < cells; ++k) {
+    unsigned char* px = pixels.data() + k * 3;
+    const auto j = static_cast<Eigen::Index>(k);
+    if (r.layer == MapLayer::variance) {
+      variance_colour(variance[j], px);
+      continue;
+    }
+    double shown[3];
+    auto albedo_srgb = [&](int c) { return srgb_encode(static_cast<float>(std::clamp(albedo(c, j), 0.0, 1.0))); };
+    if (r.layer == MapLayer::albedo) {
+      // Faded towards the map's background where the GP is uncertain (far from the data).
+      const double confidence = 1.0 - 0.8 * std::clamp(variance[j], 0.0, 1.0);
+      for (int c = 0; c < 3; ++c) shown[c] = confidence * albedo_srgb(c) + (1.0 - confidence) * 0.07;
+    } else {
+      // Plausible: the albedo, dimmed. Not plausible: red, brighter the larger the violation.
+      const double violation = plausibility[k].violation();
+      const double t = violation > 0 ? 0.45 + 0.55 * std::clamp(violation / 0.3, 0.0, 1.0) : 0.0;
+      static constexpr double kRed[3] = {0.95, 0.16, 0.12};
+      for (int c = 0; c < 3; ++c) shown[c] = (1.0 - t) * 0.45 * albedo_srgb(c) + t * kRed[c];
+    }
+    for (int c = 0; c < 3; ++c) px[c] = static_cast<unsigned char>(std::lround(255.0 * shown[c]));
+  }
   return encode_png_srgb8(pixels.data(), r.width, r.height);
 }
 

@@ -8,6 +8,7 @@
 
 namespace matlas {
 class Model;
+class PlausibilityProbe;
 }
 
 namespace matlas::server {
@@ -15,6 +16,8 @@ namespace matlas::server {
 enum class MapLayer {
   albedo,    ///< albedo at normal incidence as a colour (sRGB, clamped), faded where variance is high
   variance,  ///< GP predictive variance (0 at the data .. 1 far away), as a colour ramp
+  plausibility,  ///< dimmed albedo where plausible, red by how much the material is not
+                 ///< (negative values, albedo outside [0, 1]; manifold/plausibility.h)
 };
 
 struct MapLayerRequest {
@@ -25,8 +28,9 @@ struct MapLayerRequest {
   int width = 64, height = 64;  ///< grid size (pixel centres sample the rectangle)
 };
 
-/// Computes the layer (in parallel) and returns the PNG bytes.
-std::string map_layer_png(const Model& model, const MapLayerRequest& request);
+/// Computes the layer (in parallel) and returns the PNG bytes. The plausibility layer needs `probe`.
+std::string map_layer_png(const Model& model, const MapLayerRequest& request,
+                          const PlausibilityProbe* probe = nullptr);
 
 /// The ramp used for the variance layer, t in [0, 1] -> sRGB8.
 void variance_colour(double t, unsigned char rgb[3]);

@@ -69,6 +69,20 @@ TEST(GpPosterior, BatchWeightsEqualSingle) {
   EXPECT_THROW(gp.weights_batch(Eigen::MatrixXd::Zero(2, 3)), Error);
 }
 
+TEST(GpPosterior, PredictBatchEqualsSingleWeightsAndVariance) {
+  const GpPosterior gp = make_posterior();
+  Eigen::MatrixXd P = test::random_points(9, 2, 321);
+  P.row(4) = gp.latent().row(1);  // a data point: its variance includes the nugget's prior
+  const GpPosterior::Batch b = gp.predict_batch(P);
+  ASSERT_EQ(b.weights.rows(), gp.count());
+  ASSERT_EQ(b.variance.size(), 9);
+  for (int j = 0; j < 9; ++j) {
+    EXPECT_LT((b.weights.col(j) - gp.weights(P.row(j).transpose())).cwiseAbs().maxCoeff(), 1e-10) << j;
+    EXPECT_NEAR(b.variance[j], gp.variance(P.row(j).transpose()), 1e-12) << j;
+  }
+  EXPECT_THROW(gp.predict_batch(Eigen::MatrixXd::Zero(2, 3)), Error);
+}
+
 TEST(GpPosterior, LogDetAndConditionMatchEigenvalues) {
   const GpPosterior gp = make_posterior();
   const Eigen::MatrixXd K = covariance_matrix(gp.latent(), gp.kernel());

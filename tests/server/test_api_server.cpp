@@ -155,6 +155,14 @@ TEST_F(ApiServerTest, WeightsAtAMaterialPointSelectThatMaterial) {
   EXPECT_EQ(j["top"][0]["index"], 2);
   EXPECT_EQ(j["top"][0]["name"], model_->names()[2]);
   EXPECT_EQ(j["top"].size(), 3u);
+  // A database material is plausible: no negative values, its albedo curve's range.
+  const json& p = j["plausibility"];
+  EXPECT_TRUE(p["plausible"].get<bool>()) << p.dump();
+  EXPECT_EQ(p["negative_fraction"].get<double>(), 0.0);
+  EXPECT_GT(p["sampled_values"].get<int>(), 0);
+  double hi = 0;
+  for (const Rgb& a : model_->albedo_curve(model_->material_weights(2))) hi = std::max(hi, a.maxCoeff());
+  EXPECT_NEAR(p["max_albedo"].get<double>(), hi, 1e-12);
 }
 
 TEST_F(ApiServerTest, ExportIsAMerlTableOfThePoint) {
@@ -224,7 +232,7 @@ TEST_F(ApiServerTest, PanelsSliceLobeAlbedoAndMapLayers) {
   ASSERT_EQ(albedo["rgb"].size(), curve.size());
   EXPECT_NEAR(albedo["rgb"][10][2].get<double>(), curve[10][2], 1e-12);
 
-  for (const char* layer : {"albedo", "variance"}) {
+  for (const char* layer : {"albedo", "variance", "plausibility"}) {
     auto m = post("/api/map", {{"layer", layer}, {"axes", {0, 1}}, {"x", x}, {"rect", {-1, 1, -1, 1}}, {"size", {24, 16}}});
     ASSERT_TRUE(m);
     ASSERT_EQ(m->status, 200) << m->body;

@@ -16,10 +16,20 @@ export interface ModelInfo {
   layers: string[];
 }
 
+export interface Plausibility {
+  /** Share of negative values in a fixed sample of the table's columns. */
+  negative_fraction: number;
+  max_albedo: number;
+  min_albedo: number;
+  sampled_values: number;
+  plausible: boolean;
+}
+
 export interface WeightsReply {
   weights: number[];
   variance: number;
   top: { index: number; name: string; weight: number }[];
+  plausibility: Plausibility;
 }
 
 export interface LobeReply {

@@ -1,7 +1,7 @@
 // The material browser page: wires the latent map, the live preview, the panels, the path tool,
 // export and upload to the matlas API.
 import "./style.css";
-import { api, type ModelInfo, type WeightsReply } from "./api";
+import { api, type ModelInfo, type Plausibility, type WeightsReply } from "./api";
 import { AlbedoChart, LobeChart, WeightsChart } from "./charts";
 import { LatestOnly } from "./latest";
 import { LatentMap, type ViewRect } from "./map";
@@ -65,6 +65,19 @@ async function showBlob(img: HTMLImageElement, blob: Blob): Promise<void> {
   if (old.startsWith("blob:")) URL.revokeObjectURL(old);
 }
 
+/** The plausibility line under the weights: what is wrong with the current point, if anything. */
+function showPlausibility(p: Plausibility): void {
+  const el = $("plausibility");
+  const problems: string[] = [];
+  if (p.negative_fraction > 0) problems.push(`~${(100 * p.negative_fraction).toFixed(1)} % of values negative`);
+  if (p.max_albedo > 1) problems.push(`albedo up to ${p.max_albedo.toFixed(2)} (reflects more light than it receives)`);
+  if (p.min_albedo < 0) problems.push(`negative albedo (${p.min_albedo.toFixed(2)})`);
+  el.classList.toggle("implausible", problems.length > 0);
+  el.textContent = problems.length > 0
+    ? `⚠ not physically plausible: ${problems.join("; ")}. Exports clamp negative values to 0.`
+    : `physically plausible: albedo ${p.min_albedo.toFixed(2)}–${p.max_albedo.toFixed(2)}, no negative value among ${p.sampled_values} sampled`;
+}
+
 async function main(): Promise<void> {
   const model = await api.model();
   $("model-info").textContent = `${model.name} · ${model.count} materials · q = ${model.dim}`;
@@ -109,6 +122,7 @@ async function main(): Promise<void> {
       state.lastWeights = w;
       weightsChart.update(w);
       $("variance").textContent = `variance ${w.variance.toFixed(3)}`;
+      showPlausibility(w.plausibility);
       lobeChart.update(lobe);
       albedoChart.update(albedo);
       await showBlob($<HTMLImageElement>("slice"), slice);

@@ -6,7 +6,7 @@
 // Checks: the page loads; a click on the map updates the preview, which equals the server's image
 // for that point; dragging streams previews (latencies are printed); export downloads a valid MERL
 // table of the current point; uploading a database file projects it next to its latent point; the
-// path tool fills its strip; shift+drag and alt+arrows pan the map. A screenshot goes to test-results/browser.png.
+// path tool fills its strip; shift+drag and alt+arrows pan the map; the plausibility line and layer. A screenshot goes to test-results/browser.png.
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
 import { spawn } from "node:child_process";
@@ -154,6 +154,20 @@ test("shift+drag and alt+arrows pan the map without moving the current point", a
   const c = await where();
   assert.ok(Math.abs(c.p[0] - b.p[0] + 0.1 * box.width) < 1, `alt+right pans by a tenth: ${b.p[0]} -> ${c.p[0]}`);
   await page.keyboard.press("0");  // back to the fitted view for the tests that follow
+});
+
+test("the plausibility line and map layer describe the current point", async () => {
+  // At a database material the point is plausible.
+  const [mx, my] = await page.evaluate(() => window.matlas.map.materialClientPosition(1));
+  await page.mouse.click(mx, my);
+  await settled();
+  await page.waitForFunction(() => /plausible/.test(document.getElementById("plausibility").textContent), null, { timeout: 10_000 });
+  const line = await page.textContent("#plausibility");
+  assert.match(line, /^physically plausible: albedo/, line);
+  const layer = page.waitForResponse((r) => r.url().endsWith("/api/map") && r.request().postData().includes("plausibility"));
+  await page.selectOption("#layer", "plausibility");
+  assert.equal((await layer).status(), 200);
+  await page.selectOption("#layer", "albedo");
 });
 
 test("export downloads the MERL table of the current point", async () => {
