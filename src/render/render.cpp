@@ -118,7 +118,8 @@ Rgb trace_sample(const Scene& scene, const Mixture& mix, SampleStream& rng, cons
   return radiance;
 }
 
-/// Runs body(pixel x, y, stream per sample) for every pixel, rows in parallel, with progress.
+/// Runs body(x, y) for every pixel, rows handed out to the workers as they become free (rows
+/// cost very different amounts: sky, ground, object), with progress.
 template <class PixelBody>
 void for_each_pixel(const RenderSettings& settings, ProgressSink& progress, const std::string& label,
                     PixelBody&& body) {
@@ -126,15 +127,54 @@ void for_each_pixel(const RenderSettings& settings, ProgressSink& progress, cons
   std::mutex progress_mutex;
   const auto rows = static_cast<std::uint64_t>(settings.height);
   progress.update(label, 0, rows);
-  parallel_for(0, static_cast<std::size_t>(settings.height), [&](std::size_t y0, std::size_t y1) {
-    for (std::size_t y = y0; y < y1; ++y) {
-      for (int x = 0; x < settings.width; ++x) body(x, static_cast<int>(y));
-      const std::uint64_t done = ++rows_done;
-      std::lock_guard lock(progress_mutex);
-      progress.update(label, done, rows);
-    }
+  parallel_for_each(0, static_cast<std::size_t>(settings.height), [&](std::size_t y) {
+    for (int x = 0; x < settings.width; ++x) body(x, static_cast<int>(y));
+    const std::uint64_t done = ++rows_done;
+    std::lock_guard lock(progress_mutex);
+    progress.update(label, done, rows);
   });
   progress.finish(label);
+}
+
+/// The camera samples of pixel (x, y): for sample s, the stream (seed, pixel, s) gives the
+/// jitter and then the light path. Every material sees exactly these samples: this is what
+/// makes an image basis linear in the BRDF (render() and render_bank() both go through here).
+/// Returns the sum over samples of the material-independent radiance; tap(wi, wo, weight) is
+/// called for every BRDF evaluation on the object. Adds the number of taps to `taps`.
+/// Sample s of pixel (x, y): its random stream, positioned after the jitter, and camera ray.
+SampleStream camera_sample(const Scene& scene, const RenderSettings& settings, int x, int y, int s, Vec3* o,
+                           Vec3* d) {
+  const std::uint64_t pixel =
+      static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(settings.width) + static_cast<std::uint64_t>(x);
+  SampleStream rng(settings.seed, pixel, static_cast<std::uint64_t>(s));
+  const double jx = rng.next(), jy = rng.next();
+  scene.camera_ray(x + jx, y + jy, settings.width, settings.height, o, d);
+  return rng;
+}
+
+template <class Tap>
+Rgb trace_pixel(const Scene& scene, const Mixture& mix, const RenderSettings& settings, int x, int y, Tap&& tap,
+                std::uint64_t& taps) {
+  Rgb constant = Rgb::Zero();
+  for (int s = 0; s < settings.spp; ++s) {
+    Vec3 o, d;
+    SampleStream rng = camera_sample(scene, settings, x, y, s, &o, &d);
+    bool hit_object;
+    constant += trace_sample(scene, mix, rng, o, d, &hit_object, [&](const Vec3& wi, const Vec3& wo, const Rgb& w) {
+      tap(wi, wo, w);
+      ++taps;
+    });
+  }
+  return constant;
+}
+
+void record_stats(RenderStats* stats, const RenderSettings& settings, std::uint64_t taps,
+                  std::chrono::steady_clock::time_point start) {
+  if (!stats) return;
+  stats->camera_samples = static_cast<std::uint64_t>(settings.width) * static_cast<std::uint64_t>(settings.height) *
+                          static_cast<std::uint64_t>(settings.spp);
+  stats->object_samples = taps;
+  stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 }  // namespace
@@ -158,32 +198,17 @@ Image render(const Scene& scene, const Material& material, const RenderSettings&
   Image image(settings.width, settings.height);
   std::atomic<std::uint64_t> taps{0};
   for_each_pixel(settings, progress, "render", [&](int x, int y) {
-    const std::uint64_t pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(settings.width) +
-                                static_cast<std::uint64_t>(x);
-    Rgb sum = Rgb::Zero();
     std::uint64_t local_taps = 0;
-    for (int s = 0; s < settings.spp; ++s) {
-      SampleStream rng(settings.seed, pixel, static_cast<std::uint64_t>(s));
-      const double jx = rng.next(), jy = rng.next();
-      Vec3 o, d;
-      scene.camera_ray(x + jx, y + jy, settings.width, settings.height, &o, &d);
-      bool hit_object;
-      sum += trace_sample(scene, mix, rng, o, d, &hit_object, [&](const Vec3& wi, const Vec3& wo, const Rgb& w) {
-        sum += w * material.eval(wi, wo);
-        ++local_taps;
-      });
-    }
-    sum /= static_cast<double>(settings.spp);
+    Rgb reflected = Rgb::Zero();
+    const Rgb constant = trace_pixel(
+        scene, mix, settings, x, y,
+        [&](const Vec3& wi, const Vec3& wo, const Rgb& w) { reflected += w * material.eval(wi, wo); }, local_taps);
+    const Rgb sum = (constant + reflected) / static_cast<double>(settings.spp);
     float* out = image.pixel(x, y);
     for (int c = 0; c < 3; ++c) out[c] = static_cast<float>(sum[c]);
     taps += local_taps;
   });
-  if (stats) {
-    stats->camera_samples = static_cast<std::uint64_t>(settings.width) * static_cast<std::uint64_t>(settings.height) *
-                            static_cast<std::uint64_t>(settings.spp);
-    stats->object_samples = taps.load();
-    stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  }
+  record_stats(stats, settings, taps.load(), start);
   return image;
 }
 
@@ -201,26 +226,17 @@ std::vector<Image> render_bank(const Scene& scene, const MaterialBank& bank, con
     thread_local std::vector<double> acc, f;
     acc.assign(values, 0.0);
     f.resize(values);
-    const std::uint64_t pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(settings.width) +
-                                static_cast<std::uint64_t>(x);
-    Rgb constant = Rgb::Zero();
     std::uint64_t local_taps = 0;
-    for (int s = 0; s < settings.spp; ++s) {
-      SampleStream rng(settings.seed, pixel, static_cast<std::uint64_t>(s));
-      const double jx = rng.next(), jy = rng.next();
-      Vec3 o, d;
-      scene.camera_ray(x + jx, y + jy, settings.width, settings.height, &o, &d);
-      bool hit_object;
-      constant += trace_sample(scene, mix, rng, o, d, &hit_object, [&](const Vec3& wi, const Vec3& wo, const Rgb& w) {
-        bank.eval_all(wi, wo, f.data());
-        for (std::size_t k = 0; k < values; k += 3) {
-          acc[k] += w[0] * f[k];
-          acc[k + 1] += w[1] * f[k + 1];
-          acc[k + 2] += w[2] * f[k + 2];
-        }
-        ++local_taps;
-      });
-    }
+    const Rgb constant = trace_pixel(scene, mix, settings, x, y,
+                                     [&](const Vec3& wi, const Vec3& wo, const Rgb& w) {
+                                       bank.eval_all(wi, wo, f.data());
+                                       for (std::size_t k = 0; k < values; k += 3) {
+                                         acc[k] += w[0] * f[k];
+                                         acc[k + 1] += w[1] * f[k + 1];
+                                         acc[k + 2] += w[2] * f[k + 2];
+                                       }
+                                     },
+                                     local_taps);
     const double inv = 1.0 / static_cast<double>(settings.spp);
     for (int k = 0; k < k_count; ++k) {
       float* out = images[static_cast<std::size_t>(k)].pixel(x, y);
@@ -229,12 +245,7 @@ std::vector<Image> render_bank(const Scene& scene, const MaterialBank& bank, con
     }
     taps += local_taps;
   });
-  if (stats) {
-    stats->camera_samples = static_cast<std::uint64_t>(settings.width) * static_cast<std::uint64_t>(settings.height) *
-                            static_cast<std::uint64_t>(settings.spp);
-    stats->object_samples = taps.load();
-    stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  }
+  record_stats(stats, settings, taps.load(), start);
   return images;
 }
 
@@ -247,10 +258,8 @@ std::vector<float> object_coverage(const Scene& scene, const RenderSettings& set
         const std::uint64_t pixel = y * static_cast<std::uint64_t>(settings.width) + static_cast<std::uint64_t>(x);
         int hits = 0;
         for (int s = 0; s < settings.spp; ++s) {
-          SampleStream rng(settings.seed, pixel, static_cast<std::uint64_t>(s));
-          const double jx = rng.next(), jy = rng.next();
           Vec3 o, d;
-          scene.camera_ray(x + jx, static_cast<double>(y) + jy, settings.width, settings.height, &o, &d);
+          camera_sample(scene, settings, x, static_cast<int>(y), s, &o, &d);
           const auto hit = scene.intersect(o, d);
           hits += hit && hit->object;
         }
