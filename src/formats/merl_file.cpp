@@ -97,32 +97,35 @@ MerlFile::~MerlFile() {
   if (fd_ >= 0) ::close(fd_);
 }
 
-void MerlFile::read_values(std::size_t first, std::size_t count, double* out) const {
-  if (first + count > value_count())
-    throw file_error(path_, "read past the end of the table (internal error)");
-  // Read in chunks and check each while it is still in cache. NaN and infinities have an
-  // all-ones exponent: an integer test the compiler vectorises.
-  constexpr std::size_t kChunk = 1 << 17;  // values (1 MiB)
-  for (std::size_t done = 0; done < count; done += kChunk) {
-    const std::size_t n = std::min(kChunk, count - done);
-    double* chunk = out + done;
-    read_exact(fd_, path_, chunk, n * sizeof(double), kHeaderBytes + (first + done) * sizeof(double));
-    std::uint64_t bad = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      std::uint64_t bits;
-      std::memcpy(&bits, chunk + i, sizeof bits);
-      bad |= static_cast<std::uint64_t>((bits & 0x7ff0000000000000ull) == 0x7ff0000000000000ull);
-    }
-    if (!bad) continue;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!std::isfinite(chunk[i])) {
-        const std::size_t index = first + done + i, bins = dims_.bins();
-        throw file_error(path_, std::string(std::isnan(chunk[i]) ? "NaN" : "infinite") +
-                                    " value in the " + channel_name(index / bins) +
-                                    " channel at bin " + std::to_string(index % bins));
-      }
+void MerlFile::read_checked(std::size_t first, std::size_t n, double* chunk) const {
+  read_exact(fd_, path_, chunk, n * sizeof(double), kHeaderBytes + first * sizeof(double));
+  // NaN and infinities have an all-ones exponent: an integer test the compiler vectorises.
+  std::uint64_t bad = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint64_t bits;
+    std::memcpy(&bits, chunk + i, sizeof bits);
+    bad |= static_cast<std::uint64_t>((bits & 0x7ff0000000000000ull) == 0x7ff0000000000000ull);
+  }
+  if (!bad) return;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(chunk[i])) {
+      const std::size_t index = first + i, bins = dims_.bins();
+      throw file_error(path_, std::string(std::isnan(chunk[i]) ? "NaN" : "infinite") + " value in the " +
+                                  channel_name(index / bins) + " channel at bin " + std::to_string(index % bins));
     }
   }
+}
+
+void MerlFile::check_range(std::size_t first, std::size_t count) const {
+  if (first + count > value_count()) throw file_error(path_, "read past the end of the table (internal error)");
+}
+
+void MerlFile::read_values(std::size_t first, std::size_t count, double* out) const {
+  check_range(first, count);
+  // Read in chunks and check each while it is still in cache.
+  constexpr std::size_t kChunk = 1 << 17;  // values (1 MiB)
+  for (std::size_t done = 0; done < count; done += kChunk)
+    read_checked(first + done, std::min(kChunk, count - done), out + done);
 }
 
 BrdfTable read_merl(const fs::path& path) {

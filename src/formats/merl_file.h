@@ -31,7 +31,31 @@ public:
   /// is NaN or infinite, naming the file and the value's channel and bin.
   void read_values(std::size_t first, std::size_t count, double* out) const;
 
+  /// Values per chunk of visit_values (64 KiB: the chunk stays in L1/L2 while visited).
+  static constexpr std::size_t kVisitChunk = 8192;
+  /// Reads values [first, first + count) through a small cache-resident buffer and calls
+  /// visit(chunk, offset, length) for consecutive chunks (offset counted from `first`), each
+  /// already checked for NaN and infinities (same errors as read_values). For callers that
+  /// transform the values anyway: the kernel copies into a buffer that stays in cache, and the
+  /// caller's single pass writes the destination, instead of a copy into a large destination
+  /// followed by passes over it.
+  template <class Visit>
+  void visit_values(std::size_t first, std::size_t count, Visit&& visit) const {
+    check_range(first, count);
+    thread_local double buffer[kVisitChunk];
+    for (std::size_t done = 0; done < count; done += kVisitChunk) {
+      const std::size_t n = count - done < kVisitChunk ? count - done : kVisitChunk;
+      read_checked(first + done, n, buffer);
+      visit(static_cast<const double*>(buffer), done, n);
+    }
+  }
+
 private:
+  /// Throws (internal error) when [first, first + count) is not inside the table.
+  void check_range(std::size_t first, std::size_t count) const;
+  /// One read of values [first, first + count) into out, then the NaN/Inf check.
+  void read_checked(std::size_t first, std::size_t count, double* out) const;
+
   std::filesystem::path path_;
   MerlDims dims_{};
   int fd_ = -1;

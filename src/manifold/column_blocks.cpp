@@ -18,20 +18,22 @@ void read_block(const MaterialSet& set, std::size_t first, std::size_t count, Bl
   kept.assign(count, 1);
   for (std::size_t i = 0; i < n; ++i) {
     double* row = block.row(static_cast<Eigen::Index>(i)).data();
-    set.file(i).read_values(first, count, row);
-    if (!hashers.empty()) XXH3_64bits_update(hashers[i], row, count * sizeof(double));
-    // Scale to physical units channel by channel; a column is kept only if all are measured.
     std::uint8_t* keep = kept.data();
-    std::size_t j = 0;
-    while (j < count) {
-      const std::size_t channel = (first + j) / bins;
-      const std::size_t channel_end = std::min(count, (channel + 1) * bins - first);
-      const double scale = BrdfTable::kChannelScale[channel];
-      for (; j < channel_end; ++j) {
-        keep[j] &= static_cast<std::uint8_t>(row[j] >= 0.0);
-        row[j] *= scale;
+    // One pass per cache-resident chunk: hash the stored bytes, then scale to physical units
+    // channel by channel into the block; a column is kept only if every material measures it.
+    set.file(i).visit_values(first, count, [&](const double* chunk, std::size_t offset, std::size_t length) {
+      if (!hashers.empty()) XXH3_64bits_update(hashers[i], chunk, length * sizeof(double));
+      std::size_t j = 0;
+      while (j < length) {
+        const std::size_t channel = (first + offset + j) / bins;
+        const std::size_t channel_end = std::min(length, (channel + 1) * bins - first - offset);
+        const double scale = BrdfTable::kChannelScale[channel];
+        for (; j < channel_end; ++j) {
+          keep[offset + j] &= static_cast<std::uint8_t>(chunk[j] >= 0.0);
+          row[offset + j] = chunk[j] * scale;
+        }
       }
-    }
+    });
   }
 }
 
