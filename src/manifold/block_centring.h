@@ -1,5 +1,6 @@
 #pragma once
-// Centring a column block over the materials (the pass of a build).
+// Centring a column block over the materials (the pass of a build). Both steps work on a
+// column range meant to fit in cache, reading each row's part of the range contiguously.
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -8,11 +9,13 @@
 
 namespace matlas {
 
-/// Subtracts from every kept column in [first, last) its mean over the materials and sets
-/// dropped columns to 0 (so they add nothing to Gram matrices). Writes the means to
-/// mean[first, last) (0 for dropped columns). Meant for ranges that fit in cache: the range is
-/// read twice.
-void centre_kept_columns(BlockMatrix& values, const std::vector<std::uint8_t>& kept, std::size_t first,
-                         std::size_t last, double* mean);
+/// mean[first, last) = the mean over the materials of each kept column, 0 for dropped columns.
+void kept_column_means(const BlockMatrix& values, const std::vector<std::uint8_t>& kept, std::size_t first,
+                       std::size_t last, double* mean);
+
+/// Subtracts the means from the kept columns in [first, last) and sets dropped columns to 0 (so
+/// they add nothing to Gram matrices).
+void subtract_column_means(BlockMatrix& values, const std::vector<std::uint8_t>& kept, std::size_t first,
+                           std::size_t last, const double* mean);
 
 }  // namespace matlas

@@ -106,10 +106,13 @@ GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout
     if (separate_layout) transformed.resize(n, static_cast<Eigen::Index>(k));
     if (separate_layout && !linear_layout) transformed_mean.resize(k);
     if (raw) raw->prepare(block);
-    // One sweep over cache-sized column ranges: the raw visitor, the layout transform, centring.
+    // One sweep over cache-sized column ranges. The means are computed first: reading each
+    // row's part of the range contiguously brings the range into cache for what follows (the
+    // raw visitor, the layout transform, the centring).
     const std::size_t sweep = RawBlockVisitor::kSweepColumns;
     parallel_for_each(0, (k + sweep - 1) / sweep, [&](std::size_t c) {
       const std::size_t j0 = c * sweep, j1 = std::min(k, j0 + sweep);
+      kept_column_means(block.values, block.kept, j0, j1, block_mean.data());
       if (raw) raw->visit(block, j0, j1);
       if (separate_layout && !linear_layout) {
         // Non-linear maps apply to the raw values; the result is centred on its own mean.
@@ -122,9 +125,10 @@ GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout
             out[j] = layout.cosine_weighted ? x * block_cos[j] : x;
           }
         }
-        centre_kept_columns(transformed, block.kept, j0, j1, transformed_mean.data());
+        kept_column_means(transformed, block.kept, j0, j1, transformed_mean.data());
+        subtract_column_means(transformed, block.kept, j0, j1, transformed_mean.data());
       }
-      centre_kept_columns(block.values, block.kept, j0, j1, block_mean.data());
+      subtract_column_means(block.values, block.kept, j0, j1, block_mean.data());
       if (separate_layout && linear_layout)  // a per-column factor commutes with centring
         for (Eigen::Index i = 0; i < n; ++i) {
           const double* in = block.values.row(i).data();
