@@ -31,6 +31,10 @@ public:
   /// is NaN or infinite, naming the file and the value's channel and bin.
   void read_values(std::size_t first, std::size_t count, double* out) const;
 
+  /// Asks the kernel to start reading values [first, first + count) from disk in the background
+  /// (posix_fadvise WILLNEED), so that a later read finds them in the page cache. Advisory.
+  void prefetch(std::size_t first, std::size_t count) const;
+
   /// Values per chunk of visit_values (64 KiB: the chunk stays in L1/L2 while visited).
   static constexpr std::size_t kVisitChunk = 8192;
   /// Reads values [first, first + count) through a small cache-resident buffer and calls

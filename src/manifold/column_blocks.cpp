@@ -65,6 +65,9 @@ void for_each_column_block(const MaterialSet& set, const std::function<void(cons
   auto start_read = [&](std::size_t b) {
     const std::size_t first = b * step, count = std::min(step, total - first);
     return std::async(std::launch::async, [&, b, first, count] {
+      // Cold files: have the disk fetch the block after this one while this one is read.
+      if (first + count < total)
+        for (std::size_t i = 0; i < set.size(); ++i) set.file(i).prefetch(first + count, step);
       read_block(set, first, count, buffers[b % 2], kept[b % 2], hashers);
     });
   };
