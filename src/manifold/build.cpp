@@ -14,8 +14,8 @@
 #include "gp/initialize.h"
 #include "gp/likelihood.h"
 #include "gp/posterior.h"
-#include "core/parallel.h"
 #include "manifold/column_blocks.h"
+#include "manifold/data_writer.h"
 #include "manifold/model_format.h"
 
 namespace matlas {
@@ -110,89 +110,6 @@ std::vector<std::int32_t> column_map(const std::vector<bool>& kept) {
     if (kept[v]) map[v] = next++;
   return map;
 }
-
-}  // namespace
-
-namespace {
-
-/// Writes the column-interleaved inputs of each block (the model's "data" tensor) while the
-/// pass runs, and measures the storage rounding error. Tiles of kTile columns are transposed
-/// from several threads; prepare() works out where each tile's kept columns go.
-class DataWriter final : public RawBlockVisitor {
-public:
-  DataWriter(SafetensorsWriter& writer, std::size_t n, DType storage) : writer_(writer), n_(n), storage_(storage) {}
-
-  void prepare(const ColumnBlock& block) override {
-    const std::size_t tiles = (block.count + kTile - 1) / kTile;
-    tile_start_.assign(tiles + 1, 0);
-    for (std::size_t t = 0; t < tiles; ++t) {
-      std::size_t kept = 0;
-      for (std::size_t j = t * kTile; j < std::min(block.count, (t + 1) * kTile); ++j) kept += block.kept[j];
-      tile_start_[t + 1] = tile_start_[t] + kept;
-    }
-    out_f32_.resize(tile_start_[tiles] * n_);
-    if (storage_ == DType::F16) out_f16_.resize(out_f32_.size());
-    tile_error_.assign(tiles, {0.0, 0.0});
-  }
-
-  void visit(const ColumnBlock& block, std::size_t first, std::size_t last) override {
-    static_assert(kSweepColumns % kTile == 0);
-    std::size_t columns[kTile];
-    for (std::size_t t = first / kTile; t < (last + kTile - 1) / kTile; ++t) {
-      std::size_t count = 0;
-      for (std::size_t j = t * kTile; j < std::min(block.count, (t + 1) * kTile); ++j)
-        if (block.kept[j]) columns[count++] = j;
-      // Row by row: each row's reads are contiguous and the tile's kTile output columns stay
-      // in L1. (Column by column reads rows a power-of-two stride apart, which thrashes L1.)
-      // Four partial sums each: one running sum would make the loop latency-bound.
-      double error2[4] = {0, 0, 0, 0}, norm2[4] = {0, 0, 0, 0};
-      for (std::size_t i = 0; i < n_; ++i) {
-        const double* row = block.values.row(static_cast<Eigen::Index>(i)).data();
-        float* out = out_f32_.data() + tile_start_[t] * n_ + i;
-        for (std::size_t c = 0; c < count; ++c) {
-          const double exact = row[columns[c]];
-          const auto rounded = static_cast<float>(exact);
-          out[c * n_] = rounded;
-#ifndef NOERR
-          norm2[c % 4] += exact * exact;
-          error2[c % 4] += (rounded - exact) * (rounded - exact);
-#endif
-        }
-      }
-      if (storage_ == DType::F16) {
-        // The value stored is half(float(x)): add the second rounding.
-        for (std::size_t e = tile_start_[t] * n_; e < tile_start_[t + 1] * n_; ++e) {
-          out_f16_[e] = float_to_half(out_f32_[e]);
-          const double rounding = static_cast<double>(half_to_float(out_f16_[e])) - out_f32_[e];
-          error2[e % 4] += rounding * rounding;
-        }
-      }
-      tile_error_[t] = {error2[0] + error2[1] + error2[2] + error2[3], norm2[0] + norm2[1] + norm2[2] + norm2[3]};
-    }
-  }
-
-  void finish(const ColumnBlock&) override {
-    for (const auto& [e, v] : tile_error_) {
-      error2_ += e;
-      norm2_ += v;
-    }
-    if (storage_ == DType::F16) writer_.append(out_f16_.data(), out_f16_.size() * 2u);
-    else writer_.append(out_f32_.data(), out_f32_.size() * 4u);
-  }
-
-  double relative_error() const { return norm2_ > 0 ? std::sqrt(error2_ / norm2_) : 0.0; }
-
-private:
-  static constexpr std::size_t kTile = 64;
-  SafetensorsWriter& writer_;
-  std::size_t n_;
-  DType storage_;
-  std::vector<std::size_t> tile_start_;
-  std::vector<float> out_f32_;
-  std::vector<std::uint16_t> out_f16_;
-  std::vector<std::pair<double, double>> tile_error_;
-  double error2_ = 0.0, norm2_ = 0.0;
-};
 
 }  // namespace
 
