@@ -1,37 +1,20 @@
 #include "core/atomic_file.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <fcntl.h>
 #include <fstream>
 #include <sstream>
-#include <fcntl.h>
 #include <unistd.h>
 
-#include <algorithm>
-
 #include "core/direct_appender.h"
+#include "core/file_io.h"
 #include "core/error.h"
 
 namespace matlas {
 
 namespace fs = std::filesystem;
-
-namespace {
-
-/// pwrite of the whole buffer (retrying short writes and EINTR).
-void write_all(int fd, const fs::path& target, const void* data, std::size_t bytes, std::uint64_t offset) {
-  const auto* p = static_cast<const char*>(data);
-  while (bytes > 0) {
-    const ssize_t n = ::pwrite(fd, p, bytes, static_cast<off_t>(offset));
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) throw file_error(target, std::string("write failed: ") + std::strerror(n < 0 ? errno : EIO));
-    p += n;
-    bytes -= static_cast<std::size_t>(n);
-    offset += static_cast<std::uint64_t>(n);
-  }
-}
-
-}  // namespace
 
 AtomicFile::AtomicFile(fs::path target) : target_(std::move(target)) {
   temp_ = target_;
@@ -58,7 +41,7 @@ void AtomicFile::write(const void* data, std::size_t bytes) {
     const std::uint64_t aligned =
         (position_ + DirectAppender::kAlignment - 1) / DirectAppender::kAlignment * DirectAppender::kAlignment;
     const std::size_t head = static_cast<std::size_t>(std::min<std::uint64_t>(bytes, aligned - position_));
-    write_all(fd_, target_, p, head, position_);
+    write_all_at(fd_, target_, p, head, position_);
     position_ += head;
     p += head;
     bytes -= head;
@@ -67,12 +50,12 @@ void AtomicFile::write(const void* data, std::size_t bytes) {
     direct_wanted_ = static_cast<bool>(direct_);
   }
   if (direct_) direct_->append(p, bytes);
-  else write_all(fd_, target_, p, bytes, position_);
+  else write_all_at(fd_, target_, p, bytes, position_);
   position_ += bytes;
 }
 
 void AtomicFile::write_at(std::uint64_t offset, const void* data, std::size_t bytes) {
-  write_all(fd_, target_, data, bytes, offset);
+  write_all_at(fd_, target_, data, bytes, offset);
 }
 
 void AtomicFile::skip(std::uint64_t bytes) {
@@ -83,7 +66,7 @@ void AtomicFile::skip(std::uint64_t bytes) {
 void AtomicFile::commit() {
   if (direct_) {
     const auto tail = direct_->finish();
-    write_all(fd_, target_, tail.data(), tail.size(), direct_->tail_offset());
+    write_all_at(fd_, target_, tail.data(), tail.size(), direct_->tail_offset());
     direct_.reset();
   }
   if (::fsync(fd_) != 0) throw file_error(target_, std::string("flush failed: ") + std::strerror(errno));

@@ -1,18 +1,17 @@
 #include "core/direct_appender.h"
 
-#include <cerrno>
+#include <algorithm>
 #include <condition_variable>
 #include <cstdlib>
 #include <cstring>
-#include <deque>
 #include <exception>
 #include <fcntl.h>
 #include <mutex>
-#include <string>
 #include <thread>
 #include <unistd.h>
 
 #include "core/error.h"
+#include "core/file_io.h"
 
 namespace matlas {
 
@@ -58,7 +57,7 @@ struct DirectAppender::State {
       lock.unlock();
       std::exception_ptr error;
       try {
-        write_buffer(buffers[b].get(), offset);
+        write_all_at(fd, path, buffers[b].get(), kBufferBytes, offset);
       } catch (...) {
         error = std::current_exception();
       }
@@ -67,16 +66,6 @@ struct DirectAppender::State {
       pending_buffer = -1;
       busy = false;
       changed.notify_all();
-    }
-  }
-
-  void write_buffer(const std::byte* data, std::uint64_t offset) const {
-    std::size_t done = 0;
-    while (done < kBufferBytes) {
-      const ssize_t n = ::pwrite(fd, data + done, kBufferBytes - done, static_cast<off_t>(offset + done));
-      if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) throw file_error(path, std::string("write failed: ") + std::strerror(n < 0 ? errno : EIO));
-      done += static_cast<std::size_t>(n);
     }
   }
 

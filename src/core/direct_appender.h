@@ -1,8 +1,8 @@
 #pragma once
 // DirectAppender: streams a large sequential write to disk with direct I/O (O_DIRECT), from a
-// background thread. Measured here: buffered writes of a 1.3 GB file cost 3.3 s of kernel CPU
-// time (page-cache allocation and copy) plus 1 s of fsync, direct writes 0.86 s of mostly idle
-// waiting. For outputs written once (model files), the appends are thus nearly free for the
+// background thread. Measured here with dd (docs/BENCHMARKS.md): buffered writes of a 1.3 GB
+// file cost 3.4 s of kernel CPU time (page-cache allocation and copy) plus 1 s of fsync, direct
+// writes 0.86 s of mostly idle waiting. For outputs written once (model files), the appends are thus nearly free for the
 // CPU and overlap with the work that produces them.
 //
 // Direct I/O needs block-aligned offsets, sizes and memory: appends are staged in aligned

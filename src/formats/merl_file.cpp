@@ -12,6 +12,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/file_io.h"
 
 namespace matlas {
 
@@ -22,21 +23,6 @@ namespace {
 const char* channel_name(std::size_t c) {
   static const char* names[] = {"red", "green", "blue"};
   return c < 3 ? names[c] : "?";
-}
-
-void read_exact(int fd, const fs::path& path, void* out, std::size_t bytes, std::size_t offset) {
-  auto* dst = static_cast<char*>(out);
-  while (bytes > 0) {
-    const ssize_t got = ::pread(fd, dst, bytes, static_cast<off_t>(offset));
-    if (got < 0) {
-      if (errno == EINTR) continue;
-      throw file_error(path, std::string("read failed: ") + std::strerror(errno));
-    }
-    if (got == 0) throw file_error(path, "truncated: unexpected end of file");
-    dst += got;
-    bytes -= static_cast<std::size_t>(got);
-    offset += static_cast<std::size_t>(got);
-  }
 }
 
 }  // namespace
@@ -56,7 +42,7 @@ MerlFile::MerlFile(fs::path path) : path_(std::move(path)) {
       throw file_error(path_, "truncated: " + std::to_string(size) +
                                   " bytes, shorter than the 12-byte MERL header");
     std::int32_t header[3];
-    read_exact(fd_, path_, header, sizeof header, 0);
+    read_exact_at(fd_, path_, header, sizeof header, 0);
     for (int d = 0; d < 3; ++d) {
       if (header[d] <= 0 || header[d] > kMaxMerlDim)
         throw file_error(path_, "invalid MERL header: dims " + std::to_string(header[0]) + " " +
@@ -98,7 +84,7 @@ MerlFile::~MerlFile() {
 }
 
 void MerlFile::read_checked(std::size_t first, std::size_t n, double* chunk) const {
-  read_exact(fd_, path_, chunk, n * sizeof(double), kHeaderBytes + first * sizeof(double));
+  read_exact_at(fd_, path_, chunk, n * sizeof(double), kHeaderBytes + first * sizeof(double));
   // NaN and infinities have an all-ones exponent: an integer test the compiler vectorises.
   std::uint64_t bad = 0;
   for (std::size_t i = 0; i < n; ++i) {

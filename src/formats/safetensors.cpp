@@ -23,6 +23,11 @@ static_assert(std::endian::native == std::endian::little, "matlas assumes a litt
 namespace {
 constexpr std::size_t kAlignment = 64;
 constexpr std::uint64_t kMaxHeaderBytes = 100u << 20;
+
+/// Header length (at least `bytes`) that makes the data buffer after "length + header" aligned.
+std::size_t aligned_header_size(std::size_t bytes) {
+  return (8 + bytes + kAlignment - 1) / kAlignment * kAlignment - 8;
+}
 }  // namespace
 
 std::size_t dtype_size(DType t) {
@@ -68,7 +73,7 @@ void SafetensorsWriter::add_metadata(const std::string& key, const std::string& 
 
 void SafetensorsWriter::declare(const std::string& name, DType dtype, std::vector<std::int64_t> shape) {
   if (file_) throw Error("SafetensorsWriter: declare after begin (internal error)");
-  if (std::find(growing_.begin(), growing_.end(), true) != growing_.end())
+  if (has_growing())
     throw Error("SafetensorsWriter: fixed tensor '" + name + "' declared after a growing one (internal error)");
   TensorInfo t;
   t.name = name;
@@ -109,11 +114,10 @@ TensorInfo& SafetensorsWriter::tensor(const std::string& name) {
 }
 
 void SafetensorsWriter::begin(const fs::path& path) {
-  if (std::find(growing_.begin(), growing_.end(), true) != growing_.end())
+  if (has_growing())
     throw Error("SafetensorsWriter: growing tensors need a reserved header (internal error)");
   std::string text = header_text();
-  const std::size_t padded = (8 + text.size() + kAlignment - 1) / kAlignment * kAlignment - 8;
-  text.resize(padded, ' ');
+  text.resize(aligned_header_size(text.size()), ' ');
   file_ = std::make_unique<AtomicFile>(path);
   const std::uint64_t length = text.size();
   file_->write(&length, 8);
@@ -121,7 +125,7 @@ void SafetensorsWriter::begin(const fs::path& path) {
 }
 
 void SafetensorsWriter::begin(const fs::path& path, std::size_t reserved_header_bytes) {
-  reserved_ = (8 + std::max<std::size_t>(reserved_header_bytes, 2) + kAlignment - 1) / kAlignment * kAlignment - 8;
+  reserved_ = aligned_header_size(std::max<std::size_t>(reserved_header_bytes, 2));
   file_ = std::make_unique<AtomicFile>(path);
   // The header and the fixed tensors are filled in by write_tensor() and commit(); growing
   // tensors are appended after them.

@@ -7,6 +7,7 @@
 // matlas writes the header padded with spaces so that the data buffer starts 64-byte aligned,
 // and orders tensors by decreasing element size so every tensor is naturally aligned in a
 // memory map.
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -77,6 +78,7 @@ public:
 
 private:
   std::string header_text() const;
+  bool has_growing() const { return std::find(growing_.begin(), growing_.end(), true) != growing_.end(); }
   TensorInfo& tensor(const std::string& name);
 
   std::vector<TensorInfo> tensors_;

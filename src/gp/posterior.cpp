@@ -32,12 +32,14 @@ Eigen::MatrixXd GpPosterior::weights_batch(const Eigen::MatrixXd& points) const 
 
 double GpPosterior::variance(const Eigen::Ref<const Eigen::VectorXd>& x) const {
   const Eigen::VectorXd kx = cross_covariance(X_, x, kernel_);
-  // c(x,x) = 1, plus the nugget when x is one of the data points (the white-noise part meets
-  // itself); k^T K^-1 k = |L^-1 k|^2.
+  // k^T K^-1 k = |L^-1 k|^2.
+  return std::max(0.0, prior_variance(x) - llt_.matrixL().solve(kx).squaredNorm());
+}
+
+double GpPosterior::prior_variance(const Eigen::Ref<const Eigen::VectorXd>& x) const {
+  // c(x,x) = 1, plus the nugget when x is one of the data points (the white-noise part meets itself).
   const bool at_data = ((X_.rowwise() - x.transpose()).array() == 0.0).rowwise().all().any();
-  const double prior = 1.0 + (at_data ? kernel_.nugget : 0.0);
-  const double explained = llt_.matrixL().solve(kx).squaredNorm();
-  return std::max(0.0, prior - explained);
+  return 1.0 + (at_data ? kernel_.nugget : 0.0);
 }
 
 GpPosterior::Batch GpPosterior::predict_batch(const Eigen::MatrixXd& points) const {
@@ -48,10 +50,8 @@ GpPosterior::Batch GpPosterior::predict_batch(const Eigen::MatrixXd& points) con
   // V = L^-1 k(x): variance = prior - |v|^2, weights = L^-T V = K^-1 k(x).
   Eigen::MatrixXd v = llt_.matrixL().solve(cross_covariance_batch(X_, points, kernel_));
   b.variance.resize(points.rows());
-  for (Eigen::Index j = 0; j < points.rows(); ++j) {
-    const bool at_data = ((X_.rowwise() - points.row(j)).array() == 0.0).rowwise().all().any();
-    b.variance[j] = std::max(0.0, 1.0 + (at_data ? kernel_.nugget : 0.0) - v.col(j).squaredNorm());
-  }
+  for (Eigen::Index j = 0; j < points.rows(); ++j)
+    b.variance[j] = std::max(0.0, prior_variance(points.row(j).transpose()) - v.col(j).squaredNorm());
   llt_.matrixU().solveInPlace(v);
   b.weights = std::move(v);
   return b;

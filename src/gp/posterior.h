@@ -54,6 +54,9 @@ public:
   const Eigen::LLT<Eigen::MatrixXd>& cholesky() const { return llt_; }
 
 private:
+  /// c(x, x) plus the nugget when x is exactly a data point.
+  double prior_variance(const Eigen::Ref<const Eigen::VectorXd>& x) const;
+
   Eigen::MatrixXd X_;
   Kernel kernel_;
   Eigen::LLT<Eigen::MatrixXd> llt_;

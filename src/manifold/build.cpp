@@ -163,8 +163,8 @@ BuildReport build_model(const MaterialSet& set, const BuildOptions& options, con
   report.optimize_seconds = seconds_since(t0);
   const gp::GpPosterior posterior(report.optimization.latent, problem.kernel);  // checks K is PD
 
-  // The small tensors, the metadata, then commit (fsync: most of the data is on disk already,
-  // AtomicFile started writing it back during the pass).
+  // The small tensors, the metadata, then commit (the data went to disk during the pass, with
+  // direct I/O where the file system has it).
   t0 = std::chrono::steady_clock::now();
   const std::vector<std::int32_t> columns = column_map(g.kept);
   using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;

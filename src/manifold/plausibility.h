@@ -33,14 +33,12 @@ public:
   Plausibility operator()(const Eigen::Ref<const Eigen::VectorXd>& w) const;
   /// The same for many weight vectors (columns of W, n x m), with matrix products.
   std::vector<Plausibility> batch(const Eigen::MatrixXd& W) const;
-  std::size_t samples() const { return means_.size(); }
+  std::size_t samples() const { return static_cast<std::size_t>(means_.size()); }
 
 private:
   const Model& model_;
-  int n_;
-  std::vector<float> values_;  ///< samples x n stored inputs
-  std::vector<float> means_;
-  Eigen::MatrixXd centred_;    ///< samples x n: inputs minus the column mean (for batches)
+  Eigen::VectorXd means_;    ///< the sampled columns' means
+  Eigen::MatrixXd centred_;  ///< samples x n: the stored inputs minus their column's mean
 };
 
 }  // namespace matlas

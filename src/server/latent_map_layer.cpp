@@ -5,8 +5,8 @@
 #include <cmath>
 #include <vector>
 
-#include "formats/image_io.h"
 #include "core/error.h"
+#include "formats/image_io.h"
 #include "manifold/model.h"
 #include "manifold/plausibility.h"
 
