@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/parallel.h"
+
 namespace matlas {
 
 std::string MerlDims::to_string() const {
@@ -89,12 +91,14 @@ HalfDiffAngles bin_centre(const MerlDims& dims, int i, int j, int k) {
 
 std::vector<double> bin_cosine_factors(const MerlDims& dims) {
   std::vector<double> c(dims.bins());
-  for (int i = 0; i < dims.theta_h; ++i)
-    for (int j = 0; j < dims.theta_d; ++j)
-      for (int k = 0; k < dims.phi_d; ++k) {
-        const DirectionPair d = from_half_diff(bin_centre(dims, i, j, k));
-        c[dims.flat(i, j, k)] = std::max(0.0, d.wi.z()) * std::max(0.0, d.wo.z());
-      }
+  parallel_for(0, static_cast<std::size_t>(dims.theta_h), [&](std::size_t lo, std::size_t hi) {
+    for (int i = static_cast<int>(lo); i < static_cast<int>(hi); ++i)
+      for (int j = 0; j < dims.theta_d; ++j)
+        for (int k = 0; k < dims.phi_d; ++k) {
+          const DirectionPair d = from_half_diff(bin_centre(dims, i, j, k));
+          c[dims.flat(i, j, k)] = std::max(0.0, d.wi.z()) * std::max(0.0, d.wo.z());
+        }
+  });
   return c;
 }
 

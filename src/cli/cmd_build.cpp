@@ -24,7 +24,7 @@ struct BuildArgs {
   int max_iterations = 1000;
   int starts = 0;  ///< 0: 3 for q <= 2 (the likelihood is multimodal there), else 1
   double tolerance = 1e-7;
-  std::size_t block_columns = 32768;
+  std::size_t block_columns = 4096;
   bool quiet = false;
 };
 

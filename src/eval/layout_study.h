@@ -34,7 +34,7 @@ struct StudyOptions {
   int value_stride = 1;      ///< subsample the values for perceptual distances (1 = all)
   int projection_starts = 3; ///< multi-start count of the projection
   FitOptions fit{};
-  std::size_t block_columns = 32768;
+  std::size_t block_columns = 4096;
   unsigned seed = 1;         ///< pair selection
 };
 

@@ -2,8 +2,9 @@
 
 #include <algorithm>
 #include <future>
+#include <optional>
 
-#include <xxhash.h>
+#include "manifold/block_rows.h"
 
 namespace matlas {
 
@@ -12,29 +13,11 @@ namespace {
 /// Reads columns [first, first + count) of every material into `block` (physical units) and
 /// marks the kept columns.
 void read_block(const MaterialSet& set, std::size_t first, std::size_t count, BlockMatrix& block,
-                std::vector<std::uint8_t>& kept, std::vector<XXH3_state_t*>& hashers) {
-  const std::size_t n = set.size(), bins = set.dims().bins();
-  block.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(count));
-  kept.assign(count, 1);
-  for (std::size_t i = 0; i < n; ++i) {
-    double* row = block.row(static_cast<Eigen::Index>(i)).data();
-    std::uint8_t* keep = kept.data();
-    // One pass per cache-resident chunk: hash the stored bytes, then scale to physical units
-    // channel by channel into the block; a column is kept only if every material measures it.
-    set.file(i).visit_values(first, count, [&](const double* chunk, std::size_t offset, std::size_t length) {
-      if (!hashers.empty()) XXH3_64bits_update(hashers[i], chunk, length * sizeof(double));
-      std::size_t j = 0;
-      while (j < length) {
-        const std::size_t channel = (first + offset + j) / bins;
-        const std::size_t channel_end = std::min(length, (channel + 1) * bins - first - offset);
-        const double scale = BrdfTable::kChannelScale[channel];
-        for (; j < channel_end; ++j) {
-          keep[offset + j] &= static_cast<std::uint8_t>(chunk[j] >= 0.0);
-          row[offset + j] = chunk[j] * scale;
-        }
-      }
-    });
-  }
+                std::vector<std::uint8_t>& kept, XXH3_state_t* const* hashers) {
+  block.resize(static_cast<Eigen::Index>(set.size()), static_cast<Eigen::Index>(count));
+  kept.resize(count);
+  read_block_rows(set, first, count, 0, set.size(), block, hashers,
+                  {nullptr, kept.data()});
 }
 
 }  // namespace
@@ -46,19 +29,8 @@ void for_each_column_block(const MaterialSet& set, const std::function<void(cons
   const std::size_t blocks = (total + step - 1) / step;
   ProgressTask task(progress, options.label, blocks);
 
-  std::vector<XXH3_state_t*> hashers;
-  struct HasherCleanup {
-    std::vector<XXH3_state_t*>& states;
-    ~HasherCleanup() {
-      for (auto* s : states) XXH3_freeState(s);
-    }
-  } cleanup{hashers};
-  if (options.hashes) {
-    for (std::size_t i = 0; i < set.size(); ++i) {
-      hashers.push_back(XXH3_createState());
-      XXH3_64bits_reset(hashers.back());
-    }
-  }
+  std::optional<FileHashers> hashers;
+  if (options.hashes) hashers.emplace(set.size());
 
   BlockMatrix buffers[2];
   std::vector<std::uint8_t> kept[2];
@@ -68,7 +40,7 @@ void for_each_column_block(const MaterialSet& set, const std::function<void(cons
       // Cold files: have the disk fetch the block after this one while this one is read.
       if (first + count < total)
         for (std::size_t i = 0; i < set.size(); ++i) set.file(i).prefetch(first + count, step);
-      read_block(set, first, count, buffers[b % 2], kept[b % 2], hashers);
+      read_block(set, first, count, buffers[b % 2], kept[b % 2], hashers ? hashers->data() : nullptr);
     });
   };
   std::future<void> pending = start_read(0);
@@ -84,10 +56,7 @@ void for_each_column_block(const MaterialSet& set, const std::function<void(cons
     }
     task.advance();
   }
-  if (options.hashes) {
-    options.hashes->clear();
-    for (auto* h : hashers) options.hashes->push_back(XXH3_64bits_digest(h));
-  }
+  if (options.hashes) *options.hashes = hashers->digests();
 }
 
 }  // namespace matlas

@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "core/parallel.h"
 #include "manifold/block_centring.h"
+#include "manifold/block_rows.h"
 #include "manifold/column_blocks.h"
 #include "manifold/gram_update.h"
 
@@ -67,57 +68,95 @@ std::vector<AlbedoEntry> albedo_entries(const Eigen::SparseMatrix<double, Eigen:
   return entries;
 }
 
+/// Materials read per task of a block (their column sums are added up in a fixed order, so the
+/// mean does not depend on the thread count).
+constexpr std::size_t kReadRows = 4;
+/// Materials per albedo task.
+constexpr std::size_t kAlbedoRows = 25;
+/// Blocks asked of the disk at a time, that many blocks ahead (for files not in the page cache).
+constexpr std::size_t kPrefetchBlocks = 32;
+
 }  // namespace
 
 GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout, std::size_t block_columns,
                            ProgressSink& progress, RawBlockVisitor* raw) {
-  const auto n = static_cast<Eigen::Index>(set.size());
+  const std::size_t n = set.size();
+  const auto rows = static_cast<Eigen::Index>(n);
   const MerlDims dims = set.dims();
-  const std::size_t bins = dims.bins();
-  GramResult r;
-  r.kept.assign(set.value_count(), false);
-  r.gram = Eigen::MatrixXd::Zero(n, n);
+  const std::size_t bins = dims.bins(), total = set.value_count();
+  const std::size_t step = std::max<std::size_t>(1, std::min(block_columns, total));
+  const std::size_t blocks = (total + step - 1) / step;
+  const std::size_t groups = (n + kReadRows - 1) / kReadRows;
   const bool separate_layout = !layout.is_identity();
   const bool linear_layout = layout.map == LayoutTransform::Map::linear;
-  if (separate_layout) r.layout_gram = Eigen::MatrixXd::Zero(n, n);
+
+  GramResult r;
+  r.kept.assign(total, false);
   std::vector<double> mean;
-  mean.reserve(set.value_count());
+  mean.reserve(total);
+  // What depends only on the grid, both parts at once.
+  Eigen::SparseMatrix<double, Eigen::RowMajor> albedo_op;
+  std::vector<double> cos_w;
+  parallel_for_each(0, 2, [&](std::size_t part) {
+    if (part == 0) albedo_op = albedo_operator(dims, 90);
+    else if (layout.cosine_weighted) cos_w = bin_cosine_factors(dims);
+  });
+  FileHashers hashers(n);
 
-  const auto albedo_op = albedo_operator(dims, 90);
-  const std::vector<double> cos_w = layout.cosine_weighted ? bin_cosine_factors(dims) : std::vector<double>{};
-
+  // The block and what is derived from it stay in the last-level cache between the steps.
+  BlockMatrix values(rows, static_cast<Eigen::Index>(step));
+  std::vector<double> group_sums(groups * step);        // per group of kReadRows materials, column sums
+  std::vector<std::uint8_t> group_kept(groups * step);  // per group, columns all its materials measure
+  BlockMatrix transformed(separate_layout ? rows : 0, static_cast<Eigen::Index>(step));
+  std::vector<double> block_mean(step), transformed_mean(step);
+  std::vector<std::uint8_t> kept(step);
+  std::vector<double> block_cos(layout.cosine_weighted ? step : 0);
+  GramAccumulator linear_gram(rows, step), layout_gram(rows, separate_layout ? step : 1);
   using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  RowMajor albedo_centred = RowMajor::Zero(n, 90 * 3);
+  RowMajor albedo_centred = RowMajor::Zero(rows, 90 * 3);
   Eigen::RowVectorXd albedo_of_mean = Eigen::RowVectorXd::Zero(90 * 3);
-  BlockMatrix transformed;
-  std::vector<double> block_mean, transformed_mean;
-  std::vector<double> block_cos;  // cosine factor of each column of the current block
-  BlockOptions options;
-  options.block_columns = block_columns;
-  options.label = "reading the inputs";
-  options.hashes = &r.hashes;
-  for_each_column_block(set, [&](const ColumnBlock& block) {
-    const auto k = static_cast<std::size_t>(block.count);
-    if (layout.cosine_weighted) {
-      block_cos.resize(k);
-      for (std::size_t j = 0; j < k; ++j) block_cos[j] = cos_w[(block.first + j) % bins];
+
+  const SingleThreadedBlas single_threaded_blas;
+  ProgressTask task(progress, "reading the inputs", blocks);
+
+  for (std::size_t b = 0; b < blocks; ++b) {
+    const std::size_t first = b * step, count = std::min(step, total - first);
+    if (count != static_cast<std::size_t>(values.cols())) {  // the last block
+      values.resize(rows, static_cast<Eigen::Index>(count));
+      if (separate_layout) transformed.resize(rows, static_cast<Eigen::Index>(count));
     }
-    block_mean.resize(k);
-    if (separate_layout) transformed.resize(n, static_cast<Eigen::Index>(k));
-    if (separate_layout && !linear_layout) transformed_mean.resize(k);
+
+    // 1. Read the block, a few materials per task: hash, check, scale, and per group of materials
+    //    the column sums and validity. Cold files: ask for the blocks ahead every kPrefetchBlocks.
+    parallel_for_each(0, groups, [&](std::size_t g) {
+      const std::size_t r0 = g * kReadRows, r1 = std::min(n, r0 + kReadRows);
+      if (b % kPrefetchBlocks == 0)
+        for (std::size_t i = r0; i < r1; ++i) set.file(i).prefetch(first + kPrefetchBlocks * step, kPrefetchBlocks * step);
+      read_block_rows(set, first, count, r0, r1, values, hashers.data(),
+                      {group_sums.data() + g * step, group_kept.data() + g * step});
+    });
+    kept.resize(count);
+    std::fill(kept.begin(), kept.end(), std::uint8_t{1});
+    for (std::size_t g = 0; g < groups; ++g) {
+      const std::uint8_t* k = group_kept.data() + g * step;
+      for (std::size_t j = 0; j < count; ++j) kept[j] &= k[j];
+    }
+    if (layout.cosine_weighted)
+      for (std::size_t j = 0; j < count; ++j) block_cos[j] = cos_w[(first + j) % bins];
+    const ColumnBlock block{first, count, values, kept};
+
+    // 2. One sweep over cache-sized column ranges: the means, the raw visitor, the layout
+    //    transform and the centring.
     if (raw) raw->prepare(block);
-    // One sweep over cache-sized column ranges. The means are computed first: reading each
-    // row's part of the range contiguously brings the range into cache for what follows (the
-    // raw visitor, the layout transform, the centring).
     const std::size_t sweep = RawBlockVisitor::kSweepColumns;
-    parallel_for_each(0, (k + sweep - 1) / sweep, [&](std::size_t c) {
-      const std::size_t j0 = c * sweep, j1 = std::min(k, j0 + sweep);
-      kept_column_means(block.values, block.kept, j0, j1, block_mean.data());
+    parallel_for_each(0, (count + sweep - 1) / sweep, [&](std::size_t c) {
+      const std::size_t j0 = c * sweep, j1 = std::min(count, j0 + sweep);
+      column_means_from_sums(group_sums.data(), step, groups, kept.data(), j0, j1, n, block_mean.data());
       if (raw) raw->visit(block, j0, j1);
       if (separate_layout && !linear_layout) {
         // Non-linear maps apply to the raw values; the result is centred on its own mean.
-        for (Eigen::Index i = 0; i < n; ++i) {
-          const double* in = block.values.row(i).data();
+        for (Eigen::Index i = 0; i < rows; ++i) {
+          const double* in = values.row(i).data();
           double* out = transformed.row(i).data();
           for (std::size_t j = j0; j < j1; ++j) {
             const double x = layout.map == LayoutTransform::Map::cube_root ? fast_cbrt(in[j])
@@ -125,45 +164,54 @@ GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout
             out[j] = layout.cosine_weighted ? x * block_cos[j] : x;
           }
         }
-        kept_column_means(transformed, block.kept, j0, j1, transformed_mean.data());
-        subtract_column_means(transformed, block.kept, j0, j1, transformed_mean.data());
+        kept_column_means(transformed, kept, j0, j1, transformed_mean.data());
+        subtract_column_means(transformed, kept, j0, j1, transformed_mean.data());
       }
-      subtract_column_means(block.values, block.kept, j0, j1, block_mean.data());
       if (separate_layout && linear_layout)  // a per-column factor commutes with centring
-        for (Eigen::Index i = 0; i < n; ++i) {
-          const double* in = block.values.row(i).data();
-          double* out = transformed.row(i).data();
-          for (std::size_t j = j0; j < j1; ++j) out[j] = in[j] * block_cos[j];
-        }
+        centre_and_weight(values, kept, j0, j1, block_mean.data(), block_cos.data(), transformed);
+      else
+        subtract_column_means(values, kept, j0, j1, block_mean.data());
     });
-    if (raw) raw->finish(block);
-    if (separate_layout) add_gram_upper(transformed, r.layout_gram);
-    add_gram_upper(block.values, r.gram);
-    for (std::size_t j = 0; j < block.count; ++j)
-      if (block.kept[j]) {
-        r.kept[block.first + j] = true;
-        mean.push_back(block_mean[j]);
-      }
-    // Albedo curves are linear: A(z_i) = A(z_i - mean) + A(mean).
-    const auto entries = albedo_entries(albedo_op, bins, block.first, block.count);
-    parallel_for(0, static_cast<std::size_t>(n), [&](std::size_t lo, std::size_t hi) {
-      for (std::size_t i = lo; i < hi; ++i) {
-        const double* row = block.values.row(static_cast<Eigen::Index>(i)).data();
-        double* out = albedo_centred.row(static_cast<Eigen::Index>(i)).data();
-        for (const AlbedoEntry& e : entries) out[e.slot] += e.weight * row[e.column];
+
+    // 3. The Gram slices, the albedo curves (linear: A(z_i) = A(z_i - mean) + A(mean)) and the
+    //    raw visitor's output, all independent, on the workers.
+    const auto entries = albedo_entries(albedo_op, bins, first, count);
+    const std::size_t slices = GramAccumulator::slices(count);
+    const std::size_t gram_tasks = separate_layout ? 2 * slices : slices;
+    const std::size_t albedo_tasks = (n + kAlbedoRows - 1) / kAlbedoRows;
+    parallel_for_each(0, gram_tasks + albedo_tasks + (raw ? 1 : 0), [&](std::size_t t) {
+      if (t < slices) {
+        linear_gram.add_slice(values, t);
+      } else if (t < gram_tasks) {
+        layout_gram.add_slice(transformed, t - slices);
+      } else if (t < gram_tasks + albedo_tasks) {
+        const std::size_t r0 = (t - gram_tasks) * kAlbedoRows, r1 = std::min(n, r0 + kAlbedoRows);
+        for (std::size_t i = r0; i < r1; ++i) {
+          const double* row = values.row(static_cast<Eigen::Index>(i)).data();
+          double* out = albedo_centred.row(static_cast<Eigen::Index>(i)).data();
+          for (const AlbedoEntry& e : entries) out[e.slot] += e.weight * row[e.column];
+        }
+      } else {
+        raw->finish(block);
       }
     });
     for (const AlbedoEntry& e : entries) albedo_of_mean[e.slot] += e.weight * block_mean[static_cast<std::size_t>(e.column)];
-  }, options, progress);
-  r.albedo = albedo_centred.rowwise() + albedo_of_mean;
+    for (std::size_t j = 0; j < count; ++j)
+      if (kept[j]) {
+        r.kept[first + j] = true;
+        mean.push_back(block_mean[j]);
+      }
+    task.advance();
+  }
 
+  r.hashes = hashers.digests();
+  r.albedo = albedo_centred.rowwise() + albedo_of_mean;
   r.kept_columns = mean.size();
   if (r.kept_columns == 0)
     throw Error("no column is measured in every material: the inputs have no common measurements");
   r.mean = Eigen::Map<const Eigen::VectorXd>(mean.data(), static_cast<Eigen::Index>(mean.size()));
-  symmetrize_from_upper(r.gram);
-  if (separate_layout) symmetrize_from_upper(r.layout_gram);
-  else r.layout_gram = r.gram;
+  r.gram = linear_gram.total();
+  r.layout_gram = separate_layout ? layout_gram.total() : r.gram;
   return r;
 }
 

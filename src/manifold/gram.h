@@ -1,5 +1,6 @@
 #pragma once
-// Pass 1 of a build: validity mask, mean and centred Gram matrices of a MaterialSet, in double.
+// The pass of a build: validity mask, mean, centred Gram matrices, albedo curves and file hashes
+// of a MaterialSet, in double.
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -41,7 +42,9 @@ struct ColumnBlock;
 /// Sees the raw data (physical units, before centring) of every block of the pass: prepare()
 /// once per block, then visit() from several threads at once on disjoint column ranges that
 /// together cover the block (each range while it is in cache; range bounds are multiples of
-/// kSweepColumns), then finish(). A build writes the model's data this way, in the same pass.
+/// kSweepColumns), then finish() (on a worker, while the pass computes the block's Gram slices
+/// from the centred values: finish() must not read block.values). A build writes the model's
+/// data this way, in the same pass.
 struct RawBlockVisitor {
   static constexpr std::size_t kSweepColumns = 512;
   virtual ~RawBlockVisitor() = default;
@@ -50,7 +53,9 @@ struct RawBlockVisitor {
   virtual void finish(const ColumnBlock&) {}
 };
 
-/// One streaming pass over the set.
+/// One streaming pass over the set, block_columns columns of all materials at a time (a block
+/// and what is derived from it are meant to stay in the last-level cache between the pass's
+/// steps). Results do not depend on the number of threads.
 GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout, std::size_t block_columns,
                            ProgressSink& progress, RawBlockVisitor* raw = nullptr);
 

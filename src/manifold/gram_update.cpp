@@ -1,7 +1,6 @@
 #include "manifold/gram_update.h"
 
 #include <algorithm>
-#include <vector>
 
 #include <cblas.h>
 
@@ -9,22 +8,39 @@
 
 namespace matlas {
 
+SingleThreadedBlas::SingleThreadedBlas() : saved_(openblas_get_num_threads()) { openblas_set_num_threads(1); }
+
+SingleThreadedBlas::~SingleThreadedBlas() { openblas_set_num_threads(saved_); }
+
+GramAccumulator::GramAccumulator(Eigen::Index n, std::size_t max_columns)
+    : n_(n), upper_(std::max<std::size_t>(1, slices(max_columns)), Eigen::MatrixXd::Zero(n, n)) {}
+
+void GramAccumulator::add_slice(const BlockMatrix& a, std::size_t s) {
+  const auto k = static_cast<std::size_t>(a.cols());
+  const std::size_t first = s * kSlice;
+  if (first >= k) return;
+  const auto count = static_cast<int>(std::min(kSlice, k - first));
+  // Row-major n x k with leading dimension k is column-major k x n: S += A^T' A' = A A^T.
+  cblas_dsyrk(CblasColMajor, CblasUpper, CblasTrans, static_cast<int>(n_), count, 1.0, a.data() + first,
+              static_cast<int>(k), 1.0, upper_[s].data(), static_cast<int>(n_));
+}
+
+Eigen::MatrixXd GramAccumulator::total() const {
+  Eigen::MatrixXd s = Eigen::MatrixXd::Zero(n_, n_);
+  for (const Eigen::MatrixXd& u : upper_) s.triangularView<Eigen::Upper>() += u;
+  symmetrize_from_upper(s);
+  return s;
+}
+
 void add_gram_upper(const BlockMatrix& a, Eigen::MatrixXd& upper) {
-  const int n = static_cast<int>(a.rows()), k = static_cast<int>(a.cols());
-  if (k == 0) return;
-  constexpr int kChunk = 4096;  // columns per dsyrk call (n x kChunk doubles: ~3 MB for n = 100)
-  const int chunks = (k + kChunk - 1) / kChunk;
-  const int saved = openblas_get_num_threads();
-  openblas_set_num_threads(1);
-  std::vector<Eigen::MatrixXd> partial(static_cast<std::size_t>(chunks));
-  parallel_for_each(0, static_cast<std::size_t>(chunks), [&](std::size_t c) {
-    const int first = static_cast<int>(c) * kChunk, count = std::min(kChunk, k - first);
-    Eigen::MatrixXd& s = partial[c] = Eigen::MatrixXd::Zero(n, n);
-    // Row-major n x k with leading dimension k is column-major k x n: S += A^T' A' = A A^T.
-    cblas_dsyrk(CblasColMajor, CblasUpper, CblasTrans, n, count, 1.0, a.data() + first, k, 1.0, s.data(), n);
-  });
-  for (const Eigen::MatrixXd& s : partial) upper.triangularView<Eigen::Upper>() += s;
-  openblas_set_num_threads(saved);
+  if (a.cols() == 0) return;
+  const auto k = static_cast<std::size_t>(a.cols());
+  GramAccumulator gram(a.rows(), k);
+  {
+    const SingleThreadedBlas single;
+    parallel_for_each(0, GramAccumulator::slices(k), [&](std::size_t s) { gram.add_slice(a, s); });
+  }
+  upper.triangularView<Eigen::Upper>() += gram.total();
 }
 
 void symmetrize_from_upper(Eigen::MatrixXd& s) { s.triangularView<Eigen::StrictlyLower>() = s.transpose(); }

@@ -1,16 +1,55 @@
 #pragma once
-// S += A A^T for a row-major block A (n materials x k columns): the Gram update of a build pass.
-// OpenBLAS's dsyrk does not speed up with threads for this thin shape (n ~ 100, k ~ 30000), so the
-// k columns are split into chunks handed out to the workers as they become free (the pass's
-// reader thread competes for the cores), each chunk a single-threaded dsyrk into its own n x n
-// partial; the partials are summed in chunk order, so the result does not depend on scheduling.
-// Only the upper triangle of S is updated.
+// S += A A^T for row-major blocks A (n materials x k columns): the Gram update of a build pass.
+// OpenBLAS's dsyrk does not speed up with threads for this thin shape (n ~ 100), so each block's
+// columns are cut into fixed slices that the workers take as they become free, each slice a
+// single-threaded dsyrk. Slice s of every block goes into its own n x n accumulator and the
+// accumulators are summed in slice order at the end: the result does not depend on scheduling
+// or on the number of threads. Only upper triangles are computed.
+#include <cstddef>
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "manifold/column_blocks.h"
 
 namespace matlas {
 
+/// While alive, OpenBLAS runs every call on the calling thread alone (the callers split the
+/// work themselves); the previous setting is restored on destruction.
+class SingleThreadedBlas {
+public:
+  SingleThreadedBlas();
+  ~SingleThreadedBlas();
+  SingleThreadedBlas(const SingleThreadedBlas&) = delete;
+  SingleThreadedBlas& operator=(const SingleThreadedBlas&) = delete;
+
+private:
+  int saved_;
+};
+
+class GramAccumulator {
+public:
+  /// Columns per slice (n x 2048 doubles: 1.6 MB for n = 100, cache-resident).
+  static constexpr std::size_t kSlice = 2048;
+  /// Number of slices of a block of `columns` columns.
+  static std::size_t slices(std::size_t columns) { return (columns + kSlice - 1) / kSlice; }
+
+  /// For n materials and blocks of at most max_columns columns.
+  GramAccumulator(Eigen::Index n, std::size_t max_columns);
+
+  /// Adds slice s of block a. Different slices may be added from different threads at once
+  /// (under a SingleThreadedBlas guard).
+  void add_slice(const BlockMatrix& a, std::size_t s);
+
+  /// The sum so far, symmetric.
+  Eigen::MatrixXd total() const;
+
+private:
+  Eigen::Index n_;
+  std::vector<Eigen::MatrixXd> upper_;  ///< one upper-triangular accumulator per slice
+};
+
+/// upper += upper triangle of A A^T, using all workers.
 void add_gram_upper(const BlockMatrix& a, Eigen::MatrixXd& upper);
 
 /// Copies the upper triangle of S into its lower triangle.

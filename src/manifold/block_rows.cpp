@@ -1,0 +1,76 @@
+#include "manifold/block_rows.h"
+
+#include <algorithm>
+#include <new>
+
+#include "brdf/brdf_table.h"
+
+namespace matlas {
+
+FileHashers::FileHashers(std::size_t n) : states_(n, nullptr) {
+  for (XXH3_state_t*& s : states_) {
+    s = XXH3_createState();
+    if (!s) throw std::bad_alloc();
+    XXH3_64bits_reset(s);
+  }
+}
+
+FileHashers::~FileHashers() {
+  for (XXH3_state_t* s : states_) XXH3_freeState(s);  // accepts null
+}
+
+std::vector<std::uint64_t> FileHashers::digests() const {
+  std::vector<std::uint64_t> d;
+  d.reserve(states_.size());
+  for (const XXH3_state_t* s : states_) d.push_back(XXH3_64bits_digest(s));
+  return d;
+}
+
+namespace {
+
+/// out = in * scale; keep &= (in >= 0); sum += out (each optional but out). Separate restrict
+/// pointers let the compiler vectorise.
+void scale_chunk(const double* __restrict in, std::size_t length, double scale, double* __restrict out,
+                 std::uint8_t* __restrict keep, double* __restrict sum) {
+  if (keep && sum) {
+    for (std::size_t j = 0; j < length; ++j) {
+      const double v = in[j] * scale;
+      out[j] = v;
+      keep[j] &= static_cast<std::uint8_t>(v >= 0.0);
+      sum[j] += v;
+    }
+  } else if (keep) {
+    for (std::size_t j = 0; j < length; ++j) {
+      out[j] = in[j] * scale;
+      keep[j] &= static_cast<std::uint8_t>(in[j] >= 0.0);
+    }
+  } else {
+    for (std::size_t j = 0; j < length; ++j) out[j] = in[j] * scale;
+  }
+}
+
+}  // namespace
+
+void read_block_rows(const MaterialSet& set, std::size_t first, std::size_t count, std::size_t row_begin,
+                     std::size_t row_end, BlockMatrix& values, XXH3_state_t* const* hashers, RowGroupSums sums) {
+  const std::size_t bins = set.dims().bins();
+  if (sums.kept) std::fill(sums.kept, sums.kept + count, std::uint8_t{1});
+  if (sums.column_sums) std::fill(sums.column_sums, sums.column_sums + count, 0.0);
+  for (std::size_t i = row_begin; i < row_end; ++i) {
+    double* row = values.row(static_cast<Eigen::Index>(i)).data();
+    set.file(i).visit_values(first, count, [&](const double* chunk, std::size_t offset, std::size_t length) {
+      if (hashers) XXH3_64bits_update(hashers[i], chunk, length * sizeof(double));
+      // Channel by channel, so that the scale is a constant of the inner loop.
+      for (std::size_t j = 0; j < length;) {
+        const std::size_t channel = (first + offset + j) / bins;
+        const std::size_t end = std::min(length, (channel + 1) * bins - first - offset);
+        const std::size_t at = offset + j;
+        scale_chunk(chunk + j, end - j, BrdfTable::kChannelScale[channel], row + at,
+                    sums.kept ? sums.kept + at : nullptr, sums.column_sums ? sums.column_sums + at : nullptr);
+        j = end;
+      }
+    });
+  }
+}
+
+}  // namespace matlas
