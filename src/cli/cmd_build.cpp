@@ -67,6 +67,8 @@ void run_build(const BuildArgs& a) {
               o.storage == Storage::f16 ? "float16" : "float32", r.storage_relative_error);
   std::printf("  time             reading %.2f s, latent placement %.2f s, finishing the file %.2f s\n",
               r.pass_seconds, r.optimize_seconds, r.finish_seconds);
+  std::printf("  reading          files %.2f s, centring and data %.2f s, Gram and albedo %.2f s\n",
+              r.pass_steps.read, r.pass_steps.sweep, r.pass_steps.products);
 }
 
 void add_build_command(CLI::App& app) {

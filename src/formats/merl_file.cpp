@@ -13,6 +13,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/file_io.h"
+#include "core/simd_clones.h"
 
 namespace matlas {
 
@@ -23,6 +24,17 @@ namespace {
 const char* channel_name(std::size_t c) {
   static const char* names[] = {"red", "green", "blue"};
   return c < 3 ? names[c] : "?";
+}
+
+/// NaN and infinities have an all-ones exponent: an integer test that vectorises.
+MATLAS_SIMD_CLONES bool any_non_finite(const double* values, std::size_t n) {
+  std::uint64_t bad = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint64_t bits;
+    std::memcpy(&bits, values + i, sizeof bits);
+    bad |= static_cast<std::uint64_t>((bits & 0x7ff0000000000000ull) == 0x7ff0000000000000ull);
+  }
+  return bad != 0;
 }
 
 }  // namespace
@@ -85,14 +97,7 @@ MerlFile::~MerlFile() {
 
 void MerlFile::read_checked(std::size_t first, std::size_t n, double* chunk) const {
   read_exact_at(fd_, path_, chunk, n * sizeof(double), kHeaderBytes + first * sizeof(double));
-  // NaN and infinities have an all-ones exponent: an integer test the compiler vectorises.
-  std::uint64_t bad = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    std::uint64_t bits;
-    std::memcpy(&bits, chunk + i, sizeof bits);
-    bad |= static_cast<std::uint64_t>((bits & 0x7ff0000000000000ull) == 0x7ff0000000000000ull);
-  }
-  if (!bad) return;
+  if (!any_non_finite(chunk, n)) return;
   for (std::size_t i = 0; i < n; ++i) {
     if (!std::isfinite(chunk[i])) {
       const std::size_t index = first + i, bins = dims_.bins();

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 
+#include "core/simd_clones.h"
+
 namespace matlas {
 
-void kept_column_means(const BlockMatrix& values, const std::vector<std::uint8_t>& kept, std::size_t first,
+MATLAS_SIMD_CLONES void kept_column_means(const BlockMatrix& values, const std::vector<std::uint8_t>& kept, std::size_t first,
                        std::size_t last, double* mean) {
   const Eigen::Index n = values.rows();
   const std::size_t len = last - first;
@@ -18,7 +20,7 @@ void kept_column_means(const BlockMatrix& values, const std::vector<std::uint8_t
   for (std::size_t j = 0; j < len; ++j) m[j] = kept[first + j] ? m[j] * inv_n : 0.0;
 }
 
-void subtract_column_means(BlockMatrix& values, const std::vector<std::uint8_t>& kept, std::size_t first,
+MATLAS_SIMD_CLONES void subtract_column_means(BlockMatrix& values, const std::vector<std::uint8_t>& kept, std::size_t first,
                            std::size_t last, const double* mean) {
   const Eigen::Index n = values.rows();
   const std::size_t len = last - first;
@@ -29,7 +31,7 @@ void subtract_column_means(BlockMatrix& values, const std::vector<std::uint8_t>&
   }
 }
 
-void column_means_from_sums(const double* sums, std::size_t stride, std::size_t groups,
+MATLAS_SIMD_CLONES void column_means_from_sums(const double* sums, std::size_t stride, std::size_t groups,
                             const std::uint8_t* kept, std::size_t first, std::size_t last, std::size_t n,
                             double* mean) {
   double* __restrict m = mean + first;
@@ -43,7 +45,7 @@ void column_means_from_sums(const double* sums, std::size_t stride, std::size_t 
   for (std::size_t j = 0; j < len; ++j) m[j] = kept[first + j] ? m[j] * inv_n : 0.0;
 }
 
-void centre_and_weight(BlockMatrix& values, const std::vector<std::uint8_t>& kept, std::size_t first,
+MATLAS_SIMD_CLONES void centre_and_weight(BlockMatrix& values, const std::vector<std::uint8_t>& kept, std::size_t first,
                        std::size_t last, const double* mean, const double* weight, BlockMatrix& weighted) {
   const std::size_t len = last - first;
   const double* __restrict m = mean + first;

@@ -4,6 +4,7 @@
 #include <new>
 
 #include "brdf/brdf_table.h"
+#include "core/simd_clones.h"
 
 namespace matlas {
 
@@ -30,7 +31,7 @@ namespace {
 
 /// out = in * scale; keep &= (in >= 0); sum += out (each optional but out). Separate restrict
 /// pointers let the compiler vectorise.
-void scale_chunk(const double* __restrict in, std::size_t length, double scale, double* __restrict out,
+MATLAS_SIMD_CLONES void scale_chunk(const double* __restrict in, std::size_t length, double scale, double* __restrict out,
                  std::uint8_t* __restrict keep, double* __restrict sum) {
   if (keep && sum) {
     for (std::size_t j = 0; j < length; ++j) {

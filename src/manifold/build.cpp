@@ -142,6 +142,7 @@ BuildReport build_model(const MaterialSet& set, const BuildOptions& options, con
   writer.append(mean_f.data(), static_cast<std::size_t>(mean_f.size()) * 4u);
   writer.end_growing();
   report.pass_seconds = seconds_since(t0);
+  report.pass_steps = g.steps;
   report.storage_relative_error = data.relative_error();
   report.kept_columns = g.kept_columns;
   report.dropped_columns = set.value_count() - g.kept_columns;

@@ -37,6 +37,7 @@ struct BuildReport {
   gp::OptimizeResult optimization;
   /// The pass over the files (and the data written), the latent placement, the rest of the file.
   double pass_seconds = 0, optimize_seconds = 0, finish_seconds = 0;
+  PassSteps pass_steps;  ///< where the pass's time went
   /// Relative L2 error of the stored (rounded) data against the double data: float32 or float16.
   double storage_relative_error = 0;
 };

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <chrono>
 #include <cmath>
 
 #include "brdf/albedo_operator.h"
@@ -126,6 +127,13 @@ GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout
       if (separate_layout) transformed.resize(rows, static_cast<Eigen::Index>(count));
     }
 
+    auto t = std::chrono::steady_clock::now();
+    const auto lap = [&t](double& seconds) {
+      const auto now = std::chrono::steady_clock::now();
+      seconds += std::chrono::duration<double>(now - t).count();
+      t = now;
+    };
+
     // 1. Read the block, a few materials per task: hash, check, scale, and per group of materials
     //    the column sums and validity. Cold files: ask for the blocks ahead every kPrefetchBlocks.
     parallel_for_each(0, groups, [&](std::size_t g) {
@@ -135,6 +143,7 @@ GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout
       read_block_rows(set, first, count, r0, r1, values, hashers.data(),
                       {group_sums.data() + g * step, group_kept.data() + g * step});
     });
+    lap(r.steps.read);
     kept.resize(count);
     std::fill(kept.begin(), kept.end(), std::uint8_t{1});
     for (std::size_t g = 0; g < groups; ++g) {
@@ -173,6 +182,8 @@ GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout
         subtract_column_means(values, kept, j0, j1, block_mean.data());
     });
 
+    lap(r.steps.sweep);
+
     // 3. The Gram slices, the albedo curves (linear: A(z_i) = A(z_i - mean) + A(mean)) and the
     //    raw visitor's output, all independent, on the workers.
     const auto entries = albedo_entries(albedo_op, bins, first, count);
@@ -201,6 +212,7 @@ GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout
         r.kept[first + j] = true;
         mean.push_back(block_mean[j]);
       }
+    lap(r.steps.products);
     task.advance();
   }
 

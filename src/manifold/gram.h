@@ -27,6 +27,14 @@ struct LayoutTransform {
   bool is_identity() const { return map == Map::linear && !cosine_weighted; }
 };
 
+/// Wall-clock seconds of a pass's steps, which run one after the other per block (each on all
+/// workers), so they add up to the pass.
+struct PassSteps {
+  double read = 0;      ///< reading the files: copy, hash, check, scale, column sums
+  double sweep = 0;     ///< means, the raw visitor (a build's data), centring, layout transform
+  double products = 0;  ///< Gram matrices, albedo curves, the raw visitor's output
+};
+
 struct GramResult {
   std::vector<bool> kept;         ///< per value index: every material measured
   std::size_t kept_columns = 0;
@@ -35,6 +43,7 @@ struct GramResult {
   Eigen::MatrixXd layout_gram;    ///< n x n centred Gram of the transformed data
   Eigen::MatrixXd albedo;         ///< n x (90 * 3) directional albedo curves of the kept data
   std::vector<std::uint64_t> hashes;  ///< xxh64 of each input file
+  PassSteps steps;
 };
 
 struct ColumnBlock;
