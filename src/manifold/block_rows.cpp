@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <new>
 
+#include <xxh_x86dispatch.h>
+
 #include "brdf/brdf_table.h"
 #include "core/simd_clones.h"
 
@@ -60,7 +62,8 @@ void read_block_rows(const MaterialSet& set, std::size_t first, std::size_t coun
   for (std::size_t i = row_begin; i < row_end; ++i) {
     double* row = values.row(static_cast<Eigen::Index>(i)).data();
     set.file(i).visit_values(first, count, [&](const double* chunk, std::size_t offset, std::size_t length) {
-      if (hashers) XXH3_64bits_update(hashers[i], chunk, length * sizeof(double));
+      // The library's runtime-dispatched variant uses AVX2 where the CPU has it (2x the SSE2 default).
+      if (hashers) XXH3_64bits_update_dispatch(hashers[i], chunk, length * sizeof(double));
       // Channel by channel, so that the scale is a constant of the inner loop.
       for (std::size_t j = 0; j < length;) {
         const std::size_t channel = (first + offset + j) / bins;
