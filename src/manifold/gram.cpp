@@ -127,11 +127,11 @@ GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout
       if (separate_layout) transformed.resize(rows, static_cast<Eigen::Index>(count));
     }
 
-    auto t = std::chrono::steady_clock::now();
-    const auto lap = [&t](double& seconds) {
+    auto step_start = std::chrono::steady_clock::now();
+    const auto lap = [&step_start](double& seconds) {
       const auto now = std::chrono::steady_clock::now();
-      seconds += std::chrono::duration<double>(now - t).count();
-      t = now;
+      seconds += std::chrono::duration<double>(now - step_start).count();
+      step_start = now;
     };
 
     // 1. Read the block, a few materials per task: hash, check, scale, and per group of materials
