@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/parallel.h"
-
 namespace matlas {
 
 std::string MerlDims::to_string() const {
@@ -90,15 +88,34 @@ HalfDiffAngles bin_centre(const MerlDims& dims, int i, int j, int k) {
 }
 
 std::vector<double> bin_cosine_factors(const MerlDims& dims) {
+  // With phi_h = 0 (a rotation about the normal changes neither cosine), from_half_diff gives
+  // wi = R_y(theta_h) d for the difference vector d, and wo = 2 (wi . h) h - wi with wi . h =
+  // cos theta_d. Their z components are A - B and A + B, with A = cos theta_h cos theta_d and
+  // B = sin theta_h sin theta_d cos phi_d: separable, so no trigonometry per bin.
+  std::vector<double> cos_h(static_cast<std::size_t>(dims.theta_h)), sin_h(cos_h.size());
+  std::vector<double> cos_d(static_cast<std::size_t>(dims.theta_d)), sin_d(cos_d.size());
+  std::vector<double> cos_phi(static_cast<std::size_t>(dims.phi_d));
+  for (int i = 0; i < dims.theta_h; ++i) {
+    const double t = theta_h_centre(i, dims.theta_h);
+    cos_h[static_cast<std::size_t>(i)] = std::cos(t);
+    sin_h[static_cast<std::size_t>(i)] = std::sin(t);
+  }
+  for (int j = 0; j < dims.theta_d; ++j) {
+    const double t = theta_d_centre(j, dims.theta_d);
+    cos_d[static_cast<std::size_t>(j)] = std::cos(t);
+    sin_d[static_cast<std::size_t>(j)] = std::sin(t);
+  }
+  for (int k = 0; k < dims.phi_d; ++k) cos_phi[static_cast<std::size_t>(k)] = std::cos(phi_d_centre(k, dims.phi_d));
   std::vector<double> c(dims.bins());
-  parallel_for(0, static_cast<std::size_t>(dims.theta_h), [&](std::size_t lo, std::size_t hi) {
-    for (int i = static_cast<int>(lo); i < static_cast<int>(hi); ++i)
-      for (int j = 0; j < dims.theta_d; ++j)
-        for (int k = 0; k < dims.phi_d; ++k) {
-          const DirectionPair d = from_half_diff(bin_centre(dims, i, j, k));
-          c[dims.flat(i, j, k)] = std::max(0.0, d.wi.z()) * std::max(0.0, d.wo.z());
-        }
-  });
+  double* out = c.data();
+  for (std::size_t i = 0; i < cos_h.size(); ++i)
+    for (std::size_t j = 0; j < cos_d.size(); ++j) {
+      const double a = cos_h[i] * cos_d[j], b = sin_h[i] * sin_d[j];
+      for (std::size_t k = 0; k < cos_phi.size(); ++k) {
+        const double bk = b * cos_phi[k];
+        *out++ = std::max(0.0, a - bk) * std::max(0.0, a + bk);
+      }
+    }
   return c;
 }
 

@@ -95,13 +95,8 @@ GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout
   r.kept.assign(total, false);
   std::vector<double> mean;
   mean.reserve(total);
-  // What depends only on the grid, both parts at once.
-  Eigen::SparseMatrix<double, Eigen::RowMajor> albedo_op;
-  std::vector<double> cos_w;
-  parallel_for_each(0, 2, [&](std::size_t part) {
-    if (part == 0) albedo_op = albedo_operator(dims, 90);
-    else if (layout.cosine_weighted) cos_w = bin_cosine_factors(dims);
-  });
+  const auto albedo_op = albedo_operator(dims, 90);
+  const std::vector<double> cos_w = layout.cosine_weighted ? bin_cosine_factors(dims) : std::vector<double>{};
   FileHashers hashers(n);
 
   // The block and what is derived from it stay in the last-level cache between the steps.
@@ -151,7 +146,8 @@ GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout
       for (std::size_t j = 0; j < count; ++j) kept[j] &= k[j];
     }
     if (layout.cosine_weighted)
-      for (std::size_t j = 0; j < count; ++j) block_cos[j] = cos_w[(first + j) % bins];
+      for (std::size_t j = 0, bin = first % bins; j < count; ++j, bin = bin + 1 == bins ? 0 : bin + 1)
+        block_cos[j] = cos_w[bin];
     const ColumnBlock block{first, count, values, kept};
 
     // 2. One sweep over cache-sized column ranges: the means, the raw visitor, the layout

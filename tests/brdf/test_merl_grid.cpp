@@ -112,6 +112,26 @@ TEST(MerlGrid, BinCentresMapToTheirOwnBin) {
       }
 }
 
+TEST(MerlGrid, CosineFactorsMatchTheDirectionsOfEveryBinCentre) {
+  // Independent expectation: the directions from_half_diff gives at each bin centre.
+  for (const MerlDims dims : {MerlDims{}, MerlDims{17, 9, 31}}) {
+    const std::vector<double> c = bin_cosine_factors(dims);
+    ASSERT_EQ(c.size(), dims.bins());
+    double max_error = 0.0;
+    std::size_t positive = 0;
+    for (int i = 0; i < dims.theta_h; ++i)
+      for (int j = 0; j < dims.theta_d; ++j)
+        for (int k = 0; k < dims.phi_d; ++k) {
+          const DirectionPair d = from_half_diff(bin_centre(dims, i, j, k));
+          const double expected = std::max(0.0, d.wi.z()) * std::max(0.0, d.wo.z());
+          max_error = std::max(max_error, std::abs(c[dims.flat(i, j, k)] - expected));
+          positive += expected > 0.0;
+        }
+    EXPECT_LT(max_error, 1e-12) << dims.to_string();
+    EXPECT_GT(positive, dims.bins() / 2);  // most bins face up on both sides; the rest are 0
+  }
+}
+
 TEST(BrdfTable, MissingValuesAreMaskedNotUsed) {
   BrdfTable table(MerlDims{});
   for (std::size_t b = 0; b < table.bins(); ++b)
