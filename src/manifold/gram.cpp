@@ -12,6 +12,7 @@
 #include "manifold/block_rows.h"
 #include "manifold/column_blocks.h"
 #include "manifold/gram_update.h"
+#include "manifold/kept_runs.h"
 
 namespace matlas {
 
@@ -50,22 +51,26 @@ inline double fast_cbrt(double x) {
   return y;
 }
 
-/// Albedo-operator entries touching a block: column j of the block contributes weight * value
-/// to albedo slot (theta bin * 3 + channel).
+/// Albedo-operator entries touching a block: a column contributes weight * value to albedo slot
+/// (theta bin * 3 + channel).
 struct AlbedoEntry {
-  Eigen::Index column;
+  Eigen::Index column;        ///< in the compacted block
   Eigen::Index slot;
   double weight;
+  std::size_t block_column;  ///< the same column in the block
 };
 
+/// The albedo-operator entries of a block's kept columns, by compacted column.
 std::vector<AlbedoEntry> albedo_entries(const Eigen::SparseMatrix<double, Eigen::RowMajor>& op,
-                                        std::size_t bins, std::size_t first, std::size_t count) {
+                                        std::size_t bins, std::size_t first, const KeptRuns& kept) {
   std::vector<AlbedoEntry> entries;
-  for (std::size_t j = 0; j < count; ++j) {
-    const std::size_t v = first + j, channel = v / bins;
-    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(op, static_cast<Eigen::Index>(v % bins)); it; ++it)
-      entries.push_back({static_cast<Eigen::Index>(j), it.col() * 3 + static_cast<Eigen::Index>(channel), it.value()});
-  }
+  for (const KeptRun& run : kept.runs)
+    for (std::size_t j = 0; j < run.count; ++j) {
+      const std::size_t v = first + run.first + j, channel = v / bins;
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(op, static_cast<Eigen::Index>(v % bins)); it; ++it)
+        entries.push_back({static_cast<Eigen::Index>(run.out + j), it.col() * 3 + static_cast<Eigen::Index>(channel),
+                           it.value(), run.first + j});
+    }
   return entries;
 }
 
@@ -103,8 +108,9 @@ GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout
   BlockMatrix values(rows, static_cast<Eigen::Index>(step));
   std::vector<double> group_sums(groups * step);        // per group of kReadRows materials, column sums
   std::vector<std::uint8_t> group_kept(groups * step);  // per group, columns all its materials measure
-  BlockMatrix transformed(separate_layout ? rows : 0, static_cast<Eigen::Index>(step));
-  std::vector<double> block_mean(step), transformed_mean(step);
+  // The centred (and the transformed) kept columns, compacted: rows of stride `step`.
+  std::vector<double> centred(n * step), transformed(separate_layout ? n * step : 0);
+  std::vector<double> block_mean(step);
   std::vector<std::uint8_t> kept(step);
   std::vector<double> block_cos(layout.cosine_weighted ? step : 0);
   GramAccumulator linear_gram(rows, step), layout_gram(rows, separate_layout ? step : 1);
@@ -117,10 +123,7 @@ GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout
 
   for (std::size_t b = 0; b < blocks; ++b) {
     const std::size_t first = b * step, count = std::min(step, total - first);
-    if (count != static_cast<std::size_t>(values.cols())) {  // the last block
-      values.resize(rows, static_cast<Eigen::Index>(count));
-      if (separate_layout) transformed.resize(rows, static_cast<Eigen::Index>(count));
-    }
+    if (count != static_cast<std::size_t>(values.cols())) values.resize(rows, static_cast<Eigen::Index>(count));
 
     auto step_start = std::chrono::steady_clock::now();
     const auto lap = [&step_start](double& seconds) {
@@ -150,51 +153,54 @@ GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout
         block_cos[j] = cos_w[bin];
     const ColumnBlock block{first, count, values, kept};
 
-    // 2. One sweep over cache-sized column ranges: the means, the raw visitor, the layout
-    //    transform and the centring.
+    // 2. One sweep over cache-sized column ranges: the means, the raw visitor, then the kept
+    //    columns centred (and transformed) into the compacted blocks.
     if (raw) raw->prepare(block);
     const std::size_t sweep = RawBlockVisitor::kSweepColumns;
+    const KeptRuns runs = kept_runs(kept.data(), count, sweep);
     parallel_for_each(0, (count + sweep - 1) / sweep, [&](std::size_t c) {
       const std::size_t j0 = c * sweep, j1 = std::min(count, j0 + sweep);
       column_means_from_sums(group_sums.data(), step, groups, kept.data(), j0, j1, n, block_mean.data());
       if (raw) raw->visit(block, j0, j1);
-      if (separate_layout && !linear_layout) {
-        // Non-linear maps apply to the raw values; the result is centred on its own mean.
-        for (Eigen::Index i = 0; i < rows; ++i) {
-          const double* in = values.row(i).data();
-          double* out = transformed.row(i).data();
-          for (std::size_t j = j0; j < j1; ++j) {
-            const double x = layout.map == LayoutTransform::Map::cube_root ? fast_cbrt(in[j])
-                                                                           : std::log1p(100.0 * std::max(in[j], 0.0));
-            out[j] = layout.cosine_weighted ? x * block_cos[j] : x;
-          }
-        }
-        kept_column_means(transformed, kept, j0, j1, transformed_mean.data());
-        subtract_column_means(transformed, kept, j0, j1, transformed_mean.data());
+      const std::span<const KeptRun> range = runs.range(c);
+      if (separate_layout && linear_layout) {
+        centre_kept(values, range, block_mean.data(), centred.data(), block_cos.data(), transformed.data(), step);
+        return;
       }
-      if (separate_layout && linear_layout)  // a per-column factor commutes with centring
-        centre_and_weight(values, kept, j0, j1, block_mean.data(), block_cos.data(), transformed);
-      else
-        subtract_column_means(values, kept, j0, j1, block_mean.data());
+      centre_kept(values, range, block_mean.data(), centred.data(), nullptr, nullptr, step);
+      if (separate_layout) {
+        // Non-linear maps apply to the raw values; the result is centred on its own mean.
+        for (std::size_t i = 0; i < n; ++i) {
+          const double* in = values.row(static_cast<Eigen::Index>(i)).data();
+          double* out = transformed.data() + i * step;
+          for (const KeptRun& run : range)
+            for (std::size_t j = run.first; j < run.first + run.count; ++j) {
+              const double x = layout.map == LayoutTransform::Map::cube_root ? fast_cbrt(in[j])
+                                                                             : std::log1p(100.0 * std::max(in[j], 0.0));
+              out[run.out + j - run.first] = layout.cosine_weighted ? x * block_cos[j] : x;
+            }
+        }
+        if (!range.empty())
+          subtract_own_means(transformed.data(), n, step, range.front().out, range.back().out + range.back().count);
+      }
     });
-
     lap(r.steps.sweep);
 
-    // 3. The Gram slices, the albedo curves (linear: A(z_i) = A(z_i - mean) + A(mean)) and the
-    //    raw visitor's output, all independent, on the workers.
-    const auto entries = albedo_entries(albedo_op, bins, first, count);
-    const std::size_t slices = GramAccumulator::slices(count);
+    // 3. The Gram slices of the compacted blocks, the albedo curves (linear: A(z_i) =
+    //    A(z_i - mean) + A(mean)) and the raw visitor's output, all independent, on the workers.
+    const auto entries = albedo_entries(albedo_op, bins, first, runs);
+    const std::size_t slices = GramAccumulator::slices(runs.kept);
     const std::size_t gram_tasks = separate_layout ? 2 * slices : slices;
     const std::size_t albedo_tasks = (n + kAlbedoRows - 1) / kAlbedoRows;
     parallel_for_each(0, gram_tasks + albedo_tasks + (raw ? 1 : 0), [&](std::size_t t) {
       if (t < slices) {
-        linear_gram.add_slice(values, t);
+        linear_gram.add_slice(centred.data(), step, runs.kept, t);
       } else if (t < gram_tasks) {
-        layout_gram.add_slice(transformed, t - slices);
+        layout_gram.add_slice(transformed.data(), step, runs.kept, t - slices);
       } else if (t < gram_tasks + albedo_tasks) {
         const std::size_t r0 = (t - gram_tasks) * kAlbedoRows, r1 = std::min(n, r0 + kAlbedoRows);
         for (std::size_t i = r0; i < r1; ++i) {
-          const double* row = values.row(static_cast<Eigen::Index>(i)).data();
+          const double* row = centred.data() + i * step;
           double* out = albedo_centred.row(static_cast<Eigen::Index>(i)).data();
           for (const AlbedoEntry& e : entries) out[e.slot] += e.weight * row[e.column];
         }
@@ -202,7 +208,7 @@ GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout
         raw->finish(block);
       }
     });
-    for (const AlbedoEntry& e : entries) albedo_of_mean[e.slot] += e.weight * block_mean[static_cast<std::size_t>(e.column)];
+    for (const AlbedoEntry& e : entries) albedo_of_mean[e.slot] += e.weight * block_mean[e.block_column];
     for (std::size_t j = 0; j < count; ++j)
       if (kept[j]) {
         r.kept[first + j] = true;

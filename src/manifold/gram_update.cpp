@@ -15,14 +15,13 @@ SingleThreadedBlas::~SingleThreadedBlas() { openblas_set_num_threads(saved_); }
 GramAccumulator::GramAccumulator(Eigen::Index n, std::size_t max_columns)
     : n_(n), upper_(std::max<std::size_t>(1, slices(max_columns)), Eigen::MatrixXd::Zero(n, n)) {}
 
-void GramAccumulator::add_slice(const BlockMatrix& a, std::size_t s) {
-  const auto k = static_cast<std::size_t>(a.cols());
+void GramAccumulator::add_slice(const double* a, std::size_t ld, std::size_t columns, std::size_t s) {
   const std::size_t first = s * kSlice;
-  if (first >= k) return;
-  const auto count = static_cast<int>(std::min(kSlice, k - first));
-  // Row-major n x k with leading dimension k is column-major k x n: S += A^T' A' = A A^T.
-  cblas_dsyrk(CblasColMajor, CblasUpper, CblasTrans, static_cast<int>(n_), count, 1.0, a.data() + first,
-              static_cast<int>(k), 1.0, upper_[s].data(), static_cast<int>(n_));
+  if (first >= columns) return;
+  const auto count = static_cast<int>(std::min(kSlice, columns - first));
+  // Row-major n x k with leading dimension ld is column-major k x n: S += A^T' A' = A A^T.
+  cblas_dsyrk(CblasColMajor, CblasUpper, CblasTrans, static_cast<int>(n_), count, 1.0, a + first,
+              static_cast<int>(ld), 1.0, upper_[s].data(), static_cast<int>(n_));
 }
 
 Eigen::MatrixXd GramAccumulator::total() const {

@@ -39,7 +39,11 @@ public:
 
   /// Adds slice s of block a. Different slices may be added from different threads at once
   /// (under a SingleThreadedBlas guard).
-  void add_slice(const BlockMatrix& a, std::size_t s);
+  void add_slice(const BlockMatrix& a, std::size_t s) {
+    add_slice(a.data(), static_cast<std::size_t>(a.cols()), static_cast<std::size_t>(a.cols()), s);
+  }
+  /// The same for a row-major n x columns block whose rows start ld doubles apart.
+  void add_slice(const double* a, std::size_t ld, std::size_t columns, std::size_t s);
 
   /// The sum so far, symmetric.
   Eigen::MatrixXd total() const;

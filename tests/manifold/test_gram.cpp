@@ -1,0 +1,130 @@
+// The build's pass (accumulate_gram) against a direct computation on whole tables: validity
+// mask, mean, both Gram matrices and the albedo curves for every layout transform, with dropped columns in runs and
+// alone, blocks that do not divide the data, and sweep ranges cut short.
+#include <cmath>
+#include <cstdio>
+#include <gtest/gtest.h>
+
+#include "brdf/albedo_operator.h"
+#include "brdf/merl_grid.h"
+#include "manifold/gram.h"
+#include "manifold/kept_runs.h"
+#include "support/temp_dir.h"
+#include "synthetic_database.h"
+
+namespace matlas {
+namespace {
+
+using test::TempDir;
+
+constexpr MerlDims kDims{10, 8, 24};  // 1920 bins, 5760 values: several blocks and sweep ranges
+
+/// Writes n materials, some with unmeasured values (stored -1): a long run, isolated bins, and a
+/// run that crosses a channel boundary.
+std::vector<std::filesystem::path> database_with_gaps(const std::filesystem::path& dir, int n) {
+  std::filesystem::create_directories(dir);
+  std::vector<std::filesystem::path> paths;
+  for (int m = 0; m < n; ++m) {
+    BrdfTable t = test::smooth_table(0.1 * m, 0.7 - 0.05 * m, kDims);
+    auto stored = t.stored();
+    if (m == 0)
+      for (std::size_t v = 100; v < 700; ++v) stored[v] = -1.0;
+    if (m == 1)
+      for (std::size_t v = 3; v < stored.size(); v += 37) stored[v] = -1.0;
+    if (m == 2)
+      for (std::size_t v = 1900; v < 1950; ++v) stored[v] = -1.0;  // red -> green
+    char name[32];
+    std::snprintf(name, sizeof name, "m%d.binary", m);
+    paths.push_back(dir / name);
+    write_merl(paths.back(), t, /*allow_nonstandard_dims=*/true);
+  }
+  return paths;
+}
+
+struct Direct {
+  std::vector<bool> kept;
+  Eigen::VectorXd mean;
+  Eigen::MatrixXd gram, layout_gram, albedo;
+};
+
+/// The same quantities from whole tables, by the definitions.
+Direct direct(const std::vector<std::filesystem::path>& paths, const LayoutTransform& layout) {
+  const auto n = static_cast<Eigen::Index>(paths.size());
+  std::vector<BrdfTable> tables;
+  for (const auto& p : paths) tables.push_back(read_merl(p));
+  const std::size_t bins = kDims.bins(), values = 3 * bins;
+  const std::vector<double> cosine = bin_cosine_factors(kDims);
+  Direct d;
+  d.kept.assign(values, true);
+  std::vector<std::size_t> columns;
+  for (std::size_t v = 0; v < values; ++v) {
+    for (const BrdfTable& t : tables) d.kept[v] = d.kept[v] && t.stored()[v] >= 0.0;
+    if (d.kept[v]) columns.push_back(v);
+  }
+  const auto k = static_cast<Eigen::Index>(columns.size());
+  Eigen::MatrixXd z(n, k), g(n, k);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index c = 0; c < k; ++c) {
+      const std::size_t v = columns[static_cast<std::size_t>(c)];
+      const double x = tables[static_cast<std::size_t>(i)].value(static_cast<int>(v / bins), v % bins);
+      z(i, c) = x;
+      double y = layout.map == LayoutTransform::Map::cube_root ? std::cbrt(x)
+                 : layout.map == LayoutTransform::Map::log     ? std::log1p(100.0 * x)
+                                                               : x;
+      if (layout.cosine_weighted) y *= cosine[v % bins];
+      g(i, c) = y;
+    }
+  d.mean = z.colwise().mean().transpose();
+  // Albedo curves of the kept data: slot t * 3 + channel sums op(bin, t) * value.
+  const auto op = albedo_operator(kDims, 90);
+  d.albedo = Eigen::MatrixXd::Zero(n, 90 * 3);
+  for (Eigen::Index c = 0; c < k; ++c) {
+    const std::size_t v = columns[static_cast<std::size_t>(c)];
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(op, static_cast<Eigen::Index>(v % bins)); it; ++it)
+      d.albedo.col(it.col() * 3 + static_cast<Eigen::Index>(v / bins)) += it.value() * z.col(c);
+  }
+  const Eigen::MatrixXd zc = z.rowwise() - z.colwise().mean();
+  const Eigen::MatrixXd gc = g.rowwise() - g.colwise().mean();
+  d.gram = zc * zc.transpose();
+  d.layout_gram = gc * gc.transpose();
+  return d;
+}
+
+TEST(GramPass, MatchesTheDefinitionsForEveryLayout) {
+  TempDir dir;
+  const auto paths = database_with_gaps(dir / "db", 6);
+  const MaterialSet set = MaterialSet::open(paths);
+  for (const char* name : {"linear", "cosine-linear", "cbrt", "cosine-cbrt", "log", "cosine-log"}) {
+    const LayoutTransform layout = LayoutTransform::parse(name);
+    const Direct want = direct(paths, layout);
+    for (const std::size_t block : {std::size_t{700}, std::size_t{4096}}) {
+      SCOPED_TRACE(std::string(name) + ", blocks of " + std::to_string(block));
+      const GramResult got = accumulate_gram(set, layout, block, null_progress());
+      ASSERT_EQ(got.kept, want.kept);
+      ASSERT_EQ(got.kept_columns, static_cast<std::size_t>(want.mean.size()));
+      EXPECT_LT((got.mean - want.mean).norm(), 1e-14 * want.mean.norm());
+      EXPECT_LT((got.gram - want.gram).norm(), 1e-12 * want.gram.norm());
+      EXPECT_LT((got.layout_gram - want.layout_gram).norm(), 1e-9 * want.layout_gram.norm());
+      EXPECT_LT((got.albedo - want.albedo).norm(), 1e-12 * want.albedo.norm());
+    }
+  }
+}
+
+TEST(KeptRuns, SplitAtRangeBoundariesAndCompact) {
+  const std::vector<std::uint8_t> kept = {1, 1, 0, 1, 1, 1, 1, 0, 0, 1};
+  const KeptRuns r = kept_runs(kept.data(), kept.size(), 4);
+  // Ranges [0, 4), [4, 8), [8, 10): runs {0-1}, {3}; {4-6}; {9}.
+  ASSERT_EQ(r.runs.size(), 4u);
+  EXPECT_EQ(r.kept, 7u);
+  ASSERT_EQ(r.range_begin, (std::vector<std::size_t>{0, 2, 3, 4}));
+  const std::size_t want[4][3] = {{0, 2, 0}, {3, 1, 2}, {4, 3, 3}, {9, 1, 6}};
+  for (std::size_t i = 0; i < 4; ++i) {
+    EXPECT_EQ(r.runs[i].first, want[i][0]);
+    EXPECT_EQ(r.runs[i].count, want[i][1]);
+    EXPECT_EQ(r.runs[i].out, want[i][2]);
+  }
+  EXPECT_TRUE(kept_runs(kept.data(), 0, 4).runs.empty());
+}
+
+}  // namespace
+}  // namespace matlas
