@@ -3,29 +3,15 @@
 // of a MaterialSet, in double.
 #include <cstddef>
 #include <cstdint>
-#include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "core/progress.h"
+#include "manifold/layout_transform.h"
 #include "manifold/material_set.h"
 
 namespace matlas {
-
-/// The transform of the data used to place the latent points (the interpolation itself always
-/// stays linear in the original data). Each value f at bin b becomes
-///   g(f) * (cosine_weighted ? cos(theta_i) cos(theta_o) at the bin centre : 1)
-/// with g the identity, cube root, or log(1 + f / 0.01).
-struct LayoutTransform {
-  enum class Map { linear, cube_root, log } map = Map::linear;
-  bool cosine_weighted = false;
-
-  std::string to_string() const;  ///< e.g. "linear", "cosine-cbrt", "log"
-  /// Parses "linear", "cbrt", "log", optionally prefixed "cosine-"; throws matlas::Error.
-  static LayoutTransform parse(const std::string& name);
-  bool is_identity() const { return map == Map::linear && !cosine_weighted; }
-};
 
 /// Wall-clock seconds of a pass's steps, which run one after the other per block (each on all
 /// workers), so they add up to the pass.

@@ -1,0 +1,31 @@
+#pragma once
+// The transform of the data used to place the latent points (the interpolation itself always
+// stays linear in the original data), and its application to the kept columns of a block.
+#include <cstddef>
+#include <span>
+#include <string>
+
+#include "manifold/column_blocks.h"
+#include "manifold/kept_runs.h"
+
+namespace matlas {
+
+/// Each value f at bin b becomes
+///   g(f) * (cosine_weighted ? cos(theta_i) cos(theta_o) at the bin centre : 1)
+/// with g the identity, cube root, or log(1 + f / 0.01).
+struct LayoutTransform {
+  enum class Map { linear, cube_root, log } map = Map::linear;
+  bool cosine_weighted = false;
+
+  std::string to_string() const;  ///< e.g. "linear", "cosine-cbrt", "log"
+  /// Parses "linear", "cbrt", "log", optionally prefixed "cosine-"; throws matlas::Error.
+  static LayoutTransform parse(const std::string& name);
+  bool is_identity() const { return map == Map::linear && !cosine_weighted; }
+};
+
+/// out[i, run.out + t] = g(values[i, run.first + t]) * (cosine_weighted ? cosine[run.first + t] : 1)
+/// for the kept runs (g: the non-linear map; out is row-major with row stride ld). Not centred.
+void transform_kept(const BlockMatrix& values, std::span<const KeptRun> runs, const LayoutTransform& layout,
+                    const double* cosine, double* out, std::size_t ld);
+
+}  // namespace matlas
