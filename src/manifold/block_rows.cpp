@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <new>
 
+#if defined(__x86_64__)
 #include <xxh_x86dispatch.h>
+#endif
 
 #include "brdf/brdf_table.h"
 #include "core/simd_clones.h"
@@ -31,10 +33,20 @@ std::vector<std::uint64_t> FileHashers::digests() const {
 
 namespace {
 
+/// xxHash's runtime-dispatched variant uses AVX2 or AVX-512 where the CPU has them (several
+/// times the SSE2 default entry point); the hashes are the same.
+void hash_update(XXH3_state_t* state, const void* data, std::size_t bytes) {
+#if defined(__x86_64__)
+  XXH3_64bits_update_dispatch(state, data, bytes);
+#else
+  XXH3_64bits_update(state, data, bytes);
+#endif
+}
+
 /// out = in * scale; keep &= (in >= 0); sum += out (each optional but out). Separate restrict
 /// pointers let the compiler vectorise.
-MATLAS_SIMD_CLONES void scale_chunk(const double* __restrict in, std::size_t length, double scale, double* __restrict out,
-                 std::uint8_t* __restrict keep, double* __restrict sum) {
+MATLAS_SIMD_CLONES void scale_chunk(const double* __restrict in, std::size_t length, double scale,
+                                    double* __restrict out, std::uint8_t* __restrict keep, double* __restrict sum) {
   if (keep && sum) {
     for (std::size_t j = 0; j < length; ++j) {
       const double v = in[j] * scale;
@@ -62,8 +74,7 @@ void read_block_rows(const MaterialSet& set, std::size_t first, std::size_t coun
   for (std::size_t i = row_begin; i < row_end; ++i) {
     double* row = values.row(static_cast<Eigen::Index>(i)).data();
     set.file(i).visit_values(first, count, [&](const double* chunk, std::size_t offset, std::size_t length) {
-      // The library's runtime-dispatched variant uses AVX2 where the CPU has it (2x the SSE2 default).
-      if (hashers) XXH3_64bits_update_dispatch(hashers[i], chunk, length * sizeof(double));
+      if (hashers) hash_update(hashers[i], chunk, length * sizeof(double));
       // Channel by channel, so that the scale is a constant of the inner loop.
       for (std::size_t j = 0; j < length;) {
         const std::size_t channel = (first + offset + j) / bins;

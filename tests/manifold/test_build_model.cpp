@@ -1,8 +1,11 @@
 // Building a model and querying it, against explicit computations on the input tables.
 #include <cmath>
+#include <cstdio>
 #include <fstream>
+#include <iterator>
 
 #include <gtest/gtest.h>
+#include <xxhash.h>
 
 #include "brdf/albedo.h"
 #include "core/error.h"
@@ -81,6 +84,21 @@ TEST_F(BuiltModel, DropsColumnsMissingInAnyInputAndSaysSo) {
   const BrdfTable t = export_table(m, m.weights(Eigen::Vector2d(0.1, 0.2)));
   EXPECT_FALSE(t.measured(1, 17));
   EXPECT_EQ(t.stored()[v], -1.0);
+}
+
+TEST_F(BuiltModel, RecordsTheHashOfEachSourcesValueBytes) {
+  // Independent expectation: xxh3-64 of each file's bytes after the 12-byte header, read whole.
+  const Model m = Model::open(dir / "m.matlas");
+  const auto& sources = m.metadata()["sources"];
+  ASSERT_EQ(sources.size(), paths.size());
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    std::ifstream in(paths[i], std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    char want[17];
+    std::snprintf(want, sizeof want, "%016llx",
+                  static_cast<unsigned long long>(XXH3_64bits(bytes.data() + 12, bytes.size() - 12)));
+    EXPECT_EQ(sources[i]["xxh3_64"].get<std::string>(), want) << paths[i];
+  }
 }
 
 TEST_F(BuiltModel, InterpolationIsTheExplicitWeightedSumOfInputs) {
