@@ -43,24 +43,22 @@ void hash_update(XXH3_state_t* state, const void* data, std::size_t bytes) {
 #endif
 }
 
-/// out = in * scale; keep &= (in >= 0); sum += out (each optional but out). Separate restrict
+/// out = in * scale; keep &= (in >= 0); sum += out when sum is not null. Separate restrict
 /// pointers let the compiler vectorise.
 MATLAS_SIMD_CLONES void scale_chunk(const double* __restrict in, std::size_t length, double scale,
                                     double* __restrict out, std::uint8_t* __restrict keep, double* __restrict sum) {
-  if (keep && sum) {
+  if (sum) {
     for (std::size_t j = 0; j < length; ++j) {
       const double v = in[j] * scale;
       out[j] = v;
       keep[j] &= static_cast<std::uint8_t>(v >= 0.0);
       sum[j] += v;
     }
-  } else if (keep) {
+  } else {
     for (std::size_t j = 0; j < length; ++j) {
       out[j] = in[j] * scale;
       keep[j] &= static_cast<std::uint8_t>(in[j] >= 0.0);
     }
-  } else {
-    for (std::size_t j = 0; j < length; ++j) out[j] = in[j] * scale;
   }
 }
 
@@ -69,7 +67,7 @@ MATLAS_SIMD_CLONES void scale_chunk(const double* __restrict in, std::size_t len
 void read_block_rows(const MaterialSet& set, std::size_t first, std::size_t count, std::size_t row_begin,
                      std::size_t row_end, BlockMatrix& values, XXH3_state_t* const* hashers, RowGroupSums sums) {
   const std::size_t bins = set.dims().bins();
-  if (sums.kept) std::fill(sums.kept, sums.kept + count, std::uint8_t{1});
+  std::fill(sums.kept, sums.kept + count, std::uint8_t{1});
   if (sums.column_sums) std::fill(sums.column_sums, sums.column_sums + count, 0.0);
   for (std::size_t i = row_begin; i < row_end; ++i) {
     double* row = values.row(static_cast<Eigen::Index>(i)).data();
@@ -81,7 +79,7 @@ void read_block_rows(const MaterialSet& set, std::size_t first, std::size_t coun
         const std::size_t end = std::min(length, (channel + 1) * bins - first - offset);
         const std::size_t at = offset + j;
         scale_chunk(chunk + j, end - j, BrdfTable::kChannelScale[channel], row + at,
-                    sums.kept ? sums.kept + at : nullptr, sums.column_sums ? sums.column_sums + at : nullptr);
+                    sums.kept + at, sums.column_sums ? sums.column_sums + at : nullptr);
         j = end;
       }
     });

@@ -31,7 +31,7 @@ private:
 /// whether every row measures it (stored value >= 0).
 struct RowGroupSums {
   double* column_sums = nullptr;  ///< count entries, overwritten; may be null (not gathered)
-  std::uint8_t* kept = nullptr;   ///< count entries, overwritten with 1 where every row >= 0
+  std::uint8_t* kept = nullptr;   ///< count entries, overwritten with 1 where every row >= 0; required
 };
 
 /// Reads rows [row_begin, row_end) of block columns [first, first + count) into the same rows of

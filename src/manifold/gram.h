@@ -28,7 +28,7 @@ struct GramResult {
   Eigen::MatrixXd gram;           ///< n x n centred Gram of the linear data
   Eigen::MatrixXd layout_gram;    ///< n x n centred Gram of the transformed data
   Eigen::MatrixXd albedo;         ///< n x (90 * 3) directional albedo curves of the kept data
-  std::vector<std::uint64_t> hashes;  ///< xxh64 of each input file
+  std::vector<std::uint64_t> hashes;  ///< xxh3-64 of each input file's value bytes
   PassSteps steps;
 };
 
@@ -37,9 +37,9 @@ struct ColumnBlock;
 /// Sees the raw data (physical units, before centring) of every block of the pass: prepare()
 /// once per block, then visit() from several threads at once on disjoint column ranges that
 /// together cover the block (each range while it is in cache; range bounds are multiples of
-/// kSweepColumns), then finish() (on a worker, while the pass computes the block's Gram slices
-/// from the centred values: finish() must not read block.values). A build writes the model's
-/// data this way, in the same pass.
+/// kSweepColumns), then finish() (on a worker, alongside the block's Gram slices and albedo
+/// curves; block.values is not modified meanwhile). A build writes the model's data this way, in
+/// the same pass.
 struct RawBlockVisitor {
   static constexpr std::size_t kSweepColumns = 512;
   virtual ~RawBlockVisitor() = default;
