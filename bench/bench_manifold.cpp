@@ -3,6 +3,7 @@
 //   - the build's pass over the files vs reading the same files raw from the page cache, and vs
 //     raw reading plus the Gram computation alone; its file-reading step vs the raw read;
 //   - the Gram update (add_gram_upper) vs the machine's dense matrix-product (dgemm, all cores);
+//   - dsyrk on narrow slices vs the widest (the pass's Gram slices);
 //   - the whole table at x vs one streaming read of the stored data;
 //   - one value at x once w(x) is known (absolute, ns).
 // Set MATLAS_BENCH_DB to the database folder (default /tmp/matlas-bench-db).
@@ -165,6 +166,37 @@ void BM_GramVsGemm(benchmark::State& state) {
   state.counters["ratio_to_gemm"] = (syrk_flops / t_syrk) / (gemm_flops / t_gemm);
 }
 BENCHMARK(BM_GramVsGemm)->Unit(benchmark::kMillisecond)->Iterations(5)->UseRealTime();
+
+/// Single-threaded dsyrk slices of a row-major n x 4096 block (as GramAccumulator::add_slice
+/// calls it), for slice widths 512 .. 4096: GFLOP/s of the useful n(n+1)k flops, and the ratio to the
+/// 4096-column slice measured in the same run (why the pass can use narrow slices).
+void BM_GramSliceWidth(benchmark::State& state) {
+  const int n = 100;
+  const std::size_t width = static_cast<std::size_t>(state.range(0)), k = 4096;
+  std::mt19937_64 rng(1);
+  std::normal_distribution<double> d;
+  BlockMatrix a(n, static_cast<Eigen::Index>(k));
+  for (Eigen::Index i = 0; i < a.size(); ++i) a.data()[i] = d(rng);
+  const SingleThreadedBlas single;
+  const auto seconds_per_flop = [&](std::size_t w) {
+    Eigen::MatrixXd c = Eigen::MatrixXd::Zero(n, n);
+    const std::size_t slices = k / w, reps = 64;
+    const double t0 = now();
+    for (std::size_t r = 0; r < reps; ++r)
+      for (std::size_t s = 0; s < slices; ++s)
+        cblas_dsyrk(CblasColMajor, CblasUpper, CblasTrans, n, static_cast<int>(w), 1.0, a.data() + s * w,
+                    static_cast<int>(k), 1.0, c.data(), n);
+    return (now() - t0) / (static_cast<double>(reps) * n * (n + 1.0) * static_cast<double>(k));
+  };
+  double t_width = 0, t_full = 0;
+  for (auto _ : state) {
+    t_width += seconds_per_flop(width);
+    t_full += seconds_per_flop(k);
+  }
+  state.counters["GFLOPs"] = 1e-9 / (t_width / static_cast<double>(state.iterations()));
+  state.counters["ratio_to_4096"] = t_full / t_width;
+}
+BENCHMARK(BM_GramSliceWidth)->Arg(512)->Arg(1024)->Arg(2048)->Arg(4096)->Iterations(3)->UseRealTime();
 
 const Model* bench_model() {
   static std::unique_ptr<Model> model;

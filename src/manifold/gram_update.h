@@ -30,8 +30,9 @@ private:
 class GramAccumulator {
 public:
   /// Columns per slice (n x 1024 doubles: 800 KB for n = 100). dsyrk is as fast on 512 columns
-  /// as on 4096, and smaller slices balance the two cores better: a block's ~3100 kept columns
-  /// were one slice of 2048 and one of ~1000 per Gram matrix with 2048-column slices.
+  /// as on 4096 (bench_manifold BM_GramSliceWidth), and smaller slices balance the two cores
+  /// better: a block's ~3100 kept columns were one slice of 2048 and one of ~1000 per Gram matrix
+  /// with 2048-column slices.
   static constexpr std::size_t kSlice = 1024;
   /// Number of slices of a block of `columns` columns.
   static std::size_t slices(std::size_t columns) { return (columns + kSlice - 1) / kSlice; }
