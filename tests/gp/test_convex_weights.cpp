@@ -1,0 +1,179 @@
+#include <gtest/gtest.h>
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <numeric>
+#include <random>
+#include <vector>
+
+#include "core/error.h"
+#include "gp/convex_weights.h"
+#include "gp/posterior.h"
+#include "gp_test_data.h"
+
+namespace matlas::gp {
+namespace {
+
+/// Random affine coefficients (sum 1) with some large negative entries, like GP weights between
+/// clustered points.
+Eigen::VectorXd random_affine(int n, std::uint64_t seed, double spread = 1.0) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> normal(0.0, spread);
+  Eigen::VectorXd g(n);
+  for (int i = 0; i < n; ++i) g[i] = normal(rng);
+  g.array() += (1.0 - g.sum()) / n;
+  return g;
+}
+
+/// Independent optimality check: the KKT conditions of min (c-g)^T A (c-g) over the simplex,
+/// sufficient for a convex problem. r = A (c - g); every r_i with c_i > 0 equals nu and every
+/// r_j with c_j = 0 is >= nu.
+void expect_kkt(const Eigen::MatrixXd& A, const Eigen::VectorXd& g, const Eigen::VectorXd& c) {
+  ASSERT_GE(c.minCoeff(), 0.0);
+  ASSERT_NEAR(c.sum(), 1.0, 1e-12);
+  const Eigen::VectorXd r = A * (c - g);
+  double nu = 0;
+  int active = 0;
+  for (Eigen::Index i = 0; i < c.size(); ++i)
+    if (c[i] > 1e-12) {
+      nu += r[i];
+      ++active;
+    }
+  ASSERT_GT(active, 0);
+  nu /= active;
+  const double tol = 1e-8 * (1.0 + r.cwiseAbs().maxCoeff());
+  for (Eigen::Index i = 0; i < c.size(); ++i) {
+    if (c[i] > 1e-12)
+      EXPECT_NEAR(r[i], nu, tol) << "free coefficient " << i;
+    else
+      EXPECT_GE(r[i], nu - tol) << "bound coefficient " << i;
+  }
+}
+
+/// Reference: Euclidean projection onto the simplex by sorting (Held, Wolfe & Crowder 1974).
+Eigen::VectorXd euclidean_simplex_projection(const Eigen::VectorXd& g) {
+  std::vector<double> u(g.data(), g.data() + g.size());
+  std::sort(u.begin(), u.end(), std::greater<>());
+  double sum = 0, theta = 0;
+  for (std::size_t k = 0; k < u.size(); ++k) {
+    sum += u[k];
+    const double t = (sum - 1.0) / static_cast<double>(k + 1);
+    if (u[k] - t > 0) theta = t;
+  }
+  return (g.array() - theta).cwiseMax(0.0);
+}
+
+TEST(ConvexProjection, ResultIsConvexAndSatisfiesTheOptimalityConditions) {
+  for (std::uint64_t seed = 1; seed <= 40; ++seed) {
+    const int n = 5 + static_cast<int>(seed % 7) * 13;
+    const Eigen::MatrixXd S = test::centred_gram(test::random_low_rank_data(n, 60, 4, seed));
+    const ConvexProjection p(S, 1e-3);
+    const Eigen::VectorXd g = random_affine(n, seed + 100, 0.5 + 0.1 * static_cast<double>(seed));
+    const Eigen::VectorXd c = p.project(g);
+    expect_kkt(p.metric(), g, c);
+  }
+}
+
+TEST(ConvexProjection, NearDuplicateInputsStillSolveExactly) {
+  // Clusters of near-identical materials (the case that breaks GP weights): rank-deficient S.
+  const int n = 30;
+  Eigen::MatrixXd Z = test::random_low_rank_data(n, 40, 3, 7, 1e-6);
+  for (int i = 10; i < 20; ++i) Z.row(i) = Z.row(0) + 1e-9 * Z.row(i);
+  const ConvexProjection p(test::centred_gram(Z), 1e-6);
+  for (std::uint64_t seed = 0; seed < 10; ++seed) {
+    const Eigen::VectorXd g = random_affine(n, seed, 3.0);
+    expect_kkt(p.metric(), g, p.project(g));
+  }
+}
+
+TEST(ConvexProjection, EuclideanMetricMatchesTheSortingProjection) {
+  // S = 0 (all inputs identical): A is the ridge times the identity.
+  const int n = 17;
+  const ConvexProjection p(Eigen::MatrixXd::Zero(n, n), 0.5);
+  for (std::uint64_t seed = 0; seed < 20; ++seed) {
+    const Eigen::VectorXd g = random_affine(n, seed, 2.0);
+    EXPECT_LT((p.project(g) - euclidean_simplex_projection(g)).cwiseAbs().maxCoeff(), 1e-12);
+  }
+}
+
+TEST(ConvexProjection, ConvexCoefficientsAndUnitVectorsAreUnchanged) {
+  const int n = 12;
+  const ConvexProjection p(test::centred_gram(test::random_low_rank_data(n, 20, 3, 3)));
+  for (int i = 0; i < n; ++i) {
+    const Eigen::VectorXd e = Eigen::VectorXd::Unit(n, i);
+    EXPECT_EQ(p.project(e), e);
+  }
+  Eigen::VectorXd g = Eigen::VectorXd::LinSpaced(n, 0.0, 1.0);
+  g /= g.sum();
+  EXPECT_LT((p.project(g) - g).cwiseAbs().maxCoeff(), 1e-15);
+}
+
+TEST(ConvexProjection, IsNonExpansiveInTheMetric) {
+  // |c(g) - c(h)|_A <= |g - h|_A for any g, h: continuity with an explicit constant.
+  const int n = 25;
+  const ConvexProjection p(test::centred_gram(test::random_low_rank_data(n, 50, 5, 11)), 1e-3);
+  const Eigen::MatrixXd& A = p.metric();
+  auto norm = [&](const Eigen::VectorXd& v) { return std::sqrt(v.dot(A * v)); };
+  for (std::uint64_t seed = 0; seed < 50; ++seed) {
+    const Eigen::VectorXd g = random_affine(n, 2 * seed, 1.0);
+    const Eigen::VectorXd h = g + 0.05 * (random_affine(n, 2 * seed + 1, 1.0) - g);
+    EXPECT_LE(norm(p.project(g) - p.project(h)), norm(g - h) * (1 + 1e-9) + 1e-12);
+  }
+}
+
+TEST(ConvexProjection, GpWeightsAlongADensePathAreConvexContinuousAndExactAtTheData) {
+  // A GP over clustered latent points (where its weights swing far below 0), walked densely.
+  const int n = 20;
+  Eigen::MatrixXd X = test::random_points(n, 2, 5, 2.0);
+  for (int i = 1; i < 6; ++i) X.row(i) = X.row(0) + 0.05 * X.row(i);  // a tight cluster
+  const GpPosterior gp(X, Kernel{1.0, 1e-4});
+  const ConvexProjection p(test::centred_gram(test::random_low_rank_data(n, 30, 4, 9)));
+  const Eigen::MatrixXd& A = p.metric();
+  auto norm = [&](const Eigen::VectorXd& v) { return std::sqrt(v.dot(A * v)); };
+  const Eigen::Vector2d a = X.row(0).transpose(), b = X.row(7).transpose();
+  auto path = [&](double t) { return Eigen::Vector2d(a + (b - a) * t + Eigen::Vector2d(0, 0.3) * std::sin(3.14159 * t)); };
+  // Largest jump of the convex weights between neighbouring points, for a path of `steps` steps;
+  // each jump is bounded by the GP's own (non-expansive projection).
+  double most_negative_gp = 0;
+  auto largest_jump = [&](int steps) {
+    Eigen::VectorXd previous_c, previous_g;
+    double largest = 0;
+    for (int s = 0; s <= steps; ++s) {
+      const Eigen::VectorXd g = affine_coefficients(gp.weights(path(static_cast<double>(s) / steps)));
+      most_negative_gp = std::min(most_negative_gp, g.minCoeff());
+      const Eigen::VectorXd c = p.project(g);
+      EXPECT_GE(c.minCoeff(), 0.0);
+      EXPECT_NEAR(c.sum(), 1.0, 1e-12);
+      if (s > 0) {
+        EXPECT_LE(norm(c - previous_c), norm(g - previous_g) * (1 + 1e-9) + 1e-13);
+        largest = std::max(largest, (c - previous_c).cwiseAbs().maxCoeff());
+      }
+      previous_c = c;
+      previous_g = g;
+    }
+    return largest;
+  };
+  const double coarse = largest_jump(2000), fine = largest_jump(20000);
+  EXPECT_LT(most_negative_gp, -0.05) << "the path should cross regions where the GP weights are negative";
+  // Continuous: ten times finer steps, about ten times smaller jumps (a discontinuity would stay).
+  EXPECT_LT(fine, 0.2 * coarse);
+  EXPECT_LT(fine, 0.05);
+  for (int i = 0; i < n; ++i) {
+    const Eigen::VectorXd c = p.from_centred(gp.weights(X.row(i).transpose()));
+    EXPECT_LT((c - Eigen::VectorXd::Unit(n, i)).cwiseAbs().maxCoeff(), 1e-9) << "material " << i;
+  }
+}
+
+TEST(ConvexProjection, RejectsMalformedInput) {
+  const ConvexProjection p(Eigen::MatrixXd::Identity(3, 3));
+  EXPECT_THROW((void)p.project(Eigen::Vector3d(0.5, 0.5, 0.5)), Error);  // sum 1.5
+  EXPECT_THROW((void)p.project(Eigen::Vector2d(0.5, 0.5)), Error);
+  EXPECT_THROW((void)p.project(Eigen::Vector3d(NAN, 0.5, 0.5)), Error);
+  EXPECT_THROW(ConvexProjection(Eigen::MatrixXd::Identity(3, 3), 0.0), Error);
+  EXPECT_THROW(ConvexProjection(Eigen::MatrixXd::Identity(3, 2)), Error);
+}
+
+}  // namespace
+}  // namespace matlas::gp
