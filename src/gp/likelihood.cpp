@@ -14,8 +14,20 @@ std::string dims(Eigen::Index r, Eigen::Index c) { return std::to_string(r) + " 
 
 }  // namespace
 
-LikelihoodEvaluator::LikelihoodEvaluator(const LikelihoodProblem& p) : columns_(p.columns), kernel_(p.kernel) {
+LikelihoodEvaluator::LikelihoodEvaluator(const LikelihoodProblem& p)
+    : columns_(p.columns), kernel_(p.kernel), beta_(p.prior.complexity_weight) {
   validate(kernel_);
+  if (!(beta_ > 0) || beta_ > 1)
+    throw Error("likelihood: the complexity weight must be in (0, 1], got " + std::to_string(beta_));
+  repulsion_ = p.prior.repulsion;
+  radius_ = p.prior.radius;
+  if (!(repulsion_ >= 0) || !std::isfinite(repulsion_))
+    throw Error("likelihood: the repulsion weight must be finite and >= 0, got " + std::to_string(repulsion_));
+  if (repulsion_ > 0 && (!(radius_ > 0) || !std::isfinite(radius_)))
+    throw Error("likelihood: the repulsion radius must be finite and > 0, got " + std::to_string(radius_));
+  precision_ = p.prior.precision;
+  if (!(precision_ >= 0) || !std::isfinite(precision_))
+    throw Error("likelihood: the latent precision must be finite and >= 0, got " + std::to_string(precision_));
   const Eigen::MatrixXd& S = p.gram;
   if (S.rows() != S.cols() || S.rows() == 0)
     throw Error("likelihood: the Gram matrix must be square and non-empty (got " + dims(S.rows(), S.cols()) + ")");
@@ -69,15 +81,22 @@ double LikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, Eigen::MatrixXd
   Y_ = R_;
   L.solveInPlace(Y_);
   const double t = Y_.squaredNorm();
-  const double value = -log_det - nd * std::log(t / nd) - nd;
+  double value = -beta_ * log_det - nd * std::log(t / nd) - nd;
+  // The repulsive prior (its gradient is added at the end): lambda sum_{i<j} log(1 - e^{-d2/rho2}).
+  const double inv_r2 = 1.0 / (radius_ * radius_);
+  if (repulsion_ > 0)
+    for (Eigen::Index j = 0; j < n; ++j)
+      for (Eigen::Index i = j + 1; i < n; ++i)
+        value += repulsion_ * std::log(-std::expm1(-(X.row(i) - X.row(j)).squaredNorm() * inv_r2));
+  value -= 0.5 * precision_ * X.squaredNorm();
   if (gradient == nullptr) return value;
 
-  // dl/dK = G = -K^-1 + (n/t) K^-1 S~ K^-1, and K^-1 S~ K^-1 = V V^T with V = K^-1 R = L^-T Y.
+  // dl/dK = G = -beta K^-1 + (n/t) K^-1 S~ K^-1, and K^-1 S~ K^-1 = V V^T with V = K^-1 R = L^-T Y.
   llt_.matrixU().solveInPlace(Y_);  // Y = V
   Kinv_.setIdentity(n, n);
   llt_.solveInPlace(Kinv_);
   G_.noalias() = (nd / t) * Y_ * Y_.transpose();
-  G_ -= Kinv_;
+  G_ -= beta_ * Kinv_;
   // dl/dx_i = sum_j (G_ij + G_ji) dK_ij/dx_i with dK_ij/dx_i = -2 (x_i - x_j) K_ij / l^2 (i != j),
   // i.e. with W = G o K: dl/dx_i = (4/l^2) (sum_j W_ij x_j - x_i sum_j W_ij). The diagonal of W
   // cancels in the difference, so it need not be removed.
@@ -85,6 +104,17 @@ double LikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, Eigen::MatrixXd
   gradient->noalias() = G_ * X;
   *gradient -= G_.rowwise().sum().asDiagonal() * X;
   *gradient *= 4.0 * inv_l2;
+  *gradient -= precision_ * X;
+  // d/dx_i of log(1 - e^{-u}), u = |x_i - x_j|^2 / rho^2: (e^{-u} / (1 - e^{-u})) 2 (x_i - x_j) / rho^2.
+  if (repulsion_ > 0)
+    for (Eigen::Index j = 0; j < n; ++j)
+      for (Eigen::Index i = j + 1; i < n; ++i) {
+        const Eigen::RowVectorXd diff = X.row(i) - X.row(j);
+        const double u = diff.squaredNorm() * inv_r2;
+        const double f = repulsion_ * 2.0 * inv_r2 / std::expm1(u);  // e^{-u} / (1 - e^{-u}) = 1 / (e^u - 1)
+        gradient->row(i) += f * diff;
+        gradient->row(j) -= f * diff;
+      }
   return value;
 }
 

@@ -11,11 +11,36 @@
 
 namespace matlas::gp {
 
+/// Priors on the latent points, added to the likelihood (MAP placement; docs/GP.md, "Spreading
+/// the layout"). Each term is scaled by D' like the likelihood, so its strength does not depend on
+/// the number of data columns. The defaults are all off (the paper's likelihood); spread() is
+/// what `matlas build` uses.
+struct LatentPrior {
+  /// Hard-core repulsion lambda sum_{i<j} log(1 - exp(-|x_i - x_j|^2 / rho^2)) (lambda =
+  /// repulsion, rho = radius in lengthscale units): a barrier that keeps any two points about rho
+  /// apart and vanishes beyond a few rho, so distinct materials stay distinct on the map where the
+  /// likelihood alone would merge them (it rewards merging similar materials by -log|K|).
+  double repulsion = 0.0;
+  double radius = 0.1;
+  /// Gaussian prior -(gamma / 2) sum_i |x_i|^2 (gamma = precision): keeps the extent bounded
+  /// (a material unrelated to all others would otherwise drift off at no cost).
+  double precision = 0.0;
+  /// beta: weight of the complexity term -D' log|K| (1 = the likelihood; beta < 1 is a
+  /// determinantal repulsive prior (1 - beta) D' log|K| with the GP's own kernel).
+  double complexity_weight = 1.0;
+
+  /// The defaults of `matlas build`, chosen on the 83 realistic materials (docs/EVALUATION.md).
+  static LatentPrior spread() { return {1.0, 0.1, 0.1, 1.0}; }
+  bool is_off() const { return repulsion == 0 && precision == 0 && complexity_weight == 1; }
+};
+
 /// Everything the likelihood needs besides X.
 struct LikelihoodProblem {
   Eigen::MatrixXd gram;  ///< S = (Z - mean)(Z - mean)^T, n x n, symmetric PSD, double
   double columns = 1;    ///< D' = number of data columns (millions for MERL)
   Kernel kernel;
+  /// Priors on the latent points (all off: the paper's plain likelihood).
+  LatentPrior prior{};
 };
 
 /// Profile log-likelihood of latent points X (n x q) with the signal variance s^2 fitted in closed
@@ -48,6 +73,7 @@ public:
   double scale() const { return sigma_; }                     ///< sigma = tr(S)/n
   int gram_rank() const { return static_cast<int>(R_.cols()); }
   const Kernel& kernel() const { return kernel_; }
+  double complexity_weight() const { return beta_; }
 
   /// l(X) and optionally dl/dX. Throws matlas::Error if X has the wrong number of rows, is not
   /// finite, or K is not positive definite.
@@ -64,6 +90,8 @@ private:
   double sigma_ = 1;
   double columns_ = 1;
   Kernel kernel_;
+  double beta_ = 1;
+  double repulsion_ = 0, radius_ = 0.1, precision_ = 0;
   // Workspaces, sized on first use.
   Eigen::MatrixXd K_, Y_, Kinv_, G_;
   Eigen::LLT<Eigen::MatrixXd> llt_;

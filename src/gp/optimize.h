@@ -19,7 +19,7 @@ struct OptimizeOptions {
   Optimizer method = Optimizer::lbfgs;
   /// L-BFGS: iterations (one line search each); Hooke-Jeeves: exploratory sweeps over all n*q
   /// coordinates.
-  int max_iterations = 1000;
+  int max_iterations = 5000;
   /// L-BFGS: stops when l improved by at most tolerance * max(1, |l|) over the last 3 iterations,
   /// or when |grad l| <= tolerance * max(1, |l(X0)|), or when the line search cannot improve l
   /// twice in a row (after a restart of the curvature memory).
@@ -46,6 +46,9 @@ struct OptimizeResult {
   std::vector<double> history;  ///< best L after each iteration of the winning start (history[0] = its L(X0))
   std::string stop_reason;      ///< why it stopped, in words
   int best_start = 0;           ///< which start won (0 = X0 itself)
+  /// Whether the winning start met a convergence test (gradient norm, relative improvement or no
+  /// possible improvement), rather than stopping on the iteration, time or target limit.
+  bool converged() const { return stop_reason.rfind("converged", 0) == 0; }
 };
 
 /// Maximises log_likelihood over X from X0. Reports progress lines ("iter 12  L = ...") through

@@ -23,7 +23,11 @@ public:
   const Kernel& kernel() const { return kernel_; }
 
   /// w(x) = K^-1 k(x) (length n). At a data point x_i this is e_i (to rounding), so the GP
-  /// reproduces the data exactly there. Throws matlas::Error if x has the wrong dimension.
+  /// reproduces the data exactly there. The nugget enters k(x) continuously: k_i(x) =
+  /// c(x, x_i) + delta phi_i(|x - x_i|), phi_i a C1 bump of radius min(0.1 l, half the distance
+  /// from x_i to its nearest other point), 1 at x_i. (A nugget added only when x equals x_i
+  /// exactly makes w jump by delta K^-1 e_i at every data point, which is O(1) where K is
+  /// ill-conditioned.) Throws matlas::Error if x has the wrong dimension.
   Eigen::VectorXd weights(const Eigen::Ref<const Eigen::VectorXd>& x) const;
 
   /// The weights of many points at once: points is m x q, the result n x m (column j = weights of
@@ -53,11 +57,18 @@ public:
   /// The Cholesky factorisation of K.
   const Eigen::LLT<Eigen::MatrixXd>& cholesky() const { return llt_; }
 
+  /// Radius of the nugget's taper around each data point (see weights()).
+  const Eigen::VectorXd& taper_radius() const { return taper_radius_; }
+
 private:
-  /// c(x, x) plus the nugget when x is exactly a data point.
-  double prior_variance(const Eigen::Ref<const Eigen::VectorXd>& x) const;
+  /// k(x) with the tapered nugget; `noise` (optional) receives nugget * sum_i phi_i(x)^2, the
+  /// tapered white noise meeting itself (part of c(x, x)).
+  Eigen::VectorXd cross(const Eigen::Ref<const Eigen::VectorXd>& x, double* noise = nullptr) const;
+  /// phi_i(distance): 1 at the point, (1 - t^2)^2 with t = distance / radius inside, 0 outside.
+  double taper(Eigen::Index i, double distance) const;
 
   Eigen::MatrixXd X_;
+  Eigen::VectorXd taper_radius_;
   Kernel kernel_;
   Eigen::LLT<Eigen::MatrixXd> llt_;
 };

@@ -49,8 +49,9 @@ TEST(Likelihood, IsTheMaximumOverTheSignalVariance) {
   EXPECT_LT(unprofiled_likelihood(p, X, 0.95 * s2), L);
 }
 
-void expect_gradient_matches_finite_differences(int q, std::uint64_t seed) {
+void expect_gradient_matches_finite_differences(int q, std::uint64_t seed, LatentPrior prior = {}) {
   LikelihoodProblem p = small_problem(seed);
+  p.prior = prior;
   p.columns = 1000;  // a D' unlike the data width: the gradient must scale with it
   const Eigen::MatrixXd X = test::random_points(12, q, seed + 100, 0.8);
   Eigen::MatrixXd G;
@@ -72,6 +73,40 @@ void expect_gradient_matches_finite_differences(int q, std::uint64_t seed) {
 
 TEST(Likelihood, GradientMatchesCentralDifferencesQ2) { expect_gradient_matches_finite_differences(2, 10); }
 TEST(Likelihood, GradientMatchesCentralDifferencesQ3) { expect_gradient_matches_finite_differences(3, 20); }
+
+TEST(Likelihood, GradientWithPriorsMatchesCentralDifferences) {
+  expect_gradient_matches_finite_differences(2, 30, LatentPrior{0.0, 0.1, 0.0, 0.6});
+  expect_gradient_matches_finite_differences(4, 31, LatentPrior{0.0, 0.1, 0.0, 0.25});
+  // Radius comparable to the point spacing, so the barrier is active.
+  expect_gradient_matches_finite_differences(2, 32, LatentPrior{2.0, 0.5, 0.3, 1.0});
+  expect_gradient_matches_finite_differences(3, 33, LatentPrior::spread());
+}
+
+TEST(Likelihood, PriorsAddTheirLogDensities) {
+  // Each prior term computed independently here, in D' units like the likelihood.
+  LikelihoodProblem p = small_problem(12);
+  const Eigen::MatrixXd X = test::random_points(12, 2, 13, 0.5);
+  const double plain = log_likelihood(p, X);
+  p.prior.complexity_weight = 0.7;
+  const double det_prior = 0.3 * p.columns * std::log(covariance_matrix(X, p.kernel).determinant());
+  EXPECT_NEAR(log_likelihood(p, X), plain + det_prior, 1e-9 * std::abs(plain));
+  p.prior = LatentPrior{1.5, 0.4, 0.2, 1.0};
+  double repulsion = 0;
+  for (int i = 0; i < 12; ++i)
+    for (int j = i + 1; j < 12; ++j)
+      repulsion += std::log(1.0 - std::exp(-(X.row(i) - X.row(j)).squaredNorm() / 0.16));
+  const double expected = plain + p.columns * (1.5 * repulsion - 0.1 * X.squaredNorm());
+  EXPECT_NEAR(log_likelihood(p, X), expected, 1e-9 * std::abs(expected));
+}
+
+TEST(Likelihood, RejectsInvalidPriors) {
+  LikelihoodProblem p = small_problem(14);
+  for (const LatentPrior bad : {LatentPrior{0, 0.1, 0, 0.0}, LatentPrior{0, 0.1, 0, 1.5}, LatentPrior{-1, 0.1, 0, 1},
+                                LatentPrior{1, 0.0, 0, 1}, LatentPrior{0, 0.1, -1, 1}, LatentPrior{NAN, 0.1, 0, 1}}) {
+    p.prior = bad;
+    EXPECT_THROW(LikelihoodEvaluator{p}, Error);
+  }
+}
 
 TEST(Likelihood, ScalingTheDataShiftsByTheAnalyticConstant) {
   const LikelihoodProblem p = small_problem(4);

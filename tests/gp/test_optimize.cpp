@@ -188,5 +188,30 @@ TEST(Optimize, NamesRoundTrip) {
   EXPECT_THROW(optimizer_from_string("newton"), Error);
 }
 
+TEST(OptimizeLatent, PriorsKeepNearDuplicatesApartAndTheExtentBounded) {
+  // Three near-identical materials among 20: the plain likelihood merges them into one point
+  // (and can fling others far away); the MAP placement keeps them apart at about the repulsion
+  // radius and the layout compact.
+  for (const std::uint64_t seed : {40u, 41u, 42u}) {
+    Eigen::MatrixXd Z = test::random_low_rank_data(20, 50, 4, seed);
+    Z.row(1) = Z.row(0) + 1e-4 * Z.row(1);
+    Z.row(2) = Z.row(0) + 1e-4 * Z.row(2);
+    LikelihoodProblem p = test::problem_for(Z, 1e5);
+    p.kernel = Kernel{1.0, 1e-4};
+    const Eigen::MatrixXd X0 = pca_initialization(p, 2);
+    auto closest = [](const Eigen::MatrixXd& X) {
+      return std::min({(X.row(0) - X.row(1)).norm(), (X.row(0) - X.row(2)).norm(), (X.row(1) - X.row(2)).norm()});
+    };
+    auto extent = [](const Eigen::MatrixXd& X) { return (X.colwise().maxCoeff() - X.colwise().minCoeff()).norm(); };
+    const OptimizeResult plain = optimize_latent(p, X0, OptimizeOptions{}, null_progress());
+    p.prior = LatentPrior::spread();
+    const OptimizeResult map = optimize_latent(p, X0, OptimizeOptions{}, null_progress());
+    EXPECT_TRUE(map.converged()) << map.stop_reason;
+    EXPECT_LT(closest(plain.latent), 1e-3) << "seed " << seed;
+    EXPECT_GT(closest(map.latent), 0.05) << "seed " << seed;
+    EXPECT_LT(extent(map.latent), 8.0) << "seed " << seed;
+  }
+}
+
 }  // namespace
 }  // namespace matlas::gp
