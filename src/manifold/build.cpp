@@ -49,6 +49,8 @@ void validate(const MaterialSet& set, const BuildOptions& o) {
     throw Error("--dim must be between 1 and 10, got " + std::to_string(o.dim));
   if (!(o.nugget > 0.0) || o.nugget > 1.0)
     throw Error("--nugget must be in (0, 1], got " + std::to_string(o.nugget));
+  if (!(o.convex_ridge > 0.0) || !std::isfinite(o.convex_ridge))
+    throw Error("--convex-ridge must be finite and > 0, got " + std::to_string(o.convex_ridge));
   if (static_cast<std::size_t>(o.dim) >= set.size())
     throw Error("--dim " + std::to_string(o.dim) + " needs more than " + std::to_string(o.dim) +
                 " materials; the input has " + std::to_string(set.size()));
@@ -92,6 +94,12 @@ json model_metadata_skeleton(const MaterialSet& set, const BuildOptions& options
        "v = channel * bins + bin; physical units); m(x)[v] = (1 - sum w) mean[c] + sum_i w_i data[c, i]"},
       {"storage", dtype_name(storage)},
       {"layout_transform", options.layout.to_string()},
+      {"latent_prior",
+       {{"repulsion", options.prior.repulsion},
+        {"radius", options.prior.radius},
+        {"precision", options.prior.precision},
+        {"complexity_weight", options.prior.complexity_weight}}},
+      {"interpolation", {{"mode", to_string(options.interpolation)}, {"ridge", options.convex_ridge}}},
       {"sources", sources},
   };
 }
@@ -113,6 +121,17 @@ std::vector<std::int32_t> column_map(const std::vector<bool>& kept) {
 
 }  // namespace
 
+BuildOptions BuildOptions::paper_preset() {
+  BuildOptions o;
+  o.nugget = 1e-4;
+  o.layout = LayoutTransform{LayoutTransform::Map::linear, false};
+  o.prior = gp::LatentPrior{};
+  o.optimize.method = gp::Optimizer::hooke_jeeves;
+  o.optimize.starts = 1;
+  o.interpolation = Interpolation::gp;
+  return o;
+}
+
 BuildReport build_model(const MaterialSet& set, const BuildOptions& options, const fs::path& output,
                         ProgressSink& progress) {
   validate(set, options);
@@ -126,6 +145,7 @@ BuildReport build_model(const MaterialSet& set, const BuildOptions& options, con
   SafetensorsWriter writer;
   writer.declare(model_format::kLatent, DType::F64, {n, q});
   writer.declare(model_format::kGram, DType::F64, {n, n});
+  writer.declare(model_format::kLayoutGram, DType::F64, {n, n});
   writer.declare(model_format::kAlbedo, DType::F64, {n, 90, 3});
   writer.declare(model_format::kValueColumn, DType::I32, {static_cast<std::int64_t>(set.value_count())});
   writer.declare_growing(model_format::kData, storage, {n});
@@ -158,6 +178,7 @@ BuildReport build_model(const MaterialSet& set, const BuildOptions& options, con
   problem.gram = g.layout_gram;
   problem.columns = static_cast<double>(g.kept_columns);
   problem.kernel = gp::Kernel{1.0, options.nugget};
+  problem.prior = options.prior;
   const Eigen::MatrixXd x0 = gp::pca_initialization(problem, q);
   report.optimization = gp::optimize_latent(problem, x0, options.optimize, progress);
   report.log_likelihood = report.optimization.value;
@@ -171,9 +192,12 @@ BuildReport build_model(const MaterialSet& set, const BuildOptions& options, con
   using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   const RowMajor latent_rows = report.optimization.latent;
   const RowMajor gram_rows = g.gram;
+  const RowMajor layout_gram_rows = g.layout_gram;
   const RowMajor albedo_rows = g.albedo;
   writer.write_tensor(model_format::kLatent, latent_rows.data(), static_cast<std::size_t>(latent_rows.size()) * 8u);
   writer.write_tensor(model_format::kGram, gram_rows.data(), static_cast<std::size_t>(gram_rows.size()) * 8u);
+  writer.write_tensor(model_format::kLayoutGram, layout_gram_rows.data(),
+                      static_cast<std::size_t>(layout_gram_rows.size()) * 8u);
   writer.write_tensor(model_format::kAlbedo, albedo_rows.data(), static_cast<std::size_t>(albedo_rows.size()) * 8u);
   writer.write_tensor(model_format::kValueColumn, columns.data(), columns.size() * 4u);
 
@@ -184,7 +208,8 @@ BuildReport build_model(const MaterialSet& set, const BuildOptions& options, con
         {gram_rows.data(), gram_rows.size() * 8u},
         {albedo_rows.data(), albedo_rows.size() * 8u},
         {mean_f.data(), mean_f.size() * 4u},
-        {columns.data(), columns.size() * 4u}})
+        {columns.data(), columns.size() * 4u},
+        {layout_gram_rows.data(), layout_gram_rows.size() * 8u}})
     XXH3_64bits_update(small_hash, ptr, bytes);
   const std::uint64_t small_checksum = XXH3_64bits_digest(small_hash);
   XXH3_freeState(small_hash);
@@ -195,7 +220,8 @@ BuildReport build_model(const MaterialSet& set, const BuildOptions& options, con
                        {"iterations", report.optimization.iterations},
                        {"evaluations", report.optimization.evaluations},
                        {"seconds", report.optimization.seconds},
-                       {"stop_reason", report.optimization.stop_reason}};
+                       {"stop_reason", report.optimization.stop_reason},
+                       {"converged", report.optimization.converged()}};
   meta["kept_columns"] = g.kept_columns;
   meta["dropped_columns"] = report.dropped_columns;
   meta["small_tensors_xxh3_64"] = hex(small_checksum);

@@ -14,6 +14,7 @@
 #include "core/progress.h"
 #include "gp/optimize.h"
 #include "manifold/gram.h"
+#include "manifold/interpolation.h"
 #include "manifold/material_set.h"
 
 namespace matlas {
@@ -23,12 +24,24 @@ enum class Storage { f32, f16 };
 struct BuildOptions {
   int dim = 2;                       ///< latent dimension q (1..10)
   double nugget = 1e-4;              ///< delta on the diagonal of K
-  /// Data transform used to place the latent points. Default: cosine-weighted linear data, the
-  /// layout with the lowest leave-one-out error in docs/EVALUATION.md.
-  LayoutTransform layout{LayoutTransform::Map::linear, true};
+  /// Data transform used to place the latent points (and the metric of the convex interpolation).
+  /// Default: cosine-weighted cube root, a perceptual metric (docs/EVALUATION.md).
+  LayoutTransform layout{LayoutTransform::Map::cube_root, true};
+  /// Priors on the latent points (repulsion between points, bounded extent): the layout spreads
+  /// materials the likelihood alone would merge (docs/GP.md, "Spreading the layout").
+  gp::LatentPrior prior = gp::LatentPrior::spread();
   gp::OptimizeOptions optimize{};    ///< optimiser and its limits
+  /// Interpolation mode stored in the model (queries may override it).
+  Interpolation interpolation = Interpolation::convex;
+  /// Relative ridge of the convex mode's metric (gp/convex_weights.h).
+  double convex_ridge = 1e-2;
   Storage storage = Storage::f32;    ///< precision of the stored centred data
   std::size_t block_columns = 4096;  ///< columns per streamed block (all n materials: 3 MB for n = 100, cache-resident)
+
+  /// The settings of Soler et al. 2018 (`matlas build --preset paper`): the plain likelihood
+  /// (no latent priors) of the linear data with nugget 1e-4 and l = 1, Hooke-Jeeves from one
+  /// start, GP interpolation.
+  static BuildOptions paper_preset();
 };
 
 struct BuildReport {

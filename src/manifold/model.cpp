@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "core/parallel.h"
 #include "formats/safetensors.h"
+#include "gp/convex_weights.h"
 #include "manifold/dense_product.h"
 #include "manifold/dot_kernel.h"
 #include "manifold/model_format.h"
@@ -37,6 +38,8 @@ struct Model::Impl {
   const float* data_f32 = nullptr;
   const std::uint16_t* data_f16 = nullptr;
   std::unique_ptr<gp::GpPosterior> posterior;
+  std::unique_ptr<gp::ConvexProjection> convex;  // the convex mode's projection
+  Interpolation interpolation = Interpolation::gp;
 
   /// sum_i w_i z_i[column] over the stored inputs.
   double data_dot(std::size_t column, const Eigen::Ref<const Eigen::VectorXd>& w) const {
@@ -74,7 +77,8 @@ Model::~Model() = default;
 
 Model Model::open(const fs::path& path) {
   auto m = std::make_unique<Impl>(Impl{path, SafetensorsFile::open(path), {}, {}, {}, {}, {}, {}, 0, 0,
-                                       {}, nullptr, {}, nullptr, nullptr, nullptr, nullptr});
+                                       {}, nullptr, {}, nullptr, nullptr, nullptr, nullptr, nullptr,
+                                       Interpolation::gp});
   const SafetensorsFile& f = m->file;
   const auto meta_it = f.metadata().find(model_format::kMetadataKey);
   if (meta_it == f.metadata().end())
@@ -132,8 +136,10 @@ Model Model::open(const fs::path& path) {
   // Integrity of everything but the bulk data: checksum, and the column map's consistency.
   XXH3_state_t* h = XXH3_createState();
   XXH3_64bits_reset(h);
+  const bool has_layout_gram = f.find(model_format::kLayoutGram) != nullptr;
   for (const char* name : {model_format::kLatent, model_format::kGram, model_format::kAlbedo,
-                           model_format::kMean, model_format::kValueColumn}) {
+                           model_format::kMean, model_format::kValueColumn, model_format::kLayoutGram}) {
+    if (std::string_view(name) == model_format::kLayoutGram && !has_layout_gram) continue;  // optional (older models)
     const TensorInfo* t = f.find(name);
     if (!t) {
       XXH3_freeState(h);
@@ -154,6 +160,21 @@ Model Model::open(const fs::path& path) {
   const double nugget = m->meta.at("kernel").at("nugget").get<double>();
   const double lengthscale = m->meta.at("kernel").at("lengthscale").get<double>();
   m->posterior = std::make_unique<gp::GpPosterior>(m->latent, gp::Kernel{lengthscale, nugget});
+
+  // Interpolation mode: "interpolation": {"mode": "convex", "ridge": r} (absent: the paper's GP).
+  double ridge = gp::ConvexProjection::kDefaultRidge;
+  try {
+    if (const auto it = m->meta.find("interpolation"); it != m->meta.end()) {
+      m->interpolation = interpolation_from_string(it->at("mode").get<std::string>());
+      ridge = it->value("ridge", ridge);
+    }
+  } catch (const json::exception& e) {
+    throw file_error(path, std::string("corrupted model metadata (interpolation): ") + e.what());
+  } catch (const Error& e) {
+    throw file_error(path, std::string("corrupted model metadata: ") + e.what());
+  }
+  const Eigen::MatrixXd metric = has_layout_gram ? read_matrix(f, model_format::kLayoutGram, n, n) : m->gram;
+  m->convex = std::make_unique<gp::ConvexProjection>(metric, ridge);
   return Model(std::move(m));
 }
 
@@ -185,12 +206,36 @@ int Model::index_of(const std::string& name) const {
 Eigen::VectorXd Model::latent_min() const { return impl_->latent.colwise().minCoeff().transpose(); }
 Eigen::VectorXd Model::latent_max() const { return impl_->latent.colwise().maxCoeff().transpose(); }
 
+Interpolation Model::interpolation() const { return impl_->interpolation; }
+void Model::set_interpolation(Interpolation mode) { impl_->interpolation = mode; }
+
+Eigen::VectorXd Model::weights_from_gp(const Eigen::Ref<const Eigen::VectorXd>& w) const {
+  if (impl_->interpolation == Interpolation::gp) return w;
+  return impl_->convex->from_centred(w);
+}
+
 Eigen::VectorXd Model::weights(const Eigen::Ref<const Eigen::VectorXd>& x) const {
   if (x.size() != dim())
     throw Error("latent point has " + std::to_string(x.size()) + " coordinates, the model has q = " +
                 std::to_string(dim()));
   if (!x.allFinite()) throw Error("latent point has a NaN or infinite coordinate");
-  return impl_->posterior->weights(x);
+  return weights_from_gp(impl_->posterior->weights(x));
+}
+
+Model::Prediction Model::predict_batch(const Eigen::MatrixXd& points) const {
+  if (points.cols() != dim())
+    throw Error("latent points have " + std::to_string(points.cols()) + " coordinates, the model has q = " +
+                std::to_string(dim()));
+  if (!points.allFinite()) throw Error("latent point has a NaN or infinite coordinate");
+  gp::GpPosterior::Batch b = impl_->posterior->predict_batch(points);
+  if (impl_->interpolation == Interpolation::convex)
+    parallel_for(0, static_cast<std::size_t>(b.weights.cols()), [&](std::size_t lo, std::size_t hi) {
+      for (std::size_t j = lo; j < hi; ++j) {
+        const auto col = static_cast<Eigen::Index>(j);
+        b.weights.col(col) = impl_->convex->from_centred(b.weights.col(col));
+      }
+    }, 16);
+  return {std::move(b.weights), std::move(b.variance)};
 }
 
 Eigen::VectorXd Model::material_weights(int i) const {

@@ -19,6 +19,7 @@
 
 #include "brdf/brdf_table.h"
 #include "gp/posterior.h"
+#include "manifold/interpolation.h"
 
 namespace matlas {
 
@@ -58,9 +59,28 @@ public:
   Eigen::VectorXd latent_min() const;
   Eigen::VectorXd latent_max() const;
 
+  // --- Interpolation mode ---
+  /// The mode the model was built with (metadata "interpolation"; "gp" for models without it),
+  /// unless overridden by set_interpolation.
+  Interpolation interpolation() const;
+  /// Overrides the mode for this process (e.g. `matlas serve --interpolation gp`).
+  void set_interpolation(Interpolation mode);
+
   // --- Queries ---
-  /// w(x) = K^-1 k(x) (length n); at a material's own point exactly e_i.
+  /// The interpolation weights of x in the active mode (length n), for the tables
+  /// m(x) = (1 - sum w) mean + sum_i w_i z_i: the GP's w(x) = K^-1 k(x), or convex weights
+  /// (non-negative, sum 1). At a material's own point exactly e_i in both modes.
   Eigen::VectorXd weights(const Eigen::Ref<const Eigen::VectorXd>& x) const;
+  /// Weights (n x m, column j for row j of points, m x q) and GP predictive variances (length m)
+  /// of many points, computed in parallel; the same as weights() and variance() per point.
+  struct Prediction {
+    Eigen::MatrixXd weights;
+    Eigen::VectorXd variance;
+  };
+  Prediction predict_batch(const Eigen::MatrixXd& points) const;
+  /// The active mode's weights for given GP weights w (centred form): w itself, or its convex
+  /// projection.
+  Eigen::VectorXd weights_from_gp(const Eigen::Ref<const Eigen::VectorXd>& w) const;
   /// Weights with all mass on material i.
   Eigen::VectorXd material_weights(int i) const;
   /// GP predictive variance in kernel units: 0 at the data, towards 1 far from it.

@@ -10,6 +10,9 @@ inline constexpr const char* kMetadataKey = "matlas";
 // Tensors, in file order (largest element type first so every tensor is aligned).
 inline constexpr const char* kLatent = "latent";            ///< F64 [n, q]
 inline constexpr const char* kGram = "gram";                ///< F64 [n, n] centred Gram, linear data
+/// F64 [n, n] centred Gram in the placement (layout) space: the metric of the convex
+/// interpolation. Optional: models written before it existed use `gram`.
+inline constexpr const char* kLayoutGram = "layout_gram";
 inline constexpr const char* kAlbedo = "albedo";            ///< F64 [n, 90, 3] albedo curves
 inline constexpr const char* kMean = "mean";                ///< F32 [D'] mean of each kept column
 inline constexpr const char* kValueColumn = "value_column"; ///< I32 [3 * bins] kept column or -1

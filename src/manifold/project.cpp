@@ -90,7 +90,17 @@ double projection_residual(const Model& model, const MaterialInnerProducts& ip,
   u[ip.anchor] -= 1.0;
   const Eigen::VectorXd su = s * u;
   const double r = ip.distance2[ip.anchor] - 2.0 * u.dot(ip.g) + u.dot(su);
-  if (gradient) {
+  if (gradient && model.interpolation() == Interpolation::convex) {
+    // The convex weights are a projection of the GP's (piecewise smooth in x): central differences.
+    gradient->resize(x.size());
+    for (Eigen::Index d = 0; d < x.size(); ++d) {
+      const double h = 1e-6 * std::max(1.0, std::abs(x[d]));
+      Eigen::VectorXd xp = x, xm = x;
+      xp[d] += h;
+      xm[d] -= h;
+      (*gradient)[d] = (projection_residual(model, ip, xp, nullptr) - projection_residual(model, ip, xm, nullptr)) / (2 * h);
+    }
+  } else if (gradient) {
     // dr/dx = sum_i g_i dk_i/dx with g = K^-1 (2 S u - 2 g), dk_i/dx = -2 (x - x_i) k_i / l^2.
     const gp::GpPosterior& post = model.posterior();
     const Eigen::VectorXd g = post.cholesky().solve(2.0 * (su - ip.g));

@@ -104,7 +104,7 @@ LatentGrid latent_grid(const Model& model, const LatentPlane& plane, int cols, i
       const double v = plane.v_max - (r + 0.5) / rows * (plane.v_max - plane.v_min);
       g.points.row(static_cast<Eigen::Index>(r) * cols + c) = plane.point(u, v).transpose();
     }
-  g.weights = model.posterior().weights_batch(g.points);
+  g.weights = model.predict_batch(g.points).weights;
   return g;
 }
 

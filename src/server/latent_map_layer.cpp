@@ -39,7 +39,7 @@ std::string map_layer_png(const Model& model, const MapLayerRequest& r, const Pl
       x[r.axis_y] = r.y1 + (r.y0 - r.y1) * (static_cast<double>(row) + 0.5) / static_cast<double>(height);
       points.row(static_cast<Eigen::Index>(row * width + col)) = x.transpose();
     }
-  const gp::GpPosterior::Batch predicted = model.posterior().predict_batch(points);
+  const Model::Prediction predicted = model.predict_batch(points);
   const Eigen::VectorXd& variance = predicted.variance;
   Eigen::MatrixXd albedo;
   std::vector<Plausibility> plausibility;
