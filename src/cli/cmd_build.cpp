@@ -19,14 +19,37 @@ struct BuildArgs {
   int dim = 2;
   double nugget = 1e-4;
   std::string optimizer = "lbfgs";
-  std::string layout = "cosine-linear";  // best in docs/EVALUATION.md
+  std::string layout = "cosine-cbrt";  // docs/EVALUATION.md
   std::string storage = "f32";
-  int max_iterations = 1000;
+  int max_iterations = 5000;
+  gp::LatentPrior prior = gp::LatentPrior::spread();
   int starts = 0;  ///< 0: 3 for q <= 2 (the likelihood is multimodal there), else 1
   double tolerance = 1e-7;
   std::size_t block_columns = 4096;
+  std::string interpolation = "convex";
+  double convex_ridge = 1e-2;
+  std::string preset;
   bool quiet = false;
 };
+
+/// `--preset paper`: the settings of Soler et al. 2018 (l = 1, fixed nugget 1e-4, Hooke-Jeeves on
+/// the plain likelihood of the linear data, GP interpolation), so that its claims can be checked.
+void apply_preset(BuildArgs& a, const CLI::App& cmd) {
+  if (a.preset.empty()) return;
+  if (a.preset != "paper") throw Error("--preset must be 'paper', got '" + a.preset + "'");
+  auto unless_given = [&](const char* flag, auto& field, auto value) {
+    if (cmd.count(flag) == 0) field = value;
+  };
+  const BuildOptions paper = BuildOptions::paper_preset();
+  unless_given("--nugget", a.nugget, paper.nugget);
+  unless_given("--optimizer", a.optimizer, std::string(gp::to_string(paper.optimize.method)));
+  unless_given("--layout", a.layout, paper.layout.to_string());
+  unless_given("--interpolation", a.interpolation, std::string(to_string(paper.interpolation)));
+  unless_given("--starts", a.starts, paper.optimize.starts);
+  unless_given("--repulsion", a.prior.repulsion, paper.prior.repulsion);
+  unless_given("--repulsion-radius", a.prior.radius, paper.prior.radius);
+  unless_given("--latent-precision", a.prior.precision, paper.prior.precision);
+}
 
 void run_build(const BuildArgs& a) {
   TerminalProgress progress(!a.quiet);
@@ -43,6 +66,9 @@ void run_build(const BuildArgs& a) {
   if (a.storage == "f16") o.storage = Storage::f16;
   else if (a.storage != "f32") throw Error("--storage must be f32 or f16, got '" + a.storage + "'");
   o.block_columns = a.block_columns;
+  o.interpolation = interpolation_from_string(a.interpolation);
+  o.convex_ridge = a.convex_ridge;
+  o.prior = a.prior;
 
   if (!a.quiet) {
     std::fprintf(stderr, "building a q=%d manifold of %zu materials (%s grid):\n", a.dim, set.size(),
@@ -57,12 +83,17 @@ void run_build(const BuildArgs& a) {
   }
   const BuildReport r = build_model(set, o, a.output, progress);
   std::printf("wrote %s\n", a.output.c_str());
-  std::printf("  materials        %zu, q = %d, layout %s, optimiser %s\n", set.size(), a.dim,
-              o.layout.to_string().c_str(), gp::to_string(o.optimize.method));
+  std::printf("  materials        %zu, q = %d, layout %s, optimiser %s, interpolation %s\n", set.size(), a.dim,
+              o.layout.to_string().c_str(), gp::to_string(o.optimize.method), to_string(o.interpolation));
   std::printf("  columns          %zu kept, %zu dropped (not measured in every material)\n",
               r.kept_columns, r.dropped_columns);
   std::printf("  log-likelihood   %.10g (%d iterations, %d evaluations; %s)\n", r.log_likelihood,
               r.optimization.iterations, r.optimization.evaluations, r.optimization.stop_reason.c_str());
+  if (!r.optimization.converged())
+    std::fprintf(stderr,
+                 "warning: the latent placement did not converge (%s); the model is usable but its layout "
+                 "is not a maximum of the likelihood: raise --max-iterations or --starts\n",
+                 r.optimization.stop_reason.c_str());
   std::printf("  storage          %s, relative L2 rounding error %.3g\n",
               o.storage == Storage::f16 ? "float16" : "float32", r.storage_relative_error);
   std::printf("  time             reading %.2f s, latent placement %.2f s, finishing the file %.2f s\n",
@@ -92,8 +123,31 @@ void add_build_command(CLI::App& app) {
                   "for q <= 2, where the likelihood has several maxima, else 1");
   cmd->add_option("--tolerance", args->tolerance, "Optimiser relative tolerance")->capture_default_str();
   cmd->add_option("--block-columns", args->block_columns, "Columns per streamed block")->capture_default_str();
+  cmd->add_option("--interpolation", args->interpolation,
+                  "convex (default: non-negative weights summing to 1, every table a convex combination of "
+                  "the inputs) or gp (the paper's GP weights, of any sign)")
+      ->capture_default_str();
+  cmd->add_option("--convex-ridge", args->convex_ridge,
+                  "Relative ridge of the convex mode's projection metric (larger: closer to the Euclidean "
+                  "projection of the weights)")
+      ->capture_default_str();
+  cmd->add_option("--repulsion", args->prior.repulsion,
+                  "Weight of the repulsive prior between latent points (0: off, as in the paper)")
+      ->capture_default_str();
+  cmd->add_option("--repulsion-radius", args->prior.radius,
+                  "Distance (lengthscale units) below which latent points repel each other")
+      ->capture_default_str();
+  cmd->add_option("--latent-precision", args->prior.precision,
+                  "Precision of the Gaussian prior that bounds the layout's extent (0: off)")
+      ->capture_default_str();
+  cmd->add_option("--preset", args->preset,
+                  "paper: Soler et al. 2018's settings (nugget 1e-4, Hooke-Jeeves, linear layout, no "
+                  "priors, GP interpolation, one start); explicit flags still win");
   cmd->add_flag("--quiet", args->quiet, "No progress output");
-  cmd->callback([args] { run_build(*args); });
+  cmd->callback([args, cmd] {
+    apply_preset(*args, *cmd);
+    run_build(*args);
+  });
 }
 
 }  // namespace

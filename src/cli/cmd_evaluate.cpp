@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "core/progress.h"
 #include "eval/layout_study.h"
+#include "eval/manifold_quality.h"
 #include "eval/model_checks.h"
 #include "eval/report.h"
 #include "manifold/build.h"
@@ -37,6 +38,7 @@ struct EvaluateArgs {
   int model_dim = 2;
   bool skip_study = false;
   bool skip_checks = false;
+  std::string interpolation = "convex";
   bool quiet = false;
   std::string command_line;
 };
@@ -64,7 +66,16 @@ std::vector<fs::path> model_sources(const Model& model) {
   return files;
 }
 
-void print_summary(const eval::StudyResult* study, const eval::ModelChecks* checks) {
+void print_summary(const eval::StudyResult* study, const eval::ModelChecks* checks,
+                   const eval::ManifoldQuality* quality) {
+  if (quality) {
+    std::printf("  layout readability    %.1f%% of materials crowded (neighbour < 1%% of extent %.3g); trustworthiness(5) %.3f\n",
+                100 * quality->layout.crowded_share, quality->layout.extent, quality->layout.trustworthiness);
+    for (const auto& p : quality->plausibility)
+      std::printf("  plausibility %-6s %-9s %d of %d points with negative values (worst %.3f%%), albedo / inputs' max %.3f\n",
+                  p.mode.c_str(), p.where.c_str(), p.with_negative, p.points, 100 * p.worst_negative_share,
+                  p.worst_albedo_ratio);
+  }
   if (checks) {
     const auto& ic = checks->interpolation;
     double worst = 0;
@@ -102,6 +113,7 @@ void run_evaluate(const EvaluateArgs& a) {
   so.pairs = a.pairs;
   so.path_segments = a.segments;
   so.value_stride = a.stride;
+  if (interpolation_from_string(a.interpolation) == Interpolation::gp) so.fit.convex_ridge = 0;
   eval::ModelCheckOptions co;
   co.map_resolution = a.map_resolution;
 
@@ -127,11 +139,13 @@ void run_evaluate(const EvaluateArgs& a) {
   }
 
   std::unique_ptr<eval::ModelChecks> checks;
+  std::unique_ptr<eval::ManifoldQuality> quality;
   if (!a.skip_checks) {
     if (!model) {
       // A folder: build a model the way `matlas build` does (recommended layout, q = --model-dim).
       BuildOptions bo;
       bo.dim = a.model_dim;
+      bo.interpolation = interpolation_from_string(a.interpolation);
       if (study) bo.layout = study->recommended;
       temporary.path = fs::temp_directory_path() / ("matlas-evaluate-" + std::to_string(::getpid()) + ".matlas");
       progress.message("building a q=" + std::to_string(bo.dim) + " model (" + bo.layout.to_string() + ") for the model checks");
@@ -141,6 +155,7 @@ void run_evaluate(const EvaluateArgs& a) {
                " model built from the folder with layout " + bo.layout.to_string() + ".";
     }
     checks = std::make_unique<eval::ModelChecks>(eval::run_model_checks(*model, set.get(), co, progress));
+    quality = std::make_unique<eval::ManifoldQuality>(eval::assess_manifold(*model, {}, progress));
   }
 
   eval::ReportInput ri;
@@ -148,11 +163,12 @@ void run_evaluate(const EvaluateArgs& a) {
   ri.input = fs::absolute(input).string();
   ri.study = study.get();
   ri.checks = checks.get();
+  ri.quality = quality.get();
   ri.notes = notes;
   ri.repo_root = fs::current_path();
   eval::write_report(out, ri);
   std::printf("wrote %s\n", (out / "index.html").string().c_str());
-  print_summary(study.get(), checks.get());
+  print_summary(study.get(), checks.get(), quality.get());
 }
 
 void add_evaluate_command(CLI::App& app) {
@@ -174,6 +190,10 @@ void add_evaluate_command(CLI::App& app) {
       ->check(CLI::Range(2, 256))->capture_default_str();
   cmd->add_option("--model-dim", args->model_dim, "q of the model built for the model checks when DIR is given")
       ->check(CLI::Range(1, 10))->capture_default_str();
+  cmd->add_option("--interpolation", args->interpolation,
+                  "Interpolation mode of the leave-one-out, the latent paths and the model built from a folder: "
+                  "convex (default) or gp")
+      ->capture_default_str();
   cmd->add_flag("--no-study", args->skip_study, "Skip items 5-7 (paths, leave-one-out, layouts)");
   cmd->add_flag("--no-checks", args->skip_checks, "Skip items 1-4 (checks of a model)");
   cmd->add_flag("--quiet", args->quiet, "No progress output");

@@ -27,11 +27,13 @@ struct ServeArgs {
   int spp = 32;
   int threads = 64;
   bool log = false;
+  std::string interpolation;  ///< empty: the model's own mode
 };
 
 void run_serve(const ServeArgs& a) {
   server::block_stop_signals();  // before any thread starts: every thread inherits the mask
-  const Model model = Model::open(a.model);
+  Model model = Model::open(a.model);
+  if (!a.interpolation.empty()) model.set_interpolation(interpolation_from_string(a.interpolation));
   server::BasisPreviewOptions po;
   po.default_environment = a.env;
   po.size = a.size;
@@ -50,8 +52,9 @@ void run_serve(const ServeArgs& a) {
   server::AtlasServer srv(model, previews, so);
   note_missing_web_ui(srv);
   server::serve_until_signal(srv, [&](const std::string& url) {
-    std::printf("matlas: serving %s (%d materials, q = %d) at %s\n", model.path().filename().string().c_str(),
-                model.count(), model.dim(), url.c_str());
+    std::printf("matlas: serving %s (%d materials, q = %d, %s interpolation) at %s\n",
+                model.path().filename().string().c_str(), model.count(), model.dim(), to_string(model.interpolation()),
+                url.c_str());
     std::fflush(stdout);
   });
 }
@@ -60,6 +63,9 @@ void add_serve_command(CLI::App& app) {
   auto a = std::make_shared<ServeArgs>();
   auto* cmd = app.add_subcommand("serve", "Serve the material browser (web UI and JSON API) for a model");
   cmd->add_option("model", a->model, ".matlas model")->required();
+  cmd->add_option("--interpolation", a->interpolation,
+                  "Override the model's interpolation mode: convex (non-negative weights summing to 1) or gp (the "
+                  "paper's GP weights)");
   cmd->add_option("--host", a->host, "Address to listen on")->capture_default_str();
   cmd->add_option("--port", a->port, "Port (0: any free port)")->check(CLI::Range(0, 65535))->capture_default_str();
   cmd->add_option("--web-root", a->web_root, "Built web UI folder (default: $MATLAS_WEB_ROOT, or web/dist near the executable)");
