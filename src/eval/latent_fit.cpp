@@ -18,12 +18,14 @@ LatentFit fit_latent(const Eigen::MatrixXd& centred_gram, double columns, int q,
   problem.gram = centred_gram;
   problem.columns = columns;
   problem.kernel.nugget = options.nugget;
+  problem.prior = options.prior;
   const Eigen::MatrixXd X0 = gp::pca_initialization(problem, q);
   const gp::OptimizeResult result =
       gp::optimize_latent(problem, X0, options.optimize, null_progress());
   LatentFit fit;
   fit.posterior = std::make_shared<const gp::GpPosterior>(result.latent, problem.kernel);
   fit.log_likelihood = result.value;
+  if (options.convex_ridge > 0) fit.convex = std::make_shared<const gp::ConvexProjection>(centred_gram, options.convex_ridge);
   return fit;
 }
 
@@ -91,7 +93,7 @@ Projection project_material(const LatentFit& fit, std::span<const int> subset,
                 std::to_string(subset.size()));
   const int n = static_cast<int>(gram.rows());
   auto coefficients = [&](const Eigen::VectorXd& x) {
-    return raw_from_weights(fit.posterior->weights(x), subset, n);
+    return raw_from_weights(fit.weights(x), subset, n);
   };
   auto objective = [&](const Eigen::VectorXd& x) { return residual_squared(gram, coefficients(x), h); };
 

@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include "gp/convex_weights.h"
 #include "gp/optimize.h"
 #include "gp/posterior.h"
 
@@ -15,12 +16,21 @@ namespace matlas::eval {
 struct FitOptions {
   double nugget = 1e-4;           ///< as BuildOptions::nugget
   gp::OptimizeOptions optimize{}; ///< as BuildOptions::optimize
+  gp::LatentPrior prior = gp::LatentPrior::spread();  ///< as BuildOptions::prior
+  /// Convex interpolation (BuildOptions::interpolation == convex) with this ridge; 0 = GP weights.
+  double convex_ridge = 1e-2;
 };
 
 /// Latent points fitted to a centred Gram (of the layout transform), as a build places them: PCA
 /// initialisation, then maximisation of the GP log-likelihood.
 struct LatentFit {
   std::shared_ptr<const gp::GpPosterior> posterior;
+  /// The convex mode's projection (metric: the fitted Gram), or null for GP weights.
+  std::shared_ptr<const gp::ConvexProjection> convex;
+  /// The interpolation weights of x in the fit's mode (over the fitted materials).
+  Eigen::VectorXd weights(const Eigen::VectorXd& x) const {
+    return convex ? convex->from_centred(posterior->weights(x)) : posterior->weights(x);
+  }
   double log_likelihood = 0;
   const Eigen::MatrixXd& latent() const { return posterior->latent(); }
 };

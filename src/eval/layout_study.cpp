@@ -16,6 +16,7 @@
 #include "eval/gram_space.h"
 #include "eval/pca_baseline.h"
 #include "eval/statistics.h"
+#include "gp/convex_weights.h"
 
 namespace matlas::eval {
 
@@ -212,6 +213,10 @@ StudyResult run_layout_study(const MaterialSet& set, const StudyOptions& options
     }
     const ConfigResult& config = result.configs[c];
     const gp::GpPosterior posterior(config.latent, gp::Kernel{1.0, options.fit.nugget});
+    const std::size_t layout_index = c / Q;
+    std::unique_ptr<gp::ConvexProjection> convex;
+    if (options.fit.convex_ridge > 0)
+      convex = std::make_unique<gp::ConvexProjection>(layout_grams[layout_index], options.fit.convex_ridge);
     step_pair[c].resize(path_pairs.size());
     for (std::size_t p = 0; p < path_pairs.size(); ++p) {
       const auto [a, b] = path_pairs[p];
@@ -222,7 +227,8 @@ StudyResult run_layout_study(const MaterialSet& set, const StudyOptions& options
         if (s < options.path_segments) {
           const double t = static_cast<double>(s) / options.path_segments;
           const Eigen::VectorXd x = (1.0 - t) * xa + t * xb;
-          next = add_item(raw_from_weights(posterior.weights(x), everyone, n));
+          const Eigen::VectorXd w = posterior.weights(x);
+          next = add_item(raw_from_weights(convex ? convex->from_centred(w) : w, everyone, n));
         }
         step_pair[c][p].push_back(static_cast<int>(pairs.size()));
         pairs.emplace_back(previous, next);

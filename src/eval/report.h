@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "eval/layout_study.h"
+#include "eval/manifold_quality.h"
 #include "eval/model_checks.h"
 
 namespace matlas::eval {
@@ -17,6 +18,7 @@ struct ReportInput {
   std::string input;                ///< the model or folder evaluated
   const StudyResult* study = nullptr;      ///< items 5-7 (may be null)
   const ModelChecks* checks = nullptr;     ///< items 1-4 (may be null)
+  const ManifoldQuality* quality = nullptr;  ///< item 8 (may be null)
   std::string notes;                ///< free text shown at the top (e.g. why a part is missing)
   std::filesystem::path repo_root;  ///< where to look for web/node_modules/chart.js at run time
 };

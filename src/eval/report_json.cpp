@@ -134,6 +134,29 @@ nlohmann::json report_json(const ReportInput& input) {
               {"rmse", "cosine-weighted RMSE: sqrt(mean over values (c (f - g))^2), physical units"}}}};
   j["study"] = input.study ? study_json(*input.study) : json(nullptr);
   j["model_checks"] = input.checks ? checks_json(*input.checks) : json(nullptr);
+  if (input.quality) {
+    const ManifoldQuality& mq = *input.quality;
+    json modes = json::array();
+    for (const ModePlausibility& p : mq.plausibility)
+      modes.push_back({{"mode", p.mode},
+                       {"where", p.where},
+                       {"points", p.points},
+                       {"with_negative", p.with_negative},
+                       {"mean_negative_share", p.mean_negative_share},
+                       {"worst_negative_share", p.worst_negative_share},
+                       {"worst_albedo_ratio", p.worst_albedo_ratio},
+                       {"most_negative_weight", p.most_negative_weight}});
+    j["manifold_quality"] = {{"extent", mq.layout.extent},
+                             {"crowded_share", mq.layout.crowded_share},
+                             {"crowded", mq.layout.crowded},
+                             {"trustworthiness", mq.layout.trustworthiness},
+                             {"neighbours", mq.layout.neighbours},
+                             {"inputs_max_albedo", mq.inputs_max_albedo},
+                             {"input_negative_values", mq.input_negative_values},
+                             {"plausibility", modes}};
+  } else {
+    j["manifold_quality"] = nullptr;
+  }
   return j;
 }
 

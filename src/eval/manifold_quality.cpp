@@ -1,0 +1,209 @@
+#include "eval/manifold_quality.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <numeric>
+#include <random>
+
+#include "brdf/merl_grid.h"
+#include "core/error.h"
+#include "core/parallel.h"
+#include "manifold/dense_product.h"
+
+namespace matlas::eval {
+
+namespace {
+
+Eigen::MatrixXd latent_squared_distances(const Eigen::MatrixXd& X) {
+  const Eigen::Index n = X.rows();
+  Eigen::MatrixXd D(n, n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index j = 0; j < n; ++j) D(i, j) = (X.row(i) - X.row(j)).squaredNorm();
+  return D;
+}
+
+/// Indices 0..n-1 except i, sorted by D(i, .) (ties by index).
+std::vector<int> neighbours_by(const Eigen::MatrixXd& D, int i) {
+  std::vector<int> order(static_cast<std::size_t>(D.rows()));
+  std::iota(order.begin(), order.end(), 0);
+  order.erase(order.begin() + i);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return D(i, a) < D(i, b); });
+  return order;
+}
+
+/// Squared cube-root distances between the inputs, sum over values of
+/// (cbrt(c_b z_i) - cbrt(c_b z_j))^2 on every stride-th value (c_b: the bin's cosine factor).
+Eigen::MatrixXd perceptual_squared_distances(const Model& model, int stride) {
+  const int n = model.count();
+  const std::vector<double> cosine = bin_cosine_factors(model.dims());
+  const std::size_t bins = model.dims().bins();
+  std::vector<std::size_t> columns;
+  for (std::size_t v = 0; v < 3 * bins; v += static_cast<std::size_t>(stride))
+    if (model.kept(v) && cosine[v % bins] > 0) columns.push_back(v);
+  Eigen::MatrixXd T(static_cast<Eigen::Index>(columns.size()), n);
+  parallel_for(0, columns.size(), [&](std::size_t lo, std::size_t hi) {
+    std::vector<float> values(static_cast<std::size_t>(n));
+    for (std::size_t r = lo; r < hi; ++r) {
+      const std::size_t v = columns[r];
+      model.data(static_cast<std::size_t>(model.column_of(v)), values.data());
+      for (int i = 0; i < n; ++i)
+        T(static_cast<Eigen::Index>(r), i) = std::cbrt(cosine[v % bins] * static_cast<double>(values[static_cast<std::size_t>(i)]));
+    }
+  }, 4096);
+  const Eigen::MatrixXd G = blas_product(T.transpose(), T);
+  Eigen::MatrixXd D(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) D(i, j) = G(i, i) + G(j, j) - 2 * G(i, j);
+  return D;
+}
+
+/// Per point (column of W): how many kept values are negative, over every kept value.
+std::vector<std::size_t> negative_counts(const Model& model, const Eigen::MatrixXd& W) {
+  const int n = model.count();
+  const auto m = static_cast<std::size_t>(W.cols());
+  const std::size_t kept = model.kept_columns();
+  const Eigen::RowVectorXd mean_weight = Eigen::RowVectorXd::Ones(W.cols()) - W.colwise().sum();
+  std::vector<std::size_t> counts(m, 0);
+  std::mutex mutex;
+  constexpr std::size_t kBlock = 4096;
+  const std::size_t blocks = (kept + kBlock - 1) / kBlock;
+  parallel_for(0, blocks, [&](std::size_t lo, std::size_t hi) {
+    std::vector<std::size_t> local(m, 0);
+    Eigen::MatrixXd Z;
+    std::vector<float> values(static_cast<std::size_t>(n));
+    for (std::size_t b = lo; b < hi; ++b) {
+      const std::size_t first = b * kBlock, last = std::min(kept, first + kBlock);
+      Z.resize(static_cast<Eigen::Index>(last - first), n);
+      Eigen::VectorXd means(static_cast<Eigen::Index>(last - first));
+      for (std::size_t c = first; c < last; ++c) {
+        model.data(c, values.data());
+        const auto r = static_cast<Eigen::Index>(c - first);
+        for (int i = 0; i < n; ++i) Z(r, i) = values[static_cast<std::size_t>(i)];
+        means[r] = model.mean(c);
+      }
+      Eigen::MatrixXd V = Z * W;
+      V += means * mean_weight;
+      for (Eigen::Index j = 0; j < V.cols(); ++j)
+        local[static_cast<std::size_t>(j)] += static_cast<std::size_t>((V.col(j).array() < 0.0).count());
+    }
+    const std::lock_guard lock(mutex);
+    for (std::size_t j = 0; j < m; ++j) counts[j] += local[j];
+  }, 1);
+  return counts;
+}
+
+ModePlausibility summarise(const Model& model, const Eigen::MatrixXd& W, double inputs_max_albedo,
+                           std::string mode, std::string where) {
+  ModePlausibility p;
+  p.mode = std::move(mode);
+  p.where = std::move(where);
+  p.points = static_cast<int>(W.cols());
+  if (W.cols() == 0) return p;
+  const std::vector<std::size_t> negatives = negative_counts(model, W);
+  const Eigen::MatrixXd albedo = model.albedo_batch(W);
+  const double kept = static_cast<double>(model.kept_columns());
+  double sum = 0;
+  for (std::size_t j = 0; j < negatives.size(); ++j) {
+    const double share = static_cast<double>(negatives[j]) / kept;
+    p.with_negative += negatives[j] > 0 ? 1 : 0;
+    sum += share;
+    p.worst_negative_share = std::max(p.worst_negative_share, share);
+  }
+  p.mean_negative_share = sum / static_cast<double>(negatives.size());
+  p.worst_albedo_ratio = albedo.maxCoeff() / inputs_max_albedo;
+  p.most_negative_weight = W.minCoeff();
+  return p;
+}
+
+}  // namespace
+
+double trustworthiness(const Eigen::MatrixXd& high, const Eigen::MatrixXd& latent, int k) {
+  const auto n = static_cast<int>(latent.rows());
+  if (high.rows() != n || high.cols() != n) throw Error("trustworthiness: distance matrix and points disagree");
+  if (k < 1 || 2 * k >= n - 1) throw Error("trustworthiness: k must be in [1, (n - 2) / 2]");
+  const Eigen::MatrixXd low = latent_squared_distances(latent);
+  double penalty = 0;
+  for (int i = 0; i < n; ++i) {
+    const std::vector<int> by_high = neighbours_by(high, i), by_low = neighbours_by(low, i);
+    std::vector<int> rank(static_cast<std::size_t>(n), 0);  // 1-based rank in the true order
+    for (std::size_t r = 0; r < by_high.size(); ++r) rank[static_cast<std::size_t>(by_high[r])] = static_cast<int>(r) + 1;
+    for (int r = 0; r < k; ++r) {
+      const int true_rank = rank[static_cast<std::size_t>(by_low[static_cast<std::size_t>(r)])];
+      if (true_rank > k) penalty += true_rank - k;
+    }
+  }
+  const double nd = n, kd = k;
+  return 1.0 - 2.0 / (nd * kd * (2.0 * nd - 3.0 * kd - 1.0)) * penalty;
+}
+
+LayoutReadability layout_readability(const Eigen::MatrixXd& latent, double fraction) {
+  LayoutReadability r;
+  const Eigen::Index n = latent.rows();
+  if (n < 2) return r;
+  r.extent = (latent.colwise().maxCoeff() - latent.colwise().minCoeff()).norm();
+  const Eigen::MatrixXd D = latent_squared_distances(latent);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (Eigen::Index j = 0; j < n; ++j)
+      if (j != i) nearest = std::min(nearest, D(i, j));
+    if (std::sqrt(nearest) < fraction * r.extent) ++r.crowded;
+  }
+  r.crowded_share = static_cast<double>(r.crowded) / static_cast<double>(n);
+  return r;
+}
+
+ManifoldQuality assess_manifold(Model& model, const ManifoldQualityOptions& options, ProgressSink& progress) {
+  ManifoldQuality out;
+  const Eigen::MatrixXd& X = model.latent();
+  const int n = model.count(), q = model.dim();
+  out.layout = layout_readability(X);
+  if (2 * out.layout.neighbours < n - 1) {
+    progress.message("manifold quality: perceptual distances between the inputs");
+    out.layout.trustworthiness =
+        trustworthiness(perceptual_squared_distances(model, std::max(1, options.value_stride)), X, out.layout.neighbours);
+  }
+  out.inputs_max_albedo = model.material_albedo().maxCoeff();
+  {
+    std::size_t negatives = 0;
+    for (std::size_t c : negative_counts(model, Eigen::MatrixXd::Identity(n, n))) negatives += c;
+    out.input_negative_values = static_cast<int>(negatives);
+  }
+
+  // Midpoints of nearest-neighbour pairs, and random points of the hull.
+  const Eigen::MatrixXd D = latent_squared_distances(X);
+  std::vector<Eigen::VectorXd> midpoints, hull;
+  for (int i = 0; i < n; ++i) {
+    const int j = neighbours_by(D, i).front();
+    midpoints.push_back(0.5 * (X.row(i) + X.row(j)).transpose());
+  }
+  std::mt19937_64 rng(options.seed);
+  std::uniform_int_distribution<int> pick(0, n - 1);
+  std::exponential_distribution<double> expo(1.0);
+  for (int p = 0; p < options.hull_points; ++p) {
+    const int a = pick(rng), b = pick(rng), c = pick(rng);
+    double wa = expo(rng), wb = expo(rng), wc = expo(rng);  // Dirichlet(1, 1, 1)
+    const double s = wa + wb + wc;
+    hull.push_back(((wa / s) * X.row(a) + (wb / s) * X.row(b) + (wc / s) * X.row(c)).transpose());
+  }
+  auto as_matrix = [&](const std::vector<Eigen::VectorXd>& points) {
+    Eigen::MatrixXd P(static_cast<Eigen::Index>(points.size()), q);
+    for (std::size_t k = 0; k < points.size(); ++k) P.row(static_cast<Eigen::Index>(k)) = points[k].transpose();
+    return P;
+  };
+  const Interpolation active = model.interpolation();
+  for (const Interpolation mode : {Interpolation::convex, Interpolation::gp}) {
+    model.set_interpolation(mode);
+    for (const auto& [where, points] : {std::pair<const char*, const std::vector<Eigen::VectorXd>*>{"midpoints", &midpoints},
+                                        {"hull", &hull}}) {
+      progress.message(std::string("manifold quality: ") + to_string(mode) + " weights at " + where);
+      const Eigen::MatrixXd W = model.predict_batch(as_matrix(*points)).weights;
+      out.plausibility.push_back(summarise(model, W, out.inputs_max_albedo, to_string(mode), where));
+    }
+  }
+  model.set_interpolation(active);
+  return out;
+}
+
+}  // namespace matlas::eval
