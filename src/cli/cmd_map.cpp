@@ -17,7 +17,7 @@ namespace matlas::cli {
 namespace {
 
 struct MapArgs {
-  std::string model, output, layer = "albedo", plane = "dims", dims = "0,1";
+  std::string model, output, layer = "albedo", plane = "dims", dims = "0,1", frame = "all";
   std::optional<std::string> at, basis;
   int size = 768, cells = 160, thumbnails = 10;
   double margin = 0.1, gain = 1.0;
@@ -60,6 +60,9 @@ void run_map(const MapArgs& a) {
   } else {
     throw Error("--plane '" + a.plane + "': expected dims or pca");
   }
+  int outside = 0;
+  if (a.frame == "core") outside = render::frame_core(model, plane, a.margin);
+  else if (a.frame != "all") throw Error("--frame '" + a.frame + "': expected all or core");
   std::optional<render::ImageBasis> basis;
   if (a.basis) {
     basis = render::ImageBasis::open(*a.basis);
@@ -73,10 +76,11 @@ void run_map(const MapArgs& a) {
     labels = "; labels skipped: install fonts-dejavu-core";
   } else if (o.labels) {
     const int shown = render::map_labels(model, plane, o).shown();
-    if (shown < model.count())
-      labels = "; " + std::to_string(model.count() - shown) + " of " + std::to_string(model.count()) +
-               " labels hidden where they would overlap (larger --size shows more)";
+    if (shown < model.count() - outside)
+      labels = "; " + std::to_string(model.count() - outside - shown) + " of " + std::to_string(model.count() - outside) +
+               " labels hidden where they would overlap (larger --size or --frame core shows more)";
   }
+  if (outside > 0) labels += "; " + std::to_string(outside) + " materials outside the core frame";
   std::printf("wrote %s (%dx%d, %s layer, interpolation %s, u in [%.3g, %.3g], v in [%.3g, %.3g])%s\n",
               a.output.c_str(), map.width, map.height, a.layer.c_str(),
               model.metadata().value("interpolation", std::string("gp")).c_str(), plane.u_min, plane.u_max,
@@ -96,6 +100,10 @@ void add_map_command(CLI::App& app) {
   cmd->add_option("--size", a->size, "Longer side of the map in pixels (the other follows the data's aspect)")->capture_default_str();
   cmd->add_option("--cells", a->cells, "Grid cells along the longer side (albedo, variance)")->capture_default_str();
   cmd->add_option("--thumbnails", a->thumbnails, "Thumbnails along the longer side (image layer)")->capture_default_str();
+  cmd->add_option("--frame", a->frame,
+                  "all: the box of every latent point; core: of the materials within 4 median distances of the "
+                  "median point (when a few outliers stretch the box)")
+      ->capture_default_str();
   cmd->add_option("--margin", a->margin, "Margin around the data, fraction of its extent")->capture_default_str();
   cmd->add_option("--gain", a->gain, "Albedo display gain")->capture_default_str();
   cmd->add_option("--fade", a->fade,

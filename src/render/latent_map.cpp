@@ -16,9 +16,10 @@ namespace matlas::render {
 
 namespace {
 
-void extent(const Model& model, LatentPlane& plane, double margin) {
+void extent(const Model& model, LatentPlane& plane, double margin, const std::vector<bool>* keep = nullptr) {
   double u0 = 1e300, u1 = -1e300, v0 = 1e300, v1 = -1e300;
   for (int i = 0; i < model.count(); ++i) {
+    if (keep && !(*keep)[static_cast<std::size_t>(i)]) continue;
     const Eigen::Vector2d p = plane.project(model.latent().row(i).transpose());
     u0 = std::min(u0, p.x()), u1 = std::max(u1, p.x()), v0 = std::min(v0, p.y()), v1 = std::max(v1, p.y());
   }
@@ -96,6 +97,30 @@ LatentPlane LatentPlane::automatic(const Model& model, double margin) {
   p.axis_v = Eigen::VectorXd::Zero(1);
   extent(model, p, margin);
   return p;
+}
+
+int frame_core(const Model& model, LatentPlane& plane, double margin) {
+  const int n = model.count();
+  std::vector<double> us, vs;
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector2d p = plane.project(model.latent().row(i).transpose());
+    us.push_back(p.x()), vs.push_back(p.y());
+  }
+  auto median = [](std::vector<double> v) {
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
+  const double mu = median(us), mv = median(vs);
+  std::vector<double> d(static_cast<std::size_t>(n));
+  for (std::size_t i = 0; i < d.size(); ++i) d[i] = std::hypot(us[i] - mu, vs[i] - mv);
+  const double limit = 4.0 * median(d);  // the median itself keeps at least half
+  std::vector<bool> keep(d.size());
+  for (std::size_t i = 0; i < d.size(); ++i) keep[i] = d[i] <= limit;
+  extent(model, plane, margin, &keep);
+  int outside = 0;
+  for (std::size_t i = 0; i < d.size(); ++i)
+    outside += us[i] < plane.u_min || us[i] > plane.u_max || vs[i] < plane.v_min || vs[i] > plane.v_max;
+  return outside;
 }
 
 LatentGrid latent_grid(const Model& model, const LatentPlane& plane, int cols, int rows) {
@@ -190,7 +215,7 @@ namespace {
 
 /// The legend strip: what the background means, including the "no data" hatch, and on a second
 /// row (`rows` = 2) how many labels were left out.
-void draw_legend(Image& im, int y0, int rows, const MapOptions& o, int labels_shown, int labels_total) {
+void draw_legend(Image& im, int y0, int rows, const MapOptions& o, int labels_shown, int labels_total, int outside) {
   const int w = im.width;
   for (int y = y0; y < im.height; ++y)
     for (int x = 0; x < w; ++x)
@@ -233,8 +258,11 @@ void draw_legend(Image& im, int y0, int rows, const MapOptions& o, int labels_sh
     draw_text(im, x, ty, to, ts, white);
   }
   if (rows > 1) {
-    const std::string note = std::to_string(labels_total - labels_shown) + " of " + std::to_string(labels_total) +
-                             " labels left out where they would overlap";
+    std::string note;
+    if (outside > 0) note = std::to_string(outside) + " of " + std::to_string(labels_total) + " materials outside the frame";
+    if (o.labels && labels_shown < labels_total - outside)
+      note += (note.empty() ? "" : "; ") + std::to_string(labels_total - outside - labels_shown) + " of " +
+              std::to_string(labels_total - outside) + " labels left out where they would overlap";
     draw_text(im, pad, ty + h, note, ts, Rgb::Constant(0.6));
   }
 }
@@ -245,7 +273,9 @@ Image render_latent_map(const Model& model, const LatentPlane& plane, const MapO
   if (o.size < 16 || o.size > 8192) throw Error("latent map: size must be in 16..8192");
   const auto [mw, mh] = map_size(plane, o.size);
   const MapLabels labels = map_labels(model, plane, o);
-  const int legend_rows = o.labels && labels.shown() < model.count() ? 2 : 1;
+  int outside = 0;
+  for (const Eigen::Vector2d& m : labels.markers) outside += m.x() < 0 || m.y() < 0 || m.x() > mw || m.y() > mh;
+  const int legend_rows = outside > 0 || (o.labels && labels.shown() < model.count() - outside) ? 2 : 1;
   const int legend_h = o.legend ? legend_rows * std::max(22, o.size / 28) : 0;
   Image map(mw, mh + legend_h);
   const int longer = std::max(mw, mh);
@@ -325,7 +355,7 @@ Image render_latent_map(const Model& model, const LatentPlane& plane, const MapO
         draw_text(map, static_cast<int>(std::lround(l.box.x0)) + 1, static_cast<int>(std::lround(l.box.y0)) + 1, model.names()[static_cast<std::size_t>(i)],
                   text_size, Rgb::Constant(1.0));
     }
-  if (o.legend) draw_legend(map, mh, legend_rows, o, labels.shown(), model.count());
+  if (o.legend) draw_legend(map, mh, legend_rows, o, labels.shown(), model.count(), outside);
   return map;
 }
 

@@ -49,6 +49,12 @@ struct LatentPlane {
   static LatentPlane automatic(const Model& model, double margin = 0.1);
 };
 
+/// Reframes `plane` on the core of the data: the box (plus `margin`, as above) of the materials
+/// within 4 median distances of the per-axis median of the projected points (at least half of
+/// them). For a layout where a few outliers stretch the box and most materials crowd in a corner.
+/// Returns how many materials fall outside the new frame.
+int frame_core(const Model& model, LatentPlane& plane, double margin = 0.1);
+
 /// A cols x rows grid of cell centres over the plane (row 0 at v_max, the top of a picture).
 struct LatentGrid {
   int cols = 0, rows = 0;

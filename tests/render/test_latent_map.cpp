@@ -183,6 +183,21 @@ TEST_F(LatentMapTest, TheFrameIsTheDataBoxPlusTheStatedMargin) {
   }
 }
 
+TEST_F(LatentMapTest, TheCoreFrameKeepsAtLeastHalfAndCountsTheRest) {
+  LatentPlane p = LatentPlane::automatic(*model_);
+  // The count returned is the materials outside the new frame; the frame only shrinks.
+  const int outside = frame_core(*model_, p, 0.1);
+  int counted = 0;
+  for (int i = 0; i < model_->count(); ++i) {
+    const Eigen::Vector2d uv = p.project(model_->latent().row(i).transpose());
+    counted += uv.x() < p.u_min || uv.x() > p.u_max || uv.y() < p.v_min || uv.y() > p.v_max;
+  }
+  EXPECT_EQ(outside, counted);
+  EXPECT_LE(outside, model_->count() / 2);
+  const LatentPlane all = LatentPlane::automatic(*model_);
+  EXPECT_LE(p.u_max - p.u_min, all.u_max - all.u_min + 1e-12);
+}
+
 TEST_F(LatentMapTest, MapLabelsDoNotOverlapAndFarRegionsAreMarkedAsNoData) {
   const LatentPlane plane = LatentPlane::automatic(*model_);
   MapOptions o;
