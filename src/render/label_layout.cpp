@@ -29,11 +29,16 @@ std::vector<LabelPlacement> place_labels(const std::vector<LabelRequest>& labels
   const double off = marker_radius + gap;
   for (const std::size_t i : order) {
     const LabelRequest& l = labels[i];
-    const LabelBox candidates[4] = {
-        {l.x + off, l.y - l.height / 2, l.x + off + l.width, l.y + l.height / 2},             // right
-        {l.x - off - l.width, l.y - l.height / 2, l.x - off, l.y + l.height / 2},             // left
-        {l.x - l.width / 2, l.y - off - l.height, l.x + l.width / 2, l.y - off},              // above
-        {l.x - l.width / 2, l.y + off, l.x + l.width / 2, l.y + off + l.height},              // below
+    const double d = 0.7 * off;  // diagonal positions: the label's corner near the marker
+    const LabelBox candidates[8] = {
+        {l.x + off, l.y - l.height / 2, l.x + off + l.width, l.y + l.height / 2},  // right
+        {l.x - off - l.width, l.y - l.height / 2, l.x - off, l.y + l.height / 2},  // left
+        {l.x - l.width / 2, l.y - off - l.height, l.x + l.width / 2, l.y - off},   // above
+        {l.x - l.width / 2, l.y + off, l.x + l.width / 2, l.y + off + l.height},   // below
+        {l.x + d, l.y - d - l.height, l.x + d + l.width, l.y - d},                 // above right
+        {l.x + d, l.y + d, l.x + d + l.width, l.y + d + l.height},                 // below right
+        {l.x - d - l.width, l.y - d - l.height, l.x - d, l.y - d},                 // above left
+        {l.x - d - l.width, l.y + d, l.x - d, l.y + d + l.height},                 // below left
     };
     for (const LabelBox& c : candidates) {
       if (c.x0 < 0 || c.y0 < 0 || c.x1 > width || c.y1 > height) continue;

@@ -1,8 +1,8 @@
 #pragma once
 // Label placement for maps: greedy decluttering. Labels are considered in priority order (by
 // default the most isolated material first, so that a crowded cluster shows one or two names and
-// every isolated material keeps its own); each tries a few positions around its marker (right,
-// left, above, below) and takes the first whose box overlaps no label already placed, no other
+// every isolated material keeps its own); each tries eight positions around its marker (right,
+// left, above, below, then the four diagonals) and takes the first whose box overlaps no label already placed, no other
 // marker, and stays inside the picture. Labels that fit nowhere are hidden (the browser shows
 // them on hover and when zooming in spreads the markers apart). The browser's web/src/labels.ts
 // is the same algorithm.

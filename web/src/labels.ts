@@ -1,9 +1,9 @@
 // Label declutter for the latent map: the same greedy placement as `matlas map`
 // (src/render/label_layout.cpp). Labels are taken in priority order (the most isolated marker
 // first, so that a crowded cluster shows one or two names and every isolated material keeps its
-// own); each tries right, left, above and below its marker and takes the first position whose box
-// overlaps no label already placed, no other marker, and stays inside the canvas. The others are
-// hidden: the map shows a hidden label on hover, and zooming in spreads the markers so that more fit.
+// own); each tries right, left, above, below and then the four diagonals of its marker and takes
+// the first position whose box overlaps no label already placed, no other marker, and stays inside
+// the canvas. The others are hidden: the map shows a hidden label on hover, and zooming in spreads the markers so that more fit.
 
 export interface Box {
   x0: number;
@@ -36,11 +36,16 @@ export function placeLabels(labels: LabelRequest[], width: number, height: numbe
   const off = markerRadius + gap;
   for (const i of order) {
     const l = labels[i];
+    const d = 0.7 * off;
     const candidates: Box[] = [
       { x0: l.x + off, y0: l.y - l.height / 2, x1: l.x + off + l.width, y1: l.y + l.height / 2 },
       { x0: l.x - off - l.width, y0: l.y - l.height / 2, x1: l.x - off, y1: l.y + l.height / 2 },
       { x0: l.x - l.width / 2, y0: l.y - off - l.height, x1: l.x + l.width / 2, y1: l.y - off },
       { x0: l.x - l.width / 2, y0: l.y + off, x1: l.x + l.width / 2, y1: l.y + off + l.height },
+      { x0: l.x + d, y0: l.y - d - l.height, x1: l.x + d + l.width, y1: l.y - d },
+      { x0: l.x + d, y0: l.y + d, x1: l.x + d + l.width, y1: l.y + d + l.height },
+      { x0: l.x - d - l.width, y0: l.y - d - l.height, x1: l.x - d, y1: l.y - d },
+      { x0: l.x - d - l.width, y0: l.y + d, x1: l.x - d, y1: l.y + d + l.height },
     ];
     for (const c of candidates) {
       if (c.x0 < 0 || c.y0 < 0 || c.x1 > width || c.y1 > height) continue;

@@ -310,6 +310,7 @@ async function main(): Promise<void> {
     map.redraw();
   });
   $("reset-view").addEventListener("click", () => map.resetView(true));
+  $("core-view").addEventListener("click", () => map.resetView(true, true));
   const onScene = () => {
     state.env = envSel.value;
     state.object = objSel.value;

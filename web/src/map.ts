@@ -94,10 +94,11 @@ export class LatentMap {
    * its longer side on every side. The canvas takes the box's aspect (from 1:1 to 3:2, never
    * taller than wide) so that a wide cloud of points is not framed by empty bands.
    */
-  resetView(notify = true): void {
+  resetView(notify = true, core = false): void {
     const [a, b] = this.axes;
-    const lo = [this.bounds.min[a], this.bounds.min[b]];
-    const hi = [this.bounds.max[a], this.bounds.max[b]];
+    let lo = [this.bounds.min[a], this.bounds.min[b]];
+    let hi = [this.bounds.max[a], this.bounds.max[b]];
+    if (core) [lo, hi] = coreBox(this.latent.map((p) => [p[a], p[b]]));
     const pad = MARGIN * Math.max(hi[0] - lo[0], hi[1] - lo[1], 1e-6);
     const du = hi[0] - lo[0] + 2 * pad, dv = hi[1] - lo[1] + 2 * pad;
     this.canvas.style.aspectRatio = String(clamp(du / dv, 1, 1.5));
@@ -485,6 +486,26 @@ export class LatentMap {
       g.fillText(fmt(v), 4, sy - 6);
     }
   }
+}
+
+/**
+ * The box of the materials within 4 median distances of the per-axis median point (at least half
+ * of them), as `matlas map --frame core`: the crowd when a few outliers stretch the data's box.
+ */
+export function coreBox(points: number[][]): [number[], number[]] {
+  const median = (v: number[]) => v.slice().sort((x, y) => x - y)[v.length >> 1];
+  const mu = median(points.map((p) => p[0])), mv = median(points.map((p) => p[1]));
+  const d = points.map((p) => Math.hypot(p[0] - mu, p[1] - mv));
+  const limit = 4 * median(d);
+  const lo = [Infinity, Infinity], hi = [-Infinity, -Infinity];
+  points.forEach((p, i) => {
+    if (d[i] > limit) return;
+    for (const k of [0, 1]) {
+      lo[k] = Math.min(lo[k], p[k]);
+      hi[k] = Math.max(hi[k], p[k]);
+    }
+  });
+  return [lo, hi];
 }
 
 /** Margin of the fitted view on every side, as a fraction of the data box's longer side (as `matlas map`). */

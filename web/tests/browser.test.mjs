@@ -306,3 +306,14 @@ test("the albedo layer is transparent far from the data and the legend says why"
   await page.selectOption("#layer", "albedo");
   assert.match(await page.textContent("#legend-layer"), /no data here/);
 });
+
+test("the crowd button frames at least half of the materials, labels still apart", async () => {
+  await page.click("#core-view");
+  await page.waitForTimeout(200);
+  const s = await labelState();
+  assert.ok(s.visible >= s.count / 2, `${s.visible} of ${s.count} visible`);
+  assert.deepEqual(s.bad, []);
+  await page.click("#reset-view");
+  await page.waitForTimeout(100);
+  assert.equal((await labelState()).visible, s.count, "fit shows every material again");
+});
