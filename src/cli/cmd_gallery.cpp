@@ -48,6 +48,12 @@ void run_gallery(GalleryArgs a) {
               "smallest feature distance between two picks %.2f\n",
               stats.candidates, stats.rejected_variance, stats.rejected_implausible, stats.rejected_copies,
               stats.min_distance);
+  if (a.gallery.random + a.gallery.real > 1 && stats.min_distance < 0.3)
+    std::fprintf(stderr,
+                 "warning: two picks are only %.2f apart in appearance: the plausible region near the data is "
+                 "not varied enough for %d picks (fewer --random, --allow-implausible, or a model with convex "
+                 "interpolation)\n",
+                 stats.min_distance, a.gallery.random + a.gallery.real);
   for (const std::string& f : stats.relaxed)
     std::fprintf(stderr, "warning: too few candidates passed the %s filter; it was dropped\n", f.c_str());
 }

@@ -133,7 +133,8 @@ std::vector<GalleryEntry> pick_gallery(const Model& model, const GalleryOptions&
 
   if (o.random > 0) {
     // Candidates: between each material and its nearest latent neighbours, at jittered
-    // fractions 0.3, 0.5, 0.7 of the way.
+    // fractions 0.15, 0.3, 0.5, 0.7, 0.85 of the way (those near a material are variants of it,
+    // those in the middle mixes of two).
     std::vector<std::pair<int, int>> pairs;
     const int k = std::clamp(o.neighbours, 1, n - 1);
     for (int i = 0; i < n; ++i) {
@@ -146,13 +147,14 @@ std::vector<GalleryEntry> pick_gallery(const Model& model, const GalleryOptions&
     }
     std::sort(pairs.begin(), pairs.end());
     pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-    const int per_pair = 3;
+    static constexpr double kFractions[] = {0.15, 0.3, 0.5, 0.7, 0.85};
+    const int per_pair = 5;
     const int m = static_cast<int>(pairs.size()) * per_pair;
     Eigen::MatrixXd points(m, model.dim()), W(n, m);
     Eigen::VectorXd variance(m);
     for (std::size_t p = 0; p < pairs.size(); ++p)
       for (int s = 0; s < per_pair; ++s) {
-        const double t = 0.3 + 0.2 * s + 0.16 * (rng.next() - 0.5);
+        const double t = kFractions[s] + 0.1 * (rng.next() - 0.5);
         const auto c = static_cast<Eigen::Index>(p) * per_pair + s;
         points.row(c) = (1 - t) * X.row(pairs[p].first) + t * X.row(pairs[p].second);
         W.col(c) = model.weights(points.row(c).transpose());

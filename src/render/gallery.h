@@ -63,7 +63,7 @@ struct GalleryOptions {
   bool plausible_only = true;
   /// Skip candidates closer than this (feature units) to a database material: copies.
   double min_novelty = 0.25;
-  int neighbours = 4;  ///< candidates lie between each material and this many latent neighbours
+  int neighbours = 6;  ///< candidates lie between each material and this many latent neighbours
 };
 
 struct GalleryEntry {

@@ -478,12 +478,12 @@ export class LatentMap {
     for (let u = Math.ceil(x0 / step) * step; u <= x1; u += step) {
       const [sx] = this.toScreen(u, 0);
       g.beginPath(); g.moveTo(sx, 0); g.lineTo(sx, height); g.stroke();
-      g.fillText(fmt(u), sx + 3, height - 8);
+      g.fillText(fmt(u, step), sx + 3, height - 8);
     }
     for (let v = Math.ceil(y0 / step) * step; v <= y1; v += step) {
       const [, sy] = this.toScreen(0, v);
       g.beginPath(); g.moveTo(0, sy); g.lineTo(width, sy); g.stroke();
-      g.fillText(fmt(v), 4, sy - 6);
+      g.fillText(fmt(v, step), 4, sy - 6);
     }
   }
 }
@@ -521,6 +521,9 @@ function niceStep(raw: number): number {
   return (m < 1.5 ? 1 : m < 3.5 ? 2 : m < 7.5 ? 5 : 10) * p;
 }
 
-function fmt(v: number): string {
-  return Math.abs(v) < 1e-9 ? "0" : Number(v.toPrecision(3)).toString();
+/** A grid value with as many decimals as the grid's step needs (ticks stay distinct when zoomed in). */
+function fmt(v: number, step: number): string {
+  if (Math.abs(v) < 1e-9 * step) return "0";
+  const decimals = Math.max(0, Math.min(10, -Math.floor(Math.log10(step) + 1e-9)));
+  return v.toFixed(decimals);
 }
