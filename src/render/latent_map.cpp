@@ -134,8 +134,20 @@ LatentGrid latent_grid(const Model& model, const LatentPlane& plane, int cols, i
       const double v = plane.v_max - (r + 0.5) / rows * (plane.v_max - plane.v_min);
       g.points.row(static_cast<Eigen::Index>(r) * cols + c) = plane.point(u, v).transpose();
     }
-  g.weights = model.posterior().weights_batch(g.points);
+  g.weights = grid_weights(model, g.points);
   return g;
+}
+
+Eigen::MatrixXd grid_weights(const Model& model, const Eigen::MatrixXd& points) {
+  if (model.metadata().value("interpolation", std::string("gp")) == "gp") return model.posterior().weights_batch(points);
+  Eigen::MatrixXd W(model.count(), points.rows());
+  parallel_for(0, static_cast<std::size_t>(points.rows()), [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t i = lo; i < hi; ++i) {
+      const auto k = static_cast<Eigen::Index>(i);
+      W.col(k) = model.weights(points.row(k).transpose());
+    }
+  });
+  return W;
 }
 
 Eigen::Array3d colour_map(double t) {

@@ -59,9 +59,15 @@ int frame_core(const Model& model, LatentPlane& plane, double margin = 0.1);
 struct LatentGrid {
   int cols = 0, rows = 0;
   Eigen::MatrixXd points;   ///< (cols * rows) x q, row-major cells
-  Eigen::MatrixXd weights;  ///< n x (cols * rows): GP weights of each point (weights_batch)
+  Eigen::MatrixXd weights;  ///< n x (cols * rows): the model's weights of each point (grid_weights)
 };
 LatentGrid latent_grid(const Model& model, const LatentPlane& plane, int cols, int rows);
+
+/// The weights (n x m) of m points (rows of `points`) as the model's interpolation mode gives
+/// them: one batched GP solve for "gp" (the metadata's `interpolation`, missing = gp), else
+/// Model::weights point by point (in parallel), so that maps show what a preview or an export at
+/// that point would give.
+Eigen::MatrixXd grid_weights(const Model& model, const Eigen::MatrixXd& points);
 
 enum class MapLayer { albedo, variance, image };
 

@@ -45,11 +45,14 @@ std::vector<unsigned char> map_layer_pixels(const Model& model, const MapLayerRe
       x[r.axis_y] = r.y1 + (r.y0 - r.y1) * (static_cast<double>(row) + 0.5) / static_cast<double>(height);
       points.row(static_cast<Eigen::Index>(row * width + col)) = x.transpose();
     }
-  const gp::GpPosterior::Batch predicted = model.posterior().predict_batch(points);
+  gp::GpPosterior::Batch predicted = model.posterior().predict_batch(points);
   const Eigen::VectorXd& variance = predicted.variance;
   Eigen::MatrixXd albedo;
   std::vector<Plausibility> plausibility;
   if (r.layer != MapLayer::variance) {
+    // The weights of the model's interpolation mode (the GP's, already computed, for "gp").
+    if (model.metadata().value("interpolation", std::string("gp")) != "gp")
+      predicted.weights = render::grid_weights(model, points);
     albedo = model.albedo_batch(predicted.weights);  // rows 0..2: normal incidence
     if (r.layer == MapLayer::plausibility) plausibility = probe->batch(predicted.weights);
   }
