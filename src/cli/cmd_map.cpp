@@ -17,11 +17,12 @@ namespace matlas::cli {
 namespace {
 
 struct MapArgs {
-  std::string model, output, layer = "albedo", plane = "dims", dims = "0,1";
+  std::string model, output, layer = "albedo", plane = "dims", dims = "0,1", frame = "all";
   std::optional<std::string> at, basis;
   int size = 768, cells = 160, thumbnails = 10;
   double margin = 0.1, gain = 1.0;
-  bool no_labels = false;
+  std::string fade = "0.5,0.9";
+  bool no_labels = false, no_legend = false;
 };
 
 void run_map(const MapArgs& a) {
@@ -32,6 +33,12 @@ void run_map(const MapArgs& a) {
   o.thumbnails = a.thumbnails;
   o.labels = !a.no_labels;
   o.albedo_gain = a.gain;
+  o.legend = !a.no_legend;
+  const Eigen::VectorXd fade = parse_point(a.fade);
+  if (fade.size() != 2 || !(fade[0] >= 0) || !(fade[1] > fade[0]))
+    throw Error("--fade '" + a.fade + "': expected two variances FROM,TO with 0 <= FROM < TO, e.g. 0.5,0.9");
+  o.fade_from = fade[0];
+  o.fade_to = fade[1];
   if (a.layer == "albedo") o.layer = render::MapLayer::albedo;
   else if (a.layer == "variance") o.layer = render::MapLayer::variance;
   else if (a.layer == "image") o.layer = render::MapLayer::image;
@@ -53,6 +60,9 @@ void run_map(const MapArgs& a) {
   } else {
     throw Error("--plane '" + a.plane + "': expected dims or pca");
   }
+  int outside = 0;
+  if (a.frame == "core") outside = render::frame_core(model, plane, a.margin);
+  else if (a.frame != "all") throw Error("--frame '" + a.frame + "': expected all or core");
   std::optional<render::ImageBasis> basis;
   if (a.basis) {
     basis = render::ImageBasis::open(*a.basis);
@@ -61,9 +71,20 @@ void run_map(const MapArgs& a) {
   TerminalProgress progress;
   const Image map = render::render_latent_map(model, plane, o, progress);
   write_image(a.output, map, ToneMap{});
-  std::printf("wrote %s (%s layer, u in [%.3g, %.3g], v in [%.3g, %.3g])%s\n", a.output.c_str(), a.layer.c_str(),
-              plane.u_min, plane.u_max, plane.v_min, plane.v_max,
-              o.labels && !render::text_available() ? "; labels skipped: install fonts-dejavu-core" : "");
+  std::string labels;
+  if (o.labels && !render::text_available()) {
+    labels = "; labels skipped: install fonts-dejavu-core";
+  } else if (o.labels) {
+    const int shown = render::map_labels(model, plane, o).shown();
+    if (shown < model.count() - outside)
+      labels = "; " + std::to_string(model.count() - outside - shown) + " of " + std::to_string(model.count() - outside) +
+               " labels hidden where they would overlap (larger --size or --frame core shows more)";
+  }
+  if (outside > 0) labels += "; " + std::to_string(outside) + " materials outside the core frame";
+  std::printf("wrote %s (%dx%d, %s layer, interpolation %s, u in [%.3g, %.3g], v in [%.3g, %.3g])%s\n",
+              a.output.c_str(), map.width, map.height, a.layer.c_str(),
+              to_string(model.interpolation()), plane.u_min, plane.u_max,
+              plane.v_min, plane.v_max, labels.c_str());
 }
 
 void add_map_command(CLI::App& app) {
@@ -76,12 +97,21 @@ void add_map_command(CLI::App& app) {
   cmd->add_option("--plane", a->plane, "For q > 2: dims (see --dims) or pca")->capture_default_str();
   cmd->add_option("--dims", a->dims, "The two latent dimensions of the plane")->capture_default_str();
   cmd->add_option("--at", a->at, "Point fixing the other coordinates (default: latent mean)");
-  cmd->add_option("--size", a->size, "Picture size in pixels")->capture_default_str();
-  cmd->add_option("--cells", a->cells, "Grid cells per side (albedo, variance)")->capture_default_str();
-  cmd->add_option("--thumbnails", a->thumbnails, "Thumbnails per side (image layer)")->capture_default_str();
+  cmd->add_option("--size", a->size, "Longer side of the map in pixels (the other follows the data's aspect)")->capture_default_str();
+  cmd->add_option("--cells", a->cells, "Grid cells along the longer side (albedo, variance)")->capture_default_str();
+  cmd->add_option("--thumbnails", a->thumbnails, "Thumbnails along the longer side (image layer)")->capture_default_str();
+  cmd->add_option("--frame", a->frame,
+                  "all: the box of every latent point; core: of the materials within 4 median distances of the "
+                  "median point (when a few outliers stretch the box)")
+      ->capture_default_str();
   cmd->add_option("--margin", a->margin, "Margin around the data, fraction of its extent")->capture_default_str();
   cmd->add_option("--gain", a->gain, "Albedo display gain")->capture_default_str();
+  cmd->add_option("--fade", a->fade,
+                  "Predictive variances FROM,TO over which the albedo/image layers fade into the hatched "
+                  "'no data here' grey")
+      ->capture_default_str();
   cmd->add_flag("--no-labels", a->no_labels, "Do not write material names");
+  cmd->add_flag("--no-legend", a->no_legend, "No legend strip under the map");
   cmd->callback([a] { run_map(*a); });
 }
 

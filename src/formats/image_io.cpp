@@ -214,6 +214,13 @@ std::string encode_png_srgb8(const unsigned char* pixels, int width, int height)
   return out;
 }
 
+std::string encode_png_srgba8(const unsigned char* pixels, int width, int height) {
+  std::string out;
+  if (!stbi_write_png_to_func(append_bytes, &out, width, height, 4, pixels, width * 4))
+    throw Error("cannot encode PNG image");
+  return out;
+}
+
 std::string encode_png(const Image& image, const ToneMap& tone) {
   if (image.empty()) throw Error("cannot encode an empty image as PNG");
   std::vector<unsigned char> pixels(image.rgb.size());

@@ -64,6 +64,8 @@ std::string encode_exr(const Image& image, bool half = false);
 std::string encode_png(const Image& image, const ToneMap& tone = {});
 /// An 8-bit RGB PNG of already encoded pixels (width * height * 3 bytes, row-major, top first).
 std::string encode_png_srgb8(const unsigned char* pixels, int width, int height);
+/// The same with an alpha channel (width * height * 4 bytes, RGBA, straight alpha).
+std::string encode_png_srgba8(const unsigned char* pixels, int width, int height);
 /// Tone-mapped PNG written atomically.
 void write_png(const std::filesystem::path& path, const Image& image, const ToneMap& tone = {});
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include <Eigen/Eigenvalues>
 
@@ -15,18 +16,23 @@ namespace matlas::render {
 
 namespace {
 
-void extent(const Model& model, LatentPlane& plane, double margin) {
+void extent(const Model& model, LatentPlane& plane, double margin, const std::vector<bool>* keep = nullptr) {
   double u0 = 1e300, u1 = -1e300, v0 = 1e300, v1 = -1e300;
   for (int i = 0; i < model.count(); ++i) {
+    if (keep && !(*keep)[static_cast<std::size_t>(i)]) continue;
     const Eigen::Vector2d p = plane.project(model.latent().row(i).transpose());
     u0 = std::min(u0, p.x()), u1 = std::max(u1, p.x()), v0 = std::min(v0, p.y()), v1 = std::max(v1, p.y());
   }
-  double side = std::max({u1 - u0, v1 - v0, 1e-6});
-  // Square picture: centre the shorter side.
+  // The data's box plus the margin (a fraction of its longer side) on every side; the shorter
+  // side is widened about its centre only as far as needed to keep the aspect within 1:3.
+  const double longer = std::max({u1 - u0, v1 - v0, 1e-6});
+  const double pad = margin * longer;
+  double du = (u1 - u0) + 2 * pad, dv = (v1 - v0) + 2 * pad;
+  const double longest = std::max(du, dv);
+  du = std::max(du, longest / 3), dv = std::max(dv, longest / 3);
   const double cu = 0.5 * (u0 + u1), cv = 0.5 * (v0 + v1);
-  side *= 1.0 + 2.0 * margin;
-  plane.u_min = cu - 0.5 * side, plane.u_max = cu + 0.5 * side;
-  plane.v_min = cv - 0.5 * side, plane.v_max = cv + 0.5 * side;
+  plane.u_min = cu - 0.5 * du, plane.u_max = cu + 0.5 * du;
+  plane.v_min = cv - 0.5 * dv, plane.v_max = cv + 0.5 * dv;
 }
 
 void check_at(const Model& model, const Eigen::VectorXd& at) {
@@ -93,6 +99,30 @@ LatentPlane LatentPlane::automatic(const Model& model, double margin) {
   return p;
 }
 
+int frame_core(const Model& model, LatentPlane& plane, double margin) {
+  const int n = model.count();
+  std::vector<double> us, vs;
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector2d p = plane.project(model.latent().row(i).transpose());
+    us.push_back(p.x()), vs.push_back(p.y());
+  }
+  auto median = [](std::vector<double> v) {
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
+  const double mu = median(us), mv = median(vs);
+  std::vector<double> d(static_cast<std::size_t>(n));
+  for (std::size_t i = 0; i < d.size(); ++i) d[i] = std::hypot(us[i] - mu, vs[i] - mv);
+  const double limit = 4.0 * median(d);  // the median itself keeps at least half
+  std::vector<bool> keep(d.size());
+  for (std::size_t i = 0; i < d.size(); ++i) keep[i] = d[i] <= limit;
+  extent(model, plane, margin, &keep);
+  int outside = 0;
+  for (std::size_t i = 0; i < d.size(); ++i)
+    outside += us[i] < plane.u_min || us[i] > plane.u_max || vs[i] < plane.v_min || vs[i] > plane.v_max;
+  return outside;
+}
+
 LatentGrid latent_grid(const Model& model, const LatentPlane& plane, int cols, int rows) {
   if (cols <= 0 || rows <= 0) throw Error("latent map: grid size must be positive");
   LatentGrid g;
@@ -104,8 +134,12 @@ LatentGrid latent_grid(const Model& model, const LatentPlane& plane, int cols, i
       const double v = plane.v_max - (r + 0.5) / rows * (plane.v_max - plane.v_min);
       g.points.row(static_cast<Eigen::Index>(r) * cols + c) = plane.point(u, v).transpose();
     }
-  g.weights = model.predict_batch(g.points).weights;
+  g.weights = grid_weights(model, g.points);
   return g;
+}
+
+Eigen::MatrixXd grid_weights(const Model& model, const Eigen::MatrixXd& points) {
+  return model.predict_batch(points).weights;
 }
 
 Eigen::Array3d colour_map(double t) {
@@ -120,22 +154,151 @@ Eigen::Array3d colour_map(double t) {
   return c;
 }
 
+std::pair<int, int> map_size(const LatentPlane& plane, int size) {
+  const double du = plane.u_max - plane.u_min, dv = plane.v_max - plane.v_min;
+  if (!(du > 0) || !(dv > 0)) return {size, size};
+  if (du >= dv) return {size, std::max(16, static_cast<int>(std::lround(size * dv / du)))};
+  return {std::max(16, static_cast<int>(std::lround(size * du / dv))), size};
+}
+
+double uncertainty_fade(double variance, double from, double to) {
+  if (!(to > from)) return variance >= from ? 1.0 : 0.0;
+  const double t = std::clamp((variance - from) / (to - from), 0.0, 1.0);
+  return t * t * (3 - 2 * t);
+}
+
+Eigen::Array3d unknown_colour(int x, int y) {
+  // sRGB 0.46 grey with 2-pixel dark diagonals every 9 pixels.
+  const bool line = ((x + y) % 9 + 9) % 9 < 2;
+  return Eigen::Array3d::Constant(line ? 0.035 : 0.18);
+}
+
+int MapLabels::shown() const {
+  return static_cast<int>(std::count_if(labels.begin(), labels.end(), [](const LabelPlacement& l) { return l.shown; }));
+}
+
+MapLabels map_labels(const Model& model, const LatentPlane& plane, int width, int height, float text_size,
+                     double marker_radius) {
+  MapLabels out;
+  const int n = model.count();
+  std::vector<double> xs, ys;
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector2d p = plane.project(model.latent().row(i).transpose());
+    const double px = (p.x() - plane.u_min) / (plane.u_max - plane.u_min) * width;
+    const double py = plane.v_max > plane.v_min ? (plane.v_max - p.y()) / (plane.v_max - plane.v_min) * height : 0.5 * height;
+    out.markers.emplace_back(px, py);
+    xs.push_back(px), ys.push_back(py);
+  }
+  const std::vector<double> priority = isolation(xs, ys);
+  std::vector<LabelRequest> requests;
+  // draw_text's bitmap is text_size + 2 pixels tall and text_width + 2 wide, plus a 1-pixel outline.
+  const double label_height = std::ceil(text_size) + 4;
+  for (int i = 0; i < n; ++i) {
+    const auto s = static_cast<std::size_t>(i);
+    requests.push_back({xs[s], ys[s], static_cast<double>(text_width(model.names()[s], text_size) + 4), label_height,
+                        priority[s]});
+  }
+  out.labels = place_labels(requests, width, height, marker_radius);
+  return out;
+}
+
+namespace {
+
+float label_text_size(int longer) { return std::max(10.0f, static_cast<float>(longer) / 70.0f); }
+double marker_radius(int longer) { return std::max(3.0, longer / 160.0); }
+
+}  // namespace
+
+MapLabels map_labels(const Model& model, const LatentPlane& plane, const MapOptions& o) {
+  const auto [mw, mh] = map_size(plane, o.size);
+  const int longer = std::max(mw, mh);
+  return map_labels(model, plane, mw, mh, label_text_size(longer), marker_radius(longer) + 1);
+}
+
+namespace {
+
+/// The legend strip: what the background means, including the "no data" hatch, and on a second
+/// row (`rows` = 2) how many labels were left out.
+void draw_legend(Image& im, int y0, int rows, const MapOptions& o, int labels_shown, int labels_total, int outside) {
+  const int w = im.width;
+  for (int y = y0; y < im.height; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c) im.pixel(x, y)[c] = 0.008f;
+  if (!text_available()) return;
+  const int h = (im.height - y0) / rows;
+  const float ts = std::max(10.0f, static_cast<float>(h) * 0.42f);
+  const int pad = std::max(4, h / 5);
+  const int bar_w = std::clamp(w / 5, 40, 200), bar_h = std::max(6, h / 3);
+  const int by = y0 + (h - bar_h) / 2;
+  const int ty = y0 + (h - static_cast<int>(ts) - 2) / 2;
+  int x = pad;
+  const Rgb white = Rgb::Constant(0.85);
+  if (o.layer == MapLayer::variance) {
+    draw_text(im, x, ty, "variance 0 (at the data)", ts, white);
+    x += text_width("variance 0 (at the data)", ts) + pad;
+    for (int bx = 0; bx < bar_w; ++bx) {
+      const Eigen::Array3d c = colour_map(static_cast<double>(bx) / (bar_w - 1));
+      for (int y = by; y < by + bar_h; ++y)
+        for (int k = 0; k < 3; ++k) im.pixel(x + bx, y)[k] = static_cast<float>(c[k]);
+    }
+    x += bar_w + pad;
+    draw_text(im, x, ty, "1 (far from the data)", ts, white);
+  } else {
+    // A bar from a material colour to the hatch, with the variance thresholds.
+    char from[48], to[96];
+    std::snprintf(from, sizeof from, "variance %.2g", o.fade_from);
+    std::snprintf(to, sizeof to, "%.2g: no data here (only the database mean)", o.fade_to);
+    draw_text(im, x, ty, from, ts, white);
+    x += text_width(from, ts) + pad;
+    const Eigen::Array3d sample(0.45, 0.25, 0.12);
+    for (int bx = 0; bx < bar_w; ++bx) {
+      const double f = uncertainty_fade(o.fade_from + (o.fade_to - o.fade_from) * bx / (bar_w - 1.0), o.fade_from, o.fade_to);
+      for (int y = by; y < by + bar_h; ++y) {
+        const Eigen::Array3d c = (1 - f) * sample + f * unknown_colour(x + bx, y);
+        for (int k = 0; k < 3; ++k) im.pixel(x + bx, y)[k] = static_cast<float>(c[k]);
+      }
+    }
+    x += bar_w + pad;
+    draw_text(im, x, ty, to, ts, white);
+  }
+  if (rows > 1) {
+    std::string note;
+    if (outside > 0) note = std::to_string(outside) + " of " + std::to_string(labels_total) + " materials outside the frame";
+    if (o.labels && labels_shown < labels_total - outside)
+      note += (note.empty() ? "" : "; ") + std::to_string(labels_total - outside - labels_shown) + " of " +
+              std::to_string(labels_total - outside) + " labels left out where they would overlap";
+    draw_text(im, pad, ty + h, note, ts, Rgb::Constant(0.6));
+  }
+}
+
+}  // namespace
+
 Image render_latent_map(const Model& model, const LatentPlane& plane, const MapOptions& o, ProgressSink& progress) {
   if (o.size < 16 || o.size > 8192) throw Error("latent map: size must be in 16..8192");
-  Image map(o.size, o.size);
+  const auto [mw, mh] = map_size(plane, o.size);
+  const MapLabels labels = map_labels(model, plane, o);
+  int outside = 0;
+  for (const Eigen::Vector2d& m : labels.markers) outside += m.x() < 0 || m.y() < 0 || m.x() > mw || m.y() > mh;
+  const int legend_rows = outside > 0 || (o.labels && labels.shown() < model.count() - outside) ? 2 : 1;
+  const int legend_h = o.legend ? legend_rows * std::max(22, o.size / 28) : 0;
+  Image map(mw, mh + legend_h);
+  const int longer = std::max(mw, mh);
   if (o.layer == MapLayer::image) {
     if (!o.basis) throw Error("latent map: the image layer needs an image basis (--basis)");
     if (o.basis->count() != model.count())
       throw Error("latent map: the basis has " + std::to_string(o.basis->count()) + " materials, the model " +
                   std::to_string(model.count()));
     const int k = std::max(1, o.thumbnails);
-    const LatentGrid g = latent_grid(model, plane, k, k);
-    ProgressTask task(progress, "thumbnails", static_cast<std::uint64_t>(k) * k);
+    const int kx = std::max(1, static_cast<int>(std::lround(static_cast<double>(k) * mw / longer)));
+    const int ky = std::max(1, static_cast<int>(std::lround(static_cast<double>(k) * mh / longer)));
+    const LatentGrid g = latent_grid(model, plane, kx, ky);
+    ProgressTask task(progress, "thumbnails", static_cast<std::uint64_t>(kx) * ky);
     Image thumb(o.basis->width(), o.basis->height());
-    for (int cell = 0; cell < k * k; ++cell) {
+    for (int cell = 0; cell < kx * ky; ++cell) {
       o.basis->compose(g.weights.col(cell), thumb.rgb.data());
-      const int cx = cell % k, cy = cell / k;
-      const int x0 = cx * o.size / k, x1 = (cx + 1) * o.size / k, y0 = cy * o.size / k, y1 = (cy + 1) * o.size / k;
+      const double fade = uncertainty_fade(model.variance(g.points.row(cell).transpose()), o.fade_from, o.fade_to);
+      const int cx = cell % kx, cy = cell / kx;
+      const int x0 = cx * mw / kx, x1 = (cx + 1) * mw / kx, y0 = cy * mh / ky, y1 = (cy + 1) * mh / ky;
       // Box-filter the basis image into the cell, tone mapped (ACES) back to linear for display.
       for (int y = y0; y < y1; ++y)
         for (int x = x0; x < x1; ++x) {
@@ -146,45 +309,57 @@ Image render_latent_map(const Model& model, const LatentPlane& plane, const MapO
             for (int sx = sx0; sx < sx1; ++sx)
               for (int c = 0; c < 3; ++c) sum[c] += thumb.pixel(sx, sy)[c];
           const double area = static_cast<double>((sx1 - sx0) * (sy1 - sy0));
+          const Eigen::Array3d unknown = unknown_colour(x, y);
           for (int c = 0; c < 3; ++c) {
             const float v = static_cast<float>(sum[c] / area);
-            map.pixel(x, y)[c] = srgb_decode(tone_map_to_srgb8(v, {ToneMap::Curve::aces, 0.0}) / 255.0f);
+            const double shown = srgb_decode(tone_map_to_srgb8(v, {ToneMap::Curve::aces, 0.0}) / 255.0f);
+            map.pixel(x, y)[c] = static_cast<float>((1 - fade) * shown + fade * unknown[c]);
           }
         }
       task.advance();
     }
   } else {
     const int cells = std::max(2, o.cells);
-    const LatentGrid g = latent_grid(model, plane, cells, cells);
-    std::vector<Eigen::Array3d> colour(static_cast<std::size_t>(cells) * cells);
+    const int cx = std::max(2, static_cast<int>(std::lround(static_cast<double>(cells) * mw / longer)));
+    const int cy = std::max(2, static_cast<int>(std::lround(static_cast<double>(cells) * mh / longer)));
+    const LatentGrid g = latent_grid(model, plane, cx, cy);
+    std::vector<Eigen::Array3d> colour(static_cast<std::size_t>(cx) * cy);
+    std::vector<double> fade(colour.size(), 0.0);
     parallel_for(0, colour.size(), [&](std::size_t lo, std::size_t hi) {
       for (std::size_t i = lo; i < hi; ++i) {
         const auto idx = static_cast<Eigen::Index>(i);
+        const double var = model.variance(g.points.row(idx).transpose());
         if (o.layer == MapLayer::albedo) {
           const Rgb a = model.albedo_curve(g.weights.col(idx)).front();
           colour[i] = (a * o.albedo_gain).max(0.0).min(1.0);
+          fade[i] = uncertainty_fade(var, o.fade_from, o.fade_to);
         } else {
-          colour[i] = colour_map(model.variance(g.points.row(idx).transpose()));
+          colour[i] = colour_map(var);
         }
       }
     });
-    for (int y = 0; y < o.size; ++y)
-      for (int x = 0; x < o.size; ++x) {
-        const auto& c = colour[static_cast<std::size_t>(y * cells / o.size) * cells + static_cast<std::size_t>(x * cells / o.size)];
+    for (int y = 0; y < mh; ++y)
+      for (int x = 0; x < mw; ++x) {
+        const std::size_t cell = static_cast<std::size_t>(y * cy / mh) * cx + static_cast<std::size_t>(x * cx / mw);
+        const Eigen::Array3d c = (1 - fade[cell]) * colour[cell] + fade[cell] * unknown_colour(x, y);
         for (int k = 0; k < 3; ++k) map.pixel(x, y)[k] = static_cast<float>(c[k]);
       }
   }
-  // Materials: a marker at each projected point, and the name beside it.
-  const float text_size = std::max(10.0f, static_cast<float>(o.size) / 70.0f);
+  // Materials: a marker at each projected point; the names that fit without overlapping.
+  const float text_size = label_text_size(longer);
+  const double radius = marker_radius(longer);
   for (int i = 0; i < model.count(); ++i) {
-    const Eigen::Vector2d p = plane.project(model.latent().row(i).transpose());
-    const double px = (p.x() - plane.u_min) / (plane.u_max - plane.u_min) * o.size;
-    const double py = plane.v_max > plane.v_min ? (plane.v_max - p.y()) / (plane.v_max - plane.v_min) * o.size : 0.5 * o.size;
-    draw_marker(map, px, py, std::max(3.0, o.size / 160.0));
-    if (o.labels)
-      draw_text(map, static_cast<int>(px) + 6, static_cast<int>(py) - static_cast<int>(text_size / 2),
-                model.names()[static_cast<std::size_t>(i)], text_size, Rgb::Constant(1.0));
+    const auto s = static_cast<std::size_t>(i);
+    draw_marker(map, labels.markers[s].x(), labels.markers[s].y(), radius);
   }
+  if (o.labels)
+    for (int i = 0; i < model.count(); ++i) {
+      const LabelPlacement& l = labels.labels[static_cast<std::size_t>(i)];
+      if (l.shown)
+        draw_text(map, static_cast<int>(std::lround(l.box.x0)) + 1, static_cast<int>(std::lround(l.box.y0)) + 1, model.names()[static_cast<std::size_t>(i)],
+                  text_size, Rgb::Constant(1.0));
+    }
+  if (o.legend) draw_legend(map, mh, legend_rows, o, labels.shown(), model.count(), outside);
   return map;
 }
 

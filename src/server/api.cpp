@@ -15,6 +15,7 @@
 #include "formats/merl_file.h"
 #include "manifold/model.h"
 #include "manifold/project.h"
+#include "render/latent_map.h"
 #include "server/fast_png.h"
 #include "server/http_error.h"
 #include "server/latent_map_layer.h"
@@ -123,6 +124,10 @@ Api::Api(const Model& model, std::shared_ptr<const PreviewSource> previews, cons
                  {"default_object", previews_->default_object()}};
   j["preview"] = {{"size", previews_->size()}, {"drag_size", previews_->drag_size()}, {"max_size", 512}};
   j["layers"] = {"albedo", "variance", "plausibility"};
+  // How m(x) is made from the inputs: "gp" (the paper's GP weights) or "convex" (non-negative
+  // weights summing to 1); models without the field predate the choice and are "gp".
+  j["interpolation"] = std::string(to_string(model.interpolation()));
+  j["uncertainty"] = {{"fade_from", render::kFadeFrom}, {"fade_to", render::kFadeTo}};
   j["albedo_angles"] = kAlbedoAngles;
   model_json_ = j.dump();
 }

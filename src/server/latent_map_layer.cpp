@@ -9,6 +9,7 @@
 #include "formats/image_io.h"
 #include "manifold/model.h"
 #include "manifold/plausibility.h"
+#include "render/latent_map.h"
 
 namespace matlas::server {
 
@@ -26,6 +27,11 @@ void variance_colour(double t, unsigned char rgb[3]) {
 }
 
 std::string map_layer_png(const Model& model, const MapLayerRequest& r, const PlausibilityProbe* probe) {
+  const std::vector<unsigned char> pixels = map_layer_pixels(model, r, probe);
+  return encode_png_srgba8(pixels.data(), r.width, r.height);
+}
+
+std::vector<unsigned char> map_layer_pixels(const Model& model, const MapLayerRequest& r, const PlausibilityProbe* probe) {
   if (r.layer == MapLayer::plausibility && !probe) throw Error("plausibility layer without a probe (internal error)");
   const auto width = static_cast<std::size_t>(r.width), height = static_cast<std::size_t>(r.height);
   const std::size_t cells = width * height;
@@ -39,7 +45,7 @@ std::string map_layer_png(const Model& model, const MapLayerRequest& r, const Pl
       x[r.axis_y] = r.y1 + (r.y0 - r.y1) * (static_cast<double>(row) + 0.5) / static_cast<double>(height);
       points.row(static_cast<Eigen::Index>(row * width + col)) = x.transpose();
     }
-  const Model::Prediction predicted = model.predict_batch(points);
+  const Model::Prediction predicted = model.predict_batch(points);  // the model's interpolation mode
   const Eigen::VectorXd& variance = predicted.variance;
   Eigen::MatrixXd albedo;
   std::vector<Plausibility> plausibility;
@@ -47,10 +53,11 @@ std::string map_layer_png(const Model& model, const MapLayerRequest& r, const Pl
     albedo = model.albedo_batch(predicted.weights);  // rows 0..2: normal incidence
     if (r.layer == MapLayer::plausibility) plausibility = probe->batch(predicted.weights);
   }
-  std::vector<unsigned char> pixels(cells * 3);
+  std::vector<unsigned char> pixels(cells * 4);
   for (std::size_t k = 0; k < cells; ++k) {
-    unsigned char* px = pixels.data() + k * 3;
+    unsigned char* px = pixels.data() + k * 4;
     const auto j = static_cast<Eigen::Index>(k);
+    px[3] = 255;
     if (r.layer == MapLayer::variance) {
       variance_colour(variance[j], px);
       continue;
@@ -58,9 +65,11 @@ std::string map_layer_png(const Model& model, const MapLayerRequest& r, const Pl
     double shown[3];
     auto albedo_srgb = [&](int c) { return srgb_encode(static_cast<float>(std::clamp(albedo(c, j), 0.0, 1.0))); };
     if (r.layer == MapLayer::albedo) {
-      // Faded towards the map's background where the GP is uncertain (far from the data).
-      const double confidence = 1.0 - 0.8 * std::clamp(variance[j], 0.0, 1.0);
-      for (int c = 0; c < 3; ++c) shown[c] = confidence * albedo_srgb(c) + (1.0 - confidence) * 0.07;
+      // Transparent where the point is far from the data: what the model returns there is the
+      // database mean, not a material.
+      for (int c = 0; c < 3; ++c) shown[c] = albedo_srgb(c);
+      const double fade = render::uncertainty_fade(variance[j], render::kFadeFrom, render::kFadeTo);
+      px[3] = static_cast<unsigned char>(std::lround(255.0 * (1.0 - fade)));
     } else {
       // Plausible: the albedo, dimmed. Not plausible: red, brighter the larger the violation.
       const double violation = plausibility[k].violation();
@@ -70,7 +79,7 @@ std::string map_layer_png(const Model& model, const MapLayerRequest& r, const Pl
     }
     for (int c = 0; c < 3; ++c) px[c] = static_cast<unsigned char>(std::lround(255.0 * shown[c]));
   }
-  return encode_png_srgb8(pixels.data(), r.width, r.height);
+  return pixels;
 }
 
 }  // namespace matlas::server

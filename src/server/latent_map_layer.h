@@ -1,8 +1,11 @@
 #pragma once
 // Background layers of the latent map: a quantity of m(x) on a grid over a rectangle of one plane
-// (two latent axes; the other coordinates fixed), as an RGB PNG with the top row at the rectangle's
-// largest second coordinate (so that "up" is +y on screen).
+// (two latent axes; the other coordinates fixed), as an RGBA PNG with the top row at the rectangle's
+// largest second coordinate (so that "up" is +y on screen). The albedo layer is transparent where
+// the point is far from the data (predictive variance from render::kFadeFrom to kFadeTo): the
+// browser draws its "no data here" hatching there instead of the database mean's colour.
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -14,7 +17,7 @@ class PlausibilityProbe;
 namespace matlas::server {
 
 enum class MapLayer {
-  albedo,    ///< albedo at normal incidence as a colour (sRGB, clamped), faded where variance is high
+  albedo,    ///< albedo at normal incidence as a colour (sRGB, clamped), transparent where variance is high
   variance,  ///< GP predictive variance (0 at the data .. 1 far away), as a colour ramp
   plausibility,  ///< dimmed albedo where plausible, red by how much the material is not
                  ///< (negative values, albedo outside [0, 1]; manifold/plausibility.h)
@@ -28,7 +31,11 @@ struct MapLayerRequest {
   int width = 64, height = 64;  ///< grid size (pixel centres sample the rectangle)
 };
 
-/// Computes the layer (in parallel) and returns the PNG bytes. The plausibility layer needs `probe`.
+/// Computes the layer as RGBA pixels (width * height * 4, rows top first). The plausibility layer
+/// needs `probe`.
+std::vector<unsigned char> map_layer_pixels(const Model& model, const MapLayerRequest& request,
+                                            const PlausibilityProbe* probe = nullptr);
+/// The same as PNG bytes.
 std::string map_layer_png(const Model& model, const MapLayerRequest& request,
                           const PlausibilityProbe* probe = nullptr);
 

@@ -13,6 +13,7 @@
 #include "render/image_basis.h"
 #include "render/latent_map.h"
 #include "render/render.h"
+#include "render/text.h"
 #include "render_test_util.h"
 #include "support/temp_dir.h"
 
@@ -77,8 +78,14 @@ TEST_F(LatentMapTest, AlbedoAndVarianceLayersColourTheGrid) {
   o.size = 64;
   o.cells = 8;
   o.labels = false;
+  o.legend = false;
+  o.fade_from = 2, o.fade_to = 3;  // no "no data" fade: the raw albedo everywhere
   const Image albedo = render_latent_map(*model_, plane, o);
-  const LatentGrid g = latent_grid(*model_, plane, 8, 8);
+  const auto [w, h] = map_size(plane, 64);
+  ASSERT_EQ(albedo.width, w);
+  ASSERT_EQ(albedo.height, h);
+  const LatentGrid g = latent_grid(*model_, plane, static_cast<int>(std::lround(8.0 * w / 64)),
+                                   static_cast<int>(std::lround(8.0 * h / 64)));
   const Rgb a = model_->albedo_curve(g.weights.col(0)).front();
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(albedo.pixel(1, 1)[c], std::clamp(a[c], 0.0, 1.0), 1e-6);
   o.layer = MapLayer::variance;
@@ -123,9 +130,13 @@ TEST_F(LatentMapTest, GalleryPicksAreDeterministicShuffledAndKeyed) {
   const Image grid = render_gallery(*model_, a, nullptr, nullptr, &basis);
   EXPECT_GT(grid.width, 3 * 16);
   EXPECT_GT(grid.height, 2 * 16);
-  const nlohmann::json key = gallery_key(a);
-  ASSERT_EQ(key.size(), 8u);
-  EXPECT_EQ(key[0]["cell"], 1);
+  GalleryStats stats;
+  pick_gallery(*model_, o, &stats);
+  const nlohmann::json key = gallery_key(*model_, a, stats);
+  ASSERT_EQ(key["cells"].size(), 8u);
+  EXPECT_EQ(key["cells"][0]["cell"], 1);
+  EXPECT_EQ(key["interpolation"], to_string(model_->interpolation()));  // the mode of the model
+  EXPECT_GT(key["selection"]["candidates"].get<int>(), 0);
   o.real = 100;
   EXPECT_THROW(pick_gallery(*model_, o), Error);
   // The image layer of the map composes thumbnails from the basis.
@@ -135,7 +146,96 @@ TEST_F(LatentMapTest, GalleryPicksAreDeterministicShuffledAndKeyed) {
   m.thumbnails = 2;
   m.basis = &basis;
   m.labels = false;
-  EXPECT_EQ(render_latent_map(*model_, LatentPlane::automatic(*model_), m).width, 32);
+  const LatentPlane plane = LatentPlane::automatic(*model_);
+  const Image thumbs = render_latent_map(*model_, plane, m);
+  EXPECT_EQ(std::max(thumbs.width, thumbs.height - 22), 32);  // plus the legend's row
+}
+
+TEST_F(LatentMapTest, TheFrameIsTheDataBoxPlusTheStatedMargin) {
+  const Eigen::VectorXd mean = model_->latent().colwise().mean().transpose();
+  for (const double margin : {0.0, 0.05, 0.2}) {
+    for (const LatentPlane& p : {LatentPlane::from_dims(*model_, 0, 1, mean, margin), LatentPlane::pca(*model_, mean, margin)}) {
+      double u0 = 1e300, u1 = -1e300, v0 = 1e300, v1 = -1e300;
+      for (int i = 0; i < model_->count(); ++i) {
+        const Eigen::Vector2d uv = p.project(model_->latent().row(i).transpose());
+        u0 = std::min(u0, uv.x()), u1 = std::max(u1, uv.x()), v0 = std::min(v0, uv.y()), v1 = std::max(v1, uv.y());
+      }
+      const double pad = margin * std::max(u1 - u0, v1 - v0);
+      // Every point inside with at least the margin; the longer side exactly the data plus margins
+      // (no empty space beyond the stated margin), the shorter one widened only to keep 1:3.
+      EXPECT_LE(p.u_min, u0 - pad + 1e-12);
+      EXPECT_GE(p.u_max, u1 + pad - 1e-12);
+      EXPECT_LE(p.v_min, v0 - pad + 1e-12);
+      EXPECT_GE(p.v_max, v1 + pad - 1e-12);
+      const double du = p.u_max - p.u_min, dv = p.v_max - p.v_min;
+      if (u1 - u0 >= v1 - v0) {
+        EXPECT_NEAR(du, u1 - u0 + 2 * pad, 1e-9);
+        EXPECT_NEAR(dv, std::max(v1 - v0 + 2 * pad, du / 3), 1e-9);
+      } else {
+        EXPECT_NEAR(dv, v1 - v0 + 2 * pad, 1e-9);
+        EXPECT_NEAR(du, std::max(u1 - u0 + 2 * pad, dv / 3), 1e-9);
+      }
+      // The picture has the plane's aspect.
+      const auto [w, h] = map_size(p, 300);
+      EXPECT_EQ(std::max(w, h), 300);
+      EXPECT_NEAR(static_cast<double>(w) / h, du / dv, 0.02 * du / dv);
+    }
+  }
+}
+
+TEST_F(LatentMapTest, TheCoreFrameKeepsAtLeastHalfAndCountsTheRest) {
+  LatentPlane p = LatentPlane::automatic(*model_);
+  // The count returned is the materials outside the new frame; the frame only shrinks.
+  const int outside = frame_core(*model_, p, 0.1);
+  int counted = 0;
+  for (int i = 0; i < model_->count(); ++i) {
+    const Eigen::Vector2d uv = p.project(model_->latent().row(i).transpose());
+    counted += uv.x() < p.u_min || uv.x() > p.u_max || uv.y() < p.v_min || uv.y() > p.v_max;
+  }
+  EXPECT_EQ(outside, counted);
+  EXPECT_LE(outside, model_->count() / 2);
+  const LatentPlane all = LatentPlane::automatic(*model_);
+  EXPECT_LE(p.u_max - p.u_min, all.u_max - all.u_min + 1e-12);
+}
+
+TEST_F(LatentMapTest, MapLabelsDoNotOverlapAndFarRegionsAreMarkedAsNoData) {
+  const LatentPlane plane = LatentPlane::automatic(*model_);
+  MapOptions o;
+  o.size = 160;  // small: labels must be dropped to avoid overlaps
+  const MapLabels labels = map_labels(*model_, plane, o);
+  ASSERT_EQ(labels.labels.size(), static_cast<std::size_t>(model_->count()));
+  for (std::size_t i = 0; i < labels.labels.size(); ++i)
+    for (std::size_t j = i + 1; j < labels.labels.size(); ++j)
+      if (labels.labels[i].shown && labels.labels[j].shown) {
+        EXPECT_FALSE(overlaps(labels.labels[i].box, labels.labels[j].box));
+      }
+  if (text_available()) {
+    EXPECT_GT(labels.shown(), 0);
+  }
+
+  // A plane far larger than the data: its corners are far from every point (variance near 1) and
+  // show the "no data" hatching, not the database mean's albedo; the data's cells show the albedo.
+  LatentPlane wide = plane;
+  const double span = plane.u_max - plane.u_min;
+  wide.u_min -= 20 * span, wide.u_max += 20 * span, wide.v_min -= 20 * span, wide.v_max += 20 * span;
+  o.size = 64;
+  o.cells = 64;
+  o.labels = false;
+  o.legend = false;
+  const Image map = render_latent_map(*model_, wide, o);
+  const auto [mw, mh] = map_size(wide, 64);
+  ASSERT_EQ(map.width, mw);
+  ASSERT_EQ(map.height, mh);
+  ASSERT_GT(model_->variance(wide.point(wide.u_min, wide.v_min)), 0.9);
+  for (const auto& [x, y] : {std::pair{0, mh - 1}, std::pair{1, mh - 2}, std::pair{5, mh - 1}, std::pair{mw - 1, 0}})
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(map.pixel(x, y)[c], unknown_colour(x, y)[c], 1e-6);
+  EXPECT_NE(unknown_colour(0, 0)[0], unknown_colour(4, 0)[0]);  // hatched, not flat
+  EXPECT_EQ(uncertainty_fade(0.2, 0.5, 0.9), 0.0);
+  EXPECT_EQ(uncertainty_fade(0.95, 0.5, 0.9), 1.0);
+  EXPECT_NEAR(uncertainty_fade(0.7, 0.5, 0.9), 0.5, 1e-12);
+  // With a legend the picture grows by its strip.
+  o.legend = true;
+  EXPECT_GT(render_latent_map(*model_, wide, o).height, mh);
 }
 
 }  // namespace

@@ -14,6 +14,10 @@ export interface ModelInfo {
   scenes: { envs: string[]; objects: string[]; default_env: string; default_object: string };
   preview: { size: number; drag_size: number; max_size: number };
   layers: string[];
+  /** How m(x) mixes the inputs: "gp" (the paper's GP weights) or "convex"; absent in older servers. */
+  interpolation?: string;
+  /** Predictive variances over which the albedo layer fades into "no data here". */
+  uncertainty?: { fade_from: number; fade_to: number };
 }
 
 export interface Plausibility {

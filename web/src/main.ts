@@ -78,9 +78,27 @@ function showPlausibility(p: Plausibility): void {
     : `physically plausible: albedo ${p.min_albedo.toFixed(2)}–${p.max_albedo.toFixed(2)}, no negative value among ${p.sampled_values} sampled`;
 }
 
+/** The interpolation mode badge next to the map, with what the mode means. */
+function showInterpolation(mode: string): void {
+  const el = $("interpolation");
+  el.textContent = `interpolation: ${mode === "convex" ? "convex" : mode === "gp" ? "GP (paper)" : mode}`;
+  el.classList.add(mode === "convex" ? "convex" : "gp");
+  el.dataset.mode = mode;
+  el.title = mode === "convex"
+    ? "Convex interpolation: every point of the map is a mix of database materials with non-negative weights " +
+      "summing to 1, so its table has no negative value and its albedo never exceeds the largest of the inputs."
+    : mode === "gp"
+      ? "GP interpolation (Soler et al. 2018): the weights K⁻¹k(x) can be negative or sum above 1, so points between " +
+        "very different materials can have negative values or reflect more light than they receive " +
+        "(see the plausibility line and the plausibility background)."
+      : `interpolation mode "${mode}"`;
+}
+
 async function main(): Promise<void> {
   const model = await api.model();
   $("model-info").textContent = `${model.name} · ${model.count} materials · q = ${model.dim}`;
+  showInterpolation(model.interpolation ?? "gp");
+  const fade = model.uncertainty ?? { fade_from: 0.5, fade_to: 0.9 };
 
   const envSel = $<HTMLSelectElement>("env"), objSel = $<HTMLSelectElement>("object");
   fillSelect(envSel, model.scenes.envs.map((e) => ({ value: e, label: e })), model.scenes.default_env);
@@ -136,10 +154,11 @@ async function main(): Promise<void> {
   const layer = new LatestOnly<{ view: ViewRect; kind: string; axes: [number, number]; x: number[] }, ImageBitmap | null>(
     async ({ view, kind, axes, x }) => {
       if (kind === "none") return null;
-      const blob = await api.map({ layer: kind, axes, x, rect: [view.x0, view.x1, view.y0, view.y1], size: [128, 128] });
+      const rows = Math.max(4, Math.min(256, Math.round((128 * (view.y1 - view.y0)) / (view.x1 - view.x0))));
+      const blob = await api.map({ layer: kind, axes, x, rect: [view.x0, view.x1, view.y0, view.y1], size: [128, rows] });
       return createImageBitmap(blob);
     },
-    (bitmap, input) => state.map.setLayer(bitmap, input.view),
+    (bitmap, input) => state.map.setLayer(bitmap, input.view, input.kind === "albedo"),
     (e) => setStatus(`map layer: ${(e as Error).message}`, true),
   );
   const refreshLayer = () => {
@@ -257,9 +276,33 @@ async function main(): Promise<void> {
   }
   buildSliders();
 
+  // --- legend: what the background means, and how many labels are shown ---
+  const showLegend = () => {
+    const kind = $<HTMLSelectElement>("layer").value;
+    const el = $("legend-layer");
+    const item = (swatch: string, text: string) => `<span class="item"><span class="swatch ${swatch}"></span>${text}</span>`;
+    el.innerHTML =
+      kind === "albedo"
+        ? item("fade", `albedo fades out from variance ${fade.fade_from}`) +
+          item("hatch", `no data here (variance &gt; ${fade.fade_to}): the model only has the database mean`)
+        : kind === "variance"
+          ? item("variance", "predictive variance 0 (at the data) → 1 (far away)")
+          : kind === "plausibility"
+            ? item("red", "not physically plausible (negative values or albedo outside [0, 1])")
+            : "";
+  };
+  showLegend();
+  let labelText = "";
+  map.onDrawn = () => {
+    const shown = map.labelBoxes.length, n = map.visibleMaterials;
+    const text = !map.showLabels ? "" : shown < n ? `${shown} of ${n} labels shown: hover a point or zoom in for the others` : "";
+    if (text !== labelText) $("label-count").textContent = labelText = text;
+  };
+
   // --- toolbar ---
   $("layer").addEventListener("change", () => {
     if ($<HTMLSelectElement>("layer").value === "none") map.setLayer(null, map.view);
+    showLegend();
     refreshLayer();
   });
   $<HTMLInputElement>("labels").addEventListener("change", (e) => {
@@ -267,6 +310,7 @@ async function main(): Promise<void> {
     map.redraw();
   });
   $("reset-view").addEventListener("click", () => map.resetView(true));
+  $("core-view").addEventListener("click", () => map.resetView(true, true));
   const onScene = () => {
     state.env = envSel.value;
     state.object = objSel.value;

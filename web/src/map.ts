@@ -3,7 +3,10 @@
 // (projected) material. Pointer: click or drag to move the current point; Shift+drag, or drag
 // with the middle or right button, pans the view; wheel zooms around the cursor; double-click
 // resets the view. Keyboard (canvas focused): arrows move the point (Shift: 5x), Alt+arrows pan,
-// +/- zoom, 0 resets the view.
+// +/- zoom, 0 resets the view. Labels are decluttered (labels.ts): those that would overlap are
+// hidden, shown on hover, and come back as zooming in spreads the markers. Where the albedo layer
+// is transparent (far from the data) a hatched grey says "no data here".
+import { isolation, overlaps, placeLabels, type Box } from "./labels";
 
 export interface ViewRect {
   x0: number;
@@ -33,8 +36,19 @@ export class LatentMap {
 
   private cx = 0;
   private cy = 0;
+  /** Half the view's width in latent units (its height follows the canvas' aspect). */
   private half = 1;
-  private layer: { image: ImageBitmap; rect: ViewRect } | null = null;
+  private layer: { image: ImageBitmap; rect: ViewRect; hatched: boolean } | null = null;
+  /** The labels drawn by the last frame (decluttered; not the hovered one), for the page and tests. */
+  labelBoxes: { index: number; box: Box }[] = [];
+  /** Materials whose marker is inside the canvas in the last frame. */
+  visibleMaterials = 0;
+  /** The hovered material's label box when it was drawn on hover only (its label is otherwise hidden). */
+  hoverLabel: { index: number; box: Box } | null = null;
+  /** Called after each frame (the page updates its label count). */
+  onDrawn: (() => void) | null = null;
+  private widths = new Map<number, number>();
+  private hatch: CanvasPattern | null = null;
   private dragging = false;
   /** Panning: the latent point held under the pointer. */
   private panAnchor: [number, number] | null = null;
@@ -65,17 +79,32 @@ export class LatentMap {
   }
 
   get view(): ViewRect {
-    return { x0: this.cx - this.half, x1: this.cx + this.half, y0: this.cy - this.half, y1: this.cy + this.half };
+    const hy = this.half * this.aspect();
+    return { x0: this.cx - this.half, x1: this.cx + this.half, y0: this.cy - hy, y1: this.cy + hy };
   }
 
-  /** Fits the view to the data of the current plane, with a margin. */
-  resetView(notify = true): void {
+  /** Canvas height over width. */
+  private aspect(): number {
+    const r = this.canvas.getBoundingClientRect();
+    return r.width > 0 && r.height > 0 ? r.height / r.width : 1;
+  }
+
+  /**
+   * Fits the view to the data of the current plane: the latent points' bounding box plus 10 % of
+   * its longer side on every side. The canvas takes the box's aspect (from 1:1 to 3:2, never
+   * taller than wide) so that a wide cloud of points is not framed by empty bands.
+   */
+  resetView(notify = true, core = false): void {
     const [a, b] = this.axes;
-    const lo = [this.bounds.min[a], this.bounds.min[b]];
-    const hi = [this.bounds.max[a], this.bounds.max[b]];
+    let lo = [this.bounds.min[a], this.bounds.min[b]];
+    let hi = [this.bounds.max[a], this.bounds.max[b]];
+    if (core) [lo, hi] = coreBox(this.latent.map((p) => [p[a], p[b]]));
+    const pad = MARGIN * Math.max(hi[0] - lo[0], hi[1] - lo[1], 1e-6);
+    const du = hi[0] - lo[0] + 2 * pad, dv = hi[1] - lo[1] + 2 * pad;
+    this.canvas.style.aspectRatio = String(clamp(du / dv, 1, 1.5));
     this.cx = 0.5 * (lo[0] + hi[0]);
     this.cy = 0.5 * (lo[1] + hi[1]);
-    this.half = 0.5 * Math.max(hi[0] - lo[0], hi[1] - lo[1], 1e-6) * 1.18;
+    this.half = 0.5 * Math.max(du, dv / this.aspect());
     this.redraw();
     if (notify) this.cb.viewChanged(this.view);
   }
@@ -86,8 +115,9 @@ export class LatentMap {
     this.resetView(true);
   }
 
-  setLayer(image: ImageBitmap | null, rect: ViewRect): void {
-    this.layer = image ? { image, rect } : null;
+  /** The background layer over `rect`; `hatched`: draw "no data here" where the image is transparent. */
+  setLayer(image: ImageBitmap | null, rect: ViewRect, hatched = false): void {
+    this.layer = image ? { image, rect, hatched } : null;
     this.redraw();
   }
 
@@ -101,13 +131,13 @@ export class LatentMap {
   toScreen(u: number, v: number): [number, number] {
     const r = this.canvas.getBoundingClientRect();
     const s = r.width / (2 * this.half);
-    return [(u - (this.cx - this.half)) * s, (this.cy + this.half - v) * s];
+    return [(u - (this.cx - this.half)) * s, r.height / 2 - (v - this.cy) * s];
   }
 
   toLatent(px: number, py: number): [number, number] {
     const r = this.canvas.getBoundingClientRect();
     const s = (2 * this.half) / r.width;
-    return [this.cx - this.half + px * s, this.cy + this.half - py * s];
+    return [this.cx - this.half + px * s, this.cy + (r.height / 2 - py) * s];
   }
 
   /** Page coordinates of material i's point (for tests and tooltips). */
@@ -280,11 +310,15 @@ export class LatentMap {
       const [sx0, sy0] = this.toScreen(x0, y1);
       const [sx1, sy1] = this.toScreen(x1, y0);
       g.imageSmoothingEnabled = true;
-      g.globalAlpha = 0.9;
+      if (this.layer.hatched) {
+        g.fillStyle = this.hatchPattern(g);
+        g.fillRect(sx0, sy0, sx1 - sx0, sy1 - sy0);
+      }
+      g.globalAlpha = this.layer.hatched ? 1 : 0.9;  // the hatch must not show through the data
       g.drawImage(this.layer.image, sx0, sy0, sx1 - sx0, sy1 - sy0);
       g.globalAlpha = 1;
     }
-    this.drawGrid(g, r.width);
+    this.drawGrid(g, r.width, r.height);
 
     if (this.path) {
       const [ax, ay] = this.toScreen(this.path.a[a], this.path.a[b]);
@@ -306,8 +340,28 @@ export class LatentMap {
 
     g.font = "11px system-ui, sans-serif";
     g.textBaseline = "middle";
+    // Markers inside the canvas, and their decluttered labels.
+    const visible: number[] = [], xs: number[] = [], ys: number[] = [];
     this.latent.forEach((p, i) => {
       const [sx, sy] = this.toScreen(p[a], p[b]);
+      if (sx < -8 || sy < -8 || sx > r.width + 8 || sy > r.height + 8) return;
+      visible.push(i);
+      xs.push(sx);
+      ys.push(sy);
+    });
+    this.visibleMaterials = visible.length;
+    const labelHeight = 15;
+    let boxes: (Box | null)[] = visible.map(() => null);
+    if (this.showLabels) {
+      const priority = isolation(xs, ys);
+      boxes = placeLabels(
+        visible.map((i, k) => ({ x: xs[k], y: ys[k], width: this.labelWidth(g, i), height: labelHeight, priority: priority[k] })),
+        r.width, r.height, 7);
+    }
+    this.labelBoxes = [];
+    this.hoverLabel = null;
+    visible.forEach((i, k) => {
+      const [sx, sy] = [xs[k], ys[k]];
       const [cr, cg, cb] = this.colors[i] ?? [200, 200, 200];
       g.beginPath();
       g.arc(sx, sy, i === this.hovered ? 7 : 5, 0, 2 * Math.PI);
@@ -316,15 +370,23 @@ export class LatentMap {
       g.lineWidth = i === this.hovered ? 2 : 1;
       g.strokeStyle = i === this.hovered ? "#ffffff" : "rgba(255,255,255,0.55)";
       g.stroke();
-      if (this.showLabels || i === this.hovered) {
-        const label = this.names[i];
-        g.lineWidth = 3;
-        g.strokeStyle = "rgba(16,18,22,0.85)";
-        g.strokeText(label, sx + 8, sy);
-        g.fillStyle = i === this.hovered ? "#ffffff" : "#c9ced8";
-        g.fillText(label, sx + 8, sy);
-      }
     });
+    visible.forEach((i, k) => {
+      const box = boxes[k];
+      if (!box) return;
+      this.labelBoxes.push({ index: i, box });
+      this.drawLabel(g, i, box, i === this.hovered ? "#ffffff" : "#c9ced8", false);
+    });
+    if (this.hovered !== null && !this.labelBoxes.some((l) => l.index === this.hovered)) {
+      // A hidden label on hover: on top of the others, on a dark plate.
+      const i = this.hovered;
+      const [sx, sy] = this.toScreen(this.latent[i][a], this.latent[i][b]);
+      const w = this.labelWidth(g, i);
+      const x0 = sx + 10 + w > r.width ? sx - 10 - w : sx + 10;
+      const box = { x0, y0: sy - labelHeight / 2, x1: x0 + w, y1: sy + labelHeight / 2 };
+      this.hoverLabel = { index: i, box };
+      this.drawLabel(g, i, box, "#ffffff", true);
+    }
 
     if (this.projected) {
       const [sx, sy] = this.toScreen(this.projected.x[a], this.projected.x[b]);
@@ -337,8 +399,13 @@ export class LatentMap {
       g.fillRect(-6, -6, 12, 12);
       g.strokeRect(-6, -6, 12, 12);
       g.restore();
-      g.fillStyle = "#58d68d";
-      g.fillText(this.projected.label, sx + 10, sy - 10);
+      // Its name, unless it would cover a material's label (the status line names it too).
+      const w = g.measureText(this.projected.label).width;
+      const box = { x0: sx + 10, y0: sy - 17, x1: sx + 10 + w, y1: sy - 3 };
+      if (!this.labelBoxes.some((l) => overlaps(l.box, box))) {
+        g.fillStyle = "#58d68d";
+        g.fillText(this.projected.label, sx + 10, sy - 10);
+      }
     }
 
     const [px, py] = this.toScreen(this.point[a], this.point[b]);
@@ -354,9 +421,53 @@ export class LatentMap {
     g.moveTo(px, py - 14); g.lineTo(px, py - 5);
     g.moveTo(px, py + 5); g.lineTo(px, py + 14);
     g.stroke();
+    this.onDrawn?.();
   }
 
-  private drawGrid(g: CanvasRenderingContext2D, size: number): void {
+  private labelWidth(g: CanvasRenderingContext2D, i: number): number {
+    let w = this.widths.get(i);
+    if (w === undefined) {
+      w = Math.ceil(g.measureText(this.names[i]).width) + 6;
+      this.widths.set(i, w);
+    }
+    return w;
+  }
+
+  private drawLabel(g: CanvasRenderingContext2D, i: number, box: Box, colour: string, plate: boolean): void {
+    if (plate) {
+      g.fillStyle = "rgba(12,13,16,0.9)";
+      g.fillRect(box.x0, box.y0, box.x1 - box.x0, box.y1 - box.y0);
+    }
+    const y = 0.5 * (box.y0 + box.y1);
+    g.lineWidth = 3;
+    g.strokeStyle = "rgba(16,18,22,0.85)";
+    g.strokeText(this.names[i], box.x0 + 3, y);
+    g.fillStyle = colour;
+    g.fillText(this.names[i], box.x0 + 3, y);
+  }
+
+  /** "No data here": mid grey with dark diagonals (the same look as `matlas map`). */
+  private hatchPattern(g: CanvasRenderingContext2D): CanvasPattern | string {
+    if (!this.hatch) {
+      const c = document.createElement("canvas");
+      c.width = c.height = 9;
+      const h = c.getContext("2d")!;
+      h.fillStyle = "#666a70";
+      h.fillRect(0, 0, 9, 9);
+      h.strokeStyle = "#2a2c30";
+      h.lineWidth = 2;
+      h.beginPath();
+      for (const o of [-9, 0, 9]) {
+        h.moveTo(o, 9);
+        h.lineTo(o + 9, 0);
+      }
+      h.stroke();
+      this.hatch = g.createPattern(c, "repeat");
+    }
+    return this.hatch ?? "#666a70";
+  }
+
+  private drawGrid(g: CanvasRenderingContext2D, width: number, height: number): void {
     const span = 2 * this.half;
     const step = niceStep(span / 6);
     g.strokeStyle = "rgba(255,255,255,0.07)";
@@ -366,16 +477,39 @@ export class LatentMap {
     const { x0, x1, y0, y1 } = this.view;
     for (let u = Math.ceil(x0 / step) * step; u <= x1; u += step) {
       const [sx] = this.toScreen(u, 0);
-      g.beginPath(); g.moveTo(sx, 0); g.lineTo(sx, size); g.stroke();
-      g.fillText(fmt(u), sx + 3, size - 8);
+      g.beginPath(); g.moveTo(sx, 0); g.lineTo(sx, height); g.stroke();
+      g.fillText(fmt(u, step), sx + 3, height - 8);
     }
     for (let v = Math.ceil(y0 / step) * step; v <= y1; v += step) {
       const [, sy] = this.toScreen(0, v);
-      g.beginPath(); g.moveTo(0, sy); g.lineTo(size, sy); g.stroke();
-      g.fillText(fmt(v), 4, sy - 6);
+      g.beginPath(); g.moveTo(0, sy); g.lineTo(width, sy); g.stroke();
+      g.fillText(fmt(v, step), 4, sy - 6);
     }
   }
 }
+
+/**
+ * The box of the materials within 4 median distances of the per-axis median point (at least half
+ * of them), as `matlas map --frame core`: the crowd when a few outliers stretch the data's box.
+ */
+export function coreBox(points: number[][]): [number[], number[]] {
+  const median = (v: number[]) => v.slice().sort((x, y) => x - y)[v.length >> 1];
+  const mu = median(points.map((p) => p[0])), mv = median(points.map((p) => p[1]));
+  const d = points.map((p) => Math.hypot(p[0] - mu, p[1] - mv));
+  const limit = 4 * median(d);
+  const lo = [Infinity, Infinity], hi = [-Infinity, -Infinity];
+  points.forEach((p, i) => {
+    if (d[i] > limit) return;
+    for (const k of [0, 1]) {
+      lo[k] = Math.min(lo[k], p[k]);
+      hi[k] = Math.max(hi[k], p[k]);
+    }
+  });
+  return [lo, hi];
+}
+
+/** Margin of the fitted view on every side, as a fraction of the data box's longer side (as `matlas map`). */
+const MARGIN = 0.1;
 
 function clamp(v: number, lo: number, hi: number): number {
   return Math.min(hi, Math.max(lo, v));
@@ -387,6 +521,9 @@ function niceStep(raw: number): number {
   return (m < 1.5 ? 1 : m < 3.5 ? 2 : m < 7.5 ? 5 : 10) * p;
 }
 
-function fmt(v: number): string {
-  return Math.abs(v) < 1e-9 ? "0" : Number(v.toPrecision(3)).toString();
+/** A grid value with as many decimals as the grid's step needs (ticks stay distinct when zoomed in). */
+function fmt(v: number, step: number): string {
+  if (Math.abs(v) < 1e-9 * step) return "0";
+  const decimals = Math.max(0, Math.min(10, -Math.floor(Math.log10(step) + 1e-9)));
+  return v.toFixed(decimals);
 }

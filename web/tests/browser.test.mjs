@@ -6,7 +6,10 @@
 // Checks: the page loads; a click on the map updates the preview, which equals the server's image
 // for that point; dragging streams previews (latencies are printed); export downloads a valid MERL
 // table of the current point; uploading a database file projects it next to its latent point; the
-// path tool fills its strip; shift+drag and alt+arrows pan the map; the plausibility line and layer. A screenshot goes to test-results/browser.png.
+// path tool fills its strip; shift+drag and alt+arrows pan the map; the plausibility line and layer;
+// drawn labels never overlap (fitted and zoomed in) and a hidden one shows on hover; the
+// interpolation badge says the model's mode; the albedo layer is transparent far from the data.
+// Screenshots go to test-results/browser.png and test-results/map-zoomed.png.
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
 import { spawn } from "node:child_process";
@@ -212,4 +215,105 @@ test("the path tool shows a strip of previews", async () => {
     [...document.querySelectorAll("#strip img")].every((im) => im.src.startsWith("blob:") && im.complete), null,
     { timeout: 20_000 });
   await page.screenshot({ path: join(results, "browser.png"), fullPage: true });
+});
+
+/** Pairs of drawn label boxes that overlap (should be none), and the boxes. */
+async function labelState() {
+  return page.evaluate(() => {
+    const m = window.matlas.map;
+    const boxes = m.labelBoxes.map((l) => ({ index: l.index, ...l.box }));
+    const bad = [];
+    for (let i = 0; i < boxes.length; i++)
+      for (let j = i + 1; j < boxes.length; j++) {
+        const a = boxes[i], b = boxes[j];
+        if (a.x0 < b.x1 && b.x0 < a.x1 && a.y0 < b.y1 && b.y0 < a.y1) bad.push([a.index, b.index]);
+      }
+    return { boxes, bad, visible: m.visibleMaterials, count: window.matlas.model.count };
+  });
+}
+
+test("the interpolation badge says the model's mode", async () => {
+  const mode = await page.evaluate(() => window.matlas.model.interpolation);
+  assert.equal(mode, "convex", "the demo model is built with the default, convex interpolation");
+  const badge = page.locator("#interpolation");
+  assert.ok(await badge.isVisible(), "badge visible");
+  assert.match(await badge.textContent(), /interpolation: convex/);
+  assert.equal(await badge.getAttribute("data-mode"), "convex");
+  assert.match(await badge.getAttribute("title"), /non-negative/);
+});
+
+test("map labels never overlap; hidden ones show on hover and zooming in shows more", async () => {
+  await page.keyboard.press("Escape");
+  await page.locator("#map").focus();
+  await page.keyboard.press("0");
+  await page.waitForTimeout(100);
+  const fitted = await labelState();
+  assert.deepEqual(fitted.bad, [], `overlapping labels: ${JSON.stringify(fitted.bad)}`);
+  assert.ok(fitted.boxes.length >= 5, `labels drawn: ${fitted.boxes.length} of ${fitted.count}`);
+  assert.equal(fitted.visible, fitted.count, "the fitted view frames every material");
+  const size = await page.evaluate(() => { const r = document.getElementById("map").getBoundingClientRect(); return [r.width, r.height]; });
+  for (const b of fitted.boxes) assert.ok(b.x0 >= 0 && b.y0 >= 0 && b.x1 <= size[0] && b.y1 <= size[1], `label inside the canvas: ${JSON.stringify(b)}`);
+  // The fitted view: every material inside the canvas, with a margin.
+  const positions = await page.evaluate(() => window.matlas.model.latent.map((_, i) => window.matlas.map.materialClientPosition(i)));
+  const box = await page.locator("#map").boundingBox();
+  for (const [x, y] of positions) assert.ok(x > box.x + 0.05 * box.width && x < box.x + 0.95 * box.width && y > box.y + 0.05 * box.height && y < box.y + 0.95 * box.height, `material at ${x},${y} inside the margin`);
+  // Zoom in around a material whose label is hidden (in a crowd), else around material 0.
+  const shown = new Set(fitted.boxes.map((b) => b.index));
+  const hidden = [...Array(fitted.count).keys()].find((i) => !shown.has(i));
+  const [zx, zy] = positions[hidden ?? 0];
+  if (hidden !== undefined) {
+    // Hovering it draws its label (on a plate).
+    await page.mouse.move(zx, zy);
+    await page.waitForFunction((i) => window.matlas.map.hoverLabel?.index === i, hidden, { timeout: 5_000 });
+    assert.match(await page.textContent("#label-count"), /labels shown/);
+  }
+  await page.mouse.move(zx, zy);
+  for (let k = 0; k < 3; k++) await page.mouse.wheel(0, -300);
+  await page.waitForTimeout(200);
+  await page.mouse.move(box.x + 2, box.y + 2);  // no hover
+  await page.waitForTimeout(100);
+  const zoomed = await labelState();
+  assert.deepEqual(zoomed.bad, [], `overlapping labels zoomed in: ${JSON.stringify(zoomed.bad)}`);
+  assert.ok(zoomed.visible >= 1);
+  const labelled = new Set(zoomed.boxes.map((b) => b.index));
+  if (hidden !== undefined) {
+    const revealed = [...labelled].filter((i) => !shown.has(i)).length;
+    assert.ok(revealed > 0, `zooming in shows labels hidden before: ${zoomed.boxes.length} of ${zoomed.visible} visible labelled`);
+  }
+  console.log(`labels: fitted ${fitted.boxes.length} of ${fitted.count}, zoomed in ${zoomed.boxes.length} of ${zoomed.visible} visible`);
+  await page.locator("#map").screenshot({ path: join(results, "map-zoomed.png") });
+  await page.keyboard.press("0");
+});
+
+test("the albedo layer is transparent far from the data and the legend says why", async () => {
+  const model = await page.evaluate(() => window.matlas.model);
+  assert.deepEqual(model.uncertainty, { fade_from: 0.5, fade_to: 0.9 });
+  // A rectangle in the corner of the domain, far from every material.
+  const [lo0, lo1] = model.domain.min;
+  const w0 = model.bounds.min[0] - lo0, w1 = model.bounds.min[1] - lo1;
+  const png = await api("api/map", { layer: "albedo", axes: [0, 1], x: model.latent[0],
+    rect: [lo0, lo0 + 0.2 * w0, lo1, lo1 + 0.2 * w1], size: [8, 8] });
+  const alpha = await page.evaluate(async (b64) => {
+    const blob = await (await fetch(`data:image/png;base64,${b64}`)).blob();
+    const bmp = await createImageBitmap(blob, { premultiplyAlpha: "none" });
+    const c = new OffscreenCanvas(bmp.width, bmp.height);
+    const g = c.getContext("2d");
+    g.drawImage(bmp, 0, 0);
+    return Array.from(g.getImageData(0, 0, bmp.width, bmp.height).data.filter((_, i) => i % 4 === 3));
+  }, png.toString("base64"));
+  assert.equal(alpha.length, 64);
+  assert.ok(Math.max(...alpha) < 20, `far corner alpha: ${Math.max(...alpha)}`);
+  await page.selectOption("#layer", "albedo");
+  assert.match(await page.textContent("#legend-layer"), /no data here/);
+});
+
+test("the crowd button frames at least half of the materials, labels still apart", async () => {
+  await page.click("#core-view");
+  await page.waitForTimeout(200);
+  const s = await labelState();
+  assert.ok(s.visible >= s.count / 2, `${s.visible} of ${s.count} visible`);
+  assert.deepEqual(s.bad, []);
+  await page.click("#reset-view");
+  await page.waitForTimeout(100);
+  assert.equal((await labelState()).visible, s.count, "fit shows every material again");
 });
