@@ -129,9 +129,10 @@ std::vector<Rgb> albedo_curve(const BrdfTable& table, int count, const AlbedoQua
   return curve;
 }
 
-const char* albedo_rule_description() {
-  return "half-vector quadrature per theta_h bin (dwi = 4 (wo.h) dwh): 2 Gauss-Legendre points in "
-         "sqrt(theta_h) per bin x 64 azimuths, MERL nearest-bin lookup, missing values as 0";
+std::string albedo_rule_description(const AlbedoQuadrature& q) {
+  return "half-vector quadrature per theta_h bin (dwi = 4 (wo.h) dwh): " + std::to_string(q.theta_h_points) +
+         " Gauss-Legendre points in sqrt(theta_h) per bin x " + std::to_string(q.phi_h_points) +
+         " azimuths, MERL nearest-bin lookup, missing values as 0";
 }
 
 }  // namespace matlas

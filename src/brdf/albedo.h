@@ -17,6 +17,7 @@
 // brdf/analytic_albedo.h.
 #include <cmath>
 #include <cstddef>
+#include <string>
 #include <vector>
 
 #include "brdf/brdf_table.h"
@@ -65,6 +66,6 @@ Rgb directional_albedo(const BrdfTable& table, double theta_o, const AlbedoQuadr
 std::vector<Rgb> albedo_curve(const BrdfTable& table, int count = 90, const AlbedoQuadrature& q = {});
 
 /// A short description of the table rule, for model metadata.
-const char* albedo_rule_description();
+std::string albedo_rule_description(const AlbedoQuadrature& q = {});
 
 }  // namespace matlas

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <xxhash.h>
 
+#include "brdf/albedo.h"
 #include "core/error.h"
 #include "formats/safetensors.h"
 #include "gp/initialize.h"
@@ -92,6 +93,7 @@ json model_metadata_skeleton(const MaterialSet& set, const BuildOptions& options
        "v = channel * bins + bin; physical units); m(x)[v] = (1 - sum w) mean[c] + sum_i w_i data[c, i]"},
       {"storage", dtype_name(storage)},
       {"layout_transform", options.layout.to_string()},
+      {"albedo", albedo_rule_description()},
       {"sources", sources},
   };
 }
