@@ -13,15 +13,17 @@ Eigen::SparseMatrix<double, Eigen::RowMajor> albedo_operator(const MerlDims& dim
     for (std::size_t t = lo; t < hi; ++t)
       rules[t] = albedo_rule(dims, (static_cast<double>(t) + 0.5) / angles * (kPi / 2.0), q);
   });
-  std::size_t total = 0;
-  for (const auto& r : rules) total += r.size();
-  std::vector<Eigen::Triplet<double>> entries;
-  entries.reserve(total);
+  // Each rule holds one term per bin: reserve every row's count, then append in column order
+  // (several times faster than setFromTriplets on 1.46 M rows).
+  Eigen::VectorXi counts = Eigen::VectorXi::Zero(static_cast<Eigen::Index>(dims.bins()));
+  for (const auto& rule : rules)
+    for (const AlbedoTerm& term : rule) ++counts[static_cast<Eigen::Index>(term.bin)];
+  Eigen::SparseMatrix<double, Eigen::RowMajor> a(static_cast<Eigen::Index>(dims.bins()), angles);
+  a.reserve(counts);
   for (std::size_t t = 0; t < rules.size(); ++t)
     for (const AlbedoTerm& term : rules[t])
-      entries.emplace_back(static_cast<int>(term.bin), static_cast<int>(t), term.weight);
-  Eigen::SparseMatrix<double, Eigen::RowMajor> a(static_cast<Eigen::Index>(dims.bins()), angles);
-  a.setFromTriplets(entries.begin(), entries.end());  // one entry per (bin, angle) already
+      a.insert(static_cast<Eigen::Index>(term.bin), static_cast<Eigen::Index>(t)) = term.weight;
+  a.makeCompressed();
   return a;
 }
 
