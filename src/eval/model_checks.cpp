@@ -48,22 +48,18 @@ std::vector<Eigen::VectorXd> sample_points(const Model& model, int count, unsign
   return pts;
 }
 
-/// Directional albedo of m(x) for weights w with the same quadrature and nearest-bin lookup as
-/// directional_albedo(BrdfTable), but reading the model's signed values (a table would take
-/// negative values for "missing"); dropped columns read as 0.
-Rgb signed_albedo(const Model& model, const Eigen::VectorXd& w, double theta_o, int resolution) {
-  const Vec3 wo = direction_at_theta(theta_o);
+/// Directional albedo of m(x) for weights w with the same rule as directional_albedo(BrdfTable)
+/// and the model's stored curves (brdf/albedo.h), but reading the model's signed values (a table
+/// would take negative values for "missing"); dropped columns read as 0.
+Rgb signed_albedo(const Model& model, const Eigen::VectorXd& w, double theta_o, const AlbedoQuadrature& q) {
   const std::size_t bins = model.dims().bins();
   Rgb sum = Rgb::Zero();
-  const std::vector<Vec3> dirs = cosine_quadrature(resolution);
-  for (const Vec3& wi : dirs) {
-    const std::size_t bin = bin_of(model.dims(), wi, wo);
+  for (const AlbedoTerm& t : albedo_rule(model.dims(), theta_o, q))
     for (int c = 0; c < 3; ++c) {
-      const std::size_t v = static_cast<std::size_t>(c) * bins + bin;
-      if (model.kept(v)) sum[c] += model.value(v, w);
+      const std::size_t v = static_cast<std::size_t>(c) * bins + t.bin;
+      if (model.kept(v)) sum[c] += t.weight * model.value(v, w);
     }
-  }
-  return sum * (kPi / static_cast<double>(dirs.size()));
+  return sum;
 }
 
 double relative(double a, double ref) { return std::abs(a - ref) / std::max(std::abs(ref), 1e-6); }
@@ -217,7 +213,7 @@ ModelChecks run_model_checks(const Model& model, const MaterialSet* sources, con
     for (int i = 0; i < n; ++i)
       for (double deg : out.albedo.angles_degrees)
         input_albedo[static_cast<std::size_t>(i)].push_back(
-            signed_albedo(model, model.material_weights(i), deg * kPi / 180.0, options.albedo_resolution));
+            signed_albedo(model, model.material_weights(i), deg * kPi / 180.0, options.albedo_quadrature));
     task.advance(static_cast<std::uint64_t>(n));
     for (std::size_t p = 0; p < points.size(); ++p) {
       const Eigen::VectorXd w = model.weights(points[p]);
@@ -228,8 +224,8 @@ ModelChecks run_model_checks(const Model& model, const MaterialSet* sources, con
         const double theta = out.albedo.angles_degrees[k] * kPi / 180.0;
         Rgb expected = Rgb::Zero();
         for (int i = 0; i < n; ++i) expected += c(i) * input_albedo[static_cast<std::size_t>(i)][k];
-        const Rgb got = signed_albedo(model, w, theta, options.albedo_resolution);
-        const Rgb got_clamped = directional_albedo(clamped, theta, options.albedo_resolution);
+        const Rgb got = signed_albedo(model, w, theta, options.albedo_quadrature);
+        const Rgb got_clamped = directional_albedo(clamped, theta, options.albedo_quadrature);
         const Rgb fast = curve[static_cast<std::size_t>(angle_index[k])];
         for (int ch = 0; ch < 3; ++ch) {
           out.albedo.max_relative_error = std::max(out.albedo.max_relative_error, relative(got[ch], expected[ch]));

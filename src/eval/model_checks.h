@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 
+#include "brdf/albedo.h"
 #include "core/progress.h"
 #include "manifold/material_set.h"
 #include "manifold/model.h"
@@ -20,7 +21,7 @@ struct ModelCheckOptions {
   int reciprocity_pairs = 2000;  ///< random direction pairs per sample point
   int sample_points = 8;         ///< latent points for reciprocity and albedo checks
   int map_resolution = 32;       ///< grid cells per axis for the plausibility map
-  int albedo_resolution = 64;    ///< quadrature resolution of the albedo check (as the model's)
+  AlbedoQuadrature albedo_quadrature{};  ///< quadrature of the albedo check (the model's)
   unsigned seed = 1;
 };
 

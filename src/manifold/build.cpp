@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <xxhash.h>
 
+#include "brdf/albedo.h"
 #include "core/error.h"
 #include "formats/safetensors.h"
 #include "gp/initialize.h"
@@ -100,6 +101,7 @@ json model_metadata_skeleton(const MaterialSet& set, const BuildOptions& options
         {"precision", options.prior.precision},
         {"complexity_weight", options.prior.complexity_weight}}},
       {"interpolation", {{"mode", to_string(options.interpolation)}, {"ridge", options.convex_ridge}}},
+      {"albedo", albedo_rule_description()},
       {"sources", sources},
   };
 }
