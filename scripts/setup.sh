@@ -39,7 +39,7 @@ cmake --build build -j "$jobs"
 if [[ "${1:-}" == "--sanitize" ]]; then
   # Configured here; scripts/test.sh --sanitize builds and runs the core suites in it.
   cmake -S . -B build-sanitize -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMATLAS_SANITIZE=ON \
-        -DMATLAS_BUILD_BENCH=OFF > /dev/null
+        -DMATLAS_BUILD_BENCH=OFF -DMATLAS_PYTHON=OFF > /dev/null
 fi
 
 [[ -x scripts/install-assets.sh ]] && scripts/install-assets.sh
