@@ -7,6 +7,8 @@
 #include <cmath>
 #include <exception>
 #include <mutex>
+#include <optional>
+#include <unistd.h>
 
 #include <pybind11/eigen.h>
 #include <pybind11/functional.h>
@@ -140,7 +142,7 @@ std::vector<fs::path> input_paths(const py::object& inputs) {
   return paths;
 }
 
-Model build(const py::object& inputs, const fs::path& output, int dim, double nugget, const std::string& optimizer,
+Model build(const py::object& inputs, const std::optional<fs::path>& output_arg, int dim, double nugget, const std::string& optimizer,
             const std::string& layout, const std::string& storage, int starts, int max_iterations,
             const py::object& progress) {
   BuildOptions o;
@@ -153,6 +155,30 @@ Model build(const py::object& inputs, const fs::path& output, int dim, double nu
   if (storage == "f16") o.storage = Storage::f16;
   else if (storage != "f32") throw py::value_error("storage must be 'f32' or 'f16', got '" + storage + "'");
   const std::vector<fs::path> paths = input_paths(inputs);
+  // Without an output, the model goes to a temporary file that is unlinked once mapped (the
+  // mapping stays valid; nothing is left on disk).
+  fs::path output;
+  if (output_arg) {
+    output = *output_arg;
+  } else {
+    std::error_code ec;
+    fs::path dir = fs::temp_directory_path(ec);
+    if (ec) dir = "/tmp";
+    std::string name = (dir / "matlas-model-XXXXXX").string();
+    const int fd = ::mkstemp(name.data());
+    if (fd < 0) throw Error("cannot create a temporary model file in " + dir.string());
+    ::close(fd);
+    output = name;
+  }
+  struct Unlink {
+    const fs::path* path;
+    ~Unlink() {
+      if (path) {
+        std::error_code ec;
+        fs::remove(*path, ec);
+      }
+    }
+  } unlink_temporary{output_arg ? nullptr : &output};
   PythonProgress sink(progress);
   {
     py::gil_scoped_release release;
@@ -307,11 +333,12 @@ truncated, corrupted or not a model.)doc")
            },
            "x"_a, "repeats"_a = 5, "Benchmark helper: seconds per weights() + table() call timed inside C++.");
 
-  m.def("build", &build, "inputs"_a, "output"_a, py::kw_only(), "dim"_a = 2, "nugget"_a = 1e-4, "optimizer"_a = "lbfgs",
+  m.def("build", &build, "inputs"_a, "output"_a = py::none(), py::kw_only(), "dim"_a = 2, "nugget"_a = 1e-4, "optimizer"_a = "lbfgs",
         "layout"_a = "cosine-linear", "storage"_a = "f32", "starts"_a = 0, "max_iterations"_a = 1000,
         "progress"_a = py::none(),
         "Builds a map from a folder (every MERL .binary and RGL .bsdf file in it) or a list of files and/or\n"
-        "folders, writes it atomically to `output` and returns the opened Model. progress(label, done, total)\n"
+        "folders, writes it atomically to `output` (or, when None, to a temporary file removed once the model\n"
+        "is open) and returns the opened Model. progress(label, done, total)\n"
         "is called as the work advances (any thread, with the GIL held); an exception it raises stops the\n"
         "reporting and is raised again when the build returns.");
   m.def("read_merl",

@@ -83,7 +83,7 @@ class RglBsdf:
 
 def build(
     inputs: Union[_Path, Iterable[_Path]],
-    output: _Path,
+    output: Optional[_Path] = None,
     *,
     dim: int = 2,
     nugget: float = 1e-4,

@@ -1,4 +1,6 @@
 """A model built from Python: exactness at the data points, batch queries, projection, progress."""
+import pathlib
+
 import numpy as np
 import pytest
 
@@ -79,6 +81,10 @@ def test_build_reports_progress_and_errors(database, tmp_path):
     seen = []
     m = matlas.build([folder], tmp_path / "p.matlas", dim=1, progress=lambda label, done, total: seen.append((label, done, total)))
     assert m.q == 1 and seen
+    # Without an output file: a temporary one, gone once the model is open.
+    t = matlas.build(folder, dim=1)
+    assert t.n == 8 and not pathlib.Path(t.path).exists()
+    assert np.array_equal(t.table(t.latent[3]), m.table(m.latent[3]), equal_nan=True)
     assert all(0 <= done <= total for _, done, total in seen if total)
 
     def fails(label, done, total):
