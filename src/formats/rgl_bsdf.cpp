@@ -181,8 +181,8 @@ std::string RglBsdf::summary() const {
 }
 
 Rgb RglBsdf::eval_cosine(const Vec3& wi_in, const Vec3& wo_in) const {
-  if (!(wi_in.z() > 0.0) || !(wo_in.z() > 0.0)) return Rgb::Zero();
-  Vec3 wi = wi_in, wo = wo_in;
+  if (!(wi_in.z() > 0.0) || !(wo_in.z() > 0.0) || !wi_in.allFinite() || !wo_in.allFinite()) return Rgb::Zero();
+  Vec3 wi = wi_in.normalized(), wo = wo_in.normalized();
   if (reduction_ >= 2) {
     const double sy = wi.y(), sx = reduction_ == 4 ? wi.x() : sy;
     wi.x() = mulsign_neg(wi.x(), sx);
@@ -214,12 +214,13 @@ Rgb RglBsdf::eval_cosine(const Vec3& wi_in, const Vec3& wo_in) const {
 }
 
 Rgb RglBsdf::eval(const Vec3& wi, const Vec3& wo) const {
-  if (!(wo.z() > 0.0)) return Rgb::Zero();
-  return eval_cosine(wi, wo) / wo.z();
+  if (!(wo.z() > 0.0) || !wo.allFinite()) return Rgb::Zero();
+  return eval_cosine(wi, wo) / wo.normalized().z();
 }
 
-Rgb RglBsdf::eval_reciprocal(const Vec3& wi, const Vec3& wo) const {
-  if (!(wi.z() > 0.0) || !(wo.z() > 0.0)) return Rgb::Zero();
+Rgb RglBsdf::eval_reciprocal(const Vec3& wi_in, const Vec3& wo_in) const {
+  if (!(wi_in.z() > 0.0) || !(wo_in.z() > 0.0) || !wi_in.allFinite() || !wo_in.allFinite()) return Rgb::Zero();
+  const Vec3 wi = wi_in.normalized(), wo = wo_in.normalized();
   const double ci = wi.z(), co = wo.z();
   return (co * eval_cosine(wi, wo) + ci * eval_cosine(wo, wi)) / (ci * ci + co * co);
 }

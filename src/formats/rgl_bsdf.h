@@ -59,8 +59,8 @@ public:
   std::string summary() const;
 
   /// f(wi, wo) cos(theta_o) as Mitsuba's measured BSDF evaluates it (0 when either direction is
-  /// below the horizon). Directions are unit vectors in the local frame (normal +z); wi is the
-  /// direction of the light, wo the view.
+  /// below the horizon, or not finite). Directions are in the local frame (normal +z; normalised
+  /// here); wi is the direction of the light, wo the view.
   Rgb eval_cosine(const Vec3& wi, const Vec3& wo) const;
   /// The BRDF f(wi, wo) (1/sr): eval_cosine / cos(theta_o).
   Rgb eval(const Vec3& wi, const Vec3& wo) const;

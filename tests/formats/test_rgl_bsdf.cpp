@@ -154,6 +154,10 @@ TEST(RglBsdf, SyntheticEvaluationMatchesTheClosedForm) {
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], want[c], 1e-5 * want[c]) << trial;
     EXPECT_NEAR(b.eval(wi, wo)[1], want[1] / wo.z(), 1e-5 * want[1] / wo.z());
   }
+  // Directions are normalised; NaN directions read as 0.
+  const Vec3 wi(0.3, 0.2, 0.9), wo(-0.4, 0.1, 0.7);
+  EXPECT_NEAR(b.eval(2.0 * wi, 3.0 * wo)[1], b.eval(wi.normalized(), wo.normalized())[1], 1e-12);
+  EXPECT_EQ(b.eval_cosine(Vec3(std::nan(""), 0, 1), Vec3(0, 0, 1)).sum(), 0.0);
   // Below the horizon: zero.
   EXPECT_EQ(b.eval_cosine(Vec3(0, 0, -1), Vec3(0, 0, 1)).sum(), 0.0);
   EXPECT_EQ(b.eval_cosine(Vec3(0, 0, 1), Vec3(1, 0, 0)).sum(), 0.0);
