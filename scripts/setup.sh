@@ -12,6 +12,7 @@ packages=(
   liblbfgspp-dev libtinyexr-dev libopenexr-dev libdraco-dev libstb-dev libembree-dev libtbb-dev
   libtinygltf-dev
   libgtest-dev libbenchmark-dev
+  python3-dev python3-pybind11 python3-numpy python3-pytest python3-setuptools python3-pip
   nodejs npm chromium fonts-dejavu-core libjs-chart.js
 )
 missing=()
@@ -38,7 +39,7 @@ cmake --build build -j "$jobs"
 if [[ "${1:-}" == "--sanitize" ]]; then
   # Configured here; scripts/test.sh --sanitize builds and runs the core suites in it.
   cmake -S . -B build-sanitize -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMATLAS_SANITIZE=ON \
-        -DMATLAS_BUILD_BENCH=OFF > /dev/null
+        -DMATLAS_BUILD_BENCH=OFF -DMATLAS_PYTHON=OFF > /dev/null
 fi
 
 [[ -x scripts/install-assets.sh ]] && scripts/install-assets.sh

@@ -54,7 +54,7 @@ void apply_preset(BuildArgs& a, const CLI::App& cmd) {
 void run_build(const BuildArgs& a) {
   TerminalProgress progress(!a.quiet);
   std::vector<std::filesystem::path> inputs(a.inputs.begin(), a.inputs.end());
-  const MaterialSet set = MaterialSet::open(inputs);
+  const MaterialSet set = MaterialSet::open(inputs, progress);
   BuildOptions o;
   o.dim = a.dim;
   o.nugget = a.nugget;
@@ -74,9 +74,10 @@ void run_build(const BuildArgs& a) {
     std::fprintf(stderr, "building a q=%d manifold of %zu materials (%s grid):\n", a.dim, set.size(),
                  set.dims().to_string().c_str());
     for (std::size_t i = 0; i < set.size(); ++i)
-      std::fprintf(stderr, "  %s\n", set.file(i).path().string().c_str());
+      std::fprintf(stderr, "  %s%s\n", set.file(i).path().string().c_str(),
+                   set.resampled(i) ? "  (RGL, resampled onto the MERL grid)" : "");
     if (!set.ignored().empty()) {
-      std::fprintf(stderr, "ignored %zu file(s) that are not .binary:", set.ignored().size());
+      std::fprintf(stderr, "ignored %zu file(s) that are neither .binary nor .bsdf:", set.ignored().size());
       for (const auto& p : set.ignored()) std::fprintf(stderr, " %s", p.filename().string().c_str());
       std::fprintf(stderr, "\n");
     }
@@ -104,8 +105,9 @@ void run_build(const BuildArgs& a) {
 
 void add_build_command(CLI::App& app) {
   auto args = std::make_shared<BuildArgs>();
-  auto* cmd = app.add_subcommand("build", "Build a material manifold (.matlas model) from MERL .binary files");
-  cmd->add_option("inputs", args->inputs, "A folder of MERL .binary files (other files are ignored) or a list of files")
+  auto* cmd = app.add_subcommand("build", "Build a material manifold (.matlas model) from MERL .binary and RGL .bsdf files");
+  cmd->add_option("inputs", args->inputs, "A folder of MERL .binary and/or RGL .bsdf files (other files are ignored) or a list of files; "
+                  "isotropic .bsdf files are resampled onto the MERL grid")
       ->required();
   cmd->add_option("-o,--output", args->output, "Output model file (.matlas)")->required();
   cmd->add_option("-q,--dim", args->dim, "Latent dimension q (1..10)")->check(CLI::Range(1, 10))->capture_default_str();

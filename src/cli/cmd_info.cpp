@@ -7,13 +7,14 @@
 #include "brdf/albedo.h"
 #include "cli/commands.h"
 #include "formats/merl_file.h"
+#include "formats/rgl_bsdf.h"
 
 namespace matlas::cli {
 
 namespace {
 
 void print_info(const std::string& path) {
-  const BrdfTable table = read_merl(path);
+  const BrdfTable table = read_brdf(path);  // .bsdf: resampled onto the MERL grid
   const std::size_t bins = table.bins();
   std::printf("%s\n", path.c_str());
   std::printf("  dims            %d x %d x %d (theta_h x theta_d x phi_d)%s\n", table.dims().theta_h,
@@ -44,7 +45,7 @@ void print_info(const std::string& path) {
 
 namespace {
 void add_info_command(CLI::App& app) {
-  auto* cmd = app.add_subcommand("info", "Describe MERL .binary BRDF files");
+  auto* cmd = app.add_subcommand("info", "Describe MERL .binary BRDF files (RGL .bsdf files as resampled onto the MERL grid)");
   auto files = std::make_shared<std::vector<std::string>>();
   cmd->add_option("files", *files, "MERL .binary files")->required();
   cmd->callback([files] {

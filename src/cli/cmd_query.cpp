@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "formats/merl_file.h"
 #include "manifold/export.h"
+#include "formats/rgl_bsdf.h"
 #include "manifold/project.h"
 
 namespace matlas::cli {
@@ -103,7 +104,7 @@ void run_weights(const WeightsArgs& a) {
 // ---- project
 void run_project(const std::string& model_path, const std::string& file, bool as_json) {
   const Model model = Model::open(model_path);
-  const BrdfTable table = read_merl(file);
+  const BrdfTable table = read_brdf(file);  // .bsdf: resampled onto the MERL grid
   const Projection p = project_material(model, table);
   const std::string nearest = model.names()[static_cast<std::size_t>(p.nearest)];
   if (as_json) {
@@ -152,7 +153,7 @@ void add_query_commands(CLI::App& app) {
     auto as_json = std::make_shared<bool>(false);
     auto* cmd = app.add_subcommand("project", "Find where a measured material falls on the map");
     cmd->add_option("model", *model, "Model file (.matlas)")->required();
-    cmd->add_option("file", *file, "MERL .binary file")->required();
+    cmd->add_option("file", *file, "MERL .binary or RGL .bsdf file")->required();
     cmd->add_flag("--json", *as_json, "JSON output");
     cmd->callback([model, file, as_json] { run_project(*model, *file, *as_json); });
   }

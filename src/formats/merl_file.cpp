@@ -75,6 +75,28 @@ MerlFile::MerlFile(fs::path path) : path_(std::move(path)) {
   }
 }
 
+MerlFile MerlFile::from_table(fs::path path, const BrdfTable& table) {
+  MerlFile file;
+  file.path_ = std::move(path);
+  file.dims_ = table.dims();
+  std::error_code ec;
+  fs::path dir = fs::temp_directory_path(ec);
+  if (ec) dir = "/tmp";
+  file.fd_ = ::open(dir.c_str(), O_TMPFILE | O_RDWR | O_CLOEXEC, 0600);
+  if (file.fd_ < 0) {  // file systems without O_TMPFILE: a named file, unlinked at once
+    std::string name = (dir / "matlas-table-XXXXXX").string();
+    file.fd_ = ::mkostemp(name.data(), O_CLOEXEC);
+    if (file.fd_ < 0)
+      throw file_error(file.path_, "cannot create a temporary file in " + dir.string() + ": " + std::strerror(errno));
+    ::unlink(name.c_str());
+  }
+  const std::int32_t header[3] = {table.dims().theta_h, table.dims().theta_d, table.dims().phi_d};
+  const fs::path where = dir / "(temporary copy)";
+  write_all_at(file.fd_, where, header, sizeof header, 0);
+  write_all_at(file.fd_, where, table.stored().data(), table.stored().size() * sizeof(double), kHeaderBytes);
+  return file;
+}
+
 MerlFile::MerlFile(MerlFile&& other) noexcept
     : path_(std::move(other.path_)), dims_(other.dims_), fd_(other.fd_) {
   other.fd_ = -1;

@@ -21,6 +21,11 @@ public:
   MerlFile& operator=(const MerlFile&) = delete;
   ~MerlFile();
 
+  /// A table converted in memory (an RGL .bsdf resampled onto the MERL grid), served through the
+  /// same streaming interface from an unlinked temporary file in the system temporary folder (so
+  /// that a large database costs disk cache, not memory). `path` is the source, named in errors.
+  static MerlFile from_table(std::filesystem::path path, const BrdfTable& table);
+
   const std::filesystem::path& path() const { return path_; }
   const MerlDims& dims() const { return dims_; }
   /// 3 * bins.
@@ -55,6 +60,7 @@ public:
   }
 
 private:
+  MerlFile() = default;
   /// Throws (internal error) when [first, first + count) is not inside the table.
   void check_range(std::size_t first, std::size_t count) const;
   /// One read of values [first, first + count) into out, then the NaN/Inf check.

@@ -1,15 +1,21 @@
 #include "manifold/material_set.h"
 
 #include <algorithm>
+#include <memory>
 #include <set>
 
 #include "core/error.h"
+#include "formats/rgl_bsdf.h"
 
 namespace matlas {
 
 namespace fs = std::filesystem;
 
-MaterialSet MaterialSet::open(const std::vector<fs::path>& inputs) {
+std::size_t MaterialSet::resampled_count() const {
+  return static_cast<std::size_t>(std::count(resampled_.begin(), resampled_.end(), true));
+}
+
+MaterialSet MaterialSet::open(const std::vector<fs::path>& inputs, ProgressSink& progress) {
   MaterialSet set;
   std::vector<fs::path> files;
   for (const auto& input : inputs) {
@@ -17,12 +23,12 @@ MaterialSet MaterialSet::open(const std::vector<fs::path>& inputs) {
     if (fs::is_directory(input, ec)) {
       std::vector<fs::path> found;
       for (const auto& entry : fs::directory_iterator(input)) {
-        if (entry.is_regular_file() && entry.path().extension() == ".binary")
+        if (entry.is_regular_file() && (entry.path().extension() == ".binary" || is_rgl_path(entry.path())))
           found.push_back(entry.path());
         else
           set.ignored_.push_back(entry.path());
       }
-      if (found.empty()) throw file_error(input, "no MERL .binary files in this folder");
+      if (found.empty()) throw file_error(input, "no MERL .binary or RGL .bsdf files in this folder");
       std::sort(found.begin(), found.end());
       files.insert(files.end(), found.begin(), found.end());
     } else {
@@ -30,8 +36,13 @@ MaterialSet MaterialSet::open(const std::vector<fs::path>& inputs) {
     }
   }
   std::set<std::string> seen;
+  const auto rgl_count = static_cast<std::uint64_t>(std::count_if(files.begin(), files.end(), is_rgl_path));
+  std::unique_ptr<ProgressTask> task;
+  if (rgl_count) task = std::make_unique<ProgressTask>(progress, "resampling RGL .bsdf files", rgl_count);
   for (const auto& path : files) {
-    MerlFile file(path);
+    const bool rgl = is_rgl_path(path);
+    MerlFile file = rgl ? MerlFile::from_table(path, resample_to_merl(RglBsdf::read(path))) : MerlFile(path);
+    if (rgl) task->advance();
     if (set.files_.empty()) {
       set.dims_ = file.dims();
     } else if (file.dims() != set.dims_) {
@@ -41,8 +52,10 @@ MaterialSet MaterialSet::open(const std::vector<fs::path>& inputs) {
     }
     std::string name = path.stem().string();
     if (!seen.insert(name).second)
-      throw file_error(path, "duplicate material name '" + name + "' (two inputs with the same file name)");
+      throw file_error(path, "duplicate material name '" + name + "' (two inputs with the same file name, "
+                             "whatever the extension)");
     set.names_.push_back(std::move(name));
+    set.resampled_.push_back(rgl);
     set.files_.push_back(std::move(file));
   }
   if (set.files_.size() < 2)

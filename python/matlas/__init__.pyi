@@ -1,0 +1,100 @@
+"""Type stubs of the matlas package (the pybind11 module matlas._matlas and its Python layer)."""
+from os import PathLike
+from typing import Any, Callable, Iterable, Optional, TypedDict, Union
+
+import numpy as np
+import numpy.typing as npt
+
+_Path = Union[str, PathLike[str]]
+_Table = npt.NDArray[np.float64]  # (3, theta_h, theta_d, phi_d)
+_Points = npt.ArrayLike  # (m, q)
+
+class Error(RuntimeError):
+    """Bad input: the message names the file or argument and the problem."""
+
+class Projection(TypedDict):
+    x: npt.NDArray[np.float64]
+    relative_error: float
+    residual2: float
+    variance: float
+    nearest: str
+    nearest_index: int
+    nearest_relative_error: float
+    missing: int
+
+class Distance(TypedDict):
+    cbrt_cosine: float
+    cosine_rmse: float
+    values: int
+
+class Model:
+    """A built material map (.matlas file), opened read-only (memory-mapped)."""
+    def __init__(self, path: _Path) -> None: ...
+    @property
+    def path(self) -> PathLike[str]: ...
+    @property
+    def names(self) -> list[str]: ...
+    @property
+    def latent(self) -> npt.NDArray[np.float64]:
+        """(n, q) latent points, row i for material i."""
+    @property
+    def q(self) -> int: ...
+    @property
+    def n(self) -> int: ...
+    @property
+    def dims(self) -> tuple[int, int, int]: ...
+    @property
+    def kept_columns(self) -> int: ...
+    @property
+    def storage(self) -> str: ...
+    @property
+    def metadata_json(self) -> str: ...
+    @property
+    def metadata(self) -> dict[str, Any]: ...
+    def index_of(self, name: str) -> int: ...
+    def weights(self, x: npt.ArrayLike) -> npt.NDArray[np.float64]:
+        """w(x), length n; e_i at material i's latent point."""
+    def weights_batch(self, X: _Points) -> npt.NDArray[np.float64]:
+        """(m, n) weights of the rows of an (m, q) array."""
+    def variance(self, x: npt.ArrayLike) -> float: ...
+    def variance_batch(self, X: _Points) -> npt.NDArray[np.float64]: ...
+    def table(self, x: npt.ArrayLike, physical: bool = True) -> _Table:
+        """m(x) as a (3, theta_h, theta_d, phi_d) array (no copy); NaN at dropped columns."""
+    def table_batch(self, X: _Points, physical: bool = True) -> npt.NDArray[np.float64]:
+        """(m, 3, theta_h, theta_d, phi_d) tables of the rows of an (m, q) array."""
+    def material_table(self, material: Union[str, int], physical: bool = True) -> _Table: ...
+    def albedo_curve(self, x: npt.ArrayLike) -> npt.NDArray[np.float64]:
+        """(90, 3) directional albedo at view angles 0.5, 1.5, ... 89.5 degrees."""
+    def project(self, table: Union[_Table, _Path], physical: bool = True, starts: int = 5) -> Projection: ...
+    def _table_seconds(self, x: npt.ArrayLike, repeats: int = 5) -> float: ...
+
+class RglBsdf:
+    """An RGL measured material (.bsdf file)."""
+    def __init__(self, path: _Path) -> None: ...
+    @property
+    def description(self) -> str: ...
+    @property
+    def isotropic(self) -> bool: ...
+    @property
+    def summary(self) -> str: ...
+    def eval(self, wi: npt.ArrayLike, wo: npt.ArrayLike, cosine: bool = False) -> npt.NDArray[np.float64]:
+        """(m, 3) RGB values for (m, 3) arrays of directions."""
+    def resample(self, physical: bool = True) -> _Table: ...
+
+def build(
+    inputs: Union[_Path, Iterable[_Path]],
+    output: Optional[_Path] = None,
+    *,
+    dim: int = 2,
+    nugget: float = 1e-4,
+    optimizer: str = "lbfgs",
+    layout: str = "cosine-linear",
+    storage: str = "f32",
+    starts: int = 0,
+    max_iterations: int = 1000,
+    progress: Optional[Callable[[str, int, int], Any]] = None,
+) -> Model: ...
+def read_merl(path: _Path, physical: bool = True) -> _Table: ...
+def read_brdf(path: _Path, physical: bool = True) -> _Table: ...
+def write_merl(path: _Path, table: npt.ArrayLike, physical: bool = True, allow_nonstandard_dims: bool = False) -> None: ...
+def brdf_distance(a: Union[_Table, _Path], b: Union[_Table, _Path], physical: bool = True) -> Distance: ...

@@ -1,0 +1,294 @@
+#include "formats/rgl_bsdf.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "core/error.h"
+#include "core/parallel.h"
+#include "formats/merl_file.h"
+
+namespace matlas {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kWhat = "RGL measured BSDF (.bsdf)";
+
+/// The float32 values of a field after checking its rank, dtype and that every value is finite.
+std::vector<float> floats(const TensorFile& file, const TensorField& f, std::size_t rank) {
+  if (f.dtype != TensorType::Float32 || f.shape.size() != rank)
+    throw file_error(file.path(), "field '" + f.name + "' is " + f.describe() + ", expected float32 of rank " +
+                                      std::to_string(rank));
+  std::vector<float> v(f.count());
+  if (!v.empty()) std::memcpy(v.data(), f.data.data(), v.size() * sizeof(float));
+  for (std::size_t i = 0; i < v.size(); ++i)
+    if (!std::isfinite(v[i]))
+      throw file_error(file.path(), std::string(std::isnan(v[i]) ? "NaN" : "infinite") + " value in field '" + f.name +
+                                        "' at element " + std::to_string(i));
+  return v;
+}
+
+void require(const TensorFile& file, bool ok, const std::string& what) {
+  if (!ok) throw file_error(file.path(), "invalid " + std::string(kWhat) + ": " + what);
+}
+
+void check_sorted(const TensorFile& file, const std::vector<float>& v, const char* name) {
+  for (std::size_t i = 1; i < v.size(); ++i)
+    require(file, v[i] > v[i - 1], std::string("field '") + name + "' is not strictly increasing");
+}
+
+/// Elevation of a unit vector, accurate near the pole: 2 asin(|d - z| / 2).
+double elevation(const Vec3& d) {
+  const double dist = std::sqrt(d.x() * d.x() + d.y() * d.y() + (d.z() - 1.0) * (d.z() - 1.0));
+  return 2.0 * std::asin(std::clamp(0.5 * dist, -1.0, 1.0));
+}
+double theta_to_unit(double theta) { return std::sqrt(std::max(theta, 0.0) * (2.0 / kPi)); }
+double phi_to_unit(double phi) { return (phi + kPi) * (0.5 / kPi); }
+/// a with its sign flipped unless b is negative (Mitsuba's mulsign_neg).
+double mulsign_neg(double a, double b) { return std::signbit(b) ? a : -a; }
+
+/// Piecewise-Gaussian lobe of the analytic colour-matching functions.
+double lobe(double lambda, double mu, double s1, double s2) {
+  const double t = (lambda - mu) / (lambda < mu ? s1 : s2);
+  return std::exp(-0.5 * t * t);
+}
+/// CIE 1931 x, y, z colour-matching functions (multi-lobe fit, Wyman, Sloan & Shirley 2013).
+std::array<double, 3> cie_xyz(double l) {
+  return {1.056 * lobe(l, 599.8, 37.9, 31.0) + 0.362 * lobe(l, 442.0, 16.0, 26.7) - 0.065 * lobe(l, 501.1, 20.4, 26.2),
+          0.821 * lobe(l, 568.8, 46.9, 40.5) + 0.286 * lobe(l, 530.9, 16.3, 31.1),
+          1.217 * lobe(l, 437.0, 11.8, 36.0) + 0.681 * lobe(l, 459.0, 26.0, 13.8)};
+}
+/// XYZ to linear sRGB.
+constexpr double kXyzToRgb[3][3] = {{3.2406, -1.5372, -0.4986}, {-0.9689, 1.8758, 0.0415}, {0.0557, -0.2040, 1.0570}};
+
+/// Per channel and wavelength: the weights that reduce a sampled spectrum to balanced RGB.
+std::vector<std::array<double, 3>> spectral_to_rgb_weights(const std::vector<float>& wavelengths) {
+  const std::size_t n = wavelengths.size();
+  std::vector<std::array<double, 3>> w(n);
+  std::array<double, 3> white{0, 0, 0};
+  for (std::size_t k = 0; k < n; ++k) {
+    const double lo = wavelengths[k == 0 ? 0 : k - 1], hi = wavelengths[k + 1 == n ? k : k + 1];
+    const double width = n == 1 ? 1.0 : 0.5 * (hi - lo);
+    const auto xyz = cie_xyz(wavelengths[k]);
+    for (int c = 0; c < 3; ++c) {
+      w[k][static_cast<std::size_t>(c)] =
+          width * (kXyzToRgb[c][0] * xyz[0] + kXyzToRgb[c][1] * xyz[1] + kXyzToRgb[c][2] * xyz[2]);
+      white[static_cast<std::size_t>(c)] += w[k][static_cast<std::size_t>(c)];
+    }
+  }
+  for (auto& row : w)
+    for (std::size_t c = 0; c < 3; ++c) row[c] = white[c] != 0 ? row[c] / white[c] : 0.0;
+  return w;
+}
+
+}  // namespace
+
+RglBsdf RglBsdf::read(const fs::path& path) { return RglBsdf(TensorFile::read(path)); }
+
+RglBsdf::RglBsdf(const TensorFile& file) : path_(file.path()) {
+  if (const TensorField* d = file.find("description")) {
+    require(file, d->dtype == TensorType::UInt8 && d->shape.size() == 1, "field 'description' is " + d->describe());
+    description_.assign(reinterpret_cast<const char*>(d->data.data()), d->data.size());
+    while (!description_.empty() && description_.back() == '\0') description_.pop_back();
+  }
+  theta_i_ = floats(file, file.field("theta_i", kWhat), 1);
+  phi_i_ = floats(file, file.field("phi_i", kWhat), 1);
+  require(file, !theta_i_.empty() && !phi_i_.empty(), "no incident directions (theta_i or phi_i is empty)");
+  check_sorted(file, theta_i_, "theta_i");
+  check_sorted(file, phi_i_, "phi_i");
+  const std::size_t nt = theta_i_.size(), np = phi_i_.size();
+
+  const TensorField& ndf = file.field("ndf", kWhat);
+  const TensorField& sigma = file.field("sigma", kWhat);
+  const TensorField& vndf = file.field("vndf", kWhat);
+  const TensorField& jacobian = file.field("jacobian", kWhat);
+  const std::vector<float> ndf_v = floats(file, ndf, 2), sigma_v = floats(file, sigma, 2);
+  const std::vector<float> vndf_v = floats(file, vndf, 4);
+  require(file, ndf.shape[0] >= 2 && ndf.shape[1] >= 2, "field 'ndf' is " + ndf.describe() + " (at least 2x2)");
+  require(file, sigma.shape[0] >= 2 && sigma.shape[1] >= 2, "field 'sigma' is " + sigma.describe() + " (at least 2x2)");
+  require(file, vndf.shape[0] == np && vndf.shape[1] == nt && vndf.shape[2] >= 2 && vndf.shape[3] >= 2,
+          "field 'vndf' is " + vndf.describe() + ", expected [phi_i, theta_i, >=2, >=2] with " + std::to_string(np) +
+              " phi_i and " + std::to_string(nt) + " theta_i");
+  require(file, jacobian.dtype == TensorType::UInt8 && jacobian.count() == 1,
+          "field 'jacobian' is " + jacobian.describe() + ", expected uint8 [1]");
+  jacobian_ = static_cast<std::uint8_t>(jacobian.data[0]) != 0;
+  for (float v : sigma_v) require(file, v > 0, "field 'sigma' has a value that is not positive");
+  for (float v : vndf_v) require(file, v >= 0, "field 'vndf' has a negative value");
+  for (float v : ndf_v) require(file, v >= 0, "field 'ndf' has a negative value");
+
+  // Reflectance: RGB, or a spectrum reduced to RGB here.
+  const TensorField* rgb = file.find("rgb");
+  const TensorField* spectra = file.find("spectra");
+  if (!rgb && !spectra) file.field("rgb", kWhat);  // throws, listing the fields present
+  const TensorField& refl = rgb ? *rgb : *spectra;
+  const std::vector<float> refl_v = floats(file, refl, 5);
+  std::size_t channels = 3;
+  std::vector<float> rgb_v;
+  if (rgb) {
+    rgb_v = refl_v;
+  } else {
+    const std::vector<float> wavelengths = floats(file, file.field("wavelengths", kWhat), 1);
+    check_sorted(file, wavelengths, "wavelengths");
+    channels = wavelengths.size();
+    wavelength_count_ = channels;
+    require(file, channels >= 1, "field 'wavelengths' is empty");
+    const auto weights = spectral_to_rgb_weights(wavelengths);
+    const std::size_t grid = refl.shape.size() == 5 ? refl.shape[3] * refl.shape[4] : 0;
+    const std::size_t slices = refl.shape[0] * refl.shape[1];
+    if (refl.shape[2] == channels) {
+      rgb_v.assign(slices * 3 * grid, 0.0f);
+      for (std::size_t s = 0; s < slices; ++s)
+        for (std::size_t l = 0; l < channels; ++l)
+          for (std::size_t c = 0; c < 3; ++c) {
+            const float* src = refl_v.data() + (s * channels + l) * grid;
+            float* dst = rgb_v.data() + (s * 3 + c) * grid;
+            const auto w = static_cast<float>(weights[l][c]);
+            for (std::size_t k = 0; k < grid; ++k) dst[k] += w * src[k];
+          }
+    }
+  }
+  require(file, refl.shape[0] == np && refl.shape[1] == nt && refl.shape[2] == channels && refl.shape[3] >= 2 &&
+                    refl.shape[4] >= 2,
+          "field '" + refl.name + "' is " + refl.describe() + ", expected [phi_i, theta_i, " + std::to_string(channels) +
+              ", >=2, >=2]");
+
+  isotropic_ = np <= 2;
+  if (!isotropic_) {
+    const double span = static_cast<double>(phi_i_.back()) - static_cast<double>(phi_i_.front());
+    require(file, span > 0, "field 'phi_i' spans no angle");
+    reduction_ = static_cast<int>(std::lrint(2 * kPi / span));
+  }
+
+  ndf_ = RglWarp2D(ndf_v, ndf.shape[1], ndf.shape[0], 1, false);
+  sigma_ = RglWarp2D(sigma_v, sigma.shape[1], sigma.shape[0], 1, false);
+  vndf_ = RglWarp2D(vndf_v, vndf.shape[3], vndf.shape[2], np * nt, true);
+  for (std::size_t s = 0; s < np * nt; ++s)
+    require(file, vndf_.slice_integral(s) > 0,
+            "field 'vndf' is zero everywhere for incident direction " + std::to_string(s));
+  rgb_ = RglWarp2D(rgb_v, refl.shape[4], refl.shape[3], np * nt * 3, false);
+}
+
+std::string RglBsdf::summary() const {
+  std::string s = isotropic_ ? "isotropic" : "anisotropic";
+  s += spectral() ? ", spectral (" + std::to_string(wavelength_count_) + " wavelengths, reduced to RGB)" : ", RGB";
+  s += ", " + std::to_string(theta_i_.size()) + " x " + std::to_string(phi_i_.size()) +
+       " incident directions, VNDF " + std::to_string(vndf_.nx()) + "x" + std::to_string(vndf_.ny()) +
+       ", reflectance " + std::to_string(rgb_.nx()) + "x" + std::to_string(rgb_.ny());
+  if (!jacobian_) s += ", no Jacobian";
+  return s;
+}
+
+Rgb RglBsdf::eval_cosine(const Vec3& wi_in, const Vec3& wo_in) const {
+  if (!(wi_in.z() > 0.0) || !(wo_in.z() > 0.0) || !wi_in.allFinite() || !wo_in.allFinite()) return Rgb::Zero();
+  Vec3 wi = wi_in.normalized(), wo = wo_in.normalized();
+  if (reduction_ >= 2) {
+    const double sy = wi.y(), sx = reduction_ == 4 ? wi.x() : sy;
+    wi.x() = mulsign_neg(wi.x(), sx);
+    wi.y() = mulsign_neg(wi.y(), sy);
+    wo.x() = mulsign_neg(wo.x(), sx);
+    wo.y() = mulsign_neg(wo.y(), sy);
+  }
+  const Vec3 m = (wi + wo).normalized();
+  const double theta_i = elevation(wi), phi_i = std::atan2(wi.y(), wi.x());
+  const double theta_m = elevation(m), phi_m = std::atan2(m.y(), m.x());
+  const double u_wi[2] = {theta_to_unit(theta_i), phi_to_unit(phi_i)};
+  double u_m[2] = {theta_to_unit(theta_m), phi_to_unit(isotropic_ ? phi_m - phi_i : phi_m)};
+  u_m[1] -= std::floor(u_m[1]);
+
+  const ParamBlend blend = blend_params(phi_i_, phi_i, theta_i_, theta_i);
+  const auto sample = vndf_.invert(u_m[0], u_m[1], blend);
+  Rgb value;
+  for (int c = 0; c < 3; ++c) {
+    ParamBlend channel = blend;
+    for (int b = 0; b < blend.count; ++b) channel.slice[static_cast<std::size_t>(b)] = 3 * blend.slice[static_cast<std::size_t>(b)] + static_cast<std::size_t>(c);
+    value[c] = rgb_.eval(sample[0], sample[1], channel);
+  }
+  if (jacobian_) {
+    const ParamBlend none;
+    const double s = sigma_.eval(u_wi[0], u_wi[1], none);
+    value *= s > 0 ? ndf_.eval(u_m[0], u_m[1], none) / (4.0 * s) : 0.0;
+  }
+  return value;
+}
+
+Rgb RglBsdf::eval(const Vec3& wi, const Vec3& wo) const {
+  if (!(wo.z() > 0.0) || !wo.allFinite()) return Rgb::Zero();
+  return eval_cosine(wi, wo) / wo.normalized().z();
+}
+
+Rgb RglBsdf::eval_reciprocal(const Vec3& wi_in, const Vec3& wo_in) const {
+  if (!(wi_in.z() > 0.0) || !(wo_in.z() > 0.0) || !wi_in.allFinite() || !wo_in.allFinite()) return Rgb::Zero();
+  const Vec3 wi = wi_in.normalized(), wo = wo_in.normalized();
+  const double ci = wi.z(), co = wo.z();
+  return (co * eval_cosine(wi, wo) + ci * eval_cosine(wo, wi)) / (ci * ci + co * co);
+}
+
+BrdfTable resample_to_merl(const RglBsdf& bsdf, RglResampling* report, const MerlDims& dims) {
+  if (!bsdf.isotropic())
+    throw file_error(bsdf.path(), "anisotropic material (" + std::to_string(bsdf.phi_i_count()) +
+                                      " incident azimuths), not supported yet: the MERL grid holds isotropic "
+                                      "BRDFs only");
+  BrdfTable table(dims, ValueBuffer::Uninitialized{});
+  struct Partial {
+    std::size_t measured = 0, missing = 0, clamped = 0;
+    double asym = 0, sym = 0;
+    Rgb max = Rgb::Zero();
+  };
+  std::vector<Partial> partial(static_cast<std::size_t>(dims.theta_h));
+  parallel_for_each(0, static_cast<std::size_t>(dims.theta_h), [&](std::size_t i) {
+    Partial& p = partial[i];
+    for (int j = 0; j < dims.theta_d; ++j) {
+      for (int k = 0; k < dims.phi_d; ++k) {
+        const std::size_t bin = dims.flat(static_cast<int>(i), j, k);
+        const DirectionPair d = from_half_diff(bin_centre(dims, static_cast<int>(i), j, k));
+        if (!(d.wi.z() > 0.0) || !(d.wo.z() > 0.0)) {
+          for (int c = 0; c < 3; ++c) table.set_missing(c, bin);
+          ++p.missing;
+          continue;
+        }
+        // f cos(theta_o) in one order, f cos(theta_i) in the other.
+        const Rgb forward = bsdf.eval_cosine(d.wi, d.wo), backward = bsdf.eval_cosine(d.wo, d.wi);
+        const double ci = d.wi.z(), co = d.wo.z();
+        p.asym += (ci * forward - co * backward).abs().sum();
+        p.sym += 0.5 * (ci * forward.abs() + co * backward.abs()).sum();
+        Rgb value = (co * forward + ci * backward) / (ci * ci + co * co);
+        for (int c = 0; c < 3; ++c) {
+          if (value[c] < 0) {
+            value[c] = 0;
+            ++p.clamped;
+          }
+          table.set_value(c, bin, value[c]);
+        }
+        p.max = p.max.max(value);
+        ++p.measured;
+      }
+    }
+  });
+  if (report) {
+    RglResampling r;
+    r.bins = dims.bins();
+    double asym = 0, sym = 0;
+    for (const Partial& p : partial) {
+      r.measured_bins += p.measured;
+      r.missing_bins += p.missing;
+      r.clamped_values += p.clamped;
+      asym += p.asym;
+      sym += p.sym;
+      r.max_value = r.max_value.max(p.max);
+    }
+    r.reciprocity_error = sym > 0 ? asym / sym : 0.0;
+    *report = r;
+  }
+  return table;
+}
+
+bool is_rgl_path(const fs::path& path) { return path.extension() == ".bsdf"; }
+
+BrdfTable read_brdf(const fs::path& path) {
+  if (is_rgl_path(path)) return resample_to_merl(RglBsdf::read(path));
+  return read_merl(path);
+}
+
+}  // namespace matlas

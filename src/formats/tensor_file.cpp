@@ -1,0 +1,237 @@
+#include "formats/tensor_file.h"
+
+#include <cstring>
+#include <limits>
+#include <set>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+
+namespace matlas {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr char kMagic[12] = {'t', 'e', 'n', 's', 'o', 'r', '_', 'f', 'i', 'l', 'e', '\0'};
+constexpr std::size_t kMaxRank = 16;
+constexpr std::uint32_t kMaxFields = 4096;
+
+/// Bounds-checked little-endian reader over the header.
+class Cursor {
+public:
+  Cursor(std::span<const std::byte> bytes, const fs::path& path) : bytes_(bytes), path_(path) {}
+
+  template <class T>
+  T get(const char* what) {
+    T value;
+    need(sizeof value, what);
+    std::memcpy(&value, bytes_.data() + pos_, sizeof value);
+    pos_ += sizeof value;
+    return value;
+  }
+  std::string string(std::size_t length, const char* what) {
+    need(length, what);
+    std::string s(reinterpret_cast<const char*>(bytes_.data() + pos_), length);
+    pos_ += length;
+    return s;
+  }
+  std::size_t position() const { return pos_; }
+
+private:
+  void need(std::size_t n, const char* what) const {
+    if (bytes_.size() - pos_ < n)
+      throw file_error(path_, std::string("truncated tensor file: the header ends inside ") + what + " (" +
+                                  std::to_string(bytes_.size()) + " bytes)");
+  }
+  std::span<const std::byte> bytes_;
+  const fs::path& path_;
+  std::size_t pos_ = 0;
+};
+
+bool valid_type(std::uint8_t code) { return code >= 1 && code <= 11; }
+
+}  // namespace
+
+std::size_t tensor_type_size(TensorType type) {
+  switch (type) {
+    case TensorType::UInt8: case TensorType::Int8: return 1;
+    case TensorType::UInt16: case TensorType::Int16: case TensorType::Float16: return 2;
+    case TensorType::UInt32: case TensorType::Int32: case TensorType::Float32: return 4;
+    case TensorType::UInt64: case TensorType::Int64: case TensorType::Float64: return 8;
+  }
+  return 0;
+}
+
+const char* tensor_type_name(TensorType type) {
+  switch (type) {
+    case TensorType::UInt8: return "uint8";
+    case TensorType::Int8: return "int8";
+    case TensorType::UInt16: return "uint16";
+    case TensorType::Int16: return "int16";
+    case TensorType::UInt32: return "uint32";
+    case TensorType::Int32: return "int32";
+    case TensorType::UInt64: return "uint64";
+    case TensorType::Int64: return "int64";
+    case TensorType::Float16: return "float16";
+    case TensorType::Float32: return "float32";
+    case TensorType::Float64: return "float64";
+  }
+  return "?";
+}
+
+std::uint64_t TensorField::count() const {
+  std::uint64_t n = 1;
+  for (auto s : shape) n *= s;
+  return n;
+}
+
+std::string TensorField::describe() const {
+  std::string s = std::string(tensor_type_name(dtype)) + " [";
+  for (std::size_t i = 0; i < shape.size(); ++i) s += (i ? ", " : "") + std::to_string(shape[i]);
+  return s + "]";
+}
+
+TensorFile TensorFile::parse(std::span<const std::byte> bytes, const fs::path& path) {
+  if (bytes.empty()) throw file_error(path, "empty file, expected an RGL tensor file (.bsdf)");
+  if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
+    throw file_error(path, "not a tensor file (the RGL .bsdf format starts with \"tensor_file\")");
+  Cursor in(bytes, path);
+  in.string(sizeof kMagic, "the magic");
+  const auto major = in.get<std::uint8_t>("the version");
+  const auto minor = in.get<std::uint8_t>("the version");
+  if (major != 1)
+    throw file_error(path, "unsupported tensor file version " + std::to_string(major) + "." + std::to_string(minor) +
+                               " (only 1.x is known)");
+  const auto count = in.get<std::uint32_t>("the field count");
+  if (count == 0 || count > kMaxFields)
+    throw file_error(path, "invalid tensor file: " + std::to_string(count) + " fields");
+
+  TensorFile file;
+  file.path_ = path;
+  std::set<std::string> names;
+  struct Pending { std::uint64_t offset; };
+  std::vector<Pending> offsets;
+  for (std::uint32_t f = 0; f < count; ++f) {
+    TensorField field;
+    const auto name_length = in.get<std::uint16_t>("a field name");
+    field.name = in.string(name_length, "a field name");
+    const std::string label = "field '" + field.name + "'";
+    const auto rank = in.get<std::uint16_t>("a field header");
+    const auto type = in.get<std::uint8_t>("a field header");
+    const auto offset = in.get<std::uint64_t>("a field header");
+    if (!valid_type(type))
+      throw file_error(path, "invalid tensor file: " + label + " has unknown dtype code " + std::to_string(type));
+    if (rank > kMaxRank)
+      throw file_error(path, "invalid tensor file: " + label + " has rank " + std::to_string(rank));
+    field.dtype = static_cast<TensorType>(type);
+    std::uint64_t elements = 1;
+    for (std::uint16_t d = 0; d < rank; ++d) {
+      const auto extent = in.get<std::uint64_t>("a field shape");
+      field.shape.push_back(extent);
+      if (extent != 0 && elements > std::numeric_limits<std::uint64_t>::max() / 16 / extent)
+        throw file_error(path, "invalid tensor file: " + label + " has an absurd shape " + field.describe());
+      elements *= extent;
+    }
+    if (!names.insert(field.name).second)
+      throw file_error(path, "invalid tensor file: two fields named '" + field.name + "'");
+    const std::uint64_t size = elements * tensor_type_size(field.dtype);
+    if (offset > bytes.size() || size > bytes.size() - offset)
+      throw file_error(path, "truncated: " + label + " (" + field.describe() + ", " + std::to_string(size) +
+                                 " bytes at offset " + std::to_string(offset) + ") ends past the end of the file (" +
+                                 std::to_string(bytes.size()) + " bytes)");
+    offsets.push_back({offset});
+    file.fields_.push_back(std::move(field));
+  }
+  for (std::size_t f = 0; f < file.fields_.size(); ++f) {
+    TensorField& field = file.fields_[f];
+    if (offsets[f].offset < in.position() && field.count() != 0)
+      throw file_error(path, "invalid tensor file: field '" + field.name + "' has its data inside the header");
+    const std::size_t size = field.count() * tensor_type_size(field.dtype);
+    field.data.resize(size);
+    if (size) std::memcpy(field.data.data(), bytes.data() + offsets[f].offset, size);
+  }
+  return file;
+}
+
+TensorFile TensorFile::read(const fs::path& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw file_error(path, "no such file");
+  if (fs::is_directory(path, ec)) throw file_error(path, "is a directory, not an RGL .bsdf file");
+  const std::string bytes = read_file(path);
+  return parse(std::as_bytes(std::span(bytes.data(), bytes.size())), path);
+}
+
+const TensorField* TensorFile::find(const std::string& name) const {
+  for (const auto& f : fields_)
+    if (f.name == name) return &f;
+  return nullptr;
+}
+
+const TensorField& TensorFile::field(const std::string& name, const std::string& what) const {
+  if (const TensorField* f = find(name)) return *f;
+  std::string present;
+  for (const auto& f : fields_) present += (present.empty() ? "" : ", ") + f.name;
+  throw file_error(path_, "no field '" + name + "' (a " + what + " file needs it; this file has: " + present + ")");
+}
+
+std::vector<std::byte> serialize_tensor_file(const std::vector<TensorField>& fields) {
+  // Layout first (header, then each field's data 8-byte aligned), then one buffer filled by copies.
+  std::size_t header = sizeof kMagic + 2 + 4;
+  for (const auto& f : fields) header += 2 + f.name.size() + 2 + 1 + 8 + 8 * f.shape.size();
+  std::vector<std::uint64_t> offsets;
+  std::uint64_t end = (header + 7) / 8 * 8;
+  for (const auto& f : fields) {
+    offsets.push_back(end);
+    end = (end + f.data.size() + 7) / 8 * 8;
+  }
+  std::vector<std::byte> out(end, std::byte{0});
+  std::size_t pos = 0;
+  auto put = [&out, &pos](const void* p, std::size_t n) {
+    if (n) std::memcpy(out.data() + pos, p, n);
+    pos += n;
+  };
+  put(kMagic, sizeof kMagic);
+  const std::uint8_t version[2] = {1, 0};
+  put(version, 2);
+  const auto count = static_cast<std::uint32_t>(fields.size());
+  put(&count, 4);
+  for (std::size_t i = 0; i < fields.size(); ++i) {
+    const TensorField& f = fields[i];
+    const auto name_length = static_cast<std::uint16_t>(f.name.size());
+    put(&name_length, 2);
+    put(f.name.data(), f.name.size());
+    const auto rank = static_cast<std::uint16_t>(f.shape.size());
+    put(&rank, 2);
+    const auto type = static_cast<std::uint8_t>(f.dtype);
+    put(&type, 1);
+    put(&offsets[i], 8);
+    put(f.shape.data(), 8 * f.shape.size());
+  }
+  for (std::size_t i = 0; i < fields.size(); ++i)
+    if (!fields[i].data.empty()) std::memcpy(out.data() + offsets[i], fields[i].data.data(), fields[i].data.size());
+  return out;
+}
+
+void write_tensor_file(const fs::path& path, const std::vector<TensorField>& fields) {
+  const std::vector<std::byte> bytes = serialize_tensor_file(fields);
+  write_file_atomic(path, bytes.data(), bytes.size());
+}
+
+TensorField float32_field(std::string name, std::vector<std::uint64_t> shape, std::span<const float> values) {
+  TensorField f{std::move(name), TensorType::Float32, std::move(shape), {}};
+  if (f.count() != values.size()) throw Error("float32_field '" + f.name + "': shape does not match the values");
+  const auto bytes = std::as_bytes(values);
+  f.data.assign(bytes.begin(), bytes.end());
+  return f;
+}
+
+TensorField uint8_field(std::string name, std::vector<std::uint64_t> shape, std::span<const std::uint8_t> values) {
+  TensorField f{std::move(name), TensorType::UInt8, std::move(shape), {}};
+  if (f.count() != values.size()) throw Error("uint8_field '" + f.name + "': shape does not match the values");
+  const auto bytes = std::as_bytes(values);
+  f.data.assign(bytes.begin(), bytes.end());
+  return f;
+}
+
+}  // namespace matlas
