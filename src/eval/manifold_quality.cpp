@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/parallel.h"
 #include "manifold/dense_product.h"
+#include "manifold/mean_weight.h"
 
 namespace matlas::eval {
 
@@ -64,7 +65,8 @@ std::vector<std::size_t> negative_counts(const Model& model, const Eigen::Matrix
   const int n = model.count();
   const auto m = static_cast<std::size_t>(W.cols());
   const std::size_t kept = model.kept_columns();
-  const Eigen::RowVectorXd mean_weight = Eigen::RowVectorXd::Ones(W.cols()) - W.colwise().sum();
+  Eigen::RowVectorXd weight_of_mean(W.cols());
+  for (Eigen::Index j = 0; j < W.cols(); ++j) weight_of_mean[j] = mean_weight(W.col(j));
   std::vector<std::size_t> counts(m, 0);
   std::mutex mutex;
   constexpr std::size_t kBlock = 4096;
@@ -84,7 +86,7 @@ std::vector<std::size_t> negative_counts(const Model& model, const Eigen::Matrix
         means[r] = model.mean(c);
       }
       Eigen::MatrixXd V = Z * W;
-      V += means * mean_weight;
+      V += means * weight_of_mean;
       for (Eigen::Index j = 0; j < V.cols(); ++j)
         local[static_cast<std::size_t>(j)] += static_cast<std::size_t>((V.col(j).array() < 0.0).count());
     }

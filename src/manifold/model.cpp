@@ -14,6 +14,7 @@
 #include "manifold/dense_product.h"
 #include "manifold/dot_kernel.h"
 #include "manifold/model_format.h"
+#include "manifold/mean_weight.h"
 
 namespace matlas {
 
@@ -206,6 +207,14 @@ int Model::index_of(const std::string& name) const {
 Eigen::VectorXd Model::latent_min() const { return impl_->latent.colwise().minCoeff().transpose(); }
 Eigen::VectorXd Model::latent_max() const { return impl_->latent.colwise().maxCoeff().transpose(); }
 
+double mean_weight(const Eigen::Ref<const Eigen::VectorXd>& w) {
+  const double rest = 1.0 - w.sum();
+  // Weights that sum to 1 up to rounding (every convex combination, every unit vector) give the
+  // mean no weight at all: a rounding-level -1e-16 times the mean would make an exact zero of
+  // the inputs a tiny negative value.
+  return std::abs(rest) <= 1e-12 ? 0.0 : rest;
+}
+
 Interpolation Model::interpolation() const { return impl_->interpolation; }
 void Model::set_interpolation(Interpolation mode) { impl_->interpolation = mode; }
 
@@ -266,7 +275,7 @@ double Model::value(std::size_t v, const Eigen::Ref<const Eigen::VectorXd>& w) c
   const std::int32_t c = impl_->value_column[v];
   if (c < 0) return std::numeric_limits<double>::quiet_NaN();
   // mean + sum_i w_i (z_i - mean), written so that w = e_i returns z_i exactly.
-  return (1.0 - w.sum()) * impl_->mean[c] + impl_->data_dot(static_cast<std::size_t>(c), w);
+  return mean_weight(w) * impl_->mean[c] + impl_->data_dot(static_cast<std::size_t>(c), w);
 }
 
 Rgb Model::bin_rgb(std::size_t bin, const Eigen::Ref<const Eigen::VectorXd>& w) const {
@@ -287,7 +296,7 @@ BrdfTable Model::table(const Eigen::Ref<const Eigen::VectorXd>& w) const {
   if (w.size() != count()) throw Error("weight vector has the wrong length");
   BrdfTable t(impl_->dims, ValueBuffer::Uninitialized{});
   const std::size_t bins = impl_->dims.bins();
-  const double mean_weight = 1.0 - w.sum();
+  const double weight_of_mean = mean_weight(w);
   parallel_for(0, t.size(), [&](std::size_t lo, std::size_t hi) {
     for (std::size_t v = lo; v < hi; ++v) {
       const auto channel = static_cast<int>(v / bins);
@@ -297,7 +306,7 @@ BrdfTable Model::table(const Eigen::Ref<const Eigen::VectorXd>& w) const {
         continue;
       }
       const auto column = static_cast<std::size_t>(c);
-      t.set_value(channel, v % bins, mean_weight * impl_->mean[column] + impl_->data_dot(column, w));
+      t.set_value(channel, v % bins, weight_of_mean * impl_->mean[column] + impl_->data_dot(column, w));
     }
   }, 65536);
   return t;

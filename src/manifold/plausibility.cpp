@@ -32,7 +32,10 @@ namespace {
 /// Share of negative entries of mean + column j of `centred_values`.
 double negative_share(const Eigen::Ref<const Eigen::VectorXd>& centred_values, const Eigen::VectorXd& means) {
   if (means.size() == 0) return 0.0;
-  return static_cast<double>(((centred_values + means).array() < 0.0).count()) / static_cast<double>(means.size());
+  // Values below -1e-12 of their column's mean: a combination summing to 1 reads an exact zero of
+  // the inputs as mean + sum_i w_i (0 - mean), which rounds to +-1e-16 of the mean.
+  return static_cast<double>(((centred_values + means).array() < -1e-12 * means.array().abs()).count()) /
+         static_cast<double>(means.size());
 }
 
 }  // namespace
