@@ -134,6 +134,7 @@ BrdfTable read_merl(const fs::path& path) {
 }
 
 void write_merl(const fs::path& path, const BrdfTable& table, bool allow_nonstandard_dims) {
+  if (path.empty()) throw Error("the output file name is empty");
   if (!allow_nonstandard_dims && !table.dims().is_standard())
     throw file_error(path, "refusing to write a " + table.dims().to_string() +
                                " table: MERL files for other tools are 90x90x180");
