@@ -128,17 +128,6 @@ std::chrono::milliseconds& t_body_timeout() {
 }
 thread_local bool t_refuse = false;               ///< set while a full pool refuses a connection
 
-/// A short reply on a connection that is not served (no request read): best effort, never blocks.
-void refuse(socket_t sock, const std::string& message) {
-  const std::string body = "{\"error\": \"" + message + "\"}";
-  const std::string reply = "HTTP/1.1 503 Service Unavailable\r\nContent-Type: application/json\r\n"
-                            "Retry-After: 1\r\nConnection: close\r\nContent-Length: " +
-                            std::to_string(body.size()) + "\r\n\r\n" + body;
-  [[maybe_unused]] const ssize_t sent = ::send(sock, reply.data(), reply.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
-  ::shutdown(sock, SHUT_RDWR);
-  ::close(sock);
-}
-
 /// Closes after the reply: first our side only, then reads and discards what the client may still
 /// be sending (an unread body refused with 413) for a short while, so that the client reads the
 /// reply instead of a connection reset; then the socket.
@@ -154,6 +143,23 @@ void lingering_close(socket_t sock) {
     if (n <= 0) break;
     budget -= std::min(budget, static_cast<std::size_t>(n));
   }
+  ::close(sock);
+}
+
+/// A short reply on a connection that is not served (no request read): best effort, never blocks
+/// on the client. On a worker thread (`linger`), what the client sends meanwhile is drained
+/// briefly so that it reads the reply; on the accepting thread the socket is closed at once.
+void refuse(socket_t sock, const std::string& message, bool linger) {
+  const std::string body = "{\"error\": \"" + message + "\"}";
+  const std::string reply = "HTTP/1.1 503 Service Unavailable\r\nContent-Type: application/json\r\n"
+                            "Retry-After: 1\r\nConnection: close\r\nContent-Length: " +
+                            std::to_string(body.size()) + "\r\n\r\n" + body;
+  [[maybe_unused]] const ssize_t sent = ::send(sock, reply.data(), reply.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+  if (linger) {
+    lingering_close(sock);
+    return;
+  }
+  ::shutdown(sock, SHUT_RDWR);
   ::close(sock);
 }
 
@@ -273,21 +279,24 @@ bool GuardedHttpServer::wait_for_request(socket_t sock) const {
 bool GuardedHttpServer::process_and_close_socket(socket_t sock) {
   if (t_refuse) {
     ++refused_busy_;
-    refuse(sock, "the server is busy; try again");
+    refuse(sock, "the server is busy; try again", false);
     return false;
   }
   DeadlineStream stream(sock, limits_.write_timeout);
   const std::string client = stream.remote_ip();
+  bool admitted = false;
   {
     std::lock_guard<std::mutex> lock(clients_mutex_);
     int& open = clients_[client];
-    if (open >= limits_.per_client) {
-      if (open == 0) clients_.erase(client);
-      ++refused_per_client_;
-      refuse(sock, "too many connections from " + client);
-      return false;
+    if (open < limits_.per_client) {
+      ++open;
+      admitted = true;
     }
-    ++open;
+  }
+  if (!admitted) {
+    ++refused_per_client_;
+    refuse(sock, "too many connections from " + client, true);
+    return false;
   }
   ++accepted_;
   t_stream = &stream;
