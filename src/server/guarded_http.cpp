@@ -3,6 +3,7 @@
 #include <arpa/inet.h>
 #include <cerrno>
 #include <condition_variable>
+#include <cstring>
 #include <deque>
 #include <functional>
 #include <netinet/in.h>
@@ -20,7 +21,8 @@ using Clock = std::chrono::steady_clock;
 
 /// Milliseconds left until `deadline` (0 when past), capped for poll().
 int millis_until(Clock::time_point deadline) {
-  const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
+  // Rounded up: a deadline 0.6 ms away must not read as "now".
+  const auto left = std::chrono::ceil<std::chrono::milliseconds>(deadline - Clock::now()).count();
   return left <= 0 ? 0 : static_cast<int>(std::min<long long>(left, 1 << 30));
 }
 
@@ -55,6 +57,9 @@ public:
     budget_ = budget;
   }
   bool timed_out() const { return timed_out_; }
+  /// A read failed (deadline, budget, error or end of stream): the connection is not reusable
+  /// (httplib may still have answered 400 on it).
+  bool failed() const { return failed_ || over_budget_; }
   bool over_budget() const { return over_budget_; }
   bool close_requested() const { return close_requested_; }
   void request_close() { close_requested_ = true; }
@@ -64,22 +69,48 @@ public:
   bool is_readable() const override { return wait(POLLIN, millis_until(deadline_)); }
   bool is_writable() const override { return wait(POLLOUT, static_cast<int>(write_timeout_.count())); }
 
+  /// Bytes received but not yet read (httplib reads headers a byte at a time: they come from
+  /// this buffer, not one system call each).
+  bool has_buffered() const { return buffer_begin_ < buffer_end_; }
+
   ssize_t read(char* ptr, size_t size) override {
     if (budget_ == 0) {
       over_budget_ = true;
       return -1;
     }
     size = std::min(size, budget_);
-    for (;;) {
-      if (!wait(POLLIN, millis_until(deadline_))) {
-        timed_out_ = Clock::now() >= deadline_;
-        return -1;
+    if (!has_buffered()) {
+      for (;;) {
+        if (!wait(POLLIN, millis_until(deadline_))) {
+          if (Clock::now() < deadline_ && !hung_up()) continue;  // woke early
+          timed_out_ = Clock::now() >= deadline_;
+          failed_ = true;
+          return -1;
+        }
+        // Large reads go straight to the caller; small ones fill the buffer.
+        if (size >= sizeof buffer_) {
+          const ssize_t n = ::recv(sock_, ptr, size, 0);
+          if (n < 0 && (errno == EINTR || errno == EAGAIN)) continue;
+          if (n > 0) budget_ -= static_cast<std::size_t>(n);
+          else failed_ = true;
+          return n;
+        }
+        const ssize_t n = ::recv(sock_, buffer_, sizeof buffer_, 0);
+        if (n < 0 && (errno == EINTR || errno == EAGAIN)) continue;
+        if (n <= 0) {
+          failed_ = true;
+          return n;
+        }
+        buffer_begin_ = 0;
+        buffer_end_ = static_cast<std::size_t>(n);
+        break;
       }
-      const ssize_t n = ::recv(sock_, ptr, size, 0);
-      if (n < 0 && (errno == EINTR || errno == EAGAIN)) continue;
-      if (n > 0) budget_ -= static_cast<std::size_t>(n);
-      return n;
     }
+    const std::size_t n = std::min(size, buffer_end_ - buffer_begin_);
+    std::memcpy(ptr, buffer_ + buffer_begin_, n);
+    buffer_begin_ += n;
+    budget_ -= n;
+    return static_cast<ssize_t>(n);
   }
 
   ssize_t write(const char* ptr, size_t size) override {
@@ -102,6 +133,10 @@ public:
   socket_t socket() const override { return sock_; }
 
 private:
+  bool hung_up() const {
+    pollfd p{sock_, POLLIN, 0};
+    return ::poll(&p, 1, 0) > 0 && (p.revents & (POLLHUP | POLLERR | POLLNVAL)) != 0;
+  }
   bool wait(short events, int millis) const {
     pollfd p{sock_, events, 0};
     for (;;) {
@@ -115,7 +150,9 @@ private:
   std::chrono::milliseconds write_timeout_;
   Clock::time_point deadline_ = Clock::now();
   std::size_t budget_ = 0;
-  bool timed_out_ = false, over_budget_ = false, close_requested_ = false;
+  bool timed_out_ = false, over_budget_ = false, close_requested_ = false, failed_ = false;
+  char buffer_[4096];
+  std::size_t buffer_begin_ = 0, buffer_end_ = 0;
   std::string remote_ip_, local_ip_;
   int remote_port_ = -1, local_port_ = -1;
 };
@@ -303,7 +340,7 @@ bool GuardedHttpServer::process_and_close_socket(socket_t sock) {
   t_body_timeout() = limits_.body_timeout;
   // As httplib's own loop: up to 1000 requests per connection, the last one told to close.
   for (int count = 0; count < 1000; ++count) {
-    if (!wait_for_request(sock)) break;
+    if (!stream.has_buffered() && !wait_for_request(sock)) break;
     stream.limit(Clock::now() + limits_.header_timeout, limits_.max_header_bytes);
     stream.reset_request_state();
     bool closed = false;
@@ -311,7 +348,7 @@ bool GuardedHttpServer::process_and_close_socket(socket_t sock) {
     if (after_request) after_request();
     if (stream.timed_out()) ++timed_out_;
     if (stream.over_budget()) ++over_budget_;
-    if (!ok || closed || stream.close_requested() || stream.timed_out() || stream.over_budget()) break;
+    if (!ok || closed || stream.close_requested() || stream.failed()) break;
   }
   t_stream = nullptr;
   {
