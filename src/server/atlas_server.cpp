@@ -243,6 +243,8 @@ struct AtlasServer::Impl {
     // Headers and body go out in separate writes: without TCP_NODELAY, Nagle + delayed ACK add
     // ~40 ms to every keep-alive response.
     http.set_tcp_nodelay(true);
+    // As many requests per connection as the connection loop serves (the Keep-Alive header says so).
+    http.set_keep_alive_max_count(1000);
     http.after_request = [this] {
       if (upload_slot()) {
         upload_slot() = false;

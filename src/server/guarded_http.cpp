@@ -7,6 +7,7 @@
 #include <deque>
 #include <functional>
 #include <netinet/in.h>
+#include <netinet/tcp.h>
 #include <poll.h>
 #include <sys/socket.h>
 #include <thread>
@@ -319,6 +320,10 @@ bool GuardedHttpServer::process_and_close_socket(socket_t sock) {
     refuse(sock, "the server is busy; try again", false);
     return false;
   }
+  // httplib sets this in the connection loop replaced here: headers and body go out in separate
+  // writes, and without it Nagle + delayed ACK hold the second one for up to 40 ms.
+  const int one = 1;
+  ::setsockopt(sock, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
   DeadlineStream stream(sock, limits_.write_timeout);
   const std::string client = stream.remote_ip();
   bool admitted = false;
