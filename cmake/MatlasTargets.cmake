@@ -6,6 +6,13 @@ target_compile_definitions(matlas_options INTERFACE MATLAS_VERSION="${PROJECT_VE
 if(MATLAS_NATIVE)
   target_compile_options(matlas_options INTERFACE -march=native)
 endif()
+if(MATLAS_FUZZ)
+  # Every library instrumented for libFuzzer's coverage and checked by ASan/UBSan; the fuzz
+  # targets link the fuzzer's main (fuzz/CMakeLists.txt).
+  target_compile_options(matlas_options INTERFACE -fsanitize=fuzzer-no-link,address,undefined
+                         -fno-sanitize-recover=undefined -fno-omit-frame-pointer)
+  target_link_options(matlas_options INTERFACE -fsanitize=address,undefined)
+endif()
 if(MATLAS_SANITIZE)
   target_compile_options(matlas_options INTERFACE -fsanitize=address,undefined
                          -fno-omit-frame-pointer -fno-sanitize-recover=undefined)

@@ -13,6 +13,7 @@ packages=(
   libtinygltf-dev
   libgtest-dev libbenchmark-dev
   python3-dev python3-pybind11 python3-numpy python3-pytest python3-setuptools python3-pip
+  clang-14 libclang-rt-14-dev
   nodejs npm chromium fonts-dejavu-core libjs-chart.js
 )
 missing=()

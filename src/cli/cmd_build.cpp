@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "cli/latent_point.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "manifold/build.h"
@@ -111,7 +112,9 @@ void add_build_command(CLI::App& app) {
       ->required();
   cmd->add_option("-o,--output", args->output, "Output model file (.matlas)")->required();
   cmd->add_option("-q,--dim", args->dim, "Latent dimension q (1..10)")->check(CLI::Range(1, 10))->capture_default_str();
-  cmd->add_option("--nugget", args->nugget, "Nugget delta added to the diagonal of K")->capture_default_str();
+  cmd->add_option("--nugget", args->nugget, "Nugget delta added to the diagonal of K")
+      ->check(finite_number())
+      ->capture_default_str();
   cmd->add_option("--optimizer", args->optimizer, "lbfgs (default) or hooke-jeeves (the paper's pattern search)")
       ->capture_default_str();
   cmd->add_option("--layout", args->layout,
@@ -119,12 +122,19 @@ void add_build_command(CLI::App& app) {
                   "prefixed cosine- (the interpolation stays linear in the data)")
       ->capture_default_str();
   cmd->add_option("--storage", args->storage, "Precision of the stored data: f32 or f16")->capture_default_str();
-  cmd->add_option("--max-iterations", args->max_iterations, "Optimiser iteration limit")->capture_default_str();
+  cmd->add_option("--max-iterations", args->max_iterations, "Optimiser iteration limit")
+      ->check(CLI::Range(1, 1000000))
+      ->capture_default_str();
   cmd->add_option("--starts", args->starts,
                   "Optimiser starts (the PCA start and rescaled copies; the best wins). Default: 3 "
-                  "for q <= 2, where the likelihood has several maxima, else 1");
-  cmd->add_option("--tolerance", args->tolerance, "Optimiser relative tolerance")->capture_default_str();
-  cmd->add_option("--block-columns", args->block_columns, "Columns per streamed block")->capture_default_str();
+                  "for q <= 2, where the likelihood has several maxima, else 1")
+      ->check(CLI::Range(1, 100));
+  cmd->add_option("--tolerance", args->tolerance, "Optimiser relative tolerance")
+      ->check(finite_number() & CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--block-columns", args->block_columns, "Columns per streamed block")
+      ->check(CLI::Range(std::size_t{64}, std::size_t{1} << 24))
+      ->capture_default_str();
   cmd->add_option("--interpolation", args->interpolation,
                   "convex (default: non-negative weights summing to 1, every table a convex combination of "
                   "the inputs) or gp (the paper's GP weights, of any sign)")

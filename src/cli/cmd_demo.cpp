@@ -128,7 +128,9 @@ void run_demo(const DemoArgs& a) {
     return;
   }
 
-  server::AtlasServer srv(model, previews, server_options(a.host, a.port, a.web_root, a.log));
+  server::ServerOptions so = server_options(a.host, a.port, a.web_root, a.log);
+  so.reload = model_reloader(po);
+  server::AtlasServer srv(model, previews, so);
   note_missing_web_ui(srv);
   server::serve_until_signal(srv, [&](const std::string& url) {
     std::printf("matlas demo: open %s  (%d materials; Ctrl-C stops)\n", url.c_str(), model.count());

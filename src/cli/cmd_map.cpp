@@ -1,4 +1,5 @@
 // matlas map: the latent map of a model as a picture (albedo, predictive variance or thumbnails).
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -54,8 +55,11 @@ void run_map(const MapArgs& a) {
   } else if (a.plane == "pca") {
     plane = render::LatentPlane::pca(model, at, a.margin);
   } else if (a.plane == "dims") {
-    const Eigen::VectorXd d = parse_point(a.dims);
+    const Eigen::VectorXd d = parse_point(a.dims, "--dims");
     if (d.size() != 2) throw Error("--dims '" + a.dims + "': expected two dimensions, e.g. 0,1");
+    for (int k = 0; k < 2; ++k)
+      if (d[k] != std::floor(d[k]) || d[k] < 0 || d[k] >= model.dim())
+        throw Error("--dims '" + a.dims + "': dimensions are integers in [0, " + std::to_string(model.dim() - 1) + "]");
     plane = render::LatentPlane::from_dims(model, static_cast<int>(d[0]), static_cast<int>(d[1]), at, a.margin);
   } else {
     throw Error("--plane '" + a.plane + "': expected dims or pca");
@@ -104,8 +108,10 @@ void add_map_command(CLI::App& app) {
                   "all: the box of every latent point; core: of the materials within 4 median distances of the "
                   "median point (when a few outliers stretch the box)")
       ->capture_default_str();
-  cmd->add_option("--margin", a->margin, "Margin around the data, fraction of its extent")->capture_default_str();
-  cmd->add_option("--gain", a->gain, "Albedo display gain")->capture_default_str();
+  cmd->add_option("--margin", a->margin, "Margin around the data, fraction of its extent")
+      ->check(finite_number())
+      ->capture_default_str();
+  cmd->add_option("--gain", a->gain, "Albedo display gain")->check(finite_number())->capture_default_str();
   cmd->add_option("--fade", a->fade,
                   "Predictive variances FROM,TO over which the albedo/image layers fade into the hatched "
                   "'no data here' grey")

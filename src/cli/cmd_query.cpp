@@ -36,6 +36,7 @@ struct EvalArgs {
 };
 
 void run_eval(const EvalArgs& a) {
+  if (a.output.empty()) throw Error("-o: the output file name is empty");
   const Model model = Model::open(a.model);
   const Eigen::VectorXd x = resolve_point(model, a.at, a.material);
   const Eigen::VectorXd w = a.material ? model.material_weights(model.index_of(*a.material)) : model.weights(x);
@@ -105,7 +106,12 @@ void run_weights(const WeightsArgs& a) {
 void run_project(const std::string& model_path, const std::string& file, bool as_json) {
   const Model model = Model::open(model_path);
   const BrdfTable table = read_brdf(file);  // .bsdf: resampled onto the MERL grid
-  const Projection p = project_material(model, table);
+  Projection p;
+  try {
+    p = project_material(model, table);
+  } catch (const Error& e) {
+    throw file_error(file, e.what());
+  }
   const std::string nearest = model.names()[static_cast<std::size_t>(p.nearest)];
   if (as_json) {
     json j = {{"file", file}, {"x", vector_json(p.x)}, {"relative_error", p.relative_error},
@@ -144,7 +150,9 @@ void add_query_commands(CLI::App& app) {
     cmd->add_option("model", a->model, "Model file (.matlas)")->required();
     add_point_options(*cmd, a->at, a->material);
     cmd->add_flag("--json", a->json, "JSON output with every weight");
-    cmd->add_option("--top", a->top, "How many of the largest weights to list")->capture_default_str();
+    cmd->add_option("--top", a->top, "How many of the largest weights to list")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
     cmd->callback([a] { run_weights(*a); });
   }
   {

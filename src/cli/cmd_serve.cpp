@@ -25,7 +25,7 @@ struct ServeArgs {
   std::string env = "studio";
   int size = 256;
   int spp = 32;
-  int threads = 64;
+  int threads = 256;
   bool log = false;
   std::string interpolation;  ///< empty: the model's own mode
 };
@@ -49,6 +49,7 @@ void run_serve(const ServeArgs& a) {
   }
   server::ServerOptions so = server_options(a.host, a.port, a.web_root, a.log);
   so.threads = a.threads;
+  so.reload = model_reloader(po);
   server::AtlasServer srv(model, previews, so);
   note_missing_web_ui(srv);
   server::serve_until_signal(srv, [&](const std::string& url) {
@@ -73,7 +74,7 @@ void add_serve_command(CLI::App& app) {
   cmd->add_option("--env", a->env, "Default environment map of the previews")->capture_default_str();
   cmd->add_option("--size", a->size, "Preview size in pixels")->check(CLI::Range(32, 1024))->capture_default_str();
   cmd->add_option("--spp", a->spp, "Samples per pixel of the preview bases")->check(CLI::Range(1, 4096))->capture_default_str();
-  cmd->add_option("--threads", a->threads, "Connection threads")->check(CLI::Range(2, 1024))->capture_default_str();
+  cmd->add_option("--threads", a->threads, "Connection threads (each open connection holds one)")->check(CLI::Range(2, 4096))->capture_default_str();
   cmd->add_flag("--log", a->log, "Print one line per request on stderr");
   cmd->callback([a] { run_serve(*a); });
 }

@@ -10,8 +10,12 @@
 
 namespace matlas::cli {
 
-/// "0.1,-2,3e-1" -> vector; throws matlas::Error on malformed or non-finite numbers.
-Eigen::VectorXd parse_point(const std::string& text);
+/// "0.1,-2,3e-1" -> vector; throws matlas::Error naming `flag` on an empty coordinate (a
+/// trailing comma), a malformed, out-of-range or non-finite number.
+Eigen::VectorXd parse_point(const std::string& text, const std::string& flag = "--at");
+
+/// CLI11 check: the option's value is a finite number (not nan, inf, or out of double's range).
+CLI::Validator finite_number();
 
 /// The latent point named by exactly one of --at / --material, checked against the model's q.
 Eigen::VectorXd resolve_point(const Model& model, const std::optional<std::string>& at,

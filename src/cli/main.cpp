@@ -6,9 +6,12 @@
 #include <CLI/CLI.hpp>
 
 #include "cli/commands.h"
+#include "core/atomic_file.h"
 #include "core/error.h"
 
 int main(int argc, char** argv) {
+  // An interrupted command (Ctrl-C, kill) leaves no TARGET.tmp-PID files behind.
+  matlas::remove_temporaries_on_signals();
   CLI::App app{"matlas: a material atlas built from measured BRDFs (Soler et al. 2018)", "matlas"};
   app.set_version_flag("--version", std::string("matlas ") + MATLAS_VERSION);
   app.require_subcommand(1);

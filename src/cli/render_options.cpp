@@ -19,7 +19,7 @@ render::SceneDescription RenderOptions::scene_description() const {
   d.camera.fov_degrees = fov;
   if (ground) d.camera.position = Vec3(0.0, 0.9, 3.9);
   for (const std::string& text : lights) {
-    const Eigen::VectorXd v = parse_point(text);
+    const Eigen::VectorXd v = parse_point(text, "--light");
     if (v.size() != 3 && v.size() != 4)
       throw Error("--light '" + text + "': expected dx,dy,dz or dx,dy,dz,irradiance");
     const Vec3 dir(v[0], v[1], v[2]);
@@ -53,19 +53,19 @@ void add_render_options(CLI::App& cmd, RenderOptions& o, bool image) {
   cmd.add_option("--scene", o.scene, "sphere, bunny, suzi, or a .glb/.gltf/.obj file")->capture_default_str();
   cmd.add_option("--env", o.env, "Environment map: installed name (studio, city, ...), .exr/.hdr file, or 'constant'")
       ->capture_default_str();
-  cmd.add_option("--env-rotation", o.env_rotation, "Environment rotation about +y, degrees");
-  cmd.add_option("--env-intensity", o.env_intensity, "Environment radiance scale");
+  cmd.add_option("--env-rotation", o.env_rotation, "Environment rotation about +y, degrees")->check(finite_number());
+  cmd.add_option("--env-intensity", o.env_intensity, "Environment radiance scale")->check(finite_number());
   cmd.add_flag("--ground", o.ground, "Put a diffuse ground plane under the object");
   cmd.add_option("--light", o.lights, "Directional light dx,dy,dz[,irradiance] (repeatable)");
   cmd.add_flag("--ortho", o.ortho, "Orthographic camera");
-  cmd.add_option("--fov", o.fov, "Vertical field of view of the perspective camera, degrees");
+  cmd.add_option("--fov", o.fov, "Vertical field of view of the perspective camera, degrees")->check(finite_number());
   cmd.add_flag("--black-background", o.black_background, "Black instead of the environment behind the object");
   if (!image) return;
   cmd.add_option("--width", o.width, "Image width")->capture_default_str();
   cmd.add_option("--height", o.height, "Image height")->capture_default_str();
   cmd.add_option("--spp", o.spp, "Samples per pixel")->capture_default_str();
   cmd.add_option("--seed", o.seed, "Random seed (same seed: same samples for every material)");
-  cmd.add_option("--exposure", o.exposure, "Exposure in stops (PNG output)");
+  cmd.add_option("--exposure", o.exposure, "Exposure in stops (PNG output)")->check(finite_number());
   cmd.add_option("--tonemap", o.tonemap, "PNG tone curve: clamp, reinhard or aces")->capture_default_str();
 }
 

@@ -1,6 +1,10 @@
 #include "cli/serve_options.h"
 
 #include <cstdio>
+#include <memory>
+
+#include "core/error.h"
+#include "manifold/model.h"
 
 namespace matlas::cli {
 
@@ -14,6 +18,23 @@ server::ServerOptions server_options(const std::string& host, int port, const st
       std::fprintf(stderr, "%s %s %d %.1f ms\n", method.c_str(), path.c_str(), status, ms);
     };
   return so;
+}
+
+std::function<server::ServedModel(const std::filesystem::path&)> model_reloader(server::BasisPreviewOptions po) {
+  return [po](const std::filesystem::path& path) {
+    std::fprintf(stderr, "matlas: %s changed on disk: loading it again\n", path.string().c_str());
+    try {
+      auto model = std::make_shared<const Model>(Model::open(path));
+      auto previews = std::make_shared<server::BasisPreviews>(*model, po);
+      previews->prepare_default();
+      std::fprintf(stderr, "matlas: now serving the new %s (%d materials, q = %d)\n", path.string().c_str(),
+                   model->count(), model->dim());
+      return server::ServedModel{model, previews};
+    } catch (const Error& e) {
+      std::fprintf(stderr, "matlas: cannot load the changed model yet: %s\n", e.what());
+      throw;
+    }
+  };
 }
 
 void note_missing_web_ui(const server::AtlasServer& srv) {

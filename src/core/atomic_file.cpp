@@ -1,11 +1,12 @@
 #include "core/atomic_file.h"
 
 #include <algorithm>
+#include <atomic>
+#include <csignal>
 #include <cerrno>
 #include <cstring>
 #include <fcntl.h>
-#include <fstream>
-#include <sstream>
+#include <signal.h>
 #include <unistd.h>
 
 #include "core/direct_appender.h"
@@ -16,11 +17,90 @@ namespace matlas {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// The temporary files of the live AtomicFiles, readable from a signal handler: fixed slots, each
+// free (0), being filled (1) or published (2); the path is written before the slot is published
+// (release) and read by the handler only when published (acquire).
+constexpr int kSlots = 64;
+constexpr std::size_t kPathBytes = 4096;
+struct TempSlot {
+  std::atomic<int> state{0};
+  char path[kPathBytes];
+};
+TempSlot g_slots[kSlots];
+
+int register_temporary(const fs::path& temp) {
+  const std::string& text = temp.native();
+  if (text.size() >= kPathBytes) return -1;
+  for (int i = 0; i < kSlots; ++i) {
+    int expected = 0;
+    if (!g_slots[i].state.compare_exchange_strong(expected, 1, std::memory_order_acquire)) continue;
+    std::memcpy(g_slots[i].path, text.c_str(), text.size() + 1);
+    g_slots[i].state.store(2, std::memory_order_release);
+    return i;
+  }
+  return -1;  // more than kSlots outputs at once: no signal-time cleanup for this one
+}
+
+void unregister_temporary(int slot) {
+  if (slot >= 0) g_slots[slot].state.store(0, std::memory_order_release);
+}
+
+void remove_temporaries_and_reraise(int sig) {
+  for (auto& slot : g_slots)
+    if (slot.state.load(std::memory_order_acquire) == 2) ::unlink(slot.path);
+  ::signal(sig, SIG_DFL);
+  ::raise(sig);
+}
+
+bool process_exists(long pid) {
+  if (pid <= 0 || pid > 0x7fffffffL) return false;
+  return ::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH;
+}
+
+}  // namespace
+
+int remove_stale_temporaries(const fs::path& target) {
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  const std::string prefix = target.filename().string() + ".tmp-";
+  std::error_code ec;
+  fs::directory_iterator it(dir, ec);
+  if (ec) return 0;
+  int removed = 0;
+  for (; it != fs::directory_iterator(); it.increment(ec)) {
+    if (ec) break;
+    const std::string name = it->path().filename().string();
+    if (name.size() <= prefix.size() || name.compare(0, prefix.size(), prefix) != 0) continue;
+    const std::string digits = name.substr(prefix.size());
+    if (digits.size() > 10 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
+    const long pid = std::stol(digits);
+    if (pid == static_cast<long>(::getpid()) || process_exists(pid)) continue;
+    std::error_code rm;
+    if (fs::remove(it->path(), rm)) ++removed;
+  }
+  return removed;
+}
+
+void remove_temporaries_on_signals() {
+  struct sigaction sa {};
+  sa.sa_handler = remove_temporaries_and_reraise;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = SA_RESETHAND;
+  for (int sig : {SIGINT, SIGTERM, SIGHUP}) ::sigaction(sig, &sa, nullptr);
+}
+
 AtomicFile::AtomicFile(fs::path target) : target_(std::move(target)) {
+  if (target_.empty()) throw Error("the output file name is empty");
+  std::error_code ec;
+  if (fs::is_directory(target_, ec))
+    throw file_error(target_, "is a folder; give the output a file name");
+  remove_stale_temporaries(target_);
   temp_ = target_;
   temp_ += ".tmp-" + std::to_string(::getpid());
   fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd_ < 0) throw file_error(target_, std::string("cannot create output file: ") + std::strerror(errno));
+  slot_ = register_temporary(temp_);
 }
 
 AtomicFile::~AtomicFile() {
@@ -30,6 +110,7 @@ AtomicFile::~AtomicFile() {
     std::error_code ec;
     fs::remove(temp_, ec);
   }
+  unregister_temporary(slot_);
 }
 
 void AtomicFile::stream_appends_to_disk() { direct_wanted_ = true; }
@@ -85,14 +166,22 @@ void write_file_atomic(const fs::path& target, const void* data, std::size_t byt
 }
 
 std::string read_file(const fs::path& path) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw file_error(path, "no such file");
-  if (fs::is_directory(path, ec)) throw file_error(path, "is a directory, expected a file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw file_error(path, std::string("cannot open: ") + std::strerror(errno));
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+  const int fd = open_regular_file(path, "a readable file");
+  std::string text;
+  char buf[1 << 16];
+  for (;;) {
+    const ssize_t got = ::read(fd, buf, sizeof buf);
+    if (got < 0 && errno == EINTR) continue;
+    if (got < 0) {
+      const int err = errno;
+      ::close(fd);
+      throw file_error(path, std::string("read failed: ") + std::strerror(err));
+    }
+    if (got == 0) break;
+    text.append(buf, static_cast<std::size_t>(got));
+  }
+  ::close(fd);
+  return text;
 }
 
 }  // namespace matlas

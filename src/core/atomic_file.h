@@ -1,6 +1,12 @@
 #pragma once
 // Atomic output: data goes to a temporary file beside the target, which is renamed over the
 // target only once it is complete, so a crash or an error never leaves a half-written output.
+//
+// Temporary files are named TARGET.tmp-PID. They are removed when the AtomicFile is destroyed
+// without commit, when the process is stopped by SIGINT, SIGTERM or SIGHUP (once
+// remove_temporaries_on_signals() has been called, as the `matlas` command does), and, for a
+// process that was killed outright, by the next AtomicFile of the same target: a TARGET.tmp-PID
+// whose process no longer exists is stale and deleted.
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -14,7 +20,8 @@ class DirectAppender;
 
 class AtomicFile {
 public:
-  /// Opens "TARGET.tmp-PID" for writing; throws matlas::Error naming TARGET on failure.
+  /// Opens "TARGET.tmp-PID" for writing (after deleting stale temporaries of TARGET left by dead
+  /// processes); throws matlas::Error naming TARGET on failure, an empty name or a folder.
   explicit AtomicFile(std::filesystem::path target);
   AtomicFile(const AtomicFile&) = delete;
   AtomicFile& operator=(const AtomicFile&) = delete;
@@ -49,7 +56,16 @@ private:
   bool direct_wanted_ = false;
   std::unique_ptr<DirectAppender> direct_;
   bool committed_ = false;
+  int slot_ = -1;  ///< entry in the signal-time cleanup registry, or -1
 };
+
+/// Installs handlers for SIGINT, SIGTERM and SIGHUP that delete every temporary file of the live
+/// AtomicFiles, then let the signal take its default action (the process ends as it would have).
+void remove_temporaries_on_signals();
+
+/// Deletes TARGET.tmp-PID files beside `target` whose process PID no longer exists. Returns how
+/// many were removed. (Run by every AtomicFile; exposed for tests.)
+int remove_stale_temporaries(const std::filesystem::path& target);
 
 /// Writes a whole buffer atomically.
 void write_file_atomic(const std::filesystem::path& target, const void* data, std::size_t bytes);

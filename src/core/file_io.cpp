@@ -3,11 +3,50 @@
 #include <cerrno>
 #include <cstring>
 #include <string>
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "core/error.h"
 
 namespace matlas {
+
+std::string file_kind(unsigned mode) {
+  switch (mode & S_IFMT) {
+    case S_IFREG: return "a regular file";
+    case S_IFDIR: return "a directory";
+    case S_IFIFO: return "a named pipe (FIFO)";
+    case S_IFSOCK: return "a socket";
+    case S_IFCHR: return "a character device";
+    case S_IFBLK: return "a block device";
+    default: return "not a regular file";
+  }
+}
+
+int open_regular_file(const std::filesystem::path& path, const std::string& expected) {
+  if (path.empty()) throw Error("an empty file name was given, expected " + expected);
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) {
+    const int err = errno;
+    if (err == ENOENT) throw file_error(path, "no such file");
+    if (err == ELOOP) throw file_error(path, "too many levels of symbolic links (a symlink loop?)");
+    throw file_error(path, std::string("cannot open: ") + std::strerror(err));
+  }
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) {
+    const int err = errno;
+    ::close(fd);
+    throw file_error(path, std::string("cannot stat: ") + std::strerror(err));
+  }
+  if (!S_ISREG(st.st_mode)) {
+    ::close(fd);
+    throw file_error(path, "is " + file_kind(st.st_mode) + ", not " + expected);
+  }
+  // Regular files ignore O_NONBLOCK, but clear it so that the descriptor behaves as usual.
+  const int flags = ::fcntl(fd, F_GETFL);
+  if (flags >= 0) ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
+  return fd;
+}
 
 void read_exact_at(int fd, const std::filesystem::path& path, void* out, std::size_t bytes, std::uint64_t offset) {
   auto* dst = static_cast<char*>(out);

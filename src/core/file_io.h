@@ -4,8 +4,19 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <string>
 
 namespace matlas {
+
+/// Opens an existing file read-only, refusing anything that is not a regular file (a FIFO would
+/// block the reader forever, a device never ends): the check is made on the opened descriptor
+/// (opened non-blocking, so a FIFO without a writer does not hang). Throws matlas::Error naming
+/// the file: missing, a directory, a FIFO, a socket, a device, unreadable. `expected` completes
+/// "PATH: is a FIFO, not EXPECTED" (e.g. "a MERL .binary file").
+int open_regular_file(const std::filesystem::path& path, const std::string& expected);
+
+/// What kind of file st_mode is, in words ("a directory", "a named pipe (FIFO)", ...).
+std::string file_kind(unsigned mode);
 
 /// Reads exactly `bytes` at `offset`; a file that ends first is reported as truncated.
 void read_exact_at(int fd, const std::filesystem::path& path, void* out, std::size_t bytes, std::uint64_t offset);

@@ -4,6 +4,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <fcntl.h>
 #include <string>
@@ -26,25 +27,19 @@ const char* channel_name(std::size_t c) {
   return c < 3 ? names[c] : "?";
 }
 
-/// NaN and infinities have an all-ones exponent: an integer test that vectorises.
-MATLAS_SIMD_CLONES bool any_non_finite(const double* values, std::size_t n) {
-  std::uint64_t bad = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    std::uint64_t bits;
-    std::memcpy(&bits, values + i, sizeof bits);
-    bad |= static_cast<std::uint64_t>((bits & 0x7ff0000000000000ull) == 0x7ff0000000000000ull);
-  }
-  return bad != 0;
+/// NaN, infinities and absurd magnitudes (beyond kMaxMerlMagnitude): compare-and-or, which
+/// vectorises (a NaN fails both comparisons).
+MATLAS_SIMD_CLONES bool any_unusable(const double* values, std::size_t n) {
+  bool bad = false;
+  for (std::size_t i = 0; i < n; ++i)
+    bad |= !(values[i] <= kMaxMerlMagnitude && values[i] >= -kMaxMerlMagnitude);
+  return bad;
 }
 
 }  // namespace
 
 MerlFile::MerlFile(fs::path path) : path_(std::move(path)) {
-  std::error_code ec;
-  if (!fs::exists(path_, ec)) throw file_error(path_, "no such file");
-  if (fs::is_directory(path_, ec)) throw file_error(path_, "is a directory, not a MERL .binary file");
-  fd_ = ::open(path_.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd_ < 0) throw file_error(path_, std::string("cannot open: ") + std::strerror(errno));
+  fd_ = open_regular_file(path_, "a MERL .binary file");
   try {
     struct stat st {};
     if (::fstat(fd_, &st) != 0) throw file_error(path_, "cannot stat");
@@ -119,13 +114,18 @@ MerlFile::~MerlFile() {
 
 void MerlFile::read_checked(std::size_t first, std::size_t n, double* chunk) const {
   read_exact_at(fd_, path_, chunk, n * sizeof(double), kHeaderBytes + first * sizeof(double));
-  if (!any_non_finite(chunk, n)) return;
+  if (!any_unusable(chunk, n)) return;
   for (std::size_t i = 0; i < n; ++i) {
-    if (!std::isfinite(chunk[i])) {
-      const std::size_t index = first + i, bins = dims_.bins();
-      throw file_error(path_, std::string(std::isnan(chunk[i]) ? "NaN" : "infinite") + " value in the " +
-                                  channel_name(index / bins) + " channel at bin " + std::to_string(index % bins));
-    }
+    const double v = chunk[i];
+    if (v <= kMaxMerlMagnitude && v >= -kMaxMerlMagnitude) continue;
+    const std::size_t index = first + i, bins = dims_.bins();
+    const std::string where = std::string(" in the ") + channel_name(index / bins) + " channel at bin " +
+                              std::to_string(index % bins);
+    if (!std::isfinite(v)) throw file_error(path_, std::string(std::isnan(v) ? "NaN" : "infinite") + " value" + where);
+    char text[32];
+    std::snprintf(text, sizeof text, "%.6g", v);
+    throw file_error(path_, std::string("absurd value ") + text + where + " (MERL values stay far below 1e9 in " +
+                                "stored units; is the file corrupted or not in MERL units?)");
   }
 }
 
@@ -156,6 +156,7 @@ BrdfTable read_merl(const fs::path& path) {
 }
 
 void write_merl(const fs::path& path, const BrdfTable& table, bool allow_nonstandard_dims) {
+  if (path.empty()) throw Error("the output file name is empty");
   if (!allow_nonstandard_dims && !table.dims().is_standard())
     throw file_error(path, "refusing to write a " + table.dims().to_string() +
                                " table: MERL files for other tools are 90x90x180");

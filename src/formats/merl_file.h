@@ -3,7 +3,8 @@
 // then 3 * bins float64 values in stored units: red block, green block, blue block.
 //
 // Every error is a matlas::Error naming the file: missing, a directory, empty or truncated, size
-// not matching the header, negative or absurd dims, NaN or infinite values.
+// not matching the header, negative or absurd dims, NaN, infinite or absurdly large values
+// (beyond kMaxMerlMagnitude), not a regular file (a FIFO, a device).
 #include <cstddef>
 #include <filesystem>
 
@@ -33,7 +34,7 @@ public:
   static constexpr std::size_t kHeaderBytes = 12;
 
   /// Reads values [first, first + count) in stored units (negative = missing). Throws if a value
-  /// is NaN or infinite, naming the file and the value's channel and bin.
+  /// is NaN, infinite or beyond kMaxMerlMagnitude, naming the file and the value's channel and bin.
   void read_values(std::size_t first, std::size_t count, double* out) const;
 
   /// Asks the kernel to start reading values [first, first + count) from disk in the background
@@ -81,5 +82,10 @@ void write_merl(const std::filesystem::path& path, const BrdfTable& table,
 
 /// Largest bin count accepted per dimension (MERL uses at most 180).
 inline constexpr int kMaxMerlDim = 4096;
+
+/// Largest magnitude accepted for a stored value: measured MERL files stay far below (chrome's
+/// specular peak is about 4e6 in stored units, 2.7e3 in physical units); a larger value is a
+/// corrupted file, and would overflow the squared sums of a build or a projection.
+inline constexpr double kMaxMerlMagnitude = 1e9;
 
 }  // namespace matlas

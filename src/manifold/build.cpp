@@ -57,9 +57,29 @@ void validate(const MaterialSet& set, const BuildOptions& o) {
                 " materials; the input has " + std::to_string(set.size()));
 }
 
+/// The output must not be one of the inputs (writing the model would replace a material, or a
+/// symlink to it): compared by identity of the files, so any spelling or link is caught.
+void reject_output_among_inputs(const MaterialSet& set, const fs::path& output) {
+  std::error_code ec;
+  const fs::file_status status = fs::status(output, ec);
+  if (ec || !fs::exists(status)) return;  // a new file cannot be an input
+  if (fs::is_directory(status)) throw file_error(output, "the output is a folder; give a file name such as model.matlas");
+  for (std::size_t i = 0; i < set.size(); ++i) {
+    if (fs::equivalent(output, set.file(i).path(), ec) && !ec)
+      throw file_error(output, "the output is one of the inputs (" + set.file(i).path().string() +
+                                   "): refusing to overwrite it; choose another output name");
+  }
+}
+
 /// Identical (or numerically identical) materials make K singular in the limit and the layout
 /// meaningless: refuse them with the names.
 void reject_duplicates(const MaterialSet& set, const Eigen::MatrixXd& s) {
+  // Values are bounded when read (kMaxMerlMagnitude), so this cannot overflow; if it ever does, it
+  // must not pass for "identical" (NaN compares false) or give a meaningless layout.
+  for (Eigen::Index i = 0; i < s.rows(); ++i)
+    if (!s.row(i).allFinite())
+      throw file_error(set.file(static_cast<std::size_t>(i)).path(),
+                       "its values overflow the sums of squares (non-finite Gram matrix): the file holds absurd values");
   const double scale = s.diagonal().mean();
   if (!(scale > 0.0)) throw Error("all input materials are identical: nothing to map");
   for (Eigen::Index i = 0; i < s.rows(); ++i)
@@ -137,6 +157,7 @@ BuildOptions BuildOptions::paper_preset() {
 BuildReport build_model(const MaterialSet& set, const BuildOptions& options, const fs::path& output,
                         ProgressSink& progress) {
   validate(set, options);
+  reject_output_among_inputs(set, output);
   BuildReport report;
   const auto n = static_cast<Eigen::Index>(set.size());
   const int q = options.dim;

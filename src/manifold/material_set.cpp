@@ -22,11 +22,19 @@ MaterialSet MaterialSet::open(const std::vector<fs::path>& inputs, ProgressSink&
     std::error_code ec;
     if (fs::is_directory(input, ec)) {
       std::vector<fs::path> found;
-      for (const auto& entry : fs::directory_iterator(input)) {
-        if (entry.is_regular_file() && (entry.path().extension() == ".binary" || is_rgl_path(entry.path())))
-          found.push_back(entry.path());
+      // Every step with an error code: a symlink loop or an unreadable entry is reported with its
+      // name instead of escaping as a filesystem exception.
+      fs::directory_iterator it(input, ec);
+      if (ec) throw file_error(input, "cannot list this folder: " + ec.message());
+      for (; it != fs::directory_iterator(); it.increment(ec)) {
+        if (ec) throw file_error(input, "cannot list this folder: " + ec.message());
+        const fs::path& path = it->path();
+        // `.binary` entries are inputs whatever they are: MerlFile refuses (with a clear message)
+        // a FIFO, a directory or a dangling or looping symlink rather than skipping it silently.
+        if (path.extension() == ".binary" || is_rgl_path(path))
+          found.push_back(path);
         else
-          set.ignored_.push_back(entry.path());
+          set.ignored_.push_back(path);
       }
       if (found.empty()) throw file_error(input, "no MERL .binary or RGL .bsdf files in this folder");
       std::sort(found.begin(), found.end());

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 
@@ -9,6 +10,7 @@
 
 #include "core/error.h"
 #include "core/parallel.h"
+#include "formats/merl_file.h"
 #include "formats/safetensors.h"
 #include "gp/convex_weights.h"
 #include "manifold/dense_product.h"
@@ -76,6 +78,49 @@ Model::Model(Model&&) noexcept = default;
 Model& Model::operator=(Model&&) noexcept = default;
 Model::~Model() = default;
 
+namespace {
+
+/// An integer metadata value as text, whatever its size (for messages).
+std::string integer_text(const json& v) {
+  if (v.is_number_unsigned()) return std::to_string(v.get<std::uint64_t>());
+  if (v.is_number_integer()) return std::to_string(v.get<std::int64_t>());
+  return std::string("a ") + v.type_name();
+}
+
+/// meta[key] as an integer in [lo, hi]; throws naming the field otherwise.
+std::int64_t metadata_integer(const fs::path& path, const json& meta, const char* key, std::int64_t lo,
+                              std::int64_t hi) {
+  const auto it = meta.find(key);
+  if (it == meta.end()) throw file_error(path, std::string("corrupted model metadata: missing field '") + key + "'");
+  if (!it->is_number_integer())
+    throw file_error(path, std::string("corrupted model metadata: '") + key + "' is not an integer");
+  if (it->is_number_unsigned() ? it->get<std::uint64_t>() > static_cast<std::uint64_t>(hi)
+                               : it->get<std::int64_t>() < lo || it->get<std::int64_t>() > hi)
+    throw file_error(path, std::string("corrupted model metadata: '") + key + "' = " + integer_text(*it) +
+                               " is outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  return it->get<std::int64_t>();
+}
+
+/// meta[key][sub] as a finite number > 0.
+double metadata_positive(const fs::path& path, const json& meta, const char* key, const char* sub) {
+  const auto it = meta.find(key);
+  if (it == meta.end() || !it->is_object())
+    throw file_error(path, std::string("corrupted model metadata: missing or invalid '") + key + "'");
+  const auto v = it->find(sub);
+  if (v == it->end() || !v->is_number() || !std::isfinite(v->get<double>()) || !(v->get<double>() > 0))
+    throw file_error(path, std::string("corrupted model metadata: '") + key + "." + sub +
+                               "' must be a finite positive number");
+  return v->get<double>();
+}
+
+template <class Derived>
+void require_finite(const fs::path& path, const Eigen::DenseBase<Derived>& m, const char* tensor) {
+  if (!m.allFinite())
+    throw file_error(path, std::string("corrupted model: tensor '") + tensor + "' holds NaN or infinite values");
+}
+
+}  // namespace
+
 Model Model::open(const fs::path& path) {
   auto m = std::make_unique<Impl>(Impl{path, SafetensorsFile::open(path), {}, {}, {}, {}, {}, {}, 0, 0,
                                        {}, nullptr, {}, nullptr, nullptr, nullptr, nullptr, nullptr,
@@ -84,37 +129,78 @@ Model Model::open(const fs::path& path) {
   const auto meta_it = f.metadata().find(model_format::kMetadataKey);
   if (meta_it == f.metadata().end())
     throw file_error(path, "not a matlas model (a safetensors file without matlas metadata)");
+  // Every metadata field is checked for presence, type and range here, and against the tensors
+  // below: a crafted or damaged file is refused naming what is wrong, never used.
+  double nugget = 0, lengthscale = 0;
   try {
     m->meta = json::parse(meta_it->second);
-    if (m->meta.at("format").get<std::string>() != model_format::kFormatName)
+    if (!m->meta.is_object()) throw file_error(path, "corrupted model metadata: not a JSON object");
+    const auto format = m->meta.find("format");
+    if (format == m->meta.end() || !format->is_string() || format->get<std::string>() != model_format::kFormatName)
       throw file_error(path, "not a matlas model");
-    const int version = m->meta.at("format_version").get<int>();
+    const auto version = metadata_integer(path, m->meta, "format_version", std::numeric_limits<std::int64_t>::min(),
+                                          std::numeric_limits<std::int64_t>::max());
     if (version != model_format::kVersion)
-      throw file_error(path, "model format version " + std::to_string(version) +
+      throw file_error(path, "model format version " + integer_text(m->meta["format_version"]) +
                                  " is not supported by this matlas (expects " +
                                  std::to_string(model_format::kVersion) + "); rebuild the model");
-    m->names = m->meta.at("names").get<std::vector<std::string>>();
-    const auto grid = m->meta.at("grid").get<std::vector<int>>();
-    if (grid.size() != 3) throw file_error(path, "corrupted metadata: grid");
-    m->dims = {grid[0], grid[1], grid[2]};
-    m->storage = m->meta.at("storage").get<std::string>();
+    const auto names = m->meta.find("names");
+    if (names == m->meta.end() || !names->is_array() || names->empty())
+      throw file_error(path, "corrupted model metadata: 'names' must be a non-empty array of strings");
+    for (const auto& name : *names) {
+      if (!name.is_string()) throw file_error(path, "corrupted model metadata: 'names' must hold strings");
+      m->names.push_back(name.get<std::string>());
+    }
+    const auto grid = m->meta.find("grid");
+    if (grid == m->meta.end() || !grid->is_array() || grid->size() != 3)
+      throw file_error(path, "corrupted model metadata: 'grid' must be three bin counts");
+    int dims[3];
+    for (std::size_t k = 0; k < 3; ++k) {
+      const json& d = (*grid)[k];
+      if (!d.is_number_integer() || d.get<std::int64_t>() < 1 || d.get<std::int64_t>() > kMaxMerlDim ||
+          (d.is_number_unsigned() && d.get<std::uint64_t>() > static_cast<std::uint64_t>(kMaxMerlDim)))
+        throw file_error(path, "corrupted model metadata: 'grid' entries must be integers in [1, " +
+                                   std::to_string(kMaxMerlDim) + "]");
+      dims[k] = static_cast<int>(d.get<std::int64_t>());
+    }
+    m->dims = {dims[0], dims[1], dims[2]};
+    const auto storage = m->meta.find("storage");
+    if (storage == m->meta.end() || !storage->is_string())
+      throw file_error(path, "corrupted model metadata: missing 'storage'");
+    m->storage = storage->get<std::string>();
+    lengthscale = metadata_positive(path, m->meta, "kernel", "lengthscale");
+    nugget = metadata_positive(path, m->meta, "kernel", "nugget");
+    if (m->meta.contains("count") &&
+        metadata_integer(path, m->meta, "count", 1, 1 << 30) != static_cast<std::int64_t>(m->names.size()))
+      throw file_error(path, "corrupted model metadata: 'count' differs from the number of names");
   } catch (const json::exception& e) {
     throw file_error(path, std::string("corrupted model metadata: ") + e.what());
   }
   const auto n = static_cast<std::int64_t>(m->names.size());
   m->n = static_cast<int>(n);
   const TensorInfo* latent = f.find(model_format::kLatent);
-  if (!latent || latent->shape.size() != 2 || latent->shape[0] != n)
-    throw file_error(path, "corrupted model: latent tensor missing or of the wrong shape");
+  if (!latent || latent->shape.size() != 2 || latent->shape[0] != n || latent->shape[1] < 1 || latent->shape[1] > 64)
+    throw file_error(path, "corrupted model: latent tensor missing or of the wrong shape (expected [" +
+                               std::to_string(n) + ", q], 1 <= q <= 64)");
   const std::int64_t q = latent->shape[1];
+  if (m->meta.contains("dim") && metadata_integer(path, m->meta, "dim", 1, 64) != q)
+    throw file_error(path, "corrupted model metadata: 'dim' differs from the latent tensor's shape");
   m->latent = read_matrix(f, model_format::kLatent, n, q);
   m->gram = read_matrix(f, model_format::kGram, n, n);
   m->albedo = Eigen::Map<const RowMajor>(
       f.view<double>(model_format::kAlbedo, DType::F64, {n, kAlbedoAngles, 3}).data(), n,
       kAlbedoAngles * 3);
+  require_finite(path, m->latent, model_format::kLatent);
+  require_finite(path, m->gram, model_format::kGram);
+  require_finite(path, m->albedo, model_format::kAlbedo);
   const TensorInfo& mean = f.require(model_format::kMean, DType::F32);
   if (mean.shape.size() != 1) throw file_error(path, "corrupted model: mean tensor shape");
   m->kept = static_cast<std::size_t>(mean.shape[0]);
+  if (m->kept == 0) throw file_error(path, "corrupted model: no kept columns");
+  if (m->meta.contains("kept_columns") &&
+      metadata_integer(path, m->meta, "kept_columns", 0, std::numeric_limits<std::int64_t>::max()) !=
+          static_cast<std::int64_t>(m->kept))
+    throw file_error(path, "corrupted model metadata: 'kept_columns' differs from the mean tensor's length");
   const std::byte* mean_bytes = f.bytes(mean);
   if (reinterpret_cast<std::uintptr_t>(mean_bytes) % alignof(float) == 0) {
     m->mean = reinterpret_cast<const float*>(mean_bytes);
@@ -123,6 +209,8 @@ Model Model::open(const fs::path& path) {
     std::memcpy(m->mean_copy.data(), mean_bytes, m->kept * sizeof(float));
     m->mean = m->mean_copy.data();
   }
+  require_finite(path, Eigen::Map<const Eigen::VectorXf>(m->mean, static_cast<Eigen::Index>(m->kept)),
+                 model_format::kMean);
   const auto columns = f.view<std::int32_t>(model_format::kValueColumn, DType::I32,
                                             {static_cast<std::int64_t>(3 * m->dims.bins())});
   m->value_column = columns.data();
@@ -150,17 +238,24 @@ Model Model::open(const fs::path& path) {
   }
   const std::string checksum = hex(XXH3_64bits_digest(h));
   XXH3_freeState(h);
-  if (checksum != m->meta.value("small_tensors_xxh3_64", std::string()))
+  const auto stored_checksum = m->meta.find("small_tensors_xxh3_64");
+  if (stored_checksum == m->meta.end() || !stored_checksum->is_string() ||
+      checksum != stored_checksum->get<std::string>())
     throw file_error(path, "corrupted model: checksum mismatch in the latent/mean/column tensors");
+  // The column map: kept columns numbered 0, 1, ... in value order, every other entry exactly -1
+  // (dropped), and as many kept columns as the data has rows.
   std::int64_t next = 0;
-  for (std::size_t v = 0; v < columns.size(); ++v)
-    if (columns[v] >= 0 && columns[v] != next++)
+  for (std::size_t v = 0; v < columns.size(); ++v) {
+    if (columns[v] < -1 || (columns[v] >= 0 && columns[v] != next++))
       throw file_error(path, "corrupted model: inconsistent column map");
+  }
   if (next != d) throw file_error(path, "corrupted model: column map does not match the data");
 
-  const double nugget = m->meta.at("kernel").at("nugget").get<double>();
-  const double lengthscale = m->meta.at("kernel").at("lengthscale").get<double>();
-  m->posterior = std::make_unique<gp::GpPosterior>(m->latent, gp::Kernel{lengthscale, nugget});
+  try {
+    m->posterior = std::make_unique<gp::GpPosterior>(m->latent, gp::Kernel{lengthscale, nugget});
+  } catch (const Error& e) {
+    throw file_error(path, std::string("corrupted model: ") + e.what());
+  }
 
   // Interpolation mode: "interpolation": {"mode": "convex", "ridge": r} (absent: the paper's GP).
   double ridge = gp::ConvexProjection::kDefaultRidge;
@@ -174,8 +269,12 @@ Model Model::open(const fs::path& path) {
   } catch (const Error& e) {
     throw file_error(path, std::string("corrupted model metadata: ") + e.what());
   }
-  const Eigen::MatrixXd metric = has_layout_gram ? read_matrix(f, model_format::kLayoutGram, n, n) : m->gram;
-  m->convex = std::make_unique<gp::ConvexProjection>(metric, ridge);
+  try {
+    const Eigen::MatrixXd metric = has_layout_gram ? read_matrix(f, model_format::kLayoutGram, n, n) : m->gram;
+    m->convex = std::make_unique<gp::ConvexProjection>(metric, ridge);
+  } catch (const Error& e) {
+    throw file_error(path, std::string("corrupted model: ") + e.what());
+  }
   return Model(std::move(m));
 }
 
@@ -191,6 +290,17 @@ const nlohmann::json& Model::metadata() const { return impl_->meta; }
 const Eigen::MatrixXd& Model::gram() const { return impl_->gram; }
 const Eigen::MatrixXd& Model::material_albedo() const { return impl_->albedo; }
 const std::string& Model::storage() const { return impl_->storage; }
+
+Model::FileState Model::file_state() const {
+  switch (impl_->file.mapping().disk_state()) {
+    case MappedFile::DiskState::same: return FileState::same;
+    case MappedFile::DiskState::modified: return FileState::modified;
+    case MappedFile::DiskState::replaced: break;
+  }
+  return FileState::replaced;
+}
+
+std::uint64_t Model::mapping_faults() const { return impl_->file.mapping().faults(); }
 
 int Model::index_of(const std::string& name) const {
   const auto& names = impl_->names;

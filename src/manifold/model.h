@@ -9,6 +9,7 @@
 // contiguous run of n values per column), so a single value at x costs one dot product of length n
 // once w(x) is known: m(x) = (1 - sum w) mean + sum_i w_i z_i, which returns z_i exactly at x_i.
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -114,6 +115,16 @@ public:
   void data(std::size_t column, float* out) const;
   /// Storage precision of the stored input data: "F32" or "F16".
   const std::string& storage() const;
+
+  // --- The file behind the model (it is memory-mapped, formats/safetensors.h MappedFile) ---
+  /// same: the file at path() is the one opened; modified: it was rewritten or truncated in place
+  /// (the mapped data can no longer be trusted); replaced: another file is there now, or none
+  /// (renamed over or removed: the mapped data is intact, the path holds something new).
+  enum class FileState { same, modified, replaced };
+  FileState file_state() const;
+  /// Pages read as zeros because the file was truncated while open (0 for an intact file):
+  /// answers computed while this count changed are wrong.
+  std::uint64_t mapping_faults() const;
 
 private:
   struct Impl;

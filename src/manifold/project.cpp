@@ -119,6 +119,12 @@ double projection_residual(const Model& model, const MaterialInnerProducts& ip,
 Projection project_material(const Model& model, const BrdfTable& table, int starts) {
   const MaterialInnerProducts ip = inner_products(model, table);
   const int n = model.count();
+  if (ip.missing >= model.kept_columns())
+    throw Error("the material has no measured value in any of the model's " +
+                std::to_string(model.kept_columns()) + " kept columns: nothing to project");
+  if (!std::isfinite(ip.norm2) || !ip.distance2.allFinite() || !ip.g.allFinite())
+    throw Error("the material's values overflow the distance computations (non-finite sums): it holds absurd values");
+  if (ip.norm2 == 0.0) throw Error("every measured value of the material is zero: nothing to project");
   Projection p;
   p.missing = ip.missing;
   // Nearest materials in data space.
@@ -175,6 +181,8 @@ Projection project_material(const Model& model, const BrdfTable& table, int star
   p.residual2 = std::max(0.0, projection_residual(model, ip, p.x));
   p.relative_error = std::sqrt(p.residual2 / norm2);
   p.variance = model.variance(p.x);
+  if (!p.x.allFinite() || !std::isfinite(p.relative_error) || !std::isfinite(p.variance))
+    throw Error("the projection did not give a finite point (non-finite arithmetic): the material's values are unusable");
   return p;
 }
 

@@ -19,6 +19,7 @@
 #include "render/scene.h"
 
 #if defined(__x86_64__) || defined(__i386__)
+#include <cpuid.h>
 #include <immintrin.h>
 #define MATLAS_X86 1
 #endif
@@ -132,7 +133,11 @@ bool cpu_has_avx2_fma() {
   return ok;
 }
 bool cpu_has_f16c() {
-  static const bool ok = cpu_has_avx2_fma() && __builtin_cpu_supports("f16c");
+  // CPUID leaf 1, ECX bit 29 (clang's __builtin_cpu_supports does not know "f16c").
+  static const bool ok = [] {
+    unsigned a = 0, b = 0, c = 0, d = 0;
+    return cpu_has_avx2_fma() && __get_cpuid(1, &a, &b, &c, &d) && (c & bit_F16C) != 0;
+  }();
   return ok;
 }
 #endif

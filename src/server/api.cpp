@@ -252,11 +252,10 @@ Reply Api::map_layer(const std::string& body) {
   if (q < 2) throw bad_request("map layers need a latent space of at least 2 dimensions");
   if (j.contains("axes")) {
     const auto& axes = j["axes"];
-    if (!axes.is_array() || axes.size() != 2 || !axes[0].is_number_integer() || !axes[1].is_number_integer())
-      throw bad_request("\"axes\" must be two integers");
-    r.axis_x = axes[0].get<int>();
-    r.axis_y = axes[1].get<int>();
-    if (r.axis_x < 0 || r.axis_x >= q || r.axis_y < 0 || r.axis_y >= q || r.axis_x == r.axis_y)
+    if (!axes.is_array() || axes.size() != 2) throw bad_request("\"axes\" must be two integers");
+    r.axis_x = parse_int_value(axes[0], "\"axes\"[0]", 0, q - 1);
+    r.axis_y = parse_int_value(axes[1], "\"axes\"[1]", 0, q - 1);
+    if (r.axis_x == r.axis_y)
       throw bad_request("\"axes\" must be two different axes in [0, " + std::to_string(q - 1) + "]");
   }
   if (!j.contains("rect") || !j["rect"].is_array() || j["rect"].size() != 4)
@@ -272,12 +271,9 @@ Reply Api::map_layer(const std::string& body) {
   r.x0 = rect[0], r.x1 = rect[1], r.y0 = rect[2], r.y1 = rect[3];
   if (j.contains("size")) {
     const auto& s = j["size"];
-    if (!s.is_array() || s.size() != 2 || !s[0].is_number_integer() || !s[1].is_number_integer())
-      throw bad_request("\"size\" must be [width, height]");
-    r.width = s[0].get<int>();
-    r.height = s[1].get<int>();
-    if (r.width < 4 || r.width > 256 || r.height < 4 || r.height > 256)
-      throw bad_request("\"size\" must be between 4 and 256 pixels per side");
+    if (!s.is_array() || s.size() != 2) throw bad_request("\"size\" must be [width, height]");
+    r.width = parse_int_value(s[0], "\"size\"[0] (width)", 4, 256);
+    r.height = parse_int_value(s[1], "\"size\"[1] (height)", 4, 256);
   }
   auto slot = acquire(heavy_);
   return Reply::bytes(map_layer_png(model_, r, &map_plausibility_), kPng);
@@ -333,7 +329,13 @@ Reply Api::project(const std::string& file_bytes) {
   Projection p;
   {
     auto slot = acquire(heavy_);
-    p = project_material(model_, table);
+    try {
+      p = project_material(model_, table);
+    } catch (const HttpError&) {
+      throw;
+    } catch (const Error& e) {
+      throw HttpError(422, std::string("the upload cannot be projected: ") + e.what());
+    }
   }
   nlohmann::json nearest = nullptr;
   if (p.nearest >= 0)

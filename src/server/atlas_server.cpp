@@ -1,18 +1,22 @@
 #include "server/atlas_server.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cstdlib>
+#include <mutex>
 #include <thread>
 
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "manifold/model.h"
 #include "server/api.h"
 #include "server/http_error.h"
 #include "server/web_root.h"
 
 // Last: httplib.h pulls in <resolv.h>, whose `_res` macro breaks Eigen headers included after it.
-#include <httplib.h>
+#include "server/guarded_http.h"
 
 namespace matlas::server {
 
@@ -54,37 +58,206 @@ void guarded(httplib::Response& res, F&& f) {
 }  // namespace
 
 struct AtlasServer::Impl {
+  /// What answers the API: a model, its previews and the Api over them, replaced as a whole on
+  /// reload (requests in flight keep the one they started with).
+  struct Served {
+    std::shared_ptr<const Model> model;
+    std::shared_ptr<const PreviewSource> previews;
+    std::unique_ptr<Api> api;
+    std::atomic<bool> broken{false};  ///< its file was modified in place: data untrustworthy
+  };
+
   ServerOptions options;
-  Api api;
-  httplib::Server http;
+  std::filesystem::path model_path;
+  std::mutex served_mutex;
+  std::shared_ptr<Served> served;
+  GuardedHttpServer http;
   std::optional<std::filesystem::path> web_root;
   std::thread thread;
   int port = -1;
 
+  // Model watch.
+  std::atomic<long long> next_check_ms{0};
+  std::atomic<bool> reloading{false};
+  std::atomic<std::uint64_t> reloads{0};
+  std::mutex status_mutex;
+  std::string reload_error;                  ///< last failed reload, for the 503 message
+  std::thread reload_thread;
+  std::atomic<int> uploads{0};
+
   Impl(const Model& model, std::shared_ptr<const PreviewSource> previews, ServerOptions o)
-      : options(std::move(o)), api(model, std::move(previews), options) {
+      : options(std::move(o)), model_path(model.path()), http(limits(options)) {
+    auto s = std::make_shared<Served>();
+    s->model = std::shared_ptr<const Model>(&model, [](const Model*) {});  // owned by the caller
+    s->previews = std::move(previews);
+    s->api = std::make_unique<Api>(*s->model, s->previews, options);
+    served = std::move(s);
     web_root = find_web_root(options.web_root);
     configure();
   }
 
+  ~Impl() {
+    if (reload_thread.joinable()) reload_thread.join();
+  }
+
+  static ConnectionLimits limits(const ServerOptions& o) {
+    ConnectionLimits l;
+    l.threads = std::max(2, o.threads);
+    l.queue = std::max(0, o.queue);
+    l.per_client = std::max(1, o.per_client);
+    l.idle_timeout = o.idle_timeout;
+    l.header_timeout = o.header_timeout;
+    l.body_timeout = o.body_timeout;
+    return l;
+  }
+
+  std::shared_ptr<Served> current() {
+    std::lock_guard<std::mutex> lock(served_mutex);
+    return served;
+  }
+
+  static long long now_ms() {
+    return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+  }
+
+  /// At most every 200 ms: has the model file changed? Starts a reload if so.
+  void check_model() {
+    const long long now = now_ms();
+    long long due = next_check_ms.load();
+    if (now < due || !next_check_ms.compare_exchange_strong(due, now + 200)) return;
+    const auto s = current();
+    const Model::FileState state = s->model->file_state();
+    if (state == Model::FileState::modified || s->model->mapping_faults() > 0) s->broken = true;
+    if (state == Model::FileState::same || !options.reload || reloading.exchange(true)) return;
+    if (reload_thread.joinable()) reload_thread.join();
+    reload_thread = std::thread([this] {
+      try {
+        ServedModel m = options.reload(model_path);
+        auto next = std::make_shared<Served>();
+        next->model = std::move(m.model);
+        next->previews = std::move(m.previews);
+        next->api = std::make_unique<Api>(*next->model, next->previews, options);
+        {
+          std::lock_guard<std::mutex> lock(served_mutex);
+          served = std::move(next);
+        }
+        ++reloads;
+        std::lock_guard<std::mutex> lock(status_mutex);
+        reload_error.clear();
+      } catch (const std::exception& e) {
+        // E.g. a copy still in progress: tried again at a later check (at most once a second).
+        std::lock_guard<std::mutex> lock(status_mutex);
+        reload_error = e.what();
+        next_check_ms = now_ms() + 1000;
+      }
+      reloading = false;
+    });
+  }
+
+  std::string unavailable_message() {
+    std::string message = "the model file " + model_path.string() + " was modified while being served";
+    std::lock_guard<std::mutex> lock(status_mutex);
+    if (!options.reload) return message + "; restart the server to serve the new one";
+    if (!reload_error.empty()) return message + "; it cannot be loaded yet: " + reload_error;
+    return message + "; reloading, retry shortly";
+  }
+
+  /// Runs an API handler on the current model; a reply computed while the model's file was
+  /// truncated under it (pages read as zeros) is replaced by 503.
+  template <class F>
+  void serve_api(httplib::Response& res, F&& f) {
+    const auto s = current();
+    if (s->broken) {
+      res.set_header("Retry-After", "1");
+      send_error(res, 503, unavailable_message());
+      return;
+    }
+    const std::uint64_t faults = s->model->mapping_faults();
+    guarded(res, [&] { return f(*s->api); });
+    if (s->model->mapping_faults() != faults) {
+      s->broken = true;
+      res.set_header("Retry-After", "1");
+      send_error(res, 503, unavailable_message());
+    }
+  }
+
+  std::size_t body_limit(const httplib::Request& req) const {
+    return req.path == "/api/project" ? options.max_upload_bytes + (64u << 10) : kMaxJsonBody;
+  }
+
+  /// Before the body is read: its size limit, the multipart boundary, the upload slots.
+  bool admit(const httplib::Request& req, httplib::Response& res) {
+    const std::size_t limit = body_limit(req);
+    GuardedHttpServer::begin_body(limit);
+    long long length = -1;
+    if (req.has_header("Content-Length")) {
+      const std::string text = req.get_header_value("Content-Length");
+      char* end = nullptr;
+      const unsigned long long v = std::strtoull(text.c_str(), &end, 10);
+      length = (end == text.c_str() || *end) ? -2 : static_cast<long long>(std::min<unsigned long long>(v, 1ull << 62));
+    }
+    if (length == -2) {
+      send_error(res, 400, "invalid Content-Length header");
+      GuardedHttpServer::close_after_response();
+      return false;
+    }
+    if (length > static_cast<long long>(limit)) {
+      send_error(res, 413, "the request body has " + std::to_string(length) + " bytes; " + req.path + " accepts at most " +
+                               std::to_string(limit));
+      GuardedHttpServer::close_after_response();
+      return false;
+    }
+    if (req.path == "/api/project" && req.method == "POST") {
+      const std::string type = req.get_header_value("Content-Type");
+      if (type.rfind("multipart/form-data", 0) == 0 && type.find("boundary=") == std::string::npos) {
+        // Read the body anyway (it is within the limit), so that the client gets this reply
+        // rather than a connection reset.
+        if (length < 0 || !GuardedHttpServer::discard_body(static_cast<std::size_t>(length)))
+          GuardedHttpServer::close_after_response();
+        send_error(res, 400, "the multipart upload has no boundary in its Content-Type "
+                             "(expected multipart/form-data; boundary=...); or send the file as the raw body");
+        return false;
+      }
+      if (uploads.fetch_add(1) >= options.max_uploads) {
+        uploads.fetch_sub(1);
+        res.set_header("Retry-After", "1");
+        send_error(res, 503, "the server is receiving " + std::to_string(options.max_uploads) +
+                                 " uploads already; try again");
+        GuardedHttpServer::close_after_response();
+        return false;
+      }
+      upload_slot() = true;
+    }
+    if (req.path.rfind("/api/", 0) == 0) check_model();
+    return true;
+  }
+
+  static bool& upload_slot() {
+    thread_local bool held = false;
+    return held;
+  }
+
   void configure() {
-    const int threads = std::max(2, options.threads);
-    http.new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<std::size_t>(threads)); };
-    http.set_payload_max_length(options.max_upload_bytes);
+    http.set_payload_max_length(options.max_upload_bytes + (64u << 10));
     // Headers and body go out in separate writes: without TCP_NODELAY, Nagle + delayed ACK add
     // ~40 ms to every keep-alive response.
     http.set_tcp_nodelay(true);
+    // As many requests per connection as the connection loop serves (the Keep-Alive header says so).
     http.set_keep_alive_max_count(1000);
-    http.set_keep_alive_timeout(5);
-    http.set_read_timeout(10);
-    http.set_write_timeout(10);
+    http.after_request = [this] {
+      if (upload_slot()) {
+        upload_slot() = false;
+        uploads.fetch_sub(1);
+      }
+    };
 
     http.Get("/api/model", [this](const httplib::Request&, httplib::Response& res) {
-      guarded(res, [&] { return api.model_info(); });
+      serve_api(res, [&](Api& api) { return api.model_info(); });
     });
     auto post = [this](const std::string& path, Reply (Api::*method)(const std::string&)) {
       http.Post(path, [this, method](const httplib::Request& req, httplib::Response& res) {
-        guarded(res, [&] { return (api.*method)(req.body); });
+        serve_api(res, [&](Api& api) { return (api.*method)(req.body); });
       });
     };
     post("/api/preview", &Api::preview);
@@ -95,7 +268,7 @@ struct AtlasServer::Impl {
     post("/api/map", &Api::map_layer);
     post("/api/export", &Api::export_merl);
     http.Post("/api/project", [this](const httplib::Request& req, httplib::Response& res) {
-      guarded(res, [&] {
+      serve_api(res, [&](Api& api) {
         if (req.is_multipart_form_data()) {
           if (!req.has_file("file")) throw bad_request("the multipart upload has no field \"file\"");
           return api.project(req.get_file_value("file").content);
@@ -104,7 +277,7 @@ struct AtlasServer::Impl {
       });
     });
     http.Get(R"(/api/thumbnail/(\d+))", [this](const httplib::Request& req, httplib::Response& res) {
-      guarded(res, [&] {
+      serve_api(res, [&](Api& api) {
         const int index = parse_int_text(req.matches[1], "material index", 0, 1 << 30);
         const int size = req.has_param("size") ? parse_int_text(req.get_param_value("size"), "size", 16, 512) : 128;
         return api.thumbnail(index, req.get_param_value("env"), req.get_param_value("object"), size);
@@ -147,13 +320,14 @@ struct AtlasServer::Impl {
         send_error(res, 500, "internal error");
       }
     });
+    // The logger runs on the thread that handled the request, right after it.
+    static thread_local std::chrono::steady_clock::time_point started;
+    http.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
+      started = std::chrono::steady_clock::now();
+      return admit(req, res) ? httplib::Server::HandlerResponse::Unhandled
+                             : httplib::Server::HandlerResponse::Handled;
+    });
     if (options.log) {
-      // The logger runs on the thread that handled the request, right after it.
-      static thread_local std::chrono::steady_clock::time_point started;
-      http.set_pre_routing_handler([](const httplib::Request&, httplib::Response&) {
-        started = std::chrono::steady_clock::now();
-        return httplib::Server::HandlerResponse::Unhandled;
-      });
       http.set_logger([log = options.log](const httplib::Request& req, const httplib::Response& res) {
         log(req.method, req.path, res.status,
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count());
@@ -210,5 +384,10 @@ std::string AtlasServer::url() const {
 }
 
 const std::optional<std::filesystem::path>& AtlasServer::web_root() const { return impl_->web_root; }
+
+ServerStats AtlasServer::stats() const {
+  const ConnectionStats c = impl_->http.stats();
+  return {c.accepted, c.refused_busy, c.refused_per_client, c.timed_out, c.over_budget, impl_->reloads.load()};
+}
 
 }  // namespace matlas::server

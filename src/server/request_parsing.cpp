@@ -1,6 +1,7 @@
 #include "server/request_parsing.h"
 
 #include <charconv>
+#include <cstdint>
 #include <cmath>
 #include <sstream>
 
@@ -45,13 +46,59 @@ LatentDomain LatentDomain::around(const Eigen::VectorXd& data_min, const Eigen::
   return d;
 }
 
+std::size_t json_nesting_depth(const std::string& text, std::size_t limit) {
+  // Brackets outside strings; a string ends at an unescaped quote. Stops early past the limit.
+  std::size_t depth = 0, deepest = 0;
+  bool in_string = false, escaped = false;
+  for (const char c : text) {
+    if (in_string) {
+      if (escaped) escaped = false;
+      else if (c == '\\') escaped = true;
+      else if (c == '"') in_string = false;
+      continue;
+    }
+    if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > deepest && (deepest = depth) > limit) return deepest;
+    } else if ((c == ']' || c == '}') && depth > 0) {
+      --depth;
+    }
+  }
+  return deepest;
+}
+
 nlohmann::json parse_json_object(const std::string& body) {
+  if (body.size() > kMaxJsonBody)
+    throw HttpError(413, "the request body has " + std::to_string(body.size()) + " bytes; JSON requests are limited to " +
+                             std::to_string(kMaxJsonBody));
+  // Requests are shallow ({"x": [...], "rect": [...]}): deeper nesting is refused before parsing,
+  // so that nothing recursive (printing, comparing, copying) ever meets a deep value.
+  if (json_nesting_depth(body, kMaxJsonDepth) > kMaxJsonDepth)
+    throw bad_request("the request body nests arrays or objects deeper than " + std::to_string(kMaxJsonDepth) +
+                      " levels");
   // nlohmann's parser rejects NaN/Infinity literals, so every number that gets through is finite
   // unless it overflows (1e999 parses as inf), which finite_number() catches.
   nlohmann::json j = nlohmann::json::parse(body, nullptr, /*allow_exceptions=*/false);
   if (j.is_discarded()) throw bad_request("the request body is not valid JSON");
   if (!j.is_object()) throw bad_request("the request body must be a JSON object");
   return j;
+}
+
+int parse_int_value(const nlohmann::json& value, const std::string& what, int lo, int hi) {
+  if (!value.is_number_integer())
+    throw bad_request(what + " must be an integer, got " + std::string(value.is_number() ? "a fractional number"
+                                                                                         : value.type_name()));
+  // Compared as 64-bit (signed or unsigned as stored): 2^32 or 2^64 - 1 must not wrap into range.
+  const bool too_big = value.is_number_unsigned() ? value.get<std::uint64_t>() > static_cast<std::uint64_t>(hi)
+                                                  : value.get<std::int64_t>() > hi;
+  const bool too_small = !value.is_number_unsigned() && value.get<std::int64_t>() < lo;
+  if (too_big || too_small)
+    throw bad_request(what + " = " +
+                      (value.is_number_unsigned() ? std::to_string(value.get<std::uint64_t>())
+                                                  : std::to_string(value.get<std::int64_t>())) +
+                      " is outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  return static_cast<int>(value.get<std::int64_t>());
 }
 
 Eigen::VectorXd parse_latent(const nlohmann::json& body, const std::string& key,
@@ -89,13 +136,7 @@ double parse_number(const nlohmann::json& body, const std::string& key, double l
 int parse_int(const nlohmann::json& body, const std::string& key, int lo, int hi, int fallback) {
   const nlohmann::json* value = field(body, key);
   if (!value) return fallback;
-  if (!value->is_number_integer())
-    throw bad_request("\"" + key + "\" must be an integer, got " + value->dump());
-  const auto v = value->get<long long>();
-  if (v < lo || v > hi)
-    throw bad_request("\"" + key + "\" = " + std::to_string(v) + " is outside [" + std::to_string(lo) +
-                      ", " + std::to_string(hi) + "]");
-  return static_cast<int>(v);
+  return parse_int_value(*value, "\"" + key + "\"", lo, hi);
 }
 
 std::string parse_choice(const nlohmann::json& body, const std::string& key,

@@ -2,6 +2,7 @@
 // Parsing and validation of JSON request bodies. Every function throws HttpError(400) with a
 // message naming the field and the problem (malformed JSON, wrong type, wrong dimension, NaN,
 // out of range), so that a handler never sees an invalid value.
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -22,8 +23,21 @@ struct LatentDomain {
   int dim() const { return static_cast<int>(lo.size()); }
 };
 
-/// Parses a request body that must be a JSON object.
+/// Largest JSON request body (413 above): a request is a few numbers; 64 KiB leaves room.
+inline constexpr std::size_t kMaxJsonBody = 64u << 10;
+/// Deepest nesting of arrays and objects accepted in a JSON request (400 deeper).
+inline constexpr std::size_t kMaxJsonDepth = 16;
+
+/// Parses a request body that must be a JSON object of at most kMaxJsonBody bytes and
+/// kMaxJsonDepth levels of nesting (checked before parsing).
 nlohmann::json parse_json_object(const std::string& body);
+
+/// The deepest nesting of arrays and objects in JSON text (brackets inside strings ignored);
+/// stops counting once past `limit`.
+std::size_t json_nesting_depth(const std::string& text, std::size_t limit);
+
+/// A JSON value that must be an integer in [lo, hi]; `what` names it in errors. Integers of any
+/// size are compared exactly (no 32-bit wrap-around), and the value is never printed whole.
 
 /// The latent point `body[key]`: an array of exactly domain.dim() finite numbers inside the domain.
 Eigen::VectorXd parse_latent(const nlohmann::json& body, const std::string& key,
@@ -32,6 +46,8 @@ Eigen::VectorXd parse_latent(const nlohmann::json& body, const std::string& key,
 /// Optional number `body[key]` in [lo, hi] (default when absent or null).
 double parse_number(const nlohmann::json& body, const std::string& key, double lo, double hi,
                     double fallback);
+
+int parse_int_value(const nlohmann::json& value, const std::string& what, int lo, int hi);
 
 /// Optional integer `body[key]` in [lo, hi] (default when absent or null).
 int parse_int(const nlohmann::json& body, const std::string& key, int lo, int hi, int fallback);

@@ -2,12 +2,17 @@
 // appears only on commit and the temporary file never outlives a failed write.
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <random>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <string>
 #include <vector>
 
 #include "core/atomic_file.h"
 #include "core/direct_appender.h"
+#include "core/error.h"
+#include "core/file_io.h"
 #include "support/temp_dir.h"
 
 namespace matlas {
@@ -90,6 +95,57 @@ TEST(DirectAppender, WritesWholeBuffersAndHandsBackTheTail) {
   ASSERT_EQ(back.size(), DirectAppender::kBufferBytes);
   EXPECT_TRUE(back.compare(0, back.size(), data, 0, back.size()) == 0);
   EXPECT_EQ(std::string(reinterpret_cast<const char*>(tail.data()), tail.size()), data.substr(back.size()));
+}
+
+}  // namespace
+}  // namespace matlas
+
+// ---- Hardening (issue 14): stale temporaries, empty names, folders, non-regular inputs
+namespace matlas {
+namespace {
+
+TEST(AtomicFileHardening, StaleTemporariesOfDeadProcessesAreRemoved) {
+  test::TempDir dir;
+  const auto target = dir.path() / "out.bin";
+  std::ofstream(dir.path() / "out.bin.tmp-4194301") << "stale";            // no such process
+  std::ofstream(dir.path() / ("out.bin.tmp-" + std::to_string(::getppid()))) << "alive";  // a live process
+  std::ofstream(dir.path() / "other.bin.tmp-4194301") << "another target";
+  std::ofstream(dir.path() / "out.bin.tmp-notapid") << "not ours";
+  write_file_atomic(target, std::string("x"));
+  EXPECT_FALSE(std::filesystem::exists(dir.path() / "out.bin.tmp-4194301"));
+  EXPECT_TRUE(std::filesystem::exists(dir.path() / ("out.bin.tmp-" + std::to_string(::getppid()))));
+  EXPECT_TRUE(std::filesystem::exists(dir.path() / "other.bin.tmp-4194301"));
+  EXPECT_TRUE(std::filesystem::exists(dir.path() / "out.bin.tmp-notapid"));
+}
+
+TEST(AtomicFileHardening, EmptyNamesAndFoldersAreRefused) {
+  test::TempDir dir;
+  try {
+    AtomicFile f("");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("output file name is empty"), std::string::npos);
+  }
+  try {
+    AtomicFile f(dir.path());
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("is a folder"), std::string::npos);
+  }
+}
+
+TEST(AtomicFileHardening, NonRegularInputsAreRefusedWithoutBlocking) {
+  test::TempDir dir;
+  const auto fifo = dir.path() / "pipe";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0644), 0);
+  try {
+    (void)read_file(fifo);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("is a named pipe (FIFO)"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(open_regular_file("/dev/null", "a test file"), Error);
+  EXPECT_THROW(open_regular_file(dir.path(), "a test file"), Error);
 }
 
 }  // namespace

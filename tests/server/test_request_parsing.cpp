@@ -87,5 +87,29 @@ TEST(ParseFields, DefaultsRangesAndChoices) {
   EXPECT_EQ(status_of([] { parse_int_text("99", "size", 0, 20); }), 400);
 }
 
+TEST(RequestParsing, NestingDepthIsCappedBeforeParsing) {
+  EXPECT_EQ(json_nesting_depth("{\"x\":[[1],[2]]}", 100), 3u);
+  EXPECT_EQ(json_nesting_depth("{\"s\":\"[[[[\\\"[[\"}", 100), 1u);  // brackets inside a string
+  const std::string deep = "{\"top\":" + std::string(30000, '[') + std::string(30000, ']') + "}";
+  EXPECT_EQ(status_of([&] { parse_json_object(deep); }), 400);
+  const std::string deeper = "{\"top\":" + std::string(60000, '[') + std::string(60000, ']') + "}";
+  EXPECT_EQ(status_of([&] { parse_json_object(deeper); }), 413);  // too large before too deep
+  EXPECT_EQ(status_of([&] { parse_json_object(std::string(kMaxJsonBody + 1, ' ')); }), 413);
+}
+
+TEST(RequestParsing, IntegersAreComparedWithoutWrapping) {
+  const auto body = nlohmann::json::parse(R"({"a": 4294967296, "b": 18446744073709551615, "c": -4294967296, "d": 7})");
+  EXPECT_EQ(status_of([&] { parse_int(body, "a", 0, 100, 1); }), 400);
+  EXPECT_EQ(status_of([&] { parse_int(body, "b", 0, 100, 1); }), 400);
+  EXPECT_EQ(status_of([&] { parse_int(body, "c", 0, 100, 1); }), 400);
+  EXPECT_EQ(parse_int(body, "d", 0, 100, 1), 7);
+  try {
+    parse_int(nlohmann::json::parse(R"({"t": [[[1]]]})"), "t", 0, 10, 1);
+    FAIL();
+  } catch (const HttpError& e) {
+    EXPECT_STREQ(e.what(), "\"t\" must be an integer, got array");  // the type, never the value
+  }
+}
+
 }  // namespace
 }  // namespace matlas::server
