@@ -124,7 +124,7 @@ void MerlFile::read_checked(std::size_t first, std::size_t n, double* chunk) con
     if (!std::isfinite(v)) throw file_error(path_, std::string(std::isnan(v) ? "NaN" : "infinite") + " value" + where);
     char text[32];
     std::snprintf(text, sizeof text, "%.6g", v);
-    throw file_error(path_, std::string("absurd value ") + text + where + " (MERL values stay far below 1e9 in " +
+    throw file_error(path_, std::string("absurd value ") + text + where + " (MERL values stay far below 1e15 in " +
                                 "stored units; is the file corrupted or not in MERL units?)");
   }
 }
