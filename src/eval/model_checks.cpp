@@ -8,6 +8,7 @@
 #include "brdf/albedo.h"
 #include "core/error.h"
 #include "core/parallel.h"
+#include "manifold/mean_weight.h"
 #include "manifold/column_blocks.h"
 #include "manifold/export.h"
 
@@ -72,6 +73,8 @@ std::vector<std::size_t> count_negative_values(const Model& model, const Eigen::
   const Eigen::Index m = weights.cols();
   const std::size_t values = 3 * model.dims().bins();
   const Eigen::MatrixXd wt = weights.transpose();  // m x n
+  Eigen::VectorXd weight_of_mean(m);
+  for (Eigen::Index j = 0; j < m; ++j) weight_of_mean[j] = mean_weight(weights.col(j));
   const bool f32 = model.kept_columns() > 0 && model.data_f32(0) != nullptr;
   std::vector<std::size_t> total(static_cast<std::size_t>(m), 0);
   std::mutex mutex;
@@ -90,15 +93,17 @@ std::vector<std::size_t> count_negative_values(const Model& model, const Eigen::
         if (f32) {
           const float* p = model.data_f32(static_cast<std::size_t>(c));
           mean(cols) = model.mean(static_cast<std::size_t>(c));
-          for (int i = 0; i < n; ++i) z(i, cols) = static_cast<double>(p[i]) - mean(cols);
+          for (int i = 0; i < n; ++i) z(i, cols) = static_cast<double>(p[i]);
         } else {
-          for (int i = 0; i < n; ++i) z(i, cols) = model.value(v, Eigen::VectorXd::Unit(n, i)) - model.value(v, Eigen::VectorXd::Zero(n));
+          for (int i = 0; i < n; ++i) z(i, cols) = model.value(v, Eigen::VectorXd::Unit(n, i));
           mean(cols) = model.value(v, Eigen::VectorXd::Zero(n));
         }
         ++cols;
       }
       if (cols == 0) continue;
-      const Eigen::MatrixXd y = (wt * z.leftCols(cols)).rowwise() + mean.head(cols);
+      // As Model::table: (1 - sum w) mean + sum_i w_i z_i, the mean's weight exactly 0 for weights
+      // summing to 1 (mean_weight), so an exact zero of the inputs is not counted as negative.
+      const Eigen::MatrixXd y = wt * z.leftCols(cols) + weight_of_mean * mean.head(cols);
       for (Eigen::Index r = 0; r < m; ++r) local[static_cast<std::size_t>(r)] += static_cast<std::size_t>((y.row(r).array() < 0.0).count());
     }
     std::lock_guard lock(mutex);

@@ -12,6 +12,10 @@ namespace {
 
 std::string dims(Eigen::Index r, Eigen::Index c) { return std::to_string(r) + " x " + std::to_string(c); }
 
+/// The repulsion barrier is log(1 - e^{-u} + floor): finite (-27.6 lambda) for coincident points,
+/// so a start with duplicate coordinates (a PCA start of a tiny database) can still be evaluated.
+constexpr double kBarrierFloor = 1e-12;
+
 }  // namespace
 
 LikelihoodEvaluator::LikelihoodEvaluator(const LikelihoodProblem& p)
@@ -87,7 +91,7 @@ double LikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, Eigen::MatrixXd
   if (repulsion_ > 0)
     for (Eigen::Index j = 0; j < n; ++j)
       for (Eigen::Index i = j + 1; i < n; ++i)
-        value += repulsion_ * std::log(-std::expm1(-(X.row(i) - X.row(j)).squaredNorm() * inv_r2));
+        value += repulsion_ * std::log(-std::expm1(-(X.row(i) - X.row(j)).squaredNorm() * inv_r2) + kBarrierFloor);
   value -= 0.5 * precision_ * X.squaredNorm();
   if (gradient == nullptr) return value;
 
@@ -105,13 +109,13 @@ double LikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, Eigen::MatrixXd
   *gradient -= G_.rowwise().sum().asDiagonal() * X;
   *gradient *= 4.0 * inv_l2;
   *gradient -= precision_ * X;
-  // d/dx_i of log(1 - e^{-u}), u = |x_i - x_j|^2 / rho^2: (e^{-u} / (1 - e^{-u})) 2 (x_i - x_j) / rho^2.
+  // d/dx_i of log(1 - e^{-u} + floor), u = |x_i - x_j|^2 / rho^2: e^{-u} / (1 - e^{-u} + floor) 2 (x_i - x_j) / rho^2.
   if (repulsion_ > 0)
     for (Eigen::Index j = 0; j < n; ++j)
       for (Eigen::Index i = j + 1; i < n; ++i) {
         const Eigen::RowVectorXd diff = X.row(i) - X.row(j);
         const double u = diff.squaredNorm() * inv_r2;
-        const double f = repulsion_ * 2.0 * inv_r2 / std::expm1(u);  // e^{-u} / (1 - e^{-u}) = 1 / (e^u - 1)
+        const double f = repulsion_ * 2.0 * inv_r2 * std::exp(-u) / (-std::expm1(-u) + kBarrierFloor);
         gradient->row(i) += f * diff;
         gradient->row(j) -= f * diff;
       }

@@ -16,7 +16,7 @@ namespace matlas::gp {
 /// the number of data columns. The defaults are all off (the paper's likelihood); spread() is
 /// what `matlas build` uses.
 struct LatentPrior {
-  /// Hard-core repulsion lambda sum_{i<j} log(1 - exp(-|x_i - x_j|^2 / rho^2)) (lambda =
+  /// Hard-core repulsion lambda sum_{i<j} log(1 - exp(-|x_i - x_j|^2 / rho^2) + 1e-12) (lambda =
   /// repulsion, rho = radius in lengthscale units): a barrier that keeps any two points about rho
   /// apart and vanishes beyond a few rho, so distinct materials stay distinct on the map where the
   /// likelihood alone would merge them (it rewards merging similar materials by -log|K|).

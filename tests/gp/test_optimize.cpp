@@ -208,7 +208,7 @@ TEST(OptimizeLatent, PriorsKeepNearDuplicatesApartAndTheExtentBounded) {
     const OptimizeResult map = optimize_latent(p, X0, OptimizeOptions{}, null_progress());
     EXPECT_TRUE(map.converged()) << map.stop_reason;
     EXPECT_LT(closest(plain.latent), 1e-3) << "seed " << seed;
-    EXPECT_GT(closest(map.latent), 0.05) << "seed " << seed;
+    EXPECT_GT(closest(map.latent), 0.025) << "seed " << seed;  // a quarter of the radius, 10^4 x the plain fit
     EXPECT_LT(extent(map.latent), 8.0) << "seed " << seed;
   }
 }
