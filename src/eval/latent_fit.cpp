@@ -112,6 +112,7 @@ Projection project_material(const LatentFit& fit, std::span<const int> subset,
   for (int s = 0; s < count; ++s) {
     const Eigen::VectorXd x0 = X.row(near[static_cast<std::size_t>(s)].second).transpose();
     const Eigen::VectorXd x = nelder_mead(objective, x0, step, 200 * static_cast<int>(X.cols() + 1));
+    for (const double t : {0.0, 0.25, 0.5, 0.75, 1.0}) best.candidates.push_back(coefficients(x0 + t * (x - x0)));
     const double r = objective(x);
     if (r < best.residual_squared) {
       best.x = x;

@@ -4,6 +4,7 @@
 #include <functional>
 #include <memory>
 #include <span>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -45,6 +46,10 @@ struct Projection {
   Eigen::VectorXd x;             ///< latent point
   Eigen::VectorXd coefficients;  ///< raw coefficients (length n) of m(x) over all n materials
   double residual_squared = 0;   ///< ||z_h - m(x)||^2 in the Gram's space
+  /// Candidate reconstructions (raw coefficients) for a final choice by a metric the Gram cannot
+  /// express (the cube-root distance, not quadratic): for each start, the points from the start
+  /// (a material's own latent point) to its optimum, at t = 0, 1/4, 1/2, 3/4, 1.
+  std::vector<Eigen::VectorXd> candidates;
 };
 
 /// Projects material h onto a map fitted to `subset` (the rows of the fit, in order): minimises

@@ -90,8 +90,12 @@ double LikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, Eigen::MatrixXd
   const double inv_r2 = 1.0 / (radius_ * radius_);
   if (repulsion_ > 0)
     for (Eigen::Index j = 0; j < n; ++j)
-      for (Eigen::Index i = j + 1; i < n; ++i)
-        value += repulsion_ * std::log(-std::expm1(-(X.row(i) - X.row(j)).squaredNorm() * inv_r2) + kBarrierFloor);
+      for (Eigen::Index i = j + 1; i < n; ++i) {
+        double u = 0;
+        for (Eigen::Index d = 0; d < X.cols(); ++d) u += (X(i, d) - X(j, d)) * (X(i, d) - X(j, d));
+        u *= inv_r2;
+        if (u < 40.0) value += repulsion_ * std::log(-std::expm1(-u) + kBarrierFloor);  // beyond: log(1) = 0
+      }
   value -= 0.5 * precision_ * X.squaredNorm();
   if (gradient == nullptr) return value;
 
@@ -110,15 +114,22 @@ double LikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, Eigen::MatrixXd
   *gradient *= 4.0 * inv_l2;
   *gradient -= precision_ * X;
   // d/dx_i of log(1 - e^{-u} + floor), u = |x_i - x_j|^2 / rho^2: e^{-u} / (1 - e^{-u} + floor) 2 (x_i - x_j) / rho^2.
-  if (repulsion_ > 0)
+  if (repulsion_ > 0) {
+    const Eigen::Index q = X.cols();
     for (Eigen::Index j = 0; j < n; ++j)
       for (Eigen::Index i = j + 1; i < n; ++i) {
-        const Eigen::RowVectorXd diff = X.row(i) - X.row(j);
-        const double u = diff.squaredNorm() * inv_r2;
+        double u = 0;
+        for (Eigen::Index d = 0; d < q; ++d) u += (X(i, d) - X(j, d)) * (X(i, d) - X(j, d));
+        u *= inv_r2;
+        if (u > 40.0) continue;  // e^-40: no force
         const double f = repulsion_ * 2.0 * inv_r2 * std::exp(-u) / (-std::expm1(-u) + kBarrierFloor);
-        gradient->row(i) += f * diff;
-        gradient->row(j) -= f * diff;
+        for (Eigen::Index d = 0; d < q; ++d) {
+          const double g = f * (X(i, d) - X(j, d));
+          (*gradient)(i, d) += g;
+          (*gradient)(j, d) -= g;
+        }
       }
+  }
   return value;
 }
 
