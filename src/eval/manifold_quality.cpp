@@ -3,25 +3,23 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <mutex>
 #include <numeric>
 #include <random>
 
 #include "brdf/merl_grid.h"
 #include "core/error.h"
 #include "core/parallel.h"
+#include "eval/model_checks.h"
+#include "gp/kernel.h"
 #include "manifold/dense_product.h"
-#include "manifold/mean_weight.h"
 
 namespace matlas::eval {
 
 namespace {
 
 Eigen::MatrixXd latent_squared_distances(const Eigen::MatrixXd& X) {
-  const Eigen::Index n = X.rows();
-  Eigen::MatrixXd D(n, n);
-  for (Eigen::Index i = 0; i < n; ++i)
-    for (Eigen::Index j = 0; j < n; ++j) D(i, j) = (X.row(i) - X.row(j)).squaredNorm();
+  Eigen::MatrixXd D;
+  gp::squared_distances(X, D);
   return D;
 }
 
@@ -60,42 +58,6 @@ Eigen::MatrixXd perceptual_squared_distances(const Model& model, int stride) {
   return D;
 }
 
-/// Per point (column of W): how many kept values are negative, over every kept value.
-std::vector<std::size_t> negative_counts(const Model& model, const Eigen::MatrixXd& W) {
-  const int n = model.count();
-  const auto m = static_cast<std::size_t>(W.cols());
-  const std::size_t kept = model.kept_columns();
-  Eigen::RowVectorXd weight_of_mean(W.cols());
-  for (Eigen::Index j = 0; j < W.cols(); ++j) weight_of_mean[j] = mean_weight(W.col(j));
-  std::vector<std::size_t> counts(m, 0);
-  std::mutex mutex;
-  constexpr std::size_t kBlock = 4096;
-  const std::size_t blocks = (kept + kBlock - 1) / kBlock;
-  parallel_for(0, blocks, [&](std::size_t lo, std::size_t hi) {
-    std::vector<std::size_t> local(m, 0);
-    Eigen::MatrixXd Z;
-    std::vector<float> values(static_cast<std::size_t>(n));
-    for (std::size_t b = lo; b < hi; ++b) {
-      const std::size_t first = b * kBlock, last = std::min(kept, first + kBlock);
-      Z.resize(static_cast<Eigen::Index>(last - first), n);
-      Eigen::VectorXd means(static_cast<Eigen::Index>(last - first));
-      for (std::size_t c = first; c < last; ++c) {
-        model.data(c, values.data());
-        const auto r = static_cast<Eigen::Index>(c - first);
-        for (int i = 0; i < n; ++i) Z(r, i) = values[static_cast<std::size_t>(i)];
-        means[r] = model.mean(c);
-      }
-      Eigen::MatrixXd V = Z * W;
-      V += means * weight_of_mean;
-      for (Eigen::Index j = 0; j < V.cols(); ++j)
-        local[static_cast<std::size_t>(j)] += static_cast<std::size_t>((V.col(j).array() < 0.0).count());
-    }
-    const std::lock_guard lock(mutex);
-    for (std::size_t j = 0; j < m; ++j) counts[j] += local[j];
-  }, 1);
-  return counts;
-}
-
 ModePlausibility summarise(const Model& model, const Eigen::MatrixXd& W, double inputs_max_albedo,
                            std::string mode, std::string where) {
   ModePlausibility p;
@@ -103,7 +65,7 @@ ModePlausibility summarise(const Model& model, const Eigen::MatrixXd& W, double 
   p.where = std::move(where);
   p.points = static_cast<int>(W.cols());
   if (W.cols() == 0) return p;
-  const std::vector<std::size_t> negatives = negative_counts(model, W);
+  const std::vector<std::size_t> negatives = count_negative_values(model, W);
   const Eigen::MatrixXd albedo = model.albedo_batch(W);
   const double kept = static_cast<double>(model.kept_columns());
   double sum = 0;
@@ -169,7 +131,7 @@ ManifoldQuality assess_manifold(Model& model, const ManifoldQualityOptions& opti
   out.inputs_max_albedo = model.material_albedo().maxCoeff();
   {
     std::size_t negatives = 0;
-    for (std::size_t c : negative_counts(model, Eigen::MatrixXd::Identity(n, n))) negatives += c;
+    for (std::size_t c : count_negative_values(model, Eigen::MatrixXd::Identity(n, n))) negatives += c;
     out.input_negative_values = static_cast<int>(negatives);
   }
 

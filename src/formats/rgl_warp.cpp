@@ -73,28 +73,29 @@ RglWarp2D::RglWarp2D(std::span<const float> data, std::size_t nx, std::size_t ny
   }
 }
 
-double RglWarp2D::eval(double x, double y, const ParamBlend& b) const {
+RglWarp2D::Patch RglWarp2D::patch(double x, double y, const ParamBlend& b) const {
   const double fx = std::clamp(x, 0.0, 1.0) * static_cast<double>(nx_ - 1);
   const double fy = std::clamp(y, 0.0, 1.0) * static_cast<double>(ny_ - 1);
-  const std::size_t px = std::min(static_cast<std::size_t>(fx), nx_ - 2);
-  const std::size_t py = std::min(static_cast<std::size_t>(fy), ny_ - 2);
-  const double s = fx - static_cast<double>(px), t = fy - static_cast<double>(py);
-  const std::size_t size = nx_ * ny_, i = py * nx_ + px;
-  const double v00 = at(data_, size, i, b), v10 = at(data_, size, i + 1, b);
-  const double v01 = at(data_, size, i + nx_, b), v11 = at(data_, size, i + nx_ + 1, b);
+  Patch p;
+  p.px = std::min(static_cast<std::size_t>(fx), nx_ - 2);
+  p.py = std::min(static_cast<std::size_t>(fy), ny_ - 2);
+  p.s = fx - static_cast<double>(p.px), p.t = fy - static_cast<double>(p.py);
+  const std::size_t size = nx_ * ny_, i = p.py * nx_ + p.px;
+  p.index = i;
+  p.v00 = at(data_, size, i, b), p.v10 = at(data_, size, i + 1, b);
+  p.v01 = at(data_, size, i + nx_, b), p.v11 = at(data_, size, i + nx_ + 1, b);
+  return p;
+}
+
+double RglWarp2D::eval(double x, double y, const ParamBlend& b) const {
+  const auto [px, py, i, s, t, v00, v10, v01, v11] = patch(x, y, b);
   const double value = (1 - t) * ((1 - s) * v00 + s * v10) + t * ((1 - s) * v01 + s * v11);
   return integral_.empty() ? value : value * static_cast<double>((nx_ - 1) * (ny_ - 1));
 }
 
 std::array<double, 2> RglWarp2D::invert(double x, double y, const ParamBlend& b) const {
-  const double fx = std::clamp(x, 0.0, 1.0) * static_cast<double>(nx_ - 1);
-  const double fy = std::clamp(y, 0.0, 1.0) * static_cast<double>(ny_ - 1);
-  const std::size_t px = std::min(static_cast<std::size_t>(fx), nx_ - 2);
-  const std::size_t py = std::min(static_cast<std::size_t>(fy), ny_ - 2);
-  const double s = fx - static_cast<double>(px), t = fy - static_cast<double>(py);
-  const std::size_t size = nx_ * ny_, i = py * nx_ + px;
-  const double v00 = at(data_, size, i, b), v10 = at(data_, size, i + 1, b);
-  const double v01 = at(data_, size, i + nx_, b), v11 = at(data_, size, i + nx_ + 1, b);
+  const auto [px, py, i, s, t, v00, v10, v01, v11] = patch(x, y, b);
+  const std::size_t size = nx_ * ny_;
   // The density along the row at height t is linear between c0 and c1 inside the patch.
   const double c0 = (1 - t) * v00 + t * v01, c1 = (1 - t) * v10 + t * v11;
   const double inside = s * (c0 + 0.5 * s * (c1 - c0));

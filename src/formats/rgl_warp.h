@@ -59,6 +59,14 @@ public:
   std::array<double, 2> sample(double u, double v, const ParamBlend& blend) const;
 
 private:
+  /// The grid cell holding (x, y) (clamped to [0,1]^2): its first index, position inside the
+  /// cell (s, t) and the four corner values of the blended slices.
+  struct Patch {
+    std::size_t px, py, index;
+    double s, t, v00, v10, v01, v11;
+  };
+  Patch patch(double x, double y, const ParamBlend& b) const;
+
   double at(const std::vector<double>& values, std::size_t stride, std::size_t index, const ParamBlend& b) const {
     double sum = 0;
     for (int i = 0; i < b.count; ++i) sum += b.weight[i] * values[b.slice[i] * stride + index];

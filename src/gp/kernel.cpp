@@ -8,16 +8,6 @@
 
 namespace matlas::gp {
 
-namespace {
-
-void check_dimensions(const Eigen::MatrixXd& X, Eigen::Index q, const char* what) {
-  if (X.cols() != q)
-    throw Error(std::string(what) + ": point has dimension " + std::to_string(q) + " but the latent points have " +
-                std::to_string(X.cols()));
-}
-
-}  // namespace
-
 double Kernel::operator()(const Eigen::Ref<const Eigen::VectorXd>& a,
                           const Eigen::Ref<const Eigen::VectorXd>& b) const {
   return std::exp(-(a - b).squaredNorm() / (lengthscale * lengthscale));
@@ -49,23 +39,6 @@ Eigen::MatrixXd covariance_matrix(const Eigen::MatrixXd& X, const Kernel& k) {
     for (Eigen::Index i = j + 1; i < K.rows(); ++i) K(i, j) = K(j, i);
   K.diagonal().array() += k.nugget;
   return K;
-}
-
-Eigen::VectorXd cross_covariance(const Eigen::MatrixXd& X, const Eigen::Ref<const Eigen::VectorXd>& x,
-                                 const Kernel& k) {
-  check_dimensions(X, x.size(), "cross_covariance");
-  Eigen::VectorXd d2 = Eigen::VectorXd::Zero(X.rows());
-  for (Eigen::Index d = 0; d < X.cols(); ++d) d2.array() += (X.col(d).array() - x[d]).square();
-  Eigen::VectorXd kx = (d2.array() * (-1.0 / (k.lengthscale * k.lengthscale))).exp().matrix();
-  for (Eigen::Index i = 0; i < X.rows(); ++i)
-    if (X.row(i).transpose() == x) kx[i] += k.nugget;
-  return kx;
-}
-
-Eigen::MatrixXd cross_covariance_batch(const Eigen::MatrixXd& X, const Eigen::MatrixXd& points, const Kernel& k) {
-  Eigen::MatrixXd out(X.rows(), points.rows());
-  for (Eigen::Index j = 0; j < points.rows(); ++j) out.col(j) = cross_covariance(X, points.row(j).transpose(), k);
-  return out;
 }
 
 bool is_positive_definite(const Eigen::LLT<Eigen::MatrixXd>& llt) {

@@ -1,8 +1,9 @@
 #pragma once
 // The squared-exponential covariance function of the latent GP,
 //   c(x, x') = exp(-|x - x'|^2 / l^2),
-// plus a white-noise "nugget" delta that is added wherever a point meets itself. Latent point sets
-// are n x q matrices with one point per row.
+// plus a white-noise "nugget" delta on the diagonal of the covariance matrix (GpPosterior adds it
+// to cross-covariances through a taper around each data point). Latent point sets are n x q
+// matrices with one point per row.
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 
@@ -29,16 +30,6 @@ void squared_distances(const Eigen::MatrixXd& X, Eigen::MatrixXd& D);
 /// n x n covariance of the rows of X (n x q), nugget on the diagonal. The nugget is added by index
 /// (i == j), so duplicate rows give a matrix that is singular only up to the nugget.
 Eigen::MatrixXd covariance_matrix(const Eigen::MatrixXd& X, const Kernel& k);
-
-/// k(x)_i = c(x, x_i) + nugget * [x == x_i exactly]  (the nugget is a white-noise part of the
-/// covariance function, so at a data point the GP reproduces the input exactly).
-Eigen::VectorXd cross_covariance(const Eigen::MatrixXd& X, const Eigen::Ref<const Eigen::VectorXd>& x,
-                                 const Kernel& k);
-
-/// n x m cross-covariances of the rows of X (n x q) with the rows of `points` (m x q); column j is
-/// cross_covariance(X, points.row(j), k).
-Eigen::MatrixXd cross_covariance_batch(const Eigen::MatrixXd& X, const Eigen::MatrixXd& points,
-                                       const Kernel& k);
 
 /// True when `llt` succeeded and no pivot is at rounding level: every L_ii^2 exceeds
 /// n * epsilon * max_j L_jj^2. An exactly singular K (duplicate points with nugget 0) can pass

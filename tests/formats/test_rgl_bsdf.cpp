@@ -16,6 +16,7 @@
 #include "formats/merl_file.h"
 #include "formats/rgl_bsdf.h"
 #include "rgl_test_files.h"
+#include "support/error_of.h"
 #include "support/temp_dir.h"
 
 namespace matlas {
@@ -23,14 +24,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "no error";
-}
+using test::error_of;
 
 RglBsdf synthetic(const test::SyntheticRgl& s = {}) {
   return RglBsdf(TensorFile::parse(serialize_tensor_file(s.fields()), "synthetic.bsdf"));

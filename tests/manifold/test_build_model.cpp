@@ -13,6 +13,7 @@
 #include "manifold/export.h"
 #include "manifold/model.h"
 #include "manifold/project.h"
+#include "support/error_of.h"
 #include "support/temp_dir.h"
 #include "synthetic_database.h"
 
@@ -28,14 +29,7 @@ BuildOptions small_options(int q = 2) {
   return o;
 }
 
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "no error";
-}
+using test::error_of;
 
 double relative_l2(const BrdfTable& a, const BrdfTable& b, const Model& m) {
   double e = 0, n = 0;

@@ -10,6 +10,7 @@
 #include "manifold/model.h"
 #include "manifold/project.h"
 #include "support/synthetic_rgl.h"
+#include "support/error_of.h"
 #include "support/temp_dir.h"
 #include "synthetic_database.h"
 
@@ -18,14 +19,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "no error";
-}
+using test::error_of;
 
 /// Two MERL tables and two RGL files (standard grid: RGL files resample onto it).
 void write_mixed_folder(const fs::path& dir) {
