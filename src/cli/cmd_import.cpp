@@ -64,9 +64,9 @@ void run_import(const ImportArgs& a) {
     if (a.check) {
       for (double deg : {5.0, 30.0, 60.0}) {
         const Vec3 wo = direction_at_theta(deg * kPi / 180);
-        const Rgb t = half_vector_albedo([&](const Vec3& wi, const Vec3& v) { return table.lookup(wi, v); }, wo, 512);
+        const Rgb t = half_vector_albedo([&](const Vec3& wi, const Vec3& v) { return table.lookup(wi, v); }, wo);
         const Rgb m = half_vector_albedo(
-            [&](const Vec3& wi, const Vec3& v) -> Rgb { return b.eval_reciprocal(wi, v).max(0.0); }, wo, 512);
+            [&](const Vec3& wi, const Vec3& v) -> Rgb { return b.eval_reciprocal(wi, v).max(0.0); }, wo);
         const double rel = ((t - m).abs() / m.max(0.01)).maxCoeff();
         std::printf("  albedo %2.0f deg   %.4f %.4f %.4f (table), %.2f %% from the model integrated directly\n", deg, t[0],
                     t[1], t[2], 100 * rel);
