@@ -3,11 +3,11 @@
 #include <memory>
 #include <string>
 
+#include "atlas/model_basis.h"
 #include "cli/commands.h"
 #include "cli/render_options.h"
 #include "core/error.h"
 #include "manifold/model.h"
-#include "render/image_basis.h"
 
 namespace matlas::cli {
 
@@ -26,7 +26,7 @@ void run_basis(BasisArgs a) {
   const Model model = Model::open(a.model);
   const render::Scene scene(a.options.scene_description());
   TerminalProgress progress;
-  render::ImageBasis basis = render::render_basis(model, scene, a.options.settings(), progress);
+  render::ImageBasis basis = atlas::render_basis(model, scene, a.options.settings(), progress);
   std::printf("rendered %d material images (%dx%d, %d spp); object covers %.1f%% of the pixels\n", basis.count(),
               basis.width(), basis.height(), a.options.spp, 100.0 * basis.active_fraction());
   if (a.rank != "none") {

@@ -17,7 +17,7 @@
 #include "eval/model_checks.h"
 #include "eval/report.h"
 #include "manifold/build.h"
-#include "manifold/model.h"
+#include "manifold/model_metadata.h"
 
 namespace matlas::cli {
 

@@ -4,12 +4,12 @@
 #include <optional>
 #include <string>
 
+#include "atlas/gallery.h"
 #include "cli/commands.h"
 #include "cli/render_options.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "manifold/model.h"
-#include "render/gallery.h"
 #include "render/image_basis.h"
 
 namespace matlas::cli {
@@ -19,27 +19,27 @@ namespace {
 struct GalleryArgs {
   std::string model, output;
   std::optional<std::string> key, basis;
-  render::GalleryOptions gallery;
+  atlas::GalleryOptions gallery;
   RenderOptions options;
 };
 
 void run_gallery(GalleryArgs a) {
   const Model model = Model::open(a.model);
-  render::GalleryStats stats;
-  const std::vector<render::GalleryEntry> entries = render::pick_gallery(model, a.gallery, &stats);
+  atlas::GalleryStats stats;
+  const std::vector<atlas::GalleryEntry> entries = atlas::pick_gallery(model, a.gallery, &stats);
   TerminalProgress progress;
   Image image;
   if (a.basis) {
     const render::ImageBasis basis = render::ImageBasis::open(*a.basis);
-    image = render::render_gallery(model, entries, nullptr, nullptr, &basis, progress);
+    image = atlas::render_gallery(model, entries, nullptr, nullptr, &basis, progress);
   } else {
     const render::Scene scene(a.options.scene_description());
     const render::RenderSettings settings = a.options.settings();
-    image = render::render_gallery(model, entries, &scene, &settings, nullptr, progress);
+    image = atlas::render_gallery(model, entries, &scene, &settings, nullptr, progress);
   }
   write_image(a.output, image, a.options.tone());
   std::filesystem::path key = a.key ? std::filesystem::path(*a.key) : std::filesystem::path(a.output).replace_extension(".json");
-  write_file_atomic(key, render::gallery_key(model, entries, stats).dump(2) + "\n");
+  write_file_atomic(key, atlas::gallery_key(model, entries, stats).dump(2) + "\n");
   std::printf("wrote %s and its answer key %s (%d generated, %d real; interpolation %s)\n", a.output.c_str(),
               key.string().c_str(), a.gallery.random, a.gallery.real,
               to_string(model.interpolation()));

@@ -4,6 +4,7 @@
 #include <optional>
 #include <string>
 
+#include "atlas/model_material.h"
 #include "cli/commands.h"
 #include "cli/latent_point.h"
 #include "cli/render_options.h"
@@ -42,7 +43,7 @@ void run_render(const RenderArgs& a) {
     const Model model = Model::open(a.input);
     const Eigen::VectorXd x = resolve_point(model, a.at, a.material);
     const Eigen::VectorXd w = a.material ? model.material_weights(model.index_of(*a.material)) : model.weights(x);
-    image = render::render(scene, render::ModelMaterial(model, w), settings, progress, &stats);
+    image = render::render(scene, atlas::ModelMaterial(model, w), settings, progress, &stats);
   }
   write_image(a.output, image, tone);
   std::printf("wrote %s (%dx%d, %d spp, %.2f s, %.3g camera samples/s)\n", a.output.c_str(), settings.width,

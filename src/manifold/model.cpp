@@ -6,6 +6,7 @@
 #include <cstring>
 #include <limits>
 
+#include <nlohmann/json.hpp>
 #include <xxhash.h>
 
 #include "core/error.h"

@@ -11,7 +11,7 @@
 #include "core/error.h"
 #include "manifold/build.h"
 #include "manifold/export.h"
-#include "manifold/model.h"
+#include "manifold/model_metadata.h"
 #include "manifold/project.h"
 #include "support/error_of.h"
 #include "support/temp_dir.h"

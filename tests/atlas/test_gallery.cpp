@@ -5,15 +5,15 @@
 
 #include <cmath>
 
+#include "atlas/gallery.h"
 #include "brdf/catalog.h"
 #include "formats/synth_database.h"
 #include "manifold/build.h"
 #include "manifold/material_set.h"
 #include "manifold/model.h"
-#include "render/gallery.h"
 #include "support/temp_dir.h"
 
-namespace matlas::render {
+namespace matlas::atlas {
 namespace {
 
 class GalleryTest : public ::testing::Test {
@@ -103,4 +103,4 @@ TEST_F(GalleryTest, PicksCoverTheVarietyNotTheCrowdedCluster) {
 }
 
 }  // namespace
-}  // namespace matlas::render
+}  // namespace matlas::atlas

@@ -12,7 +12,7 @@ namespace matlas {
 class Model;
 }
 
-namespace matlas::server {
+namespace matlas::atlas {
 
 /// The theta_h x theta_d slice at one phi_d as an RGB PNG: column i is theta_h bin i (left: 0),
 /// row j is theta_d bin j (top: 0). Values are shown as log(1 + f / 0.01) normalised by the
@@ -33,4 +33,4 @@ Lobe incidence_plane_lobe(const Model& model, const Eigen::VectorXd& w, double t
 /// theta_o (degrees) of each entry of Model::albedo_curve: bin centres of 90 uniform bins.
 std::vector<double> albedo_angles_degrees();
 
-}  // namespace matlas::server
+}  // namespace matlas::atlas

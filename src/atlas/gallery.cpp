@@ -1,10 +1,11 @@
-#include "render/gallery.h"
+#include "atlas/gallery.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numeric>
 
+#include "atlas/model_material.h"
 #include "core/error.h"
 #include "manifold/model.h"
 #include "manifold/plausibility.h"
@@ -14,7 +15,10 @@
 #include "render/sampling.h"
 #include "render/text.h"
 
-namespace matlas::render {
+namespace matlas::atlas {
+
+using render::draw_text;
+using render::SampleStream;
 
 namespace {
 
@@ -222,8 +226,9 @@ std::vector<GalleryEntry> pick_gallery(const Model& model, const GalleryOptions&
   return entries;
 }
 
-Image render_gallery(const Model& model, const std::vector<GalleryEntry>& entries, const Scene* scene,
-                     const RenderSettings* settings, const ImageBasis* basis, ProgressSink& progress) {
+Image render_gallery(const Model& model, const std::vector<GalleryEntry>& entries, const render::Scene* scene,
+                     const render::RenderSettings* settings, const render::ImageBasis* basis,
+                     ProgressSink& progress) {
   if (entries.empty()) throw Error("gallery: no entries");
   if (!basis && (!scene || !settings)) throw Error("gallery: needs an image basis or a scene and settings");
   const int w = basis ? basis->width() : settings->width, h = basis ? basis->height() : settings->height;
@@ -241,7 +246,7 @@ Image render_gallery(const Model& model, const std::vector<GalleryEntry>& entrie
     if (basis) {
       cell = basis->compose(weights);
     } else {
-      cell = render(*scene, ModelMaterial(model, weights), *settings);
+      cell = render::render(*scene, ModelMaterial(model, weights), *settings);
     }
     const int ox = gap + (k % cols) * (w + gap), oy = gap + (k / cols) * (h + gap);
     for (int y = 0; y < h; ++y)
@@ -281,4 +286,4 @@ nlohmann::json gallery_key(const Model& model, const std::vector<GalleryEntry>& 
           {"cells", cells}};
 }
 
-}  // namespace matlas::render
+}  // namespace matlas::atlas

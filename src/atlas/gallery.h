@@ -18,16 +18,15 @@
 
 #include "core/progress.h"
 #include "formats/image_io.h"
-
-namespace matlas {
-class Model;
-}
+#include "manifold/model.h"
 
 namespace matlas::render {
-
 class ImageBasis;
 class Scene;
 struct RenderSettings;
+}  // namespace matlas::atlas
+
+namespace matlas::atlas {
 
 /// Appearance features of tables m(w): rows of [ln L, ln(r/g), ln(b/g), gloss] divided by the
 /// spread (standard deviation, with a floor) of each feature over the database's materials, where
@@ -94,12 +93,12 @@ std::vector<GalleryEntry> pick_gallery(const Model& model, const GalleryOptions&
 /// The grid picture: cells in reading order, numbered from 1 in their corner, each rendered with
 /// the basis if given (same scene as the basis) or else directly with `settings` and `scene`.
 /// The result is linear RGB (write with a tone map).
-Image render_gallery(const Model& model, const std::vector<GalleryEntry>& entries, const Scene* scene,
-                     const RenderSettings* settings, const ImageBasis* basis, ProgressSink& progress = null_progress());
+Image render_gallery(const Model& model, const std::vector<GalleryEntry>& entries, const render::Scene* scene,
+                     const render::RenderSettings* settings, const render::ImageBasis* basis, ProgressSink& progress = null_progress());
 
 /// The answer key: {"interpolation": "gp"|"convex", "selection": {stats},
 ///  "cells": [{"cell": 1, "real": true, "name": ..., "x": [...], "variance": ..., "albedo": [r, g, b],
 ///             "gloss": ..., "novelty": ..., "plausible": ...}, ...]}.
 nlohmann::json gallery_key(const Model& model, const std::vector<GalleryEntry>& entries, const GalleryStats& stats);
 
-}  // namespace matlas::render
+}  // namespace matlas::atlas

@@ -7,7 +7,7 @@
 
 #include "formats/image_io.h"
 
-namespace matlas::server {
+namespace matlas {
 
 /// PNG bytes of a linear image tone-mapped by `tone`.
 std::string encode_png_fast(const Image& image, const ToneMap& tone);
@@ -15,4 +15,4 @@ std::string encode_png_fast(const Image& image, const ToneMap& tone);
 /// PNG bytes of 8-bit sRGB pixels (width * height * 3, rows top first).
 std::string encode_png_fast_srgb8(const unsigned char* pixels, int width, int height);
 
-}  // namespace matlas::server
+}  // namespace matlas

@@ -1,10 +1,10 @@
-#include "server/image_resize.h"
+#include "formats/image_resize.h"
 
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
-namespace matlas::server {
+namespace matlas {
 
 namespace {
 /// For each output index, the input indices and weights along one axis.
@@ -53,4 +53,4 @@ Image resize_area(const Image& image, int width, int height) {
   return out;
 }
 
-}  // namespace matlas::server
+}  // namespace matlas

@@ -1,47 +1,23 @@
-#include "render/latent_map.h"
+#include "atlas/latent_map.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-
-#include <Eigen/Eigenvalues>
+#include <optional>
 
 #include "core/error.h"
-#include "core/parallel.h"
-#include "manifold/model.h"
-#include "render/image_basis.h"
 #include "render/text.h"
 
-namespace matlas::render {
+namespace matlas::atlas {
+
+using render::draw_text;
+using render::isolation;
+using render::LabelRequest;
+using render::place_labels;
+using render::LabelPlacement;
+using render::text_width;
 
 namespace {
-
-void extent(const Model& model, LatentPlane& plane, double margin, const std::vector<bool>* keep = nullptr) {
-  double u0 = 1e300, u1 = -1e300, v0 = 1e300, v1 = -1e300;
-  for (int i = 0; i < model.count(); ++i) {
-    if (keep && !(*keep)[static_cast<std::size_t>(i)]) continue;
-    const Eigen::Vector2d p = plane.project(model.latent().row(i).transpose());
-    u0 = std::min(u0, p.x()), u1 = std::max(u1, p.x()), v0 = std::min(v0, p.y()), v1 = std::max(v1, p.y());
-  }
-  // The data's box plus the margin (a fraction of its longer side) on every side; the shorter
-  // side is widened about its centre only as far as needed to keep the aspect within 1:3.
-  const double longer = std::max({u1 - u0, v1 - v0, 1e-6});
-  const double pad = margin * longer;
-  double du = (u1 - u0) + 2 * pad, dv = (v1 - v0) + 2 * pad;
-  const double longest = std::max(du, dv);
-  du = std::max(du, longest / 3), dv = std::max(dv, longest / 3);
-  const double cu = 0.5 * (u0 + u1), cv = 0.5 * (v0 + v1);
-  plane.u_min = cu - 0.5 * du, plane.u_max = cu + 0.5 * du;
-  plane.v_min = cv - 0.5 * dv, plane.v_max = cv + 0.5 * dv;
-}
-
-void check_at(const Model& model, const Eigen::VectorXd& at) {
-  if (at.size() != model.dim())
-    throw Error("latent map: the fixed point has " + std::to_string(at.size()) + " coordinates, the model q = " +
-                std::to_string(model.dim()));
-}
-
-Eigen::Array3d lerp(const Eigen::Array3d& a, const Eigen::Array3d& b, double t) { return a + (b - a) * t; }
 
 void draw_marker(Image& im, double cx, double cy, double r) {
   for (int y = static_cast<int>(cy - r - 2); y <= static_cast<int>(cy + r + 2); ++y)
@@ -59,118 +35,11 @@ void draw_marker(Image& im, double cx, double cy, double r) {
 
 }  // namespace
 
-LatentPlane LatentPlane::from_dims(const Model& model, int d0, int d1, const Eigen::VectorXd& at, double margin) {
-  const int q = model.dim();
-  if (d0 < 0 || d0 >= q || d1 < 0 || d1 >= q || d0 == d1)
-    throw Error("latent map: --dims must be two different dimensions in 0.." + std::to_string(q - 1));
-  check_at(model, at);
-  LatentPlane p;
-  p.origin = at;
-  p.origin[d0] = 0, p.origin[d1] = 0;
-  p.axis_u = Eigen::VectorXd::Unit(q, d0);
-  p.axis_v = Eigen::VectorXd::Unit(q, d1);
-  extent(model, p, margin);
-  return p;
-}
-
-LatentPlane LatentPlane::pca(const Model& model, const Eigen::VectorXd& at, double margin) {
-  const int q = model.dim();
-  check_at(model, at);
-  if (q < 2) return automatic(model, margin);
-  const Eigen::MatrixXd centred = model.latent().rowwise() - model.latent().colwise().mean();
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(centred.transpose() * centred);
-  LatentPlane p;
-  p.axis_u = eig.eigenvectors().col(q - 1);
-  p.axis_v = eig.eigenvectors().col(q - 2);
-  // Origin: `at` with its components along the plane removed (u, v = 0 is the projection of 0).
-  p.origin = at - at.dot(p.axis_u) * p.axis_u - at.dot(p.axis_v) * p.axis_v;
-  extent(model, p, margin);
-  return p;
-}
-
-LatentPlane LatentPlane::automatic(const Model& model, double margin) {
-  const Eigen::VectorXd mean = model.latent().colwise().mean().transpose();
-  if (model.dim() >= 2) return from_dims(model, 0, 1, mean, margin);
-  LatentPlane p;
-  p.origin = Eigen::VectorXd::Zero(1);
-  p.axis_u = Eigen::VectorXd::Unit(1, 0);
-  p.axis_v = Eigen::VectorXd::Zero(1);
-  extent(model, p, margin);
-  return p;
-}
-
-int frame_core(const Model& model, LatentPlane& plane, double margin) {
-  const int n = model.count();
-  std::vector<double> us, vs;
-  for (int i = 0; i < n; ++i) {
-    const Eigen::Vector2d p = plane.project(model.latent().row(i).transpose());
-    us.push_back(p.x()), vs.push_back(p.y());
-  }
-  auto median = [](std::vector<double> v) {
-    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-    return v[v.size() / 2];
-  };
-  const double mu = median(us), mv = median(vs);
-  std::vector<double> d(static_cast<std::size_t>(n));
-  for (std::size_t i = 0; i < d.size(); ++i) d[i] = std::hypot(us[i] - mu, vs[i] - mv);
-  const double limit = 4.0 * median(d);  // the median itself keeps at least half
-  std::vector<bool> keep(d.size());
-  for (std::size_t i = 0; i < d.size(); ++i) keep[i] = d[i] <= limit;
-  extent(model, plane, margin, &keep);
-  int outside = 0;
-  for (std::size_t i = 0; i < d.size(); ++i)
-    outside += us[i] < plane.u_min || us[i] > plane.u_max || vs[i] < plane.v_min || vs[i] > plane.v_max;
-  return outside;
-}
-
-LatentGrid latent_grid(const Model& model, const LatentPlane& plane, int cols, int rows) {
-  if (cols <= 0 || rows <= 0) throw Error("latent map: grid size must be positive");
-  LatentGrid g;
-  g.cols = cols, g.rows = rows;
-  g.points.resize(static_cast<Eigen::Index>(cols) * rows, model.dim());
-  for (int r = 0; r < rows; ++r)
-    for (int c = 0; c < cols; ++c) {
-      const double u = plane.u_min + (c + 0.5) / cols * (plane.u_max - plane.u_min);
-      const double v = plane.v_max - (r + 0.5) / rows * (plane.v_max - plane.v_min);
-      g.points.row(static_cast<Eigen::Index>(r) * cols + c) = plane.point(u, v).transpose();
-    }
-  g.weights = grid_weights(model, g.points);
-  return g;
-}
-
-Eigen::MatrixXd grid_weights(const Model& model, const Eigen::MatrixXd& points) {
-  return model.predict_batch(points).weights;
-}
-
-Eigen::Array3d colour_map(double t) {
-  // Viridis at 5 stops (sRGB), linearised.
-  static const double stops[5][3] = {{0.267, 0.005, 0.329}, {0.229, 0.322, 0.546}, {0.128, 0.567, 0.551},
-                                     {0.369, 0.789, 0.383}, {0.993, 0.906, 0.144}};
-  t = std::clamp(t, 0.0, 1.0) * 4.0;
-  const int i = std::min(static_cast<int>(t), 3);
-  Eigen::Array3d c = lerp(Eigen::Array3d(stops[i][0], stops[i][1], stops[i][2]),
-                          Eigen::Array3d(stops[i + 1][0], stops[i + 1][1], stops[i + 1][2]), t - i);
-  for (int k = 0; k < 3; ++k) c[k] = srgb_decode(static_cast<float>(c[k]));
-  return c;
-}
-
 std::pair<int, int> map_size(const LatentPlane& plane, int size) {
   const double du = plane.u_max - plane.u_min, dv = plane.v_max - plane.v_min;
   if (!(du > 0) || !(dv > 0)) return {size, size};
   if (du >= dv) return {size, std::max(16, static_cast<int>(std::lround(size * dv / du)))};
   return {std::max(16, static_cast<int>(std::lround(size * du / dv))), size};
-}
-
-double uncertainty_fade(double variance, double from, double to) {
-  if (!(to > from)) return variance >= from ? 1.0 : 0.0;
-  const double t = std::clamp((variance - from) / (to - from), 0.0, 1.0);
-  return t * t * (3 - 2 * t);
-}
-
-Eigen::Array3d unknown_colour(int x, int y) {
-  // sRGB 0.46 grey with 2-pixel dark diagonals every 9 pixels.
-  const bool line = ((x + y) % 9 + 9) % 9 < 2;
-  return Eigen::Array3d::Constant(line ? 0.035 : 0.18);
 }
 
 int MapLabels::shown() const {
@@ -224,7 +93,7 @@ void draw_legend(Image& im, int y0, int rows, const MapOptions& o, int labels_sh
   for (int y = y0; y < im.height; ++y)
     for (int x = 0; x < w; ++x)
       for (int c = 0; c < 3; ++c) im.pixel(x, y)[c] = 0.008f;
-  if (!text_available()) return;
+  if (!render::text_available()) return;
   const int h = (im.height - y0) / rows;
   const float ts = std::max(10.0f, static_cast<float>(h) * 0.42f);
   const int pad = std::max(4, h / 5);
@@ -243,16 +112,25 @@ void draw_legend(Image& im, int y0, int rows, const MapOptions& o, int labels_sh
     }
     x += bar_w + pad;
     draw_text(im, x, ty, "1 (far from the data)", ts, white);
+  } else if (o.layer == MapLayer::plausibility) {
+    draw_text(im, x, ty, "dimmed albedo: plausible;", ts, white);
+    x += text_width("dimmed albedo: plausible;", ts) + pad;
+    const Eigen::Array3d red = implausible_colour();
+    for (int y = by; y < by + bar_h; ++y)
+      for (int bx = 0; bx < bar_h; ++bx)
+        for (int k = 0; k < 3; ++k) im.pixel(x + bx, y)[k] = static_cast<float>(red[k]);
+    x += bar_h + pad;
+    draw_text(im, x, ty, "not plausible (negative values or albedo outside [0, 1])", ts, white);
   } else {
     // A bar from a material colour to the hatch, with the variance thresholds.
     char from[48], to[96];
-    std::snprintf(from, sizeof from, "variance %.2g", o.fade_from);
-    std::snprintf(to, sizeof to, "%.2g: no data here (only the database mean)", o.fade_to);
+    std::snprintf(from, sizeof from, "variance %.2g", o.style.fade_from);
+    std::snprintf(to, sizeof to, "%.2g: no data here (only the database mean)", o.style.fade_to);
     draw_text(im, x, ty, from, ts, white);
     x += text_width(from, ts) + pad;
     const Eigen::Array3d sample(0.45, 0.25, 0.12);
     for (int bx = 0; bx < bar_w; ++bx) {
-      const double f = uncertainty_fade(o.fade_from + (o.fade_to - o.fade_from) * bx / (bar_w - 1.0), o.fade_from, o.fade_to);
+      const double f = uncertainty_fade(o.style.fade_from + (o.style.fade_to - o.style.fade_from) * bx / (bar_w - 1.0), o.style.fade_from, o.style.fade_to);
       for (int y = by; y < by + bar_h; ++y) {
         const Eigen::Array3d c = (1 - f) * sample + f * unknown_colour(x + bx, y);
         for (int k = 0; k < 3; ++k) im.pixel(x + bx, y)[k] = static_cast<float>(c[k]);
@@ -296,7 +174,7 @@ Image render_latent_map(const Model& model, const LatentPlane& plane, const MapO
     Image thumb(o.basis->width(), o.basis->height());
     for (int cell = 0; cell < kx * ky; ++cell) {
       o.basis->compose(g.weights.col(cell), thumb.rgb.data());
-      const double fade = uncertainty_fade(model.variance(g.points.row(cell).transpose()), o.fade_from, o.fade_to);
+      const double fade = uncertainty_fade(g.variance[cell], o.style.fade_from, o.style.fade_to);
       const int cx = cell % kx, cy = cell / kx;
       const int x0 = cx * mw / kx, x1 = (cx + 1) * mw / kx, y0 = cy * mh / ky, y1 = (cy + 1) * mh / ky;
       // Box-filter the basis image into the cell, tone mapped (ACES) back to linear for display.
@@ -323,21 +201,11 @@ Image render_latent_map(const Model& model, const LatentPlane& plane, const MapO
     const int cx = std::max(2, static_cast<int>(std::lround(static_cast<double>(cells) * mw / longer)));
     const int cy = std::max(2, static_cast<int>(std::lround(static_cast<double>(cells) * mh / longer)));
     const LatentGrid g = latent_grid(model, plane, cx, cy);
-    std::vector<Eigen::Array3d> colour(static_cast<std::size_t>(cx) * cy);
-    std::vector<double> fade(colour.size(), 0.0);
-    parallel_for(0, colour.size(), [&](std::size_t lo, std::size_t hi) {
-      for (std::size_t i = lo; i < hi; ++i) {
-        const auto idx = static_cast<Eigen::Index>(i);
-        const double var = model.variance(g.points.row(idx).transpose());
-        if (o.layer == MapLayer::albedo) {
-          const Rgb a = model.albedo_curve(g.weights.col(idx)).front();
-          colour[i] = (a * o.albedo_gain).max(0.0).min(1.0);
-          fade[i] = uncertainty_fade(var, o.fade_from, o.fade_to);
-        } else {
-          colour[i] = colour_map(var);
-        }
-      }
-    });
+    std::optional<PlausibilityProbe> probe;
+    if (o.layer == MapLayer::plausibility) probe.emplace(model, 256);
+    const LayerCells layer = layer_cells(model, g, o.layer, o.style, probe ? &*probe : nullptr);
+    const std::vector<Eigen::Array3d>& colour = layer.colour;
+    const std::vector<double>& fade = layer.fade;
     for (int y = 0; y < mh; ++y)
       for (int x = 0; x < mw; ++x) {
         const std::size_t cell = static_cast<std::size_t>(y * cy / mh) * cx + static_cast<std::size_t>(x * cx / mw);
@@ -363,4 +231,4 @@ Image render_latent_map(const Model& model, const LatentPlane& plane, const MapO
   return map;
 }
 
-}  // namespace matlas::render
+}  // namespace matlas::atlas

@@ -7,10 +7,10 @@
 
 #include "core/atomic_file.h"
 #include "formats/image_io.h"
-#include "server/fast_png.h"
+#include "formats/fast_png.h"
 #include "support/temp_dir.h"
 
-namespace matlas::server {
+namespace matlas {
 namespace {
 
 TEST(FastPng, DecodesToTheSamePixels) {
@@ -41,4 +41,4 @@ TEST(FastPng, ToneMapsLikeTheGeneralEncoder) {
 }
 
 }  // namespace
-}  // namespace matlas::server
+}  // namespace matlas

@@ -1,4 +1,4 @@
-#include "server/fast_png.h"
+#include "formats/fast_png.h"
 
 #include <array>
 #include <cstdint>
@@ -8,7 +8,7 @@
 
 #include "core/error.h"
 
-namespace matlas::server {
+namespace matlas {
 
 namespace {
 
@@ -68,4 +68,4 @@ std::string encode_png_fast(const Image& image, const ToneMap& tone) {
   return encode_png_fast_srgb8(pixels.data(), image.width, image.height);
 }
 
-}  // namespace matlas::server
+}  // namespace matlas

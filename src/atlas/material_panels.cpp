@@ -1,4 +1,4 @@
-#include "server/material_panels.h"
+#include "atlas/material_panels.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include "formats/image_io.h"
 #include "manifold/model.h"
 
-namespace matlas::server {
+namespace matlas::atlas {
 
 std::string slice_png(const Model& model, const Eigen::VectorXd& w, double phi_d_degrees,
                       double* max_value) {
@@ -57,4 +57,4 @@ std::vector<double> albedo_angles_degrees() {
   return a;
 }
 
-}  // namespace matlas::server
+}  // namespace matlas::atlas

@@ -3,22 +3,41 @@
 
 #include <set>
 
+#include "atlas/gallery.h"
+#include "atlas/latent_map.h"
+#include "atlas/model_basis.h"
 #include "brdf/catalog.h"
 #include "core/error.h"
+#include "formats/image_io.h"
 #include "formats/synth_database.h"
 #include "manifold/build.h"
 #include "manifold/material_set.h"
 #include "manifold/model.h"
-#include "render/gallery.h"
-#include "render/image_basis.h"
-#include "render/latent_map.h"
 #include "render/render.h"
+#include "render/render_test_util.h"
 #include "render/text.h"
-#include "render_test_util.h"
 #include "support/temp_dir.h"
 
-namespace matlas::render {
+namespace matlas::atlas {
 namespace {
+
+using render::Environment;
+using render::ImageBasis;
+using render::RenderSettings;
+using render::Scene;
+using render::SceneDescription;
+using render::text_available;
+
+/// A map of `layer` without labels or legend: only the layer's cells.
+MapOptions bare_map(MapLayer layer, int size, int cells) {
+  MapOptions o;
+  o.layer = layer;
+  o.size = size;
+  o.cells = cells;
+  o.labels = false;
+  o.legend = false;
+  return o;
+}
 
 class LatentMapTest : public ::testing::Test {
 protected:
@@ -63,23 +82,23 @@ TEST_F(LatentMapTest, PlanesCoverTheDataAndProjectConsistently) {
   EXPECT_THROW(LatentPlane::from_dims(*model_, 0, 1, Eigen::VectorXd::Zero(2)), Error);
 }
 
-TEST_F(LatentMapTest, GridWeightsAreThePosteriorWeights) {
+TEST_F(LatentMapTest, GridWeightsAndVariancesAreThePosteriors) {
   const LatentGrid g = latent_grid(*model_, LatentPlane::automatic(*model_), 5, 4);
   ASSERT_EQ(g.points.rows(), 20);
   ASSERT_EQ(g.weights.cols(), 20);
-  for (int k : {0, 7, 19}) EXPECT_LT((g.weights.col(k) - model_->weights(g.points.row(k).transpose())).norm(), 1e-9);
+  ASSERT_EQ(g.variance.size(), 20);
+  for (int k : {0, 7, 19}) {
+    EXPECT_LT((g.weights.col(k) - model_->weights(g.points.row(k).transpose())).norm(), 1e-9);
+    EXPECT_NEAR(g.variance[k], model_->variance(g.points.row(k).transpose()), 1e-9);
+  }
   // Row 0 is the top of the picture (largest v).
   EXPECT_GT(g.points(0, 1), g.points(15, 1));
 }
 
 TEST_F(LatentMapTest, AlbedoAndVarianceLayersColourTheGrid) {
   const LatentPlane plane = LatentPlane::automatic(*model_);
-  MapOptions o;
-  o.size = 64;
-  o.cells = 8;
-  o.labels = false;
-  o.legend = false;
-  o.fade_from = 2, o.fade_to = 3;  // no "no data" fade: the raw albedo everywhere
+  MapOptions o = bare_map(MapLayer::albedo, 64, 8);
+  o.style.fade_from = 2, o.style.fade_to = 3;  // no "no data" fade: the raw albedo everywhere
   const Image albedo = render_latent_map(*model_, plane, o);
   const auto [w, h] = map_size(plane, 64);
   ASSERT_EQ(albedo.width, w);
@@ -207,7 +226,7 @@ TEST_F(LatentMapTest, MapLabelsDoNotOverlapAndFarRegionsAreMarkedAsNoData) {
   for (std::size_t i = 0; i < labels.labels.size(); ++i)
     for (std::size_t j = i + 1; j < labels.labels.size(); ++j)
       if (labels.labels[i].shown && labels.labels[j].shown) {
-        EXPECT_FALSE(overlaps(labels.labels[i].box, labels.labels[j].box));
+        EXPECT_FALSE(render::overlaps(labels.labels[i].box, labels.labels[j].box));
       }
   if (text_available()) {
     EXPECT_GT(labels.shown(), 0);
@@ -218,10 +237,7 @@ TEST_F(LatentMapTest, MapLabelsDoNotOverlapAndFarRegionsAreMarkedAsNoData) {
   LatentPlane wide = plane;
   const double span = plane.u_max - plane.u_min;
   wide.u_min -= 20 * span, wide.u_max += 20 * span, wide.v_min -= 20 * span, wide.v_max += 20 * span;
-  o.size = 64;
-  o.cells = 64;
-  o.labels = false;
-  o.legend = false;
+  o = bare_map(MapLayer::albedo, 64, 64);
   const Image map = render_latent_map(*model_, wide, o);
   const auto [mw, mh] = map_size(wide, 64);
   ASSERT_EQ(map.width, mw);
@@ -238,5 +254,92 @@ TEST_F(LatentMapTest, MapLabelsDoNotOverlapAndFarRegionsAreMarkedAsNoData) {
   EXPECT_GT(render_latent_map(*model_, wide, o).height, mh);
 }
 
+TEST_F(LatentMapTest, TheVarianceRampIsTheBrowsersLegendSwatch) {
+  // web/src/style.css draws the legend of the variance layer with these five sRGB8 stops (to the
+  // rounding of a stop at .5: 0.90 * 255 = 229.5 there).
+  const int stops[5][3] = {{13, 15, 26}, {46, 41, 97}, {140, 51, 115}, {235, 115, 77}, {252, 230, 153}};
+  for (int i = 0; i < 5; ++i) {
+    const Eigen::Array3d c = colour_map(i / 4.0);
+    for (int k = 0; k < 3; ++k)
+      EXPECT_NEAR(255.0 * srgb_encode(static_cast<float>(c[k])), stops[i][k], 0.5 + 1e-3) << i << " " << k;
+  }
+  // Ordered from dark (at the data) to light (far away).
+  EXPECT_LT(colour_map(0.1).sum(), colour_map(0.6).sum());
+}
+
+TEST_F(LatentMapTest, LayerNamesAreOneSetForTheCommandAndTheServer) {
+  for (MapLayer l : {MapLayer::albedo, MapLayer::variance, MapLayer::plausibility, MapLayer::image})
+    EXPECT_EQ(map_layer_from_name(to_string(l), "--layer"), l);
+  try {
+    map_layer_from_name("height", "--layer");
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()), "--layer 'height': expected albedo, variance, plausibility or image");
+  }
+}
+
+TEST_F(LatentMapTest, ServerLayersArePerPointQueriesOnTheRectangle) {
+  // The server's albedo layer: every pixel centre of the rectangle, queried point by point.
+  const Eigen::VectorXd base = model_->latent().row(2).transpose();
+  const Eigen::VectorXd lo = model_->latent_min(), hi = model_->latent_max();
+  const double x0 = lo[0], x1 = hi[0], y0 = lo[2], y1 = hi[2];
+  const int w = 6, h = 5;
+  const LatentPlane plane = LatentPlane::rectangle(base, 0, 2, x0, x1, y0, y1);
+  const std::vector<unsigned char> px = map_layer_pixels(*model_, plane, w, h, MapLayer::albedo);
+  ASSERT_EQ(px.size(), static_cast<std::size_t>(w * h * 4));
+  for (int row = 0; row < h; ++row)
+    for (int col = 0; col < w; ++col) {
+      Eigen::VectorXd x = base;
+      x[0] = x0 + (x1 - x0) * (col + 0.5) / w;
+      x[2] = y1 - (y1 - y0) * (row + 0.5) / h;  // top row first
+      const Rgb a = model_->albedo_curve(model_->weights(x)).front();
+      const unsigned char* p = px.data() + 4 * (row * w + col);
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(p[c], 255.0 * srgb_encode(static_cast<float>(std::clamp(a[c], 0.0, 1.0))), 0.5 + 1e-6);
+      EXPECT_NEAR(p[3], 255.0 * (1.0 - uncertainty_fade(model_->variance(x), kFadeFrom, kFadeTo)), 0.5 + 1e-6);
+    }
+  EXPECT_THROW(LatentPlane::rectangle(base, 0, 0, 0, 1, 0, 1), Error);
+  EXPECT_THROW(LatentPlane::rectangle(base, 0, 1, 1, 0, 0, 1), Error);
+  EXPECT_THROW(map_layer_pixels(*model_, plane, w, h, MapLayer::plausibility), Error);  // no probe
+}
+
+TEST_F(LatentMapTest, AlbedoLayerIsTransparentFarFromTheDataAndOpaqueAtIt) {
+  // A rectangle around material 0 (tiny: every cell at the data) and one in the domain's corner.
+  const Eigen::VectorXd lo = model_->latent_min(), hi = model_->latent_max(), x0 = model_->latent().row(0).transpose();
+  const double e = 1e-6 * (hi - lo).maxCoeff();
+  const auto near = map_layer_pixels(*model_, LatentPlane::rectangle(x0, 0, 1, x0[0] - e, x0[0] + e, x0[1] - e, x0[1] + e),
+                                     4, 4, MapLayer::albedo);
+  ASSERT_EQ(near.size(), 64u);
+  for (std::size_t k = 3; k < near.size(); k += 4) EXPECT_EQ(near[k], 255);
+  const Eigen::VectorXd span = hi - lo;
+  const LatentPlane corner = LatentPlane::rectangle(x0, 0, 1, lo[0] - span[0], lo[0] - 0.8 * span[0], lo[1] - span[1],
+                                                    lo[1] - 0.8 * span[1]);
+  ASSERT_GT(model_->variance(corner.point(corner.u_min, corner.v_min)), 0.9) << "the test needs a corner far from the data";
+  const auto far = map_layer_pixels(*model_, corner, 4, 4, MapLayer::albedo);
+  EXPECT_EQ(far[(3 * 4 + 0) * 4 + 3], 0) << "bottom-left cell, at the corner";
+  const PlausibilityProbe probe(*model_, 256);
+  for (MapLayer l : {MapLayer::variance, MapLayer::plausibility}) {  // other layers are opaque
+    const auto opaque = map_layer_pixels(*model_, corner, 4, 4, l, &probe);
+    for (std::size_t k = 3; k < opaque.size(); k += 4) EXPECT_EQ(opaque[k], 255);
+  }
+}
+
+TEST_F(LatentMapTest, ThePlausibilityPictureIsTheServersLayer) {
+  // One pipeline: the command's picture of the plausibility layer shows, in each cell, the
+  // colour the server's layer gives the same grid.
+  const LatentPlane plane = LatentPlane::automatic(*model_);
+  const MapOptions o = bare_map(MapLayer::plausibility, 64, 8);
+  const Image picture = render_latent_map(*model_, plane, o);
+  const auto [w, h] = map_size(plane, 64);
+  const int cx = static_cast<int>(std::lround(8.0 * w / 64)), cy = static_cast<int>(std::lround(8.0 * h / 64));
+  const PlausibilityProbe probe(*model_, 256);
+  const std::vector<unsigned char> layer = map_layer_pixels(*model_, plane, cx, cy, MapLayer::plausibility, &probe);
+  for (int cell : {0, cx * cy / 2, cx * cy - 1}) {
+    const int x = (cell % cx) * w / cx + 1, y = (cell / cx) * h / cy + 1;  // a pixel inside the cell
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(255.0 * srgb_encode(picture.pixel(x, y)[c]), layer[4 * static_cast<std::size_t>(cell) + c], 0.5 + 1e-3);
+  }
+}
+
 }  // namespace
-}  // namespace matlas::render
+}  // namespace matlas::atlas
