@@ -12,41 +12,19 @@
 // Screenshots go to test-results/browser.png and test-results/map-zoomed.png.
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
-import { spawn } from "node:child_process";
 import { mkdtempSync, readFileSync, mkdirSync, rmSync, readdirSync } from "node:fs";
 import { tmpdir } from "node:os";
-import { join, resolve } from "node:path";
+import { join } from "node:path";
 import { chromium } from "playwright-core";
 
-const here = resolve(import.meta.dirname, "..");
-const bin = resolve(process.env.MATLAS_BIN ?? join(here, "..", "build", "matlas"));
+import { startDemo, webDir as here } from "./server.mjs";
+
 const chromiumPath = process.env.CHROMIUM ?? "/usr/bin/chromium";
 const work = mkdtempSync(join(tmpdir(), "matlas-browser-"));
 const results = join(here, "test-results");
 mkdirSync(results, { recursive: true });
 
 let server, url, context, page;
-
-function startServer() {
-  return new Promise((resolvePromise, reject) => {
-    server = spawn(bin, [
-      "demo", "--grid", "16,16,32", "--size", "128", "--spp", "8", "--port", "0",
-      "--cache", join(work, "cache"), "--web-root", join(here, "dist"),
-    ], { stdio: ["ignore", "pipe", "pipe"] });
-    let out = "", err = "";
-    const timer = setTimeout(() => reject(new Error(`matlas demo did not start:\n${out}\n${err}`)), 120_000);
-    server.stdout.on("data", (d) => {
-      out += d;
-      const m = out.match(/open (http:\/\/\S+)/);
-      if (m) {
-        clearTimeout(timer);
-        resolvePromise(m[1]);
-      }
-    });
-    server.stderr.on("data", (d) => (err += d));
-    server.on("exit", (code) => reject(new Error(`matlas demo exited (${code}):\n${out}\n${err}`)));
-  });
-}
 
 async function api(path, body) {
   const res = await fetch(new URL(path, url), body === undefined ? {} : {
@@ -77,7 +55,7 @@ async function settled() {
 }
 
 before(async () => {
-  url = await startServer();
+  ({ url, server } = await startDemo(work));
   context = await chromium.launchPersistentContext(join(work, "profile"), {
     executablePath: chromiumPath,
     headless: true,
