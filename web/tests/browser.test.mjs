@@ -9,7 +9,10 @@
 // path tool fills its strip; shift+drag and alt+arrows pan the map; the plausibility line and layer;
 // drawn labels never overlap (fitted and zoomed in) and a hidden one shows on hover; the
 // interpolation badge says the model's mode; the albedo layer is transparent far from the data.
-// Screenshots go to test-results/browser.png and test-results/map-zoomed.png.
+// Scene switching (issue #12): a scene being prepared is retried with progress shown, a stale
+// error disappears after a later success, environment and object changed together render that one
+// combination, and a newer scene supersedes one still being prepared.
+// Screenshots go to test-results/ (browser.png, map-zoomed.png, scene-*.png, error-*.png).
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
 import { mkdtempSync, readFileSync, mkdirSync, rmSync, readdirSync } from "node:fs";
