@@ -1,6 +1,6 @@
 // The API's types in one place: docs/api.schema.json. Checks that the TypeScript client's types
 // (web/src/api.ts) have the same names, fields, optionality and types as the schema's $defs, that
-// docs/API.md documents exactly the schema's endpoints and names their fields, and that a live
+// docs/API.md documents exactly the schema's endpoints, names their fields and shows no other, and that a live
 // `matlas demo` answers every endpoint as the schema says (requests validated too).
 //
 //   MATLAS_BIN=../build/matlas node --test tests/api-schema.test.mjs
@@ -31,8 +31,27 @@ test("docs/API.md documents exactly the schema's endpoints and their fields", ()
     const fields = [e.request, e.response.schema].filter((s) => s?.$ref)
       .flatMap((s) => Object.keys(schema.$defs[s.$ref.replace("#/$defs/", "")].properties));
     for (const f of fields) assert.match(text, new RegExp(`\\b${f}\\b`), `docs/API.md, ${e.method} ${e.path}: no "${f}"`);
+    // And the other way: every JSON key the section shows is a field of its request or answer.
+    const known = new Set([e.request, e.response.schema].filter((s) => s?.$ref).flatMap((s) => fieldNames(s)));
+    // Keys are "key": value, or listed without values: {"index", "name", "weight"}.
+    const keys = [...text.matchAll(/"([a-z_]+)"\s*:/g)].map((m) => m[1]);
+    for (const [, list] of text.matchAll(/\{("[a-z_]+"(?:\s*,\s*"[a-z_]+")+)\s*\}/g))
+      keys.push(...list.split(",").map((k) => k.trim().slice(1, -1)));
+    for (const key of keys) assert.ok(known.has(key), `docs/API.md, ${e.method} ${e.path}: "${key}" is not in the schema`);
   }
 });
+
+/** Every property name reachable from a schema node. */
+function fieldNames(node, seen = new Set()) {
+  if (node.$ref) {
+    if (seen.has(node.$ref)) return [];
+    seen.add(node.$ref);
+    return fieldNames(schema.$defs[node.$ref.replace("#/$defs/", "")], seen);
+  }
+  const children = [...Object.values(node.properties ?? {}), ...(node.anyOf ?? []), ...(node.prefixItems ?? []),
+    ...(typeof node.items === "object" ? [node.items] : [])];
+  return [...Object.keys(node.properties ?? {}), ...children.flatMap((c) => fieldNames(c, seen))];
+}
 
 test("the validator rejects what the schema forbids", () => {
   const good = { index: 1, name: "a", weight: 0.5 };
