@@ -1,7 +1,7 @@
 // The API's types in one place: docs/api.schema.json. Checks that the TypeScript client's types
 // (web/src/api.ts) have the same names, fields, optionality and types as the schema's $defs, that
-// docs/API.md documents exactly the schema's endpoints, names their fields and shows no other, and that a live
-// `matlas demo` answers every endpoint as the schema says (requests validated too).
+// docs/API.md documents exactly the schema's endpoints, names their fields and shows no other,
+// and that a live `matlas demo` answers every endpoint as the schema says (requests validated too).
 //
 //   MATLAS_BIN=../build/matlas node --test tests/api-schema.test.mjs
 import { test, before, after } from "node:test";
