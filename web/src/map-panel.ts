@@ -23,6 +23,13 @@ export function createMapPanel(
 ): MapPanel {
   showInterpolation(model.interpolation ?? "gp");
   const tooltip = $("tooltip");
+  const thumb = tooltip.querySelector("img")!;
+  thumb.addEventListener("error", () => {
+    // The chosen scene is still being prepared (503): the default scene's thumbnail meanwhile.
+    const { default_env, default_object } = model.scenes;
+    const fallback = api.thumbnailUrl(Number(thumb.dataset.index), default_env, default_object);
+    if (thumb.getAttribute("src") !== fallback) thumb.src = fallback;
+  });
   const layerSel = $<HTMLSelectElement>("layer");
   let layerTimer = 0;
   const layer = new LatestOnly<{ view: ViewRect; kind: MapKind; axes: [number, number]; x: number[] }, ImageBitmap | null>(
@@ -51,10 +58,13 @@ export function createMapPanel(
           tooltip.hidden = true;
           return;
         }
-        const img = tooltip.querySelector("img")!;
         const { env, object } = scene();
-        const url = api.thumbnailUrl(i, env, object);
-        if (img.getAttribute("src") !== url) img.src = url;
+        const key = `${i}/${env}/${object}`;
+        if (thumb.dataset.key !== key) {
+          thumb.dataset.key = key;
+          thumb.dataset.index = String(i);
+          thumb.src = api.thumbnailUrl(i, env, object);
+        }
         tooltip.querySelector(".name")!.textContent = model.names[i];
         const wrap = tooltip.parentElement!.getBoundingClientRect();
         tooltip.style.left = `${Math.min(cx - wrap.left + 14, wrap.width - 140)}px`;

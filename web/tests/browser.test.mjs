@@ -11,7 +11,8 @@
 // interpolation badge says the model's mode; the albedo layer is transparent far from the data.
 // Scene switching (issue #12): a scene being prepared is retried with progress shown, a stale
 // error disappears after a later success, environment and object changed together render that one
-// combination, and a newer scene supersedes one still being prepared.
+// combination, a newer scene supersedes one still being prepared, and the tooltip falls back to
+// the default scene's thumbnails while the chosen one is prepared.
 // Screenshots go to test-results/ (browser.png, map-zoomed.png, scene-*.png, error-*.png).
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
@@ -400,4 +401,22 @@ test("a newer scene supersedes one still being prepared", async () => {
   assert.deepEqual(shown, [`${first}/${second}`], "the superseded scene was never shown");
   await previewIsServers();
   await page.locator(".preview-card").screenshot({ path: join(results, "scene-superseded.png") });
+});
+
+test("while the scene's thumbnails are being prepared, the tooltip shows the default scene's", async () => {
+  const { env, defaultEnv } = await page.evaluate(() => ({ env: window.matlas.env, defaultEnv: window.matlas.model.scenes.default_env }));
+  assert.notEqual(env, defaultEnv, "the tests above left a scene other than the default");
+  const busy = (route) => route.fulfill({ status: 503, contentType: "application/json", body: JSON.stringify({ error: "being prepared" }) });
+  const pattern = (u) => u.pathname.startsWith("/api/thumbnail/") && u.searchParams.get("env") === env;
+  await page.route(pattern, busy);
+  const [mx, my] = await page.evaluate(() => window.matlas.map.materialClientPosition(4));
+  await page.mouse.move(mx, my);
+  await page.waitForFunction((e) => {
+    const img = document.querySelector("#tooltip img");
+    return !document.getElementById("tooltip").hidden && img.complete && img.naturalWidth > 0 &&
+      new URL(img.src).searchParams.get("env") === e;
+  }, defaultEnv, { timeout: 10_000 });
+  await page.locator(".map-wrap").screenshot({ path: join(results, "tooltip-fallback.png") });
+  await page.unroute(pattern, busy);
+  await page.mouse.move(mx + 200, my + 200);
 });
