@@ -146,7 +146,11 @@ test("the plausibility line and map layer describe the current point", async () 
   const [mx, my] = await page.evaluate(() => window.matlas.map.materialClientPosition(1));
   await page.mouse.click(mx, my);
   await settled();
-  await page.waitForFunction(() => /plausible/.test(document.getElementById("plausibility").textContent), null, { timeout: 10_000 });
+  // The panels of this point (not those of the previous one, still shown under load).
+  await page.waitForFunction(() => {
+    const m = window.matlas;
+    return m.lastWeights && JSON.stringify(m.lastWeights.x) === JSON.stringify(m.x);
+  }, null, { timeout: 10_000 });
   const line = await page.textContent("#plausibility");
   assert.match(line, /^physically plausible: albedo/, line);
   const layer = page.waitForResponse((r) => r.url().endsWith("/api/map") && r.request().postData().includes("plausibility"));
