@@ -30,7 +30,7 @@ struct Lobe {
 Lobe incidence_plane_lobe(const Model& model, const Eigen::VectorXd& w, double theta_i_degrees,
                           int samples);
 
-/// theta_o (degrees) of each entry of Model::albedo_curve: bin centres of 90 uniform bins.
+/// theta_o (degrees) of each entry of Model::albedo_curve: bin centres of kAlbedoAngles uniform bins.
 std::vector<double> albedo_angles_degrees();
 
 }  // namespace matlas::atlas

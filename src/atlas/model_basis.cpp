@@ -1,35 +1,22 @@
 #include "atlas/model_basis.h"
 
-#include <cstdint>
-#include <cstdio>
 #include <map>
 #include <vector>
 
 #include "atlas/model_material.h"
+#include "core/hash.h"
 #include "manifold/model_metadata.h"
 #include "render/render.h"
 #include "render/scene.h"
 
 namespace matlas::atlas {
 
-namespace {
-
-std::uint64_t fnv1a(const void* data, std::size_t bytes, std::uint64_t h = 0xcbf29ce484222325ull) {
-  const auto* p = static_cast<const unsigned char*>(data);
-  for (std::size_t i = 0; i < bytes; ++i) h = (h ^ p[i]) * 0x100000001b3ull;
-  return h;
-}
-
-}  // namespace
-
 std::string model_fingerprint(const Model& model) {
-  const std::string meta = model.metadata().dump();
-  std::uint64_t h = fnv1a(meta.data(), meta.size());
+  Xxh3Hasher h;
+  h.update(model.metadata().dump());
   const Eigen::MatrixXd& x = model.latent();
-  h = fnv1a(x.data(), static_cast<std::size_t>(x.size()) * sizeof(double), h);
-  char buf[17];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
-  return buf;
+  h.update(x.data(), static_cast<std::size_t>(x.size()) * sizeof(double));
+  return hex64(h.digest());
 }
 
 render::ImageBasis render_basis(const Model& model, const render::Scene& scene,

@@ -8,6 +8,7 @@
 
 #include "atlas/latent_map.h"
 #include "cli/commands.h"
+#include "cli/print.h"
 #include "cli/latent_point.h"
 #include "core/error.h"
 #include "manifold/model.h"
@@ -26,7 +27,7 @@ struct MapArgs {
   bool no_labels = false, no_legend = false;
 };
 
-void run_map(const MapArgs& a) {
+void run_map(const MapArgs& a, const Io& io) {
   const Model model = Model::open(a.model);
   atlas::MapOptions o;
   o.size = a.size;
@@ -82,13 +83,13 @@ void run_map(const MapArgs& a) {
                " labels hidden where they would overlap (larger --size or --frame core shows more)";
   }
   if (outside > 0) labels += "; " + std::to_string(outside) + " materials outside the core frame";
-  std::printf("wrote %s (%dx%d, %s layer, interpolation %s, u in [%.3g, %.3g], v in [%.3g, %.3g])%s\n",
+  print(io.out, "wrote %s (%dx%d, %s layer, interpolation %s, u in [%.3g, %.3g], v in [%.3g, %.3g])%s\n",
               a.output.c_str(), map.width, map.height, a.layer.c_str(),
               to_string(model.interpolation()), plane.u_min, plane.u_max,
               plane.v_min, plane.v_max, labels.c_str());
 }
 
-void add_map_command(CLI::App& app) {
+void add_map_command(CLI::App& app, const Io& io) {
   auto* cmd = app.add_subcommand("map", "Draw the latent map of a model (albedo, variance, plausibility or rendered thumbnails)");
   auto a = std::make_shared<MapArgs>();
   cmd->add_option("model", a->model, ".matlas model")->required();
@@ -115,7 +116,7 @@ void add_map_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--no-labels", a->no_labels, "Do not write material names");
   cmd->add_flag("--no-legend", a->no_legend, "No legend strip under the map");
-  cmd->callback([a] { run_map(*a); });
+  cmd->callback([io, a] { run_map(*a, io); });
 }
 
 }  // namespace

@@ -21,13 +21,9 @@
 #include "brdf/brdf_table.h"
 #include "gp/posterior.h"
 #include "manifold/interpolation.h"
+#include "manifold/model_format.h"  // kAlbedoAngles
 
 namespace matlas {
-
-
-/// Number of albedo-curve samples stored per material: theta_o at bin centres of 90 uniform
-/// bins over [0, 90) degrees.
-inline constexpr int kAlbedoAngles = 90;
 
 class Model {
 public:

@@ -2,10 +2,10 @@
 
 #include <vector>
 
+#include "core/cpu_features.h"
 #include "formats/safetensors.h"
 
 #if defined(__x86_64__) || defined(__i386__)
-#include <cpuid.h>
 #include <immintrin.h>
 #define MATLAS_X86 1
 #endif
@@ -100,18 +100,6 @@ __attribute__((target("avx2,fma,f16c"))) void accumulate_f16_f16c(const std::uin
     for (std::size_t j = vec; j < len; ++j) acc[j] += w[i] * table[values[static_cast<std::size_t>(i) * stride + begin + j]];
 }
 
-bool cpu_has_avx2_fma() {
-  static const bool ok = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-  return ok;
-}
-bool cpu_has_f16c() {
-  // CPUID leaf 1, ECX bit 29 (clang's __builtin_cpu_supports does not know "f16c").
-  static const bool ok = [] {
-    unsigned a = 0, b = 0, c = 0, d = 0;
-    return cpu_has_avx2_fma() && __get_cpuid(1, &a, &b, &c, &d) && (c & bit_F16C) != 0;
-  }();
-  return ok;
-}
 #endif
 
 }  // namespace
@@ -127,7 +115,7 @@ void accumulate_f32(const float* values, std::size_t stride, std::size_t begin, 
 void accumulate_f16(const std::uint16_t* values, std::size_t stride, std::size_t begin, std::size_t len,
                     const float* w, int n, float* acc) {
 #ifdef MATLAS_X86
-  if (cpu_has_f16c()) return accumulate_f16_f16c(values, stride, begin, len, w, n, acc);
+  if (cpu_has_avx2_fma_f16c()) return accumulate_f16_f16c(values, stride, begin, len, w, n, acc);
 #endif
   accumulate_f16_portable(values, stride, begin, len, w, n, acc);
 }

@@ -149,6 +149,13 @@ TEST_F(BuiltModel, ProjectionFindsAnInputAtItsOwnPoint) {
   EXPECT_LT(q.relative_error, q.nearest_relative_error + 1e-12);
 }
 
+TEST(NearestMaterials, AreSortedByDistanceWithTiesInIndexOrder) {
+  const Eigen::VectorXd d2 = (Eigen::VectorXd(5) << 4.0, 1.0, 9.0, 1.0, 0.5).finished();
+  EXPECT_EQ(nearest_materials(d2, 3), (std::vector<int>{4, 1, 3}));
+  EXPECT_EQ(nearest_materials(d2, 9), (std::vector<int>{4, 1, 3, 0, 2}));  // no more than there are
+  EXPECT_TRUE(nearest_materials(d2, 0).empty());
+}
+
 TEST_F(BuiltModel, ProjectionGradientMatchesFiniteDifferences) {
   const Model m = Model::open(dir / "m.matlas");
   const MaterialInnerProducts ip = inner_products(m, test::smooth_table(0.3, 0.7));
