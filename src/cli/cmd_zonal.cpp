@@ -1,13 +1,13 @@
 // matlas zonal: rotated-ZH coefficients of every material of a database or model (issue 12),
 // for real-time shading (docs/REALTIME.md).
 #include <chrono>
-#include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "cli/commands.h"
+#include "cli/print.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "manifold/material_set.h"
@@ -28,7 +28,7 @@ bool is_model(const std::vector<std::string>& inputs) {
   return inputs.size() == 1 && std::filesystem::path(inputs[0]).extension() == ".matlas";
 }
 
-void run_zonal(const ZonalArgs& a) {
+void run_zonal(const ZonalArgs& a, const Io& io) {
   const DType storage = a.storage == "f16" ? DType::F16 : DType::F32;
   const auto start = std::chrono::steady_clock::now();
   const zonal::ZonalProjector projector(a.settings);
@@ -56,13 +56,13 @@ void run_zonal(const ZonalArgs& a) {
   }
   const double error = zonal::write_coefficients(a.output, set, storage);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::printf("wrote %s: %zu materials, L = %d (%zu coefficients) x %d view angles, %s (storage error %.2e of the "
+  print(io.out, "wrote %s: %zu materials, L = %d (%zu coefficients) x %d view angles, %s (storage error %.2e of the "
               "largest coefficient), %.2f s\n",
               a.output.c_str(), set.materials.size(), a.settings.bands, projector.basis().size(),
               a.settings.theta_o_count, a.storage.c_str(), error, seconds);
 }
 
-void add_zonal_command(CLI::App& app) {
+void add_zonal_command(CLI::App& app, const Io& io) {
   auto* cmd = app.add_subcommand("zonal", "Rotated zonal-harmonic coefficients of a database or model (real-time shading)");
   auto a = std::make_shared<ZonalArgs>();
   cmd->add_option("inputs", a->inputs, "A .matlas model, or MERL/RGL folders and files")->required();
@@ -71,7 +71,7 @@ void add_zonal_command(CLI::App& app) {
   cmd->add_option("--theta-o", a->settings.theta_o_count, "View-angle samples")
       ->check(CLI::Range(1, 1024))->capture_default_str();
   cmd->add_option("--storage", a->storage, "f32 or f16")->check(CLI::IsMember({"f32", "f16"}))->capture_default_str();
-  cmd->callback([a] { run_zonal(*a); });
+  cmd->callback([io, a] { run_zonal(*a, io); });
 }
 
 }  // namespace
