@@ -20,7 +20,7 @@ using nlohmann::json;
 constexpr const char* kFloorScene = R"({
   "name": "floor",
   "camera": {"position": [0, 1.7, 5.6], "target": [0, 0.85, 0], "fov": 34},
-  "environment": {"map": "studio", "intensity": 1.0},
+  "environment": {"map": "studio", "intensity": 0.6},
   "objects": [
     {"shape": "mesh", "mesh": "$object", "center": [0, 1, 0], "radius": 1,
      "material": {"type": "measured"}},
@@ -33,7 +33,7 @@ constexpr const char* kFloorScene = R"({
 
 constexpr const char* kBoxScene = R"({
   "name": "box",
-  "camera": {"position": [0, 2, 3.9], "target": [0, 1.6, 0], "fov": 52},
+  "camera": {"position": [0, 2, 3.9], "target": [0, 1.8, 0], "fov": 55},
   "objects": [
     {"shape": "mesh", "mesh": "$object", "center": [0, 1, -0.3], "radius": 1,
      "material": {"type": "measured"}},
@@ -49,8 +49,8 @@ constexpr const char* kBoxScene = R"({
      "material": {"type": "lambert", "albedo": [0.63, 0.065, 0.05]}},
     {"shape": "quad", "corner": [2, 0, -2], "edge1": [0, 0, 6], "edge2": [0, 4, 0],
      "material": {"type": "lambert", "albedo": [0.14, 0.45, 0.09]}},
-    {"shape": "quad", "corner": [-0.6, 3.99, -0.9], "edge1": [1.2, 0, 0], "edge2": [0, 0, 1.2],
-     "emission": [14, 12, 9]}
+    {"shape": "quad", "corner": [-0.8, 3.99, -1.1], "edge1": [1.6, 0, 0], "edge2": [0, 0, 1.6],
+     "emission": [8, 6.8, 5.1]}
   ]
 })";
 
