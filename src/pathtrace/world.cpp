@@ -47,6 +47,13 @@ Triangles mesh_triangles(const ObjectSpec& o) {
   return t;
 }
 
+/// An Embree ray (fields in declaration order: origin, tnear, direction, time, tfar, mask, id, flags).
+RTCRay embree_ray(const Vec3& origin, const Vec3& dir, double tmin, double tmax) {
+  const Eigen::Vector3f o = origin.cast<float>(), d = dir.cast<float>();
+  return RTCRay{o.x(), o.y(), o.z(), static_cast<float>(tmin), d.x(), d.y(), d.z(), 0.0f,
+                static_cast<float>(std::min(tmax, 3.0e38)), 0xffffffffu, 0u, 0u};
+}
+
 }  // namespace
 
 struct World::Impl {
@@ -124,16 +131,7 @@ World::~World() = default;
 std::optional<SurfaceHit> World::intersect(const Vec3& origin, const Vec3& dir, double tmin) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  RTCRayHit rh{};
-  rh.ray.org_x = static_cast<float>(origin.x());
-  rh.ray.org_y = static_cast<float>(origin.y());
-  rh.ray.org_z = static_cast<float>(origin.z());
-  rh.ray.dir_x = static_cast<float>(dir.x());
-  rh.ray.dir_y = static_cast<float>(dir.y());
-  rh.ray.dir_z = static_cast<float>(dir.z());
-  rh.ray.tnear = static_cast<float>(tmin);
-  rh.ray.tfar = std::numeric_limits<float>::infinity();
-  rh.ray.mask = 0xffffffffu;
+  RTCRayHit rh{embree_ray(origin, dir, tmin, std::numeric_limits<float>::infinity()), {}};
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(impl_->scene, &context, &rh);
@@ -171,16 +169,7 @@ std::optional<SurfaceHit> World::intersect(const Vec3& origin, const Vec3& dir, 
 bool World::occluded(const Vec3& origin, const Vec3& dir, double tmin, double tmax) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  RTCRay ray{};
-  ray.org_x = static_cast<float>(origin.x());
-  ray.org_y = static_cast<float>(origin.y());
-  ray.org_z = static_cast<float>(origin.z());
-  ray.dir_x = static_cast<float>(dir.x());
-  ray.dir_y = static_cast<float>(dir.y());
-  ray.dir_z = static_cast<float>(dir.z());
-  ray.tnear = static_cast<float>(tmin);
-  ray.tfar = static_cast<float>(tmax);
-  ray.mask = 0xffffffffu;
+  RTCRay ray = embree_ray(origin, dir, tmin, tmax);
   rtcOccluded1(impl_->scene, &context, &ray);
   return ray.tfar == -std::numeric_limits<float>::infinity();
 }
