@@ -1,5 +1,5 @@
 // GI image composition: a 512x512 GI image from a basis of n = 100 materials (101 images with the
-// mean table's), float32, dense weights (every image read), against a plain parallel read of the
+// mean table's), float32 and float16, dense weights (every image read), against a plain parallel read of the
 // same number of bytes in the same run (BM_GiStreamSameBytes, registered first). The images are
 // synthetic: the composition's cost does not depend on their content.
 #include <benchmark/benchmark.h>
@@ -68,6 +68,22 @@ void BM_GiCompose512n100(benchmark::State& state) {
   state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations()) * static_cast<std::int64_t>(kBytes));
 }
 BENCHMARK(BM_GiCompose512n100)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_GiCompose512n100Half(benchmark::State& state) {
+  static GiBasis b = [] {
+    GiBasis copy = basis();
+    copy.convert_to_half();
+    return copy;
+  }();
+  Eigen::VectorXd w = Eigen::VectorXd::Constant(kCount, 0.5 / kCount);
+  Image out(kSize, kSize);
+  for (auto _ : state) {
+    b.compose_into(w, GiBasis::Part::all, out.rgb.data());
+    benchmark::DoNotOptimize(out.rgb.data());
+  }
+  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations()) * static_cast<std::int64_t>(kBytes / 2));
+}
+BENCHMARK(BM_GiCompose512n100Half)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 

@@ -3,6 +3,11 @@
 #include <cmath>
 #include <cstdio>
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <cpuid.h>
+#include <immintrin.h>
+#endif
+
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
@@ -22,6 +27,32 @@ std::size_t tile_count(std::size_t values) { return (values + kTile - 1) / kTile
 
 MATLAS_SIMD_CLONES void add_scaled(float a, const float* x, float* y, std::size_t n) {
   for (std::size_t j = 0; j < n; ++j) y[j] += a * x[j];
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+// y += a x for float16 x, 8 values per step (n is a multiple of 8: whole tiles).
+__attribute__((target("avx2,fma,f16c"))) void add_scaled_half_f16c(float a, const std::uint16_t* x, float* y,
+                                                                    std::size_t n) {
+  const __m256 va = _mm256_set1_ps(a);
+  for (std::size_t j = 0; j < n; j += 8) {
+    const __m256 v = _mm256_cvtph_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(x + j)));
+    _mm256_storeu_ps(y + j, _mm256_fmadd_ps(va, v, _mm256_loadu_ps(y + j)));
+  }
+}
+
+bool has_f16c() {
+  unsigned eax = 0, ebx = 0, ecx = 0, edx = 0;
+  if (!__get_cpuid(1, &eax, &ebx, &ecx, &edx)) return false;
+  return (ecx & (1u << 29)) != 0 && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+}
+#endif
+
+void add_scaled_half(float a, const std::uint16_t* x, float* y, std::size_t n) {
+#if defined(__x86_64__) && defined(__GNUC__)
+  static const bool fast = has_f16c();
+  if (fast) return add_scaled_half_f16c(a, x, y, n);
+#endif
+  for (std::size_t j = 0; j < n; ++j) y[j] += a * half_to_float(x[j]);
 }
 
 std::vector<float> tile_images(const std::vector<const float*>& images, std::size_t values) {
@@ -107,6 +138,24 @@ GiBasis::GiBasis(Image p, const std::vector<Image>& linear, const std::vector<Im
   full_ = tile_images(f, p_.rgb.size());
 }
 
+double GiBasis::convert_to_half() {
+  if (is_half()) return 0.0;
+  const std::size_t k_count = names_.size() + 1;
+  double worst = 0;
+  for (auto [from, to] : {std::pair{&linear_, &linear_half_}, std::pair{&full_, &full_half_}}) {
+    to->resize(from->size());
+    std::vector<float> scale(k_count, 0.0f);  // per image, its largest magnitude
+    for (std::size_t i = 0; i < from->size(); ++i)
+      scale[(i / kTile) % k_count] = std::max(scale[(i / kTile) % k_count], std::abs((*from)[i]));
+    for (std::size_t i = 0; i < from->size(); ++i) {
+      (*to)[i] = float_to_half((*from)[i]);
+      const float s = scale[(i / kTile) % k_count];
+      if (s > 0) worst = std::max(worst, static_cast<double>(std::abs(half_to_float((*to)[i]) - (*from)[i]) / s));
+    }
+  }
+  return worst;
+}
+
 Image GiBasis::image(Part part, int k) const {
   Image out(width(), height());
   untile(tiles(part), names_.size() + 1, static_cast<std::size_t>(k), out.rgb.size(), out.rgb.data());
@@ -125,16 +174,21 @@ void GiBasis::compose_into(const Eigen::Ref<const Eigen::VectorXd>& w, Part part
   const Eigen::VectorXd a = material_coefficients(w);
   const std::size_t k_count = a.size(), values = p_.rgb.size();
   const std::vector<float>& data = tiles(part);
+  const std::vector<std::uint16_t>* half =
+      is_half() ? (part == Part::i1 ? &linear_half_ : &full_half_) : nullptr;
   parallel_for(0, tile_count(values), [&](std::size_t t0, std::size_t t1) {
     alignas(64) float acc[kTile];
     for (std::size_t t = t0; t < t1; ++t) {
       const std::size_t begin = t * kTile, n = std::min(kTile, values - begin);
       std::copy_n(p_.rgb.data() + begin, n, acc);
       std::fill(acc + n, acc + kTile, 0.0f);
-      for (std::size_t k = 0; k < k_count; ++k)
-        if (a[static_cast<Eigen::Index>(k)] != 0)
-          add_scaled(static_cast<float>(a[static_cast<Eigen::Index>(k)]), data.data() + (t * k_count + k) * kTile,
-                     acc, kTile);
+      for (std::size_t k = 0; k < k_count; ++k) {
+        const auto ak = static_cast<float>(a[static_cast<Eigen::Index>(k)]);
+        if (ak == 0) continue;
+        const std::size_t at = (t * k_count + k) * kTile;
+        if (half) add_scaled_half(ak, half->data() + at, acc, kTile);
+        else add_scaled(ak, data.data() + at, acc, kTile);
+      }
       std::copy_n(acc, n, rgb + begin);
     }
   });

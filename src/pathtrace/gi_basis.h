@@ -49,7 +49,13 @@ public:
   /// The same into `rgb` (width * height * 3 floats), without allocating.
   void compose_into(const Eigen::Ref<const Eigen::VectorXd>& w, Part part, float* rgb) const;
 
-  /// safetensors: p F32 [H,W,3], linear and full F32 [n+1,H,W,3]; metadata plus "names" (JSON).
+  /// Adds a float16 copy of the images that compose() reads from then on (half the bytes per
+  /// composition; relative rounding 2^-11; image() and save() keep the float32 values). Returns the largest relative error of an image value (against its image's
+  /// largest magnitude).
+  double convert_to_half();
+  bool is_half() const { return !linear_half_.empty(); }
+
+  /// safetensors (float32 whatever the memory form): p F32 [H,W,3], linear and full F32 [n+1,H,W,3]; metadata plus "names" (JSON).
   void save(const std::filesystem::path& path) const;
   /// matlas::Error naming the file when it is not a GI basis or is inconsistent.
   static GiBasis load(const std::filesystem::path& path);
@@ -59,6 +65,7 @@ private:
   Image p_;
   // Tiled: per tile of kTile values, the n + 1 images one after the other (one contiguous run).
   std::vector<float> linear_, full_;
+  std::vector<std::uint16_t> linear_half_, full_half_;  // the same in float16 after convert_to_half
   std::vector<std::string> names_;
   std::map<std::string, std::string> metadata_;
 };

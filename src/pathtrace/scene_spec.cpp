@@ -20,7 +20,7 @@ using nlohmann::json;
 constexpr const char* kFloorScene = R"({
   "name": "floor",
   "camera": {"position": [0, 1.7, 5.6], "target": [0, 0.85, 0], "fov": 34},
-  "environment": {"map": "studio", "intensity": 0.6},
+  "environment": {"map": "studio", "intensity": 0.3, "rotation": 180},
   "objects": [
     {"shape": "mesh", "mesh": "$object", "center": [0, 1, 0], "radius": 1,
      "material": {"type": "measured"}},

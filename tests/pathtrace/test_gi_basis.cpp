@@ -89,6 +89,19 @@ TEST_F(GiBasisTest, FullCompositionIsExactAtTheInputs) {
   }
 }
 
+TEST_F(GiBasisTest, HalfPrecisionCompositionIsWithinItsMeasuredRounding) {
+  GiBasis basis = build_gi_basis(*model_, *world_, settings(), {});
+  const Eigen::VectorXd w = Eigen::VectorXd::LinSpaced(6, 0.05, 0.25);
+  const Image exact = basis.compose(w);
+  const double rounding = basis.convert_to_half();
+  EXPECT_TRUE(basis.is_half());
+  EXPECT_GT(rounding, 0.0);
+  EXPECT_LT(rounding, 1.0 / 2048);
+  const Image half = basis.compose(w);
+  EXPECT_NE(half.rgb, exact.rgb);
+  EXPECT_LT(max_relative(half, exact), 2e-3);
+}
+
 TEST_F(GiBasisTest, FilesRoundTripAndTheCacheResumes) {
   GiBasisOptions options;
   options.cache = dir_->path() / "cache";
