@@ -194,16 +194,15 @@ LightSample World::sample_light(double u0, double u1, double u2) const {
 
 void World::camera_ray(double px, double py, int width, int height, Vec3* origin, Vec3* dir) const {
   const CameraSpec& c = spec_.camera;
-  const Vec3 forward = (c.target - c.position).normalized();
-  Vec3 right = forward.cross(Vec3(0, 1, 0));
-  if (right.norm() < 1e-9) right = Vec3(1, 0, 0);
-  right.normalize();
-  const Vec3 up = right.cross(forward);
-  const double h = std::tan(0.5 * c.fov_degrees * kPi / 180.0);
-  const double aspect = static_cast<double>(width) / height;
-  const double sx = (2.0 * px / width - 1.0) * h * aspect, sy = (1.0 - 2.0 * py / height) * h;
+  Eigen::Matrix3d frame;  // columns: right, up, backward
+  frame.col(2) = (c.position - c.target).normalized();
+  const Vec3 up_hint = std::abs(frame.col(2).y()) > 0.999999 ? Vec3(0, 0, -1) : Vec3(0, 1, 0);
+  frame.col(0) = up_hint.cross(frame.col(2)).normalized();
+  frame.col(1) = frame.col(2).cross(frame.col(0));
+  const double t = std::tan(0.5 * c.fov_degrees * kPi / 180.0);
+  const Vec3 local((2.0 * px / width - 1.0) * t * width / height, (1.0 - 2.0 * py / height) * t, -1.0);
   *origin = c.position;
-  *dir = (forward + sx * right + sy * up).normalized();
+  *dir = (frame * local).normalized();
 }
 
 }  // namespace matlas::pathtrace

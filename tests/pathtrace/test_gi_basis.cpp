@@ -18,16 +18,20 @@
 namespace matlas::pathtrace {
 namespace {
 
+/// A model of six synthetic materials on a coarse grid (q = 2), built in `dir`.
+Model small_model(const std::filesystem::path& dir) {
+  BuildOptions options;
+  options.dim = 2;
+  write_database(dir / "db", random_catalog(6, 11), null_progress(), MerlDims{16, 16, 32});
+  build_model(MaterialSet::open({dir / "db"}), options, dir / "m.matlas");
+  return Model::open(dir / "m.matlas");
+}
+
 class GiBasisTest : public ::testing::Test {
 protected:
   static void SetUpTestSuite() {
     dir_ = new test::TempDir("matlas-gi");
-    const MerlDims dims{16, 16, 32};
-    write_database(dir_->path() / "db", random_catalog(6, 11), null_progress(), dims);
-    BuildOptions options;
-    options.dim = 2;
-    build_model(MaterialSet::open({dir_->path() / "db"}), options, dir_->path() / "m.matlas");
-    model_ = new Model(Model::open(dir_->path() / "m.matlas"));
+    model_ = new Model(small_model(dir_->path()));
     world_ = new World(load_scene("box", "sphere"));
   }
   static void TearDownTestSuite() {
@@ -49,13 +53,11 @@ protected:
     const ModelPointBank bank(*model_, w);
     return trace(*world_, &bank, settings());
   }
+  /// Largest difference over the reference's largest magnitude.
   static double max_relative(const Image& a, const Image& b) {
-    double diff = 0, scale = 0;
-    for (std::size_t k = 0; k < a.rgb.size(); ++k) {
-      diff = std::max(diff, static_cast<double>(std::abs(a.rgb[k] - b.rgb[k])));
-      scale = std::max(scale, static_cast<double>(std::abs(b.rgb[k])));
-    }
-    return diff / scale;
+    const Eigen::Map<const Eigen::ArrayXf> x(a.rgb.data(), static_cast<Eigen::Index>(a.rgb.size()));
+    const Eigen::Map<const Eigen::ArrayXf> y(b.rgb.data(), static_cast<Eigen::Index>(b.rgb.size()));
+    return static_cast<double>((x - y).abs().maxCoeff() / y.abs().maxCoeff());
   }
   static inline test::TempDir* dir_ = nullptr;
   static inline Model* model_ = nullptr;
