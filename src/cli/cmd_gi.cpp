@@ -27,11 +27,13 @@ void add_trace_options(CLI::App& cmd, TraceOptions& o) {
   cmd.add_option("--scene", o.scene, "Built-in scene (floor, box) or a .json scene file")->capture_default_str();
   cmd.add_option("--object", o.object, "The measured object of a built-in scene: sphere, bunny, suzi or a mesh file")
       ->capture_default_str();
-  cmd.add_option("--width", o.settings.width, "Image width")->capture_default_str();
-  cmd.add_option("--height", o.settings.height, "Image height")->capture_default_str();
-  cmd.add_option("--spp", o.settings.spp, "Paths per pixel")->capture_default_str();
+  cmd.add_option("--width", o.settings.width, "Image width")->capture_default_str()->check(CLI::Range(1, 16384));
+  cmd.add_option("--height", o.settings.height, "Image height")->capture_default_str()->check(CLI::Range(1, 16384));
+  cmd.add_option("--spp", o.settings.spp, "Paths per pixel")->capture_default_str()->check(CLI::Range(1, 1 << 20));
   cmd.add_option("--seed", o.settings.seed, "Random seed")->capture_default_str();
-  cmd.add_option("--max-depth", o.settings.max_depth, "Scattering vertices per path")->capture_default_str();
+  cmd.add_option("--max-depth", o.settings.max_depth, "Scattering vertices per path")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 64));
 }
 
 struct ImageOptions {
@@ -41,7 +43,7 @@ struct ImageOptions {
 
 void add_image_options(CLI::App& cmd, ImageOptions& o) {
   cmd.add_option("-o,--output", o.output, "Output image: .png (tone mapped sRGB) or .exr (linear)")->required();
-  cmd.add_option("--exposure", o.tone.exposure, "PNG exposure in stops")->capture_default_str();
+  cmd.add_option("--exposure", o.tone.exposure, "PNG exposure in stops")->capture_default_str()->check(finite_number());
   cmd.add_option("--tonemap", o.tone.tonemap, "PNG tone curve: clamp, reinhard or aces")->capture_default_str();
 }
 
@@ -67,7 +69,7 @@ void run_gi_basis(const BasisArgs& a) {
   const auto start = std::chrono::steady_clock::now();
   const pathtrace::GiBasis basis = pathtrace::build_gi_basis(model, world, a.trace.settings, options, progress);
   basis.save(a.output);
-  std::printf("traced %d material images + P (%dx%d, %d spp) in %.1f s; cache %s\nwrote %s\n", basis.count() + 1,
+  std::printf("basis of %d material images + P (%dx%d, %d spp) in %.1f s; cache %s\nwrote %s\n", basis.count() + 1,
               basis.width(), basis.height(), a.trace.settings.spp, seconds_since(start), options.cache.c_str(),
               a.output.c_str());
 }
@@ -78,7 +80,7 @@ void add_gi_basis_command(CLI::App& app) {
   cmd->add_option("model", a->model, ".matlas model")->required();
   cmd->add_option("-o,--output", a->output, "Output basis (.safetensors)")->required();
   cmd->add_option("--cache", a->cache, "Folder of per-material images (default OUTPUT.cache): a rerun resumes");
-  cmd->add_option("--batch", a->batch, "Materials traced per pass")->capture_default_str();
+  cmd->add_option("--batch", a->batch, "Materials traced per pass")->capture_default_str()->check(CLI::Range(1, 1 << 20));
   add_trace_options(*cmd, a->trace);
   cmd->callback([a] { run_gi_basis(*a); });
 }
