@@ -102,7 +102,7 @@ SurfaceSpec parse_surface(const json& j, const std::string& source, const std::s
 }
 
 ObjectSpec parse_object(const json& j, const std::string& source, const std::string& where) {
-  check_keys(j, {"shape", "mesh", "center", "radius", "rotate_y", "corner", "edge1", "edge2", "material", "emission"},
+  check_keys(j, {"shape", "mesh", "center", "radius", "rotate_y", "rest_on", "corner", "edge1", "edge2", "material", "emission"},
              source, where);
   ObjectSpec o;
   o.shape = j.value("shape", std::string("sphere"));
@@ -120,6 +120,7 @@ ObjectSpec parse_object(const json& j, const std::string& source, const std::str
     if (!(o.radius > 0)) fail(source, where + ".radius must be positive");
   }
   if (j.contains("rotate_y")) o.rotate_y = number(j["rotate_y"], source, where + ".rotate_y");
+  if (j.contains("rest_on")) o.rest_on = number(j["rest_on"], source, where + ".rest_on");
   if (j.contains("corner")) o.corner = vec3(j["corner"], source, where + ".corner");
   if (j.contains("edge1")) o.edge1 = vec3(j["edge1"], source, where + ".edge1");
   if (j.contains("edge2")) o.edge2 = vec3(j["edge2"], source, where + ".edge2");
@@ -200,6 +201,7 @@ json scene_to_json(const SceneSpec& s) {
                {"corner", to_json(o.corner)}, {"edge1", to_json(o.edge1)}, {"edge2", to_json(o.edge2)},
                {"material", m}, {"emission", to_json(o.emission)}};
     if (!o.mesh.empty()) oj["mesh"] = o.mesh;
+    if (o.rest_on) oj["rest_on"] = *o.rest_on;
     j["objects"].push_back(oj);
   }
   return j;

@@ -3,6 +3,7 @@
 // from a small JSON file or taken from the built-in scenes. Exactly one object may carry the
 // "measured" material: the object whose tabulated BRDF the GI image basis varies.
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,7 +26,8 @@ struct SurfaceSpec {
 
 /// One object. shape "sphere" (exact: center, radius), "quad" (corner, edge1, edge2; its front
 /// side, the one that emits, faces edge1 x edge2) or "mesh" (a mesh name or file, scaled into a
-/// sphere of `radius` at `center`, turned by `rotate_y` degrees). A non-zero `emission` makes the
+/// sphere of `radius` at `center`, turned by `rotate_y` degrees, and with `rest_on` set moved
+/// vertically so that its lowest vertex lies at y = rest_on). A non-zero `emission` makes the
 /// object an area light (one-sided for quads and meshes; spheres cannot emit).
 struct ObjectSpec {
   std::string shape = "sphere";
@@ -33,6 +35,7 @@ struct ObjectSpec {
   Vec3 center = Vec3::Zero();
   double radius = 1.0;
   double rotate_y = 0.0;
+  std::optional<double> rest_on;
   Vec3 corner = Vec3::Zero(), edge1 = Vec3(1, 0, 0), edge2 = Vec3(0, 0, 1);
   SurfaceSpec surface;
   Rgb emission = Rgb::Zero();

@@ -29,8 +29,18 @@ Triangles quad_triangles(const ObjectSpec& o) {
   return t;
 }
 
+/// A mesh by name: ASSETS/models/NAME.obj when installed (the teapot of scripts/install-assets.sh),
+/// else render's lookup (a file path, or ASSETS/models/NAME.glb).
+std::filesystem::path object_mesh_path(const std::string& name) {
+  if (const auto dir = assets_dir(); dir && name.find('/') == std::string::npos && name.find('.') == std::string::npos) {
+    const std::filesystem::path obj = *dir / "models" / (name + ".obj");
+    if (std::filesystem::exists(obj)) return obj;
+  }
+  return resolve_mesh(name);
+}
+
 Triangles mesh_triangles(const ObjectSpec& o) {
-  TriangleMesh mesh = read_mesh(resolve_mesh(o.mesh));
+  TriangleMesh mesh = read_mesh(object_mesh_path(o.mesh));
   render::normalize_mesh(mesh);
   if (mesh.normals.size() != mesh.positions.size()) mesh.compute_normals();
   const double a = o.rotate_y * kPi / 180.0, c = std::cos(a), s = std::sin(a);
@@ -44,6 +54,11 @@ Triangles mesh_triangles(const ObjectSpec& o) {
     t.normals.push_back(turn(mesh.normals[i]).normalized());
   }
   t.indices = mesh.triangles;
+  if (o.rest_on) {
+    double lowest = t.positions.front().y();
+    for (const Vec3& p : t.positions) lowest = std::min(lowest, p.y());
+    for (Vec3& p : t.positions) p.y() += *o.rest_on - lowest;
+  }
   return t;
 }
 

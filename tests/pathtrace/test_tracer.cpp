@@ -9,6 +9,8 @@
 
 #include "brdf/tabulate.h"
 #include "core/error.h"
+#include "formats/mesh_io.h"
+#include "support/temp_dir.h"
 #include "pathtrace/tracer.h"
 
 namespace matlas::pathtrace {
@@ -144,6 +146,27 @@ TEST(PathTracer, ImagesSplitByTouchesAndAreDeterministic) {
   EXPECT_EQ(r2.p.rgb, r.p.rgb);
   EXPECT_EQ(r2.once[0].rgb, r.once[1].rgb);
   EXPECT_EQ(r2.more[0].rgb, r.more[1].rgb);
+}
+
+TEST(SceneSpec, MeshesCanRestOnAPlane) {
+  const test::TempDir dir("matlas-pt-mesh");
+  TriangleMesh tetra;
+  tetra.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  tetra.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  write_obj(dir / "t.obj", tetra);
+  const nlohmann::json j = {{"objects", nlohmann::json::array({{{"shape", "mesh"}, {"mesh", (dir / "t.obj").string()},
+                                                                 {"center", {0, 5, 0}}, {"rest_on", 0.25}}})}};
+  const SceneSpec spec = parse_scene(j, "t.json");
+  ASSERT_TRUE(spec.objects[0].rest_on.has_value());
+  const World world(spec);
+  // The lowest vertex is now at y = 0.25 (the mesh spans about 1.5 units there, centred on x = z = 0).
+  bool below = false, above = false;
+  for (double x = -1.5; x <= 1.5; x += 0.01) {
+    below |= world.intersect(Vec3(x, 0.24, -10), Vec3(0, 0, 1)).has_value();
+    above |= world.intersect(Vec3(x, 0.30, -10), Vec3(0, 0, 1)).has_value();
+  }
+  EXPECT_FALSE(below);
+  EXPECT_TRUE(above);
 }
 
 TEST(SceneSpec, BuiltInScenesRoundTripAndBadFilesAreNamed) {
