@@ -25,7 +25,7 @@ struct TraceOptions {
 
 void add_trace_options(CLI::App& cmd, TraceOptions& o) {
   cmd.add_option("--scene", o.scene, "Built-in scene (floor, box) or a .json scene file")->capture_default_str();
-  cmd.add_option("--object", o.object, "The measured object of a built-in scene: sphere, bunny, suzi or a mesh file")
+  cmd.add_option("--object", o.object, "The measured object of a built-in scene: sphere, bunny, suzi, teapot or a mesh file")
       ->capture_default_str();
   cmd.add_option("--width", o.settings.width, "Image width")->capture_default_str()->check(CLI::Range(1, 16384));
   cmd.add_option("--height", o.settings.height, "Image height")->capture_default_str()->check(CLI::Range(1, 16384));
