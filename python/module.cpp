@@ -22,7 +22,7 @@
 #include "formats/merl_file.h"
 #include "formats/rgl_bsdf.h"
 #include "manifold/build.h"
-#include "manifold/model.h"
+#include "manifold/model_metadata.h"
 #include "manifold/project.h"
 
 namespace py = pybind11;

@@ -5,7 +5,9 @@
 #   web/run-browser-tests.sh [PATH/TO/matlas]      (default: build/matlas)
 #
 # Needs node >= 20 and /usr/bin/chromium (or $CHROMIUM). Prints node's test summary; exit status
-# non-zero on failure. The screenshot is left in web/test-results/browser.png.
+# non-zero on failure. Runs every test file of web/tests (the page, scene switching, and the API
+# schema against web/src/api.ts, docs/API.md and the live server); screenshots are left in
+# web/test-results/.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 bin="$(realpath "${1:-$here/../build/matlas}")"

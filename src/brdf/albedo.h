@@ -65,9 +65,12 @@ Rgb directional_albedo(const BrdfTable& table, double theta_o, const AlbedoQuadr
 /// Directional albedo of f(wi, wo) by a quadrature over the half vector h instead of wi (wi is
 /// wo reflected about h, dwi = 4 (wo.h) dh), with theta_h = (pi/2) u^2 and midpoints in u and
 /// phi_h, the MERL grid's own refinement towards the mirror direction: resolves specular peaks
-/// far narrower than a cosine quadrature's spacing. resolution x 2 resolution evaluations.
+/// far narrower than a cosine quadrature's spacing. resolution x 2 resolution evaluations. For
+/// a table, make resolution a multiple of its theta_h bins (the default 540 = 6 x 90): each bin then
+/// gets the same number of points in u (512 gives 5 or 6, a weight error of up to 17 % per bin,
+/// which shows as 0.8 % in the albedo of a material whose peak lies in a few bins).
 template <class Brdf>
-Rgb half_vector_albedo(const Brdf& f, const Vec3& wo, int resolution = 512) {
+Rgb half_vector_albedo(const Brdf& f, const Vec3& wo, int resolution = 540) {
   Rgb sum = Rgb::Zero();
   const int n_u = resolution, n_phi = 2 * resolution;
   const double du = 1.0 / n_u, dphi = 2.0 * kPi / n_phi;

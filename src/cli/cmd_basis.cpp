@@ -3,11 +3,12 @@
 #include <memory>
 #include <string>
 
+#include "atlas/model_basis.h"
 #include "cli/commands.h"
+#include "cli/print.h"
 #include "cli/render_options.h"
 #include "core/error.h"
 #include "manifold/model.h"
-#include "render/image_basis.h"
 
 namespace matlas::cli {
 
@@ -21,13 +22,13 @@ struct BasisArgs {
   RenderOptions options;
 };
 
-void run_basis(BasisArgs a) {
+void run_basis(BasisArgs a, const Io& io) {
   if (a.precision != "f16" && a.precision != "f32") throw Error("--precision must be f16 or f32");
   const Model model = Model::open(a.model);
   const render::Scene scene(a.options.scene_description());
   TerminalProgress progress;
-  render::ImageBasis basis = render::render_basis(model, scene, a.options.settings(), progress);
-  std::printf("rendered %d material images (%dx%d, %d spp); object covers %.1f%% of the pixels\n", basis.count(),
+  render::ImageBasis basis = atlas::render_basis(model, scene, a.options.settings(), progress);
+  print(io.out, "rendered %d material images (%dx%d, %d spp); object covers %.1f%% of the pixels\n", basis.count(),
               basis.width(), basis.height(), a.options.spp, 100.0 * basis.active_fraction());
   if (a.rank != "none") {
     int max_rank = 0;
@@ -43,18 +44,18 @@ void run_basis(BasisArgs a) {
       tolerance = 0.0;
     }
     const render::LowRankReport r = basis.compress(tolerance, max_rank);
-    std::printf("low-rank form: rank %d of %d, relative error %.3g (centred), %.3g (images), max abs %.3g\n", r.rank,
+    print(io.out, "low-rank form: rank %d of %d, relative error %.3g (centred), %.3g (images), max abs %.3g\n", r.rank,
                 basis.count(), r.relative_error, r.image_relative_error, r.max_abs_error);
   }
   if (a.precision == "f16") {
     render::ImageBasis copy = basis;
-    std::printf("float16 storage: relative error %.3g\n", copy.convert_to_half());
+    print(io.out, "float16 storage: relative error %.3g\n", copy.convert_to_half());
   }
   basis.save(a.output, a.precision == "f16" ? render::BasisPrecision::f16 : render::BasisPrecision::f32);
-  std::printf("wrote %s\n", a.output.c_str());
+  print(io.out, "wrote %s\n", a.output.c_str());
 }
 
-void add_basis_command(CLI::App& app) {
+void add_basis_command(CLI::App& app, const Io& io) {
   auto* cmd = app.add_subcommand("basis", "Render the image basis of a model (safetensors) for instant previews");
   auto a = std::make_shared<BasisArgs>();
   cmd->add_option("model", a->model, ".matlas model")->required();
@@ -63,7 +64,7 @@ void add_basis_command(CLI::App& app) {
   cmd->add_option("--rank", a->rank, "Low-rank form: none, auto (--tolerance), full, or a rank")->capture_default_str();
   cmd->add_option("--tolerance", a->tolerance, "Relative error of the automatic rank")->capture_default_str();
   add_render_options(*cmd, a->options);
-  cmd->callback([a] { run_basis(*a); });
+  cmd->callback([io, a] { run_basis(*a, io); });
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "cli/print.h"
 #include "cli/latent_point.h"
 #include "core/error.h"
 #include "core/progress.h"
@@ -52,7 +53,7 @@ void apply_preset(BuildArgs& a, const CLI::App& cmd) {
   unless_given("--latent-precision", a.prior.precision, paper.prior.precision);
 }
 
-void run_build(const BuildArgs& a) {
+void run_build(const BuildArgs& a, const Io& io) {
   TerminalProgress progress(!a.quiet);
   std::vector<std::filesystem::path> inputs(a.inputs.begin(), a.inputs.end());
   const MaterialSet set = MaterialSet::open(inputs, progress);
@@ -72,39 +73,38 @@ void run_build(const BuildArgs& a) {
   o.prior = a.prior;
 
   if (!a.quiet) {
-    std::fprintf(stderr, "building a q=%d manifold of %zu materials (%s grid):\n", a.dim, set.size(),
+    print(io.err, "building a q=%d manifold of %zu materials (%s grid):\n", a.dim, set.size(),
                  set.dims().to_string().c_str());
     for (std::size_t i = 0; i < set.size(); ++i)
-      std::fprintf(stderr, "  %s%s\n", set.file(i).path().string().c_str(),
+      print(io.err, "  %s%s\n", set.file(i).path().string().c_str(),
                    set.resampled(i) ? "  (RGL, resampled onto the MERL grid)" : "");
     if (!set.ignored().empty()) {
-      std::fprintf(stderr, "ignored %zu file(s) that are neither .binary nor .bsdf:", set.ignored().size());
-      for (const auto& p : set.ignored()) std::fprintf(stderr, " %s", p.filename().string().c_str());
-      std::fprintf(stderr, "\n");
+      print(io.err, "ignored %zu file(s) that are neither .binary nor .bsdf:", set.ignored().size());
+      for (const auto& p : set.ignored()) print(io.err, " %s", p.filename().string().c_str());
+      print(io.err, "\n");
     }
   }
   const BuildReport r = build_model(set, o, a.output, progress);
-  std::printf("wrote %s\n", a.output.c_str());
-  std::printf("  materials        %zu, q = %d, layout %s, optimiser %s, interpolation %s\n", set.size(), a.dim,
+  print(io.out, "wrote %s\n", a.output.c_str());
+  print(io.out, "  materials        %zu, q = %d, layout %s, optimiser %s, interpolation %s\n", set.size(), a.dim,
               o.layout.to_string().c_str(), gp::to_string(o.optimize.method), to_string(o.interpolation));
-  std::printf("  columns          %zu kept, %zu dropped (not measured in every material)\n",
+  print(io.out, "  columns          %zu kept, %zu dropped (not measured in every material)\n",
               r.kept_columns, r.dropped_columns);
-  std::printf("  log-likelihood   %.10g (%d iterations, %d evaluations; %s)\n", r.log_likelihood,
+  print(io.out, "  log-likelihood   %.10g (%d iterations, %d evaluations; %s)\n", r.log_likelihood,
               r.optimization.iterations, r.optimization.evaluations, r.optimization.stop_reason.c_str());
   if (!r.optimization.converged())
-    std::fprintf(stderr,
-                 "warning: the latent placement did not converge (%s); the model is usable but its layout "
+    print(io.err, "warning: the latent placement did not converge (%s); the model is usable but its layout "
                  "is not a maximum of the likelihood: raise --max-iterations or --starts\n",
                  r.optimization.stop_reason.c_str());
-  std::printf("  storage          %s, relative L2 rounding error %.3g\n",
+  print(io.out, "  storage          %s, relative L2 rounding error %.3g\n",
               o.storage == Storage::f16 ? "float16" : "float32", r.storage_relative_error);
-  std::printf("  time             reading %.2f s, latent placement %.2f s, finishing the file %.2f s\n",
+  print(io.out, "  time             reading %.2f s, latent placement %.2f s, finishing the file %.2f s\n",
               r.pass_seconds, r.optimize_seconds, r.finish_seconds);
-  std::printf("  reading          files %.2f s, centring and data %.2f s, Gram and albedo %.2f s\n",
+  print(io.out, "  reading          files %.2f s, centring and data %.2f s, Gram and albedo %.2f s\n",
               r.pass_steps.read, r.pass_steps.sweep, r.pass_steps.products);
 }
 
-void add_build_command(CLI::App& app) {
+void add_build_command(CLI::App& app, const Io& io) {
   auto args = std::make_shared<BuildArgs>();
   auto* cmd = app.add_subcommand("build", "Build a material manifold (.matlas model) from MERL .binary and RGL .bsdf files");
   cmd->add_option("inputs", args->inputs, "A folder of MERL .binary and/or RGL .bsdf files (other files are ignored) or a list of files; "
@@ -156,9 +156,9 @@ void add_build_command(CLI::App& app) {
                   "paper: Soler et al. 2018's settings (nugget 1e-4, Hooke-Jeeves, linear layout, no "
                   "priors, GP interpolation, one start); explicit flags still win");
   cmd->add_flag("--quiet", args->quiet, "No progress output");
-  cmd->callback([args, cmd] {
+  cmd->callback([io, args, cmd] {
     apply_preset(*args, *cmd);
-    run_build(*args);
+    run_build(*args, io);
   });
 }
 

@@ -6,16 +6,17 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <memory>
 #include <sstream>
 #include <string>
 
 #include "brdf/catalog.h"
 #include "cli/commands.h"
+#include "cli/print.h"
 #include "cli/serve_options.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/hash.h"
 #include "core/progress.h"
 #include "formats/synth_database.h"
 #include "manifold/build.h"
@@ -58,15 +59,9 @@ MerlDims parse_grid(const std::string& text) {
   return d;
 }
 
-std::string hex(std::size_t v) {
-  char buf[20];
-  std::snprintf(buf, sizeof buf, "%016zx", v);
-  return buf;
-}
-
 /// The demo database in the cache, written once (again only if the catalogue or grid changed).
 fs::path demo_database(const fs::path& cache, const MerlDims& dims, int count, std::uint64_t seed,
-                       ProgressSink& progress) {
+                       ProgressSink& progress, const Io& io) {
   const auto catalog = count > 0 ? random_catalog(count, seed) : demo_catalog();
   std::string stamp = dims.to_string() + "\n";
   for (const auto& m : catalog) stamp += m.name + "\n";
@@ -76,7 +71,7 @@ fs::path demo_database(const fs::path& cache, const MerlDims& dims, int count, s
   const fs::path stamp_file = dir / "catalog.txt";
   std::error_code ec;
   if (fs::exists(stamp_file, ec) && read_file(stamp_file) == stamp) return dir;
-  std::fprintf(stderr, "writing the demo database (%zu synthetic materials) to %s\n", catalog.size(),
+  print(io.err, "writing the demo database (%zu synthetic materials) to %s\n", catalog.size(),
                dir.string().c_str());
   write_database(dir, catalog, progress, dims);
   write_file_atomic(stamp_file, stamp);
@@ -92,19 +87,19 @@ std::string inputs_key(const MaterialSet& set, int dim) {
     text += set.name(i) + " " + std::to_string(fs::file_size(p)) + " " +
             std::to_string(fs::last_write_time(p).time_since_epoch().count()) + "\n";
   }
-  return hex(std::hash<std::string>{}(text));
+  return hex64(xxh3_64(text));
 }
 
-void run_demo(const DemoArgs& a) {
+void run_demo(const DemoArgs& a, const Io& io) {
   server::block_stop_signals();
   const fs::path cache = a.cache.empty() ? server::default_cache_dir() : fs::path(a.cache);
   TerminalProgress progress;
 
-  const fs::path db = a.dir.empty() ? demo_database(cache, parse_grid(a.grid), a.count, a.seed, progress) : fs::path(a.dir);
+  const fs::path db = a.dir.empty() ? demo_database(cache, parse_grid(a.grid), a.count, a.seed, progress, io) : fs::path(a.dir);
   const MaterialSet set = MaterialSet::open({db});
   const fs::path model_path = cache / "models" / (fs::weakly_canonical(fs::absolute(db)).filename().string() + "-" + inputs_key(set, a.dim).substr(0, 8) + ".matlas");
   if (!fs::exists(model_path)) {
-    std::fprintf(stderr, "building the model of %zu materials from %s (q = %d)\n", set.size(), db.string().c_str(),
+    print(io.err, "building the model of %zu materials from %s (q = %d)\n", set.size(), db.string().c_str(),
                  a.dim);
     fs::create_directories(model_path.parent_path());
     BuildOptions o;
@@ -112,33 +107,33 @@ void run_demo(const DemoArgs& a) {
     build_model(set, o, model_path, progress);
   }
   const Model model = Model::open(model_path);
-  std::fprintf(stderr, "model: %s\n", model_path.string().c_str());
+  print(io.err, "model: %s\n", model_path.string().c_str());
 
   server::BasisPreviewOptions po;
   po.size = a.size;
   po.spp = a.spp;
   po.cache_dir = cache / "bases";
   auto previews = std::make_shared<server::BasisPreviews>(model, po);
-  std::fprintf(stderr, "preparing previews (%s on %s, %dx%d, %d spp)\n", previews->default_environment().c_str(),
+  print(io.err, "preparing previews (%s on %s, %dx%d, %d spp)\n", previews->default_environment().c_str(),
                previews->default_object().c_str(), a.size, a.size, a.spp);
   previews->prepare_default(progress);
   if (a.no_serve) {
-    std::printf("demo ready: model %s, image basis %s\n", model_path.string().c_str(),
+    print(io.out, "demo ready: model %s, image basis %s\n", model_path.string().c_str(),
                 previews->cache_path(previews->default_environment(), previews->default_object()).string().c_str());
     return;
   }
 
-  server::ServerOptions so = server_options(a.host, a.port, a.web_root, a.log);
-  so.reload = model_reloader(po);
+  server::ServerOptions so = server_options(a.host, a.port, a.web_root, a.log, io);
+  so.reload = model_reloader(po, io);
   server::AtlasServer srv(model, previews, so);
-  note_missing_web_ui(srv);
+  note_missing_web_ui(srv, io);
   server::serve_until_signal(srv, [&](const std::string& url) {
-    std::printf("matlas demo: open %s  (%d materials; Ctrl-C stops)\n", url.c_str(), model.count());
-    std::fflush(stdout);
+    print(io.out, "matlas demo: open %s  (%d materials; Ctrl-C stops)\n", url.c_str(), model.count());
+    io.out.flush();
   });
 }
 
-void add_demo_command(CLI::App& app) {
+void add_demo_command(CLI::App& app, const Io& io) {
   auto a = std::make_shared<DemoArgs>();
   auto* cmd = app.add_subcommand(
       "demo", "Build and serve the material browser: the synthetic demo database, or a folder of MERL files");
@@ -156,7 +151,7 @@ void add_demo_command(CLI::App& app) {
       ->check(CLI::Range(2, 10000));
   cmd->add_option("--seed", a->seed, "Seed of the random catalogue")->capture_default_str();
   cmd->add_flag("--log", a->log, "Print one line per request on stderr");
-  cmd->callback([a] { run_demo(*a); });
+  cmd->callback([io, a] { run_demo(*a, io); });
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "cli/print.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "eval/layout_study.h"
@@ -17,7 +18,7 @@
 #include "eval/model_checks.h"
 #include "eval/report.h"
 #include "manifold/build.h"
-#include "manifold/model.h"
+#include "manifold/model_metadata.h"
 
 namespace matlas::cli {
 
@@ -67,12 +68,12 @@ std::vector<fs::path> model_sources(const Model& model) {
 }
 
 void print_summary(const eval::StudyResult* study, const eval::ModelChecks* checks,
-                   const eval::ManifoldQuality* quality) {
+                   const eval::ManifoldQuality* quality, const Io& io) {
   if (quality) {
-    std::printf("  layout readability    %.1f%% of materials crowded (neighbour < 1%% of extent %.3g); trustworthiness(5) %.3f\n",
+    print(io.out, "  layout readability    %.1f%% of materials crowded (neighbour < 1%% of extent %.3g); trustworthiness(5) %.3f\n",
                 100 * quality->layout.crowded_share, quality->layout.extent, quality->layout.trustworthiness);
     for (const auto& p : quality->plausibility)
-      std::printf("  plausibility %-6s %-9s %d of %d points with negative values (worst %.3f%%), albedo / inputs' max %.3f\n",
+      print(io.out, "  plausibility %-6s %-9s %d of %d points with negative values (worst %.3f%%), albedo / inputs' max %.3f\n",
                   p.mode.c_str(), p.where.c_str(), p.with_negative, p.points, 100 * p.worst_negative_share,
                   p.worst_albedo_ratio);
   }
@@ -80,24 +81,24 @@ void print_summary(const eval::StudyResult* study, const eval::ModelChecks* chec
     const auto& ic = checks->interpolation;
     double worst = 0;
     for (double v : ic.max_relative_error) worst = std::max(worst, v);
-    if (ic.available) std::printf("  exact interpolation   max error / peak %.3g (weights %.3g)\n", worst, ic.max_weight_error);
-    std::printf("  reciprocity           %zu of %d direction pairs differ (max rel. %.3g)\n", checks->reciprocity.unequal,
+    if (ic.available) print(io.out, "  exact interpolation   max error / peak %.3g (weights %.3g)\n", worst, ic.max_weight_error);
+    print(io.out, "  reciprocity           %zu of %d direction pairs differ (max rel. %.3g)\n", checks->reciprocity.unequal,
                 checks->reciprocity.pairs, checks->reciprocity.max_relative_difference);
-    std::printf("  albedo linearity      max rel. error %.3g (after the export clamp %.3g)\n",
+    print(io.out, "  albedo linearity      max rel. error %.3g (after the export clamp %.3g)\n",
                 checks->albedo.max_relative_error, checks->albedo.max_relative_error_clamped);
-    std::printf("  plausibility map      negative values up to %.3f%%, largest albedo %.3f (inputs %.3f)\n",
+    print(io.out, "  plausibility map      negative values up to %.3f%%, largest albedo %.3f (inputs %.3f)\n",
                 100 * checks->map.worst_negative_fraction, checks->map.worst_max_albedo, checks->map.data_max_albedo);
   }
   if (study) {
-    std::printf("  recommended layout    %s\n", study->recommendation.c_str());
-    std::printf("  %-14s %3s %10s %10s %10s %9s\n", "layout", "q", "LOO matlas", "LOO PCA", "nearest", "Spearman");
+    print(io.out, "  recommended layout    %s\n", study->recommendation.c_str());
+    print(io.out, "  %-14s %3s %10s %10s %10s %9s\n", "layout", "q", "LOO matlas", "LOO PCA", "nearest", "Spearman");
     for (const auto& c : study->configs)
-      std::printf("  %-14s %3d %10.4f %10.4f %10.4f %9.3f\n", c.layout.to_string().c_str(), c.dim, c.loo_gp_cbrt,
+      print(io.out, "  %-14s %3d %10.4f %10.4f %10.4f %9.3f\n", c.layout.to_string().c_str(), c.dim, c.loo_gp_cbrt,
                   c.loo_pca_cbrt, c.loo_nearest_cbrt, c.spearman_pairs);
   }
 }
 
-void run_evaluate(const EvaluateArgs& a) {
+void run_evaluate(const EvaluateArgs& a, const Io& io) {
   TerminalProgress progress(!a.quiet);
   const fs::path input = a.input, out = a.output;
   std::error_code ec;
@@ -132,7 +133,7 @@ void run_evaluate(const EvaluateArgs& a) {
 
   std::unique_ptr<eval::StudyResult> study;
   if (set && !a.skip_study) {
-    if (!a.quiet) std::fprintf(stderr, "evaluating %zu materials: q in {%s}, %zu layouts\n", set->size(),
+    if (!a.quiet) print(io.err, "evaluating %zu materials: q in {%s}, %zu layouts\n", set->size(),
                                [&] { std::string s; for (int q : so.dims) s += (s.empty() ? "" : ",") + std::to_string(q); return s; }().c_str(),
                                so.layouts.size());
     study = std::make_unique<eval::StudyResult>(eval::run_layout_study(*set, so, progress));
@@ -167,11 +168,11 @@ void run_evaluate(const EvaluateArgs& a) {
   ri.notes = notes;
   ri.repo_root = fs::current_path();
   eval::write_report(out, ri);
-  std::printf("wrote %s\n", (out / "index.html").string().c_str());
-  print_summary(study.get(), checks.get(), quality.get());
+  print(io.out, "wrote %s\n", (out / "index.html").string().c_str());
+  print_summary(study.get(), checks.get(), quality.get(), io);
 }
 
-void add_evaluate_command(CLI::App& app) {
+void add_evaluate_command(CLI::App& app, const Io& io) {
   auto args = std::make_shared<EvaluateArgs>();
   auto* cmd = app.add_subcommand("evaluate", "Measure a model or a database (interpolation, plausibility, "
                                              "leave-one-out, latent paths, layouts) and write an HTML report");
@@ -197,7 +198,7 @@ void add_evaluate_command(CLI::App& app) {
   cmd->add_flag("--no-study", args->skip_study, "Skip items 5-7 (paths, leave-one-out, layouts)");
   cmd->add_flag("--no-checks", args->skip_checks, "Skip items 1-4 (checks of a model)");
   cmd->add_flag("--quiet", args->quiet, "No progress output");
-  cmd->callback([args, cmd] {
+  cmd->callback([io, args, cmd] {
     args->command_line = "matlas evaluate";
     for (const auto& o : cmd->get_options())
       if (o->count() > 0) {
@@ -209,7 +210,7 @@ void add_evaluate_command(CLI::App& app) {
                                 (o->get_expected_min() > 0 ? " " + values : "");
         }
       }
-    run_evaluate(*args);
+    run_evaluate(*args, io);
   });
 }
 

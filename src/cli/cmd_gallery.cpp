@@ -4,12 +4,13 @@
 #include <optional>
 #include <string>
 
+#include "atlas/gallery.h"
 #include "cli/commands.h"
+#include "cli/print.h"
 #include "cli/render_options.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "manifold/model.h"
-#include "render/gallery.h"
 #include "render/image_basis.h"
 
 namespace matlas::cli {
@@ -19,46 +20,45 @@ namespace {
 struct GalleryArgs {
   std::string model, output;
   std::optional<std::string> key, basis;
-  render::GalleryOptions gallery;
+  atlas::GalleryOptions gallery;
   RenderOptions options;
 };
 
-void run_gallery(GalleryArgs a) {
+void run_gallery(GalleryArgs a, const Io& io) {
   const Model model = Model::open(a.model);
-  render::GalleryStats stats;
-  const std::vector<render::GalleryEntry> entries = render::pick_gallery(model, a.gallery, &stats);
+  atlas::GalleryStats stats;
+  const std::vector<atlas::GalleryEntry> entries = atlas::pick_gallery(model, a.gallery, &stats);
   TerminalProgress progress;
   Image image;
   if (a.basis) {
     const render::ImageBasis basis = render::ImageBasis::open(*a.basis);
-    image = render::render_gallery(model, entries, nullptr, nullptr, &basis, progress);
+    image = atlas::render_gallery(model, entries, nullptr, nullptr, &basis, progress);
   } else {
     const render::Scene scene(a.options.scene_description());
     const render::RenderSettings settings = a.options.settings();
-    image = render::render_gallery(model, entries, &scene, &settings, nullptr, progress);
+    image = atlas::render_gallery(model, entries, &scene, &settings, nullptr, progress);
   }
   write_image(a.output, image, a.options.tone());
   std::filesystem::path key = a.key ? std::filesystem::path(*a.key) : std::filesystem::path(a.output).replace_extension(".json");
-  write_file_atomic(key, render::gallery_key(model, entries, stats).dump(2) + "\n");
-  std::printf("wrote %s and its answer key %s (%d generated, %d real; interpolation %s)\n", a.output.c_str(),
+  write_file_atomic(key, atlas::gallery_key(model, entries, stats).dump(2) + "\n");
+  print(io.out, "wrote %s and its answer key %s (%d generated, %d real; interpolation %s)\n", a.output.c_str(),
               key.string().c_str(), a.gallery.random, a.gallery.real,
               to_string(model.interpolation()));
-  std::printf("generated picks: farthest apart in appearance among %d candidates between latent neighbours "
+  print(io.out, "generated picks: farthest apart in appearance among %d candidates between latent neighbours "
               "(%d above the variance limit, %d implausible, %d copies of a database material); "
               "smallest feature distance between two picks %.2f\n",
               stats.candidates, stats.rejected_variance, stats.rejected_implausible, stats.rejected_copies,
               stats.min_distance);
   if (a.gallery.random + a.gallery.real > 1 && stats.min_distance < 0.3)
-    std::fprintf(stderr,
-                 "warning: two picks are only %.2f apart in appearance: the plausible region near the data is "
+    print(io.err, "warning: two picks are only %.2f apart in appearance: the plausible region near the data is "
                  "not varied enough for %d picks (fewer --random, --allow-implausible, or a model with convex "
                  "interpolation)\n",
                  stats.min_distance, a.gallery.random + a.gallery.real);
   for (const std::string& f : stats.relaxed)
-    std::fprintf(stderr, "warning: too few candidates passed the %s filter; it was dropped\n", f.c_str());
+    print(io.err, "warning: too few candidates passed the %s filter; it was dropped\n", f.c_str());
 }
 
-void add_gallery_command(CLI::App& app) {
+void add_gallery_command(CLI::App& app, const Io& io) {
   auto* cmd = app.add_subcommand("gallery", "Plausibility gallery: generated and real materials, shuffled, with a key");
   auto a = std::make_shared<GalleryArgs>();
   a->options.width = a->options.height = 256;
@@ -79,7 +79,7 @@ void add_gallery_command(CLI::App& app) {
   cmd->add_flag("!--allow-implausible", a->gallery.plausible_only,
                 "Also pick generated points with negative values or an albedo above the inputs'");
   cmd->add_option("--basis", a->basis, "Compose the cells from an image basis instead of rendering them");
-  cmd->callback([a] { run_gallery(*a); });
+  cmd->callback([io, a] { run_gallery(*a, io); });
 }
 
 }  // namespace

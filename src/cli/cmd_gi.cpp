@@ -1,6 +1,5 @@
 // matlas gi-basis / gi / gi-render: global-illumination images of any map point (docs/GI.md).
 #include <chrono>
-#include <cstdio>
 #include <memory>
 #include <optional>
 #include <string>
@@ -12,7 +11,7 @@
 #include "manifold/model.h"
 #include "pathtrace/gi_basis.h"
 #include "pathtrace/model_bank.h"
-#include "render/image_basis.h"
+#include "atlas/model_basis.h"
 
 namespace matlas::cli {
 
@@ -59,7 +58,7 @@ struct BasisArgs {
   TraceOptions trace;
 };
 
-void run_gi_basis(const BasisArgs& a) {
+void run_gi_basis(const BasisArgs& a, const Io& io) {
   const Model model = Model::open(a.model);
   const pathtrace::World world(pathtrace::load_scene(a.trace.scene, a.trace.object));
   pathtrace::GiBasisOptions options;
@@ -69,12 +68,12 @@ void run_gi_basis(const BasisArgs& a) {
   const auto start = std::chrono::steady_clock::now();
   const pathtrace::GiBasis basis = pathtrace::build_gi_basis(model, world, a.trace.settings, options, progress);
   basis.save(a.output);
-  std::printf("basis of %d material images + P (%dx%d, %d spp) in %.1f s; cache %s\nwrote %s\n", basis.count() + 1,
+  print(io.out, "basis of %d material images + P (%dx%d, %d spp) in %.1f s; cache %s\nwrote %s\n", basis.count() + 1,
               basis.width(), basis.height(), a.trace.settings.spp, seconds_since(start), options.cache.c_str(),
               a.output.c_str());
 }
 
-void add_gi_basis_command(CLI::App& app) {
+void add_gi_basis_command(CLI::App& app, const Io& io) {
   auto* cmd = app.add_subcommand("gi-basis", "Path-trace the GI image basis of a model in a scene (resumable)");
   auto a = std::make_shared<BasisArgs>();
   cmd->add_option("model", a->model, ".matlas model")->required();
@@ -82,7 +81,7 @@ void add_gi_basis_command(CLI::App& app) {
   cmd->add_option("--cache", a->cache, "Folder of per-material images (default OUTPUT.cache): a rerun resumes");
   cmd->add_option("--batch", a->batch, "Materials traced per pass")->capture_default_str()->check(CLI::Range(1, 1 << 20));
   add_trace_options(*cmd, a->trace);
-  cmd->callback([a] { run_gi_basis(*a); });
+  cmd->callback([io, a] { run_gi_basis(*a, io); });
 }
 
 // --- gi ---
@@ -93,12 +92,12 @@ struct GiArgs {
   ImageOptions image;
 };
 
-void run_gi(const GiArgs& a) {
+void run_gi(const GiArgs& a, const Io& io) {
   if (a.part != "all" && a.part != "i1") throw Error("--part must be all or i1");
   const Model model = Model::open(a.model);
   const pathtrace::GiBasis basis = pathtrace::GiBasis::load(a.basis);
   const auto fp = basis.metadata().find("model_fingerprint");
-  if (fp == basis.metadata().end() || fp->second != render::model_fingerprint(model))
+  if (fp == basis.metadata().end() || fp->second != atlas::model_fingerprint(model))
     throw Error(a.basis + ": the basis was traced for another model than " + a.model);
   const Eigen::VectorXd x = resolve_point(model, a.at, a.material);
   const Eigen::VectorXd w = model.weights(x);
@@ -106,11 +105,11 @@ void run_gi(const GiArgs& a) {
   const Image image = basis.compose(w, a.part == "i1" ? pathtrace::GiBasis::Part::i1 : pathtrace::GiBasis::Part::all);
   const double ms = 1e3 * seconds_since(start);
   write_image(a.image.output, image, a.image.tone.tone());
-  std::printf("composed %dx%d from %d materials in %.1f ms; wrote %s\n", image.width, image.height, basis.count(), ms,
+  print(io.out, "composed %dx%d from %d materials in %.1f ms; wrote %s\n", image.width, image.height, basis.count(), ms,
               a.image.output.c_str());
 }
 
-void add_gi_command(CLI::App& app) {
+void add_gi_command(CLI::App& app, const Io& io) {
   auto* cmd = app.add_subcommand("gi", "The GI image of a map point, composed from a GI basis");
   auto a = std::make_shared<GiArgs>();
   cmd->add_option("model", a->model, ".matlas model")->required();
@@ -118,7 +117,7 @@ void add_gi_command(CLI::App& app) {
   cmd->add_option("--part", a->part, "all (I1 + interpolated I2) or i1")->capture_default_str();
   add_point_options(*cmd, a->at, a->material);
   add_image_options(*cmd, a->image);
-  cmd->callback([a] { run_gi(*a); });
+  cmd->callback([io, a] { run_gi(*a, io); });
 }
 
 // --- gi-render ---
@@ -130,7 +129,7 @@ struct RenderArgs {
   ImageOptions image;
 };
 
-void run_gi_render(const RenderArgs& a) {
+void run_gi_render(const RenderArgs& a, const Io& io) {
   if (a.part != "all" && a.part != "i1" && a.part != "i2" && a.part != "p")
     throw Error("--part must be all, i1, i2 or p");
   const Model model = Model::open(a.model);
@@ -142,11 +141,11 @@ void run_gi_render(const RenderArgs& a) {
   const bool has = !r.once.empty();
   const Image image = a.part == "p" || !has ? r.p : a.part == "i1" ? r.i1(0) : a.part == "i2" ? r.more[0] : r.full(0);
   write_image(a.image.output, image, a.image.tone.tone());
-  std::printf("traced %dx%d, %d spp in %.1f s; wrote %s\n", image.width, image.height, a.trace.settings.spp,
+  print(io.out, "traced %dx%d, %d spp in %.1f s; wrote %s\n", image.width, image.height, a.trace.settings.spp,
               seconds_since(start), a.image.output.c_str());
 }
 
-void add_gi_render_command(CLI::App& app) {
+void add_gi_render_command(CLI::App& app, const Io& io) {
   auto* cmd = app.add_subcommand("gi-render", "Path-trace a map point's material in a scene (the GI reference)");
   auto a = std::make_shared<RenderArgs>();
   cmd->add_option("model", a->model, ".matlas model")->required();
@@ -154,13 +153,13 @@ void add_gi_render_command(CLI::App& app) {
   add_point_options(*cmd, a->at, a->material);
   add_trace_options(*cmd, a->trace);
   add_image_options(*cmd, a->image);
-  cmd->callback([a] { run_gi_render(*a); });
+  cmd->callback([io, a] { run_gi_render(*a, io); });
 }
 
-void add_gi_commands(CLI::App& app) {
-  add_gi_basis_command(app);
-  add_gi_command(app);
-  add_gi_render_command(app);
+void add_gi_commands(CLI::App& app, const Io& io) {
+  add_gi_basis_command(app, io);
+  add_gi_command(app, io);
+  add_gi_render_command(app, io);
 }
 
 }  // namespace

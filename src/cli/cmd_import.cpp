@@ -7,6 +7,7 @@
 
 #include "brdf/albedo.h"
 #include "cli/commands.h"
+#include "cli/print.h"
 #include "core/error.h"
 #include "formats/merl_file.h"
 #include "formats/rgl_bsdf.h"
@@ -23,7 +24,7 @@ struct ImportArgs {
   bool check = true;
 };
 
-void run_import(const ImportArgs& a) {
+void run_import(const ImportArgs& a, const Io& io) {
   // Read and validate everything before writing anything.
   std::vector<RglBsdf> sources;
   std::set<std::string> names;
@@ -49,40 +50,40 @@ void run_import(const ImportArgs& a) {
     const BrdfTable table = resample_to_merl(b, &r);
     const fs::path out = dir / (b.path().stem().string() + ".binary");
     write_merl(out, table);
-    std::printf("%s -> %s\n", b.path().string().c_str(), out.string().c_str());
-    if (!b.description().empty()) std::printf("  material        %s\n", b.description().c_str());
-    std::printf("  source          %s\n", b.summary().c_str());
-    std::printf("  resampled       at the centres of the %s MERL bins, RGB%s; %zu bins with a direction below the "
+    print(io.out, "%s -> %s\n", b.path().string().c_str(), out.string().c_str());
+    if (!b.description().empty()) print(io.out, "  material        %s\n", b.description().c_str());
+    print(io.out, "  source          %s\n", b.summary().c_str());
+    print(io.out, "  resampled       at the centres of the %s MERL bins, RGB%s; %zu bins with a direction below the "
                 "horizon stored as missing (-1)\n",
                 table.dims().to_string().c_str(), b.spectral() ? " (from the spectra)" : "", r.missing_bins);
-    std::printf("  reciprocity     the measurement and its reverse differ by %.1f %% (cosine-weighted); the table "
+    print(io.out, "  reciprocity     the measurement and its reverse differ by %.1f %% (cosine-weighted); the table "
                 "holds their least-squares reciprocal combination\n",
                 100 * r.reciprocity_error);
     if (r.clamped_values)
-      std::printf("  clamped         %zu negative values (out-of-gamut colour or noise) stored as 0\n", r.clamped_values);
-    std::printf("  largest value   %.4g %.4g %.4g (1/sr)\n", r.max_value[0], r.max_value[1], r.max_value[2]);
+      print(io.out, "  clamped         %zu negative values (out-of-gamut colour or noise) stored as 0\n", r.clamped_values);
+    print(io.out, "  largest value   %.4g %.4g %.4g (1/sr)\n", r.max_value[0], r.max_value[1], r.max_value[2]);
     if (a.check) {
       for (double deg : {5.0, 30.0, 60.0}) {
         const Vec3 wo = direction_at_theta(deg * kPi / 180);
-        const Rgb t = half_vector_albedo([&](const Vec3& wi, const Vec3& v) { return table.lookup(wi, v); }, wo, 512);
+        const Rgb t = half_vector_albedo([&](const Vec3& wi, const Vec3& v) { return table.lookup(wi, v); }, wo);
         const Rgb m = half_vector_albedo(
-            [&](const Vec3& wi, const Vec3& v) -> Rgb { return b.eval_reciprocal(wi, v).max(0.0); }, wo, 512);
+            [&](const Vec3& wi, const Vec3& v) -> Rgb { return b.eval_reciprocal(wi, v).max(0.0); }, wo);
         const double rel = ((t - m).abs() / m.max(0.01)).maxCoeff();
-        std::printf("  albedo %2.0f deg   %.4f %.4f %.4f (table), %.2f %% from the model integrated directly\n", deg, t[0],
+        print(io.out, "  albedo %2.0f deg   %.4f %.4f %.4f (table), %.2f %% from the model integrated directly\n", deg, t[0],
                     t[1], t[2], 100 * rel);
       }
     }
   }
 }
 
-void add_import_command(CLI::App& app) {
+void add_import_command(CLI::App& app, const Io& io) {
   auto args = std::make_shared<ImportArgs>();
   auto* cmd = app.add_subcommand("import", "Resample RGL .bsdf measured materials onto the MERL grid (.binary files)");
   cmd->add_option("inputs", args->inputs, "RGL .bsdf files (isotropic)")->required();
   cmd->add_option("-o,--output", args->output, "Output folder (created if needed); NAME.bsdf becomes NAME.binary")
       ->required();
   cmd->add_flag("!--no-check", args->check, "Skip the albedo check against the model (faster)");
-  cmd->callback([args] { run_import(*args); });
+  cmd->callback([io, args] { run_import(*args, io); });
 }
 
 }  // namespace

@@ -1,4 +1,5 @@
-// Queries of a built model: eval (export a point as a MERL file), latent, weights, project.
+// Queries of a built model: export (a point as a MERL file; `eval` is its deprecated alias), latent,
+// weights, project.
 #include <algorithm>
 #include <cstdio>
 #include <numeric>
@@ -8,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "cli/print.h"
 #include "cli/latent_point.h"
 #include "core/error.h"
 #include "formats/merl_file.h"
@@ -29,13 +31,13 @@ std::string point_text(const Eigen::VectorXd& x) {
   return s;
 }
 
-// ---- eval
-struct EvalArgs {
+// ---- export
+struct ExportArgs {
   std::string model, output;
   std::optional<std::string> at, material;
 };
 
-void run_eval(const EvalArgs& a) {
+void run_export(const ExportArgs& a, const Io& io) {
   if (a.output.empty()) throw Error("-o: the output file name is empty");
   const Model model = Model::open(a.model);
   const Eigen::VectorXd x = resolve_point(model, a.at, a.material);
@@ -43,28 +45,28 @@ void run_eval(const EvalArgs& a) {
   ExportStats stats;
   const BrdfTable table = export_table(model, w, &stats);
   write_merl(a.output, table);
-  std::printf("wrote %s (x = %s, predictive variance %.3g)\n", a.output.c_str(), point_text(x).c_str(),
+  print(io.out, "wrote %s (x = %s, predictive variance %.3g)\n", a.output.c_str(), point_text(x).c_str(),
               model.variance(x));
   if (stats.clamped)
-    std::printf("  clamped %zu negative values to 0 (most negative %.3g)\n", stats.clamped, stats.most_negative);
-  if (stats.missing) std::printf("  %zu values written as missing (-1): not measured in every input\n", stats.missing);
+    print(io.out, "  clamped %zu negative values to 0 (most negative %.3g)\n", stats.clamped, stats.most_negative);
+  if (stats.missing) print(io.out, "  %zu values written as missing (-1): not measured in every input\n", stats.missing);
 }
 
 // ---- latent
-void run_latent(const std::string& path, bool as_json) {
+void run_latent(const std::string& path, bool as_json, const Io& io) {
   const Model model = Model::open(path);
   if (as_json) {
     json j = {{"q", model.dim()}, {"materials", json::array()}};
     for (int i = 0; i < model.count(); ++i)
       j["materials"].push_back({{"name", model.names()[static_cast<std::size_t>(i)]},
                                 {"x", vector_json(model.latent().row(i).transpose())}});
-    std::printf("%s\n", j.dump(2).c_str());
+    print(io.out, "%s\n", j.dump(2).c_str());
     return;
   }
   for (int i = 0; i < model.count(); ++i) {
-    std::printf("%-32s", model.names()[static_cast<std::size_t>(i)].c_str());
-    for (int k = 0; k < model.dim(); ++k) std::printf(" %10.5f", model.latent()(i, k));
-    std::printf("\n");
+    print(io.out, "%-32s", model.names()[static_cast<std::size_t>(i)].c_str());
+    for (int k = 0; k < model.dim(); ++k) print(io.out, " %10.5f", model.latent()(i, k));
+    print(io.out, "\n");
   }
 }
 
@@ -76,7 +78,7 @@ struct WeightsArgs {
   int top = 10;
 };
 
-void run_weights(const WeightsArgs& a) {
+void run_weights(const WeightsArgs& a, const Io& io) {
   const Model model = Model::open(a.model);
   const Eigen::VectorXd x = resolve_point(model, a.at, a.material);
   const Eigen::VectorXd w = model.weights(x);
@@ -86,24 +88,24 @@ void run_weights(const WeightsArgs& a) {
               {"sum", w.sum()}};
     for (int i = 0; i < model.count(); ++i)
       j["weights"].push_back({{"name", model.names()[static_cast<std::size_t>(i)]}, {"w", w[i]}});
-    std::printf("%s\n", j.dump(2).c_str());
+    print(io.out, "%s\n", j.dump(2).c_str());
     return;
   }
-  std::printf("x = %s\npredictive variance %.6g (0 at the data, ~1 far from it)\nsum of weights %.6f\n",
+  print(io.out, "x = %s\npredictive variance %.6g (0 at the data, ~1 far from it)\nsum of weights %.6f\n",
               point_text(x).c_str(), variance, w.sum());
   std::vector<int> order(static_cast<std::size_t>(model.count()));
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](int i, int j) { return std::abs(w[i]) > std::abs(w[j]); });
   const int shown = std::min(a.top, model.count());
-  std::printf("largest %d weights:\n", shown);
+  print(io.out, "largest %d weights:\n", shown);
   for (int k = 0; k < shown; ++k) {
     const int i = order[static_cast<std::size_t>(k)];
-    std::printf("  %+10.6f  %s\n", w[i], model.names()[static_cast<std::size_t>(i)].c_str());
+    print(io.out, "  %+10.6f  %s\n", w[i], model.names()[static_cast<std::size_t>(i)].c_str());
   }
 }
 
 // ---- project
-void run_project(const std::string& model_path, const std::string& file, bool as_json) {
+void run_project(const std::string& model_path, const std::string& file, bool as_json, const Io& io) {
   const Model model = Model::open(model_path);
   const BrdfTable table = read_brdf(file);  // .bsdf: resampled onto the MERL grid
   Projection p;
@@ -117,24 +119,26 @@ void run_project(const std::string& model_path, const std::string& file, bool as
     json j = {{"file", file}, {"x", vector_json(p.x)}, {"relative_error", p.relative_error},
               {"variance", p.variance}, {"nearest", nearest},
               {"nearest_relative_error", p.nearest_relative_error}, {"missing_columns", p.missing}};
-    std::printf("%s\n", j.dump(2).c_str());
+    print(io.out, "%s\n", j.dump(2).c_str());
     return;
   }
-  std::printf("%s\n  latent point      %s\n  residual          %.4g (relative L2 over %zu kept columns)\n"
+  print(io.out, "%s\n  latent point      %s\n  residual          %.4g (relative L2 over %zu kept columns)\n"
               "  variance          %.4g\n  nearest material  %s (relative L2 %.4g)\n",
               file.c_str(), point_text(p.x).c_str(), p.relative_error, model.kept_columns(), p.variance,
               nearest.c_str(), p.nearest_relative_error);
-  if (p.missing) std::printf("  note: %zu kept columns are not measured in this file and were skipped\n", p.missing);
+  if (p.missing) print(io.out, "  note: %zu kept columns are not measured in this file and were skipped\n", p.missing);
 }
 
-void add_query_commands(CLI::App& app) {
+void add_query_commands(CLI::App& app, const Io& io) {
   {
-    auto a = std::make_shared<EvalArgs>();
-    auto* cmd = app.add_subcommand("eval", "Export the BRDF at a latent point as a MERL .binary file");
+    auto a = std::make_shared<ExportArgs>();
+    auto* cmd = app.add_subcommand(
+        "export", "Export the BRDF at a latent point as a MERL .binary file (alias: eval, deprecated)");
+    cmd->alias("eval");  // the command's old name, kept for scripts written before the rename
     cmd->add_option("model", a->model, "Model file (.matlas)")->required();
     add_point_options(*cmd, a->at, a->material);
     cmd->add_option("-o,--output", a->output, "Output .binary file")->required();
-    cmd->callback([a] { run_eval(*a); });
+    cmd->callback([io, a] { run_export(*a, io); });
   }
   {
     auto path = std::make_shared<std::string>();
@@ -142,7 +146,7 @@ void add_query_commands(CLI::App& app) {
     auto* cmd = app.add_subcommand("latent", "List the materials and their latent coordinates");
     cmd->add_option("model", *path, "Model file (.matlas)")->required();
     cmd->add_flag("--json", *as_json, "JSON output");
-    cmd->callback([path, as_json] { run_latent(*path, *as_json); });
+    cmd->callback([io, path, as_json] { run_latent(*path, *as_json, io); });
   }
   {
     auto a = std::make_shared<WeightsArgs>();
@@ -153,7 +157,7 @@ void add_query_commands(CLI::App& app) {
     cmd->add_option("--top", a->top, "How many of the largest weights to list")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
-    cmd->callback([a] { run_weights(*a); });
+    cmd->callback([io, a] { run_weights(*a, io); });
   }
   {
     auto model = std::make_shared<std::string>();
@@ -163,7 +167,7 @@ void add_query_commands(CLI::App& app) {
     cmd->add_option("model", *model, "Model file (.matlas)")->required();
     cmd->add_option("file", *file, "MERL .binary or RGL .bsdf file")->required();
     cmd->add_flag("--json", *as_json, "JSON output");
-    cmd->callback([model, file, as_json] { run_project(*model, *file, *as_json); });
+    cmd->callback([io, model, file, as_json] { run_project(*model, *file, *as_json, io); });
   }
 }
 

@@ -4,7 +4,9 @@
 #include <optional>
 #include <string>
 
+#include "atlas/model_material.h"
 #include "cli/commands.h"
+#include "cli/print.h"
 #include "cli/latent_point.h"
 #include "cli/render_options.h"
 #include "core/error.h"
@@ -27,7 +29,7 @@ bool is_merl(const std::string& path) {
   return path.size() > 7 && path.compare(path.size() - 7, 7, ".binary") == 0;
 }
 
-void run_render(const RenderArgs& a) {
+void run_render(const RenderArgs& a, const Io& io) {
   const render::RenderSettings settings = a.options.settings();
   const ToneMap tone = a.options.tone();
   const render::Scene scene(a.options.scene_description());
@@ -42,15 +44,15 @@ void run_render(const RenderArgs& a) {
     const Model model = Model::open(a.input);
     const Eigen::VectorXd x = resolve_point(model, a.at, a.material);
     const Eigen::VectorXd w = a.material ? model.material_weights(model.index_of(*a.material)) : model.weights(x);
-    image = render::render(scene, render::ModelMaterial(model, w), settings, progress, &stats);
+    image = render::render(scene, atlas::ModelMaterial(model, w), settings, progress, &stats);
   }
   write_image(a.output, image, tone);
-  std::printf("wrote %s (%dx%d, %d spp, %.2f s, %.3g camera samples/s)\n", a.output.c_str(), settings.width,
+  print(io.out, "wrote %s (%dx%d, %d spp, %.2f s, %.3g camera samples/s)\n", a.output.c_str(), settings.width,
               settings.height, settings.spp, stats.seconds,
               static_cast<double>(stats.camera_samples) / std::max(stats.seconds, 1e-9));
 }
 
-void add_render_command(CLI::App& app) {
+void add_render_command(CLI::App& app, const Io& io) {
   auto* cmd = app.add_subcommand("render", "Render a material (.binary file or model point) to .png or .exr");
   auto a = std::make_shared<RenderArgs>();
   cmd->add_option("input", a->input, "MERL .binary file or .matlas model")->required();
@@ -58,7 +60,7 @@ void add_render_command(CLI::App& app) {
   cmd->add_option("--at", a->at, "Latent point x1,...,xq (models)");
   cmd->add_option("--material", a->material, "Database material by name (models)");
   add_render_options(*cmd, a->options);
-  cmd->callback([a] { run_render(*a); });
+  cmd->callback([io, a] { run_render(*a, io); });
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 
 #include "brdf/catalog.h"
 #include "cli/commands.h"
+#include "cli/print.h"
 #include "core/error.h"
 #include "formats/synth_database.h"
 
@@ -21,7 +22,7 @@ struct SynthOptions {
   std::uint64_t seed = 1;
 };
 
-void run_synth(const SynthOptions& o) {
+void run_synth(const SynthOptions& o, const Io& io) {
   if (!o.preset.empty() && o.count > 0)
     throw Error("synth: give either --preset or --count, not both");
   if (!o.preset.empty() && o.preset != "demo")
@@ -31,11 +32,11 @@ void run_synth(const SynthOptions& o) {
   TerminalProgress progress;
   const auto written = write_database(o.out, catalog, progress);
   for (std::size_t i = 0; i < written.size(); ++i)
-    std::printf("%s\t%s\n", written[i].string().c_str(), describe(catalog[i].brdf).c_str());
-  std::fprintf(stderr, "wrote %zu MERL files to %s\n", written.size(), o.out.c_str());
+    print(io.out, "%s\t%s\n", written[i].string().c_str(), describe(catalog[i].brdf).c_str());
+  print(io.err, "wrote %zu MERL files to %s\n", written.size(), o.out.c_str());
 }
 
-void add_synth_command(CLI::App& app) {
+void add_synth_command(CLI::App& app, const Io& io) {
   auto opts = std::make_shared<SynthOptions>();
   auto* cmd = app.add_subcommand(
       "synth", "Write a synthetic MERL database of analytic BRDFs (about 35 MB per material)");
@@ -46,7 +47,7 @@ void add_synth_command(CLI::App& app) {
                     ->check(CLI::Range(1, 100000));
   cmd->add_option("--seed", opts->seed, "Seed of the random draw (same seed, same files; default 1)")
       ->needs(count);
-  cmd->callback([opts] { run_synth(*opts); });
+  cmd->callback([io, opts] { run_synth(*opts, io); });
 }
 
 }  // namespace

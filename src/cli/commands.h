@@ -2,14 +2,17 @@
 // Each subcommand lives in its own cmd_NAME.cpp and registers itself with MATLAS_COMMAND, so
 // adding a command touches no other file. Registration order (`order`) is the order of --help.
 // A command's callback throws matlas::Error for bad input (exit 1); CLI11 reports usage errors
-// (exit 2).
+// (exit 2). Commands write only to the streams of the Io they are given (cli/print.h).
 #include <vector>
 
 #include <CLI/CLI.hpp>
 
+#include "cli/print.h"
+
 namespace matlas::cli {
 
-using CommandFactory = void (*)(CLI::App& app);
+/// Adds a command to `app`; its callback writes to `io`, which outlives the parse.
+using CommandFactory = void (*)(CLI::App& app, const Io& io);
 
 struct RegisteredCommand {
   int order;

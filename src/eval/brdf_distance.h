@@ -47,11 +47,6 @@ struct DistanceSums {
     cosine_squared += b * b;
     ++values;
   }
-  void merge(const DistanceSums& o) {
-    cbrt_squared += o.cbrt_squared;
-    cosine_squared += o.cosine_squared;
-    values += o.values;
-  }
   BrdfDistance finish() const;
 };
 

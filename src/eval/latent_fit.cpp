@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "eval/gram_space.h"
 #include "gp/initialize.h"
+#include "manifold/project.h"
 
 namespace matlas::eval {
 
@@ -85,8 +86,8 @@ Eigen::VectorXd nelder_mead(const std::function<double(const Eigen::VectorXd&)>&
   return pts[best];
 }
 
-Projection project_material(const LatentFit& fit, std::span<const int> subset,
-                            const Eigen::MatrixXd& gram, int h, int starts) {
+GramProjection project_in_gram(const LatentFit& fit, std::span<const int> subset,
+                               const Eigen::MatrixXd& gram, int h, int starts) {
   const Eigen::MatrixXd& X = fit.latent();
   if (X.rows() != static_cast<Eigen::Index>(subset.size()))
     throw Error("projection: the fit has " + std::to_string(X.rows()) + " points for a subset of " +
@@ -98,19 +99,18 @@ Projection project_material(const LatentFit& fit, std::span<const int> subset,
   auto objective = [&](const Eigen::VectorXd& x) { return residual_squared(gram, coefficients(x), h); };
 
   // Starting points: the latent points of the materials nearest to h in this Gram.
-  std::vector<std::pair<double, int>> near;
+  Eigen::VectorXd distance2(static_cast<Eigen::Index>(subset.size()));
   for (std::size_t k = 0; k < subset.size(); ++k) {
     const int i = subset[k];
-    near.emplace_back(gram(i, i) + gram(h, h) - 2.0 * gram(i, h), static_cast<int>(k));
+    distance2[static_cast<Eigen::Index>(k)] = gram(i, i) + gram(h, h) - 2.0 * gram(i, h);
   }
-  std::sort(near.begin(), near.end());
+  const std::vector<int> near = nearest_materials(distance2, std::max(starts, 1));
   const double rms = std::sqrt(X.rowwise().squaredNorm().mean() + 1e-300);
   const double step = 0.1 * std::max(rms, 1e-6);
-  Projection best;
+  GramProjection best;
   best.residual_squared = std::numeric_limits<double>::infinity();
-  const int count = std::clamp(starts, 1, static_cast<int>(near.size()));
-  for (int s = 0; s < count; ++s) {
-    const Eigen::VectorXd x0 = X.row(near[static_cast<std::size_t>(s)].second).transpose();
+  for (const int k : near) {
+    const Eigen::VectorXd x0 = X.row(k).transpose();
     const Eigen::VectorXd x = nelder_mead(objective, x0, step, 200 * static_cast<int>(X.cols() + 1));
     for (const double t : {0.0, 0.25, 0.5, 0.75, 1.0}) best.candidates.push_back(coefficients(x0 + t * (x - x0)));
     const double r = objective(x);

@@ -41,8 +41,10 @@ struct LatentFit {
 LatentFit fit_latent(const Eigen::MatrixXd& centred_gram, double columns, int q,
                      const FitOptions& options);
 
-/// The projection of a material onto a fitted map.
-struct Projection {
+/// The projection of a material onto a fitted map: manifold/project.h's concept (the latent point
+/// whose reconstruction is nearest the material, searched from the latent points of the nearest
+/// materials, manifold's nearest_materials), measured in a Gram matrix instead of a model file.
+struct GramProjection {
   Eigen::VectorXd x;             ///< latent point
   Eigen::VectorXd coefficients;  ///< raw coefficients (length n) of m(x) over all n materials
   double residual_squared = 0;   ///< ||z_h - m(x)||^2 in the Gram's space
@@ -56,8 +58,8 @@ struct Projection {
 /// the residual ||z_h - m(x)||^2 measured in `gram` (a Gram of all n materials, the space the
 /// objective is measured in) over x, by Nelder-Mead started from the latent points of the
 /// `starts` subset materials closest to h in that Gram. Deterministic.
-Projection project_material(const LatentFit& fit, std::span<const int> subset,
-                            const Eigen::MatrixXd& gram, int h, int starts = 3);
+GramProjection project_in_gram(const LatentFit& fit, std::span<const int> subset,
+                               const Eigen::MatrixXd& gram, int h, int starts = 3);
 
 /// Minimises f over R^d by Nelder-Mead from x0 with initial simplex size `step`; returns the best
 /// point. Exposed for tests.

@@ -44,26 +44,6 @@ double mean_of(const std::vector<double>& v) {
                    : std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
 }
 
-/// Thread-safe progress counter for parallel jobs.
-class JobProgress {
-public:
-  JobProgress(ProgressSink& sink, std::string label, std::uint64_t total)
-      : sink_(sink), label_(std::move(label)), total_(total) {
-    sink_.update(label_, 0, total_);
-  }
-  ~JobProgress() { sink_.finish(label_); }
-  void advance() {
-    std::lock_guard lock(mutex_);
-    sink_.update(label_, ++done_, total_);
-  }
-
-private:
-  ProgressSink& sink_;
-  std::string label_;
-  std::uint64_t total_, done_ = 0;
-  std::mutex mutex_;
-};
-
 }  // namespace
 
 std::vector<LayoutTransform> all_layouts() {
@@ -132,7 +112,7 @@ StudyResult run_layout_study(const MaterialSet& set, const StudyOptions& options
   const std::size_t H = held.size();
   const std::size_t L = options.layouts.size(), Q = options.dims.size();
   result.configs.resize(L * Q);
-  std::vector<std::vector<Projection>> projections(L * Q, std::vector<Projection>(H));
+  std::vector<std::vector<GramProjection>> projections(L * Q, std::vector<GramProjection>(H));
   std::vector<std::vector<double>> reference_residual(L, std::vector<double>(H));
   for (std::size_t l = 0; l < L; ++l)
     for (std::size_t k = 0; k < H; ++k) {
@@ -144,7 +124,8 @@ StudyResult run_layout_study(const MaterialSet& set, const StudyOptions& options
   t0 = Clock::now();
   {
     const std::size_t jobs_per_config = 1 + H;
-    JobProgress fits(progress, "fitting latent maps", L * Q * jobs_per_config);
+    ProgressTask fits(progress, "fitting latent maps", L * Q * jobs_per_config);
+    std::mutex fits_mutex;  // ProgressTask counts from one thread at a time
     std::vector<double> job_seconds(L * Q * jobs_per_config, 0.0);
     parallel_for(0, L * Q * jobs_per_config, [&](std::size_t lo, std::size_t hi) {
       for (std::size_t job = lo; job < hi; ++job) {
@@ -163,10 +144,13 @@ StudyResult run_layout_study(const MaterialSet& set, const StudyOptions& options
           const int h = held[k - 1];
           const std::vector<int> subset = indices_without(n, h);
           const LatentFit fit = fit_latent(centred_subset_gram(layout_grams[l], subset), columns, q, options.fit);
-          projections[c][k - 1] = project_material(fit, subset, layout_grams[l], h, options.projection_starts);
+          projections[c][k - 1] = project_in_gram(fit, subset, layout_grams[l], h, options.projection_starts);
         }
         job_seconds[job] = seconds_since(start);
-        fits.advance();
+        {
+          std::lock_guard lock(fits_mutex);
+          fits.advance();
+        }
       }
     });
     for (std::size_t c = 0; c < L * Q; ++c)

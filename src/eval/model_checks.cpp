@@ -8,9 +8,10 @@
 #include "brdf/albedo.h"
 #include "core/error.h"
 #include "core/parallel.h"
-#include "manifold/mean_weight.h"
 #include "manifold/column_blocks.h"
 #include "manifold/export.h"
+#include "manifold/mean_weight.h"
+#include "manifold/model_metadata.h"
 
 namespace matlas::eval {
 

@@ -1,6 +1,8 @@
 #include "formats/merl_file.h"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
@@ -20,6 +22,8 @@ namespace matlas {
 
 namespace fs = std::filesystem;
 
+static_assert(std::endian::native == std::endian::little, "MERL files are little-endian");
+
 namespace {
 
 const char* channel_name(std::size_t c) {
@@ -36,6 +40,50 @@ MATLAS_SIMD_CLONES bool any_unusable(const double* values, std::size_t n) {
   return bad;
 }
 
+/// Throws unless a file of `size` bytes can hold the header.
+void check_header_fits(const fs::path& path, std::uint64_t size) {
+  if (size == 0) throw file_error(path, "empty file, expected a MERL .binary BRDF");
+  if (size < MerlFile::kHeaderBytes)
+    throw file_error(path, "truncated: " + std::to_string(size) + " bytes, shorter than the 12-byte MERL header");
+}
+
+/// The dims of a header, checked against the file's size in bytes.
+MerlDims checked_dims(const fs::path& path, const std::int32_t header[3], std::uint64_t size) {
+  for (int d = 0; d < 3; ++d) {
+    if (header[d] <= 0 || header[d] > kMaxMerlDim)
+      throw file_error(path, "invalid MERL header: dims " + std::to_string(header[0]) + " " +
+                                 std::to_string(header[1]) + " " + std::to_string(header[2]) +
+                                 " (each must be in 1.." + std::to_string(kMaxMerlDim) +
+                                 "; is this a MERL .binary file?)");
+  }
+  const MerlDims dims{header[0], header[1], header[2]};
+  const std::uint64_t expected = MerlFile::kHeaderBytes + 3 * dims.bins() * sizeof(double);
+  if (size != expected)
+    throw file_error(path, (size < expected ? "truncated: " : "size mismatch: ") + std::to_string(size) +
+                               " bytes, but header " + dims.to_string() + " needs " + std::to_string(expected));
+  return dims;
+}
+
+/// Throws, naming the first unusable value of chunk[0, n) (values first.. of a table of `dims`).
+void check_values(const fs::path& path, const MerlDims& dims, std::size_t first, const double* chunk,
+                  std::size_t n) {
+  if (!any_unusable(chunk, n)) return;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double v = chunk[i];
+    if (v <= kMaxMerlMagnitude && v >= -kMaxMerlMagnitude) continue;
+    const std::size_t index = first + i, bins = dims.bins();
+    const std::string where = std::string(" in the ") + channel_name(index / bins) + " channel at bin " +
+                              std::to_string(index % bins);
+    if (!std::isfinite(v)) throw file_error(path, std::string(std::isnan(v) ? "NaN" : "infinite") + " value" + where);
+    char text[32];
+    std::snprintf(text, sizeof text, "%.6g", v);
+    throw file_error(path, std::string("absurd value ") + text + where + " (MERL values stay far below 1e15 in " +
+                               "stored units; is the file corrupted or not in MERL units?)");
+  }
+}
+
+std::array<std::int32_t, 3> header_of(const MerlDims& dims) { return {dims.theta_h, dims.theta_d, dims.phi_d}; }
+
 }  // namespace
 
 MerlFile::MerlFile(fs::path path) : path_(std::move(path)) {
@@ -44,25 +92,10 @@ MerlFile::MerlFile(fs::path path) : path_(std::move(path)) {
     struct stat st {};
     if (::fstat(fd_, &st) != 0) throw file_error(path_, "cannot stat");
     const auto size = static_cast<std::uint64_t>(st.st_size);
-    if (size == 0) throw file_error(path_, "empty file, expected a MERL .binary BRDF");
-    if (size < kHeaderBytes)
-      throw file_error(path_, "truncated: " + std::to_string(size) +
-                                  " bytes, shorter than the 12-byte MERL header");
+    check_header_fits(path_, size);
     std::int32_t header[3];
     read_exact_at(fd_, path_, header, sizeof header, 0);
-    for (int d = 0; d < 3; ++d) {
-      if (header[d] <= 0 || header[d] > kMaxMerlDim)
-        throw file_error(path_, "invalid MERL header: dims " + std::to_string(header[0]) + " " +
-                                    std::to_string(header[1]) + " " + std::to_string(header[2]) +
-                                    " (each must be in 1.." + std::to_string(kMaxMerlDim) +
-                                    "; is this a MERL .binary file?)");
-    }
-    dims_ = {header[0], header[1], header[2]};
-    const std::uint64_t expected = kHeaderBytes + 3 * dims_.bins() * sizeof(double);
-    if (size != expected)
-      throw file_error(path_, (size < expected ? "truncated: " : "size mismatch: ") +
-                                  std::to_string(size) + " bytes, but header " + dims_.to_string() +
-                                  " needs " + std::to_string(expected));
+    dims_ = checked_dims(path_, header, size);
   } catch (...) {
     ::close(fd_);
     fd_ = -1;
@@ -85,9 +118,9 @@ MerlFile MerlFile::from_table(fs::path path, const BrdfTable& table) {
       throw file_error(file.path_, "cannot create a temporary file in " + dir.string() + ": " + std::strerror(errno));
     ::unlink(name.c_str());
   }
-  const std::int32_t header[3] = {table.dims().theta_h, table.dims().theta_d, table.dims().phi_d};
+  const auto header = header_of(table.dims());
   const fs::path where = dir / "(temporary copy)";
-  write_all_at(file.fd_, where, header, sizeof header, 0);
+  write_all_at(file.fd_, where, header.data(), kHeaderBytes, 0);
   write_all_at(file.fd_, where, table.stored().data(), table.stored().size() * sizeof(double), kHeaderBytes);
   return file;
 }
@@ -114,19 +147,7 @@ MerlFile::~MerlFile() {
 
 void MerlFile::read_checked(std::size_t first, std::size_t n, double* chunk) const {
   read_exact_at(fd_, path_, chunk, n * sizeof(double), kHeaderBytes + first * sizeof(double));
-  if (!any_unusable(chunk, n)) return;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double v = chunk[i];
-    if (v <= kMaxMerlMagnitude && v >= -kMaxMerlMagnitude) continue;
-    const std::size_t index = first + i, bins = dims_.bins();
-    const std::string where = std::string(" in the ") + channel_name(index / bins) + " channel at bin " +
-                              std::to_string(index % bins);
-    if (!std::isfinite(v)) throw file_error(path_, std::string(std::isnan(v) ? "NaN" : "infinite") + " value" + where);
-    char text[32];
-    std::snprintf(text, sizeof text, "%.6g", v);
-    throw file_error(path_, std::string("absurd value ") + text + where + " (MERL values stay far below 1e15 in " +
-                                "stored units; is the file corrupted or not in MERL units?)");
-  }
+  check_values(path_, dims_, first, chunk, n);
 }
 
 void MerlFile::check_range(std::size_t first, std::size_t count) const {
@@ -160,11 +181,31 @@ void write_merl(const fs::path& path, const BrdfTable& table, bool allow_nonstan
   if (!allow_nonstandard_dims && !table.dims().is_standard())
     throw file_error(path, "refusing to write a " + table.dims().to_string() +
                                " table: MERL files for other tools are 90x90x180");
-  const std::int32_t header[3] = {table.dims().theta_h, table.dims().theta_d, table.dims().phi_d};
+  const auto header = header_of(table.dims());
   AtomicFile out(path);
-  out.write(header, sizeof header);
+  out.write(header.data(), MerlFile::kHeaderBytes);
   out.write(table.stored().data(), table.stored().size() * sizeof(double));
   out.commit();
+}
+
+std::string encode_merl(const BrdfTable& table) {
+  const auto header = header_of(table.dims());
+  const auto values = table.stored();
+  std::string bytes(MerlFile::kHeaderBytes + values.size() * sizeof(double), '\0');
+  std::memcpy(bytes.data(), header.data(), MerlFile::kHeaderBytes);
+  std::memcpy(bytes.data() + MerlFile::kHeaderBytes, values.data(), values.size() * sizeof(double));
+  return bytes;
+}
+
+BrdfTable decode_merl(std::string_view bytes, const fs::path& name) {
+  check_header_fits(name, bytes.size());
+  std::int32_t header[3];
+  std::memcpy(header, bytes.data(), sizeof header);
+  const MerlDims dims = checked_dims(name, header, bytes.size());
+  BrdfTable table(dims, ValueBuffer::Uninitialized{});
+  std::memcpy(table.stored().data(), bytes.data() + MerlFile::kHeaderBytes, table.size() * sizeof(double));
+  check_values(name, dims, 0, table.stored().data(), table.size());
+  return table;
 }
 
 }  // namespace matlas

@@ -7,6 +7,8 @@
 // (beyond kMaxMerlMagnitude), not a regular file (a FIFO, a device).
 #include <cstddef>
 #include <filesystem>
+#include <string>
+#include <string_view>
 
 #include "brdf/brdf_table.h"
 
@@ -79,6 +81,14 @@ BrdfTable read_merl(const std::filesystem::path& path);
 /// grid: other dims are refused unless allow_nonstandard_dims is set.
 void write_merl(const std::filesystem::path& path, const BrdfTable& table,
                 bool allow_nonstandard_dims = false);
+
+/// The bytes of the MERL file of `table`, in memory (for downloads): exactly what write_merl
+/// writes (any dims; write_merl's check for the standard grid is the caller's business).
+std::string encode_merl(const BrdfTable& table);
+
+/// A table from the bytes of a MERL file in memory (uploads), checked exactly as read_merl checks
+/// a file; errors are matlas::Error naming `name` (what the bytes are, e.g. "the upload").
+BrdfTable decode_merl(std::string_view bytes, const std::filesystem::path& name);
 
 /// Largest bin count accepted per dimension (MERL uses at most 180).
 inline constexpr int kMaxMerlDim = 4096;

@@ -71,7 +71,6 @@ public:
   int count() const { return static_cast<int>(R_.rows()); }  ///< n
   double columns() const { return columns_; }                ///< D'
   double scale() const { return sigma_; }                     ///< sigma = tr(S)/n
-  int gram_rank() const { return static_cast<int>(R_.cols()); }
   const Kernel& kernel() const { return kernel_; }
   double complexity_weight() const { return beta_; }
 

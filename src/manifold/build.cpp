@@ -7,10 +7,10 @@
 #include <sstream>
 
 #include <nlohmann/json.hpp>
-#include <xxhash.h>
 
 #include "brdf/albedo.h"
 #include "core/error.h"
+#include "core/hash.h"
 #include "formats/safetensors.h"
 #include "gp/initialize.h"
 #include "gp/likelihood.h"
@@ -28,12 +28,6 @@ namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-std::string hex(std::uint64_t h) {
-  std::ostringstream s;
-  s << std::hex << std::setw(16) << std::setfill('0') << h;
-  return s.str();
 }
 
 std::string utc_now() {
@@ -99,7 +93,7 @@ json model_metadata_skeleton(const MaterialSet& set, const BuildOptions& options
     sources.push_back({{"name", set.name(i)},
                        {"file", set.file(i).path().filename().string()},
                        {"path", fs::absolute(set.file(i).path()).string()},
-                       {"xxh3_64", hex(0)}});
+                       {"xxh3_64", hex64(0)}});
   return {
       {"format", model_format::kFormatName},
       {"format_version", model_format::kVersion},
@@ -169,7 +163,7 @@ BuildReport build_model(const MaterialSet& set, const BuildOptions& options, con
   writer.declare(model_format::kLatent, DType::F64, {n, q});
   writer.declare(model_format::kGram, DType::F64, {n, n});
   writer.declare(model_format::kLayoutGram, DType::F64, {n, n});
-  writer.declare(model_format::kAlbedo, DType::F64, {n, 90, 3});
+  writer.declare(model_format::kAlbedo, DType::F64, {n, kAlbedoAngles, 3});
   writer.declare(model_format::kValueColumn, DType::I32, {static_cast<std::int64_t>(set.value_count())});
   writer.declare_growing(model_format::kData, storage, {n});
   writer.declare_growing(model_format::kMean, DType::F32, {});
@@ -224,8 +218,7 @@ BuildReport build_model(const MaterialSet& set, const BuildOptions& options, con
   writer.write_tensor(model_format::kAlbedo, albedo_rows.data(), static_cast<std::size_t>(albedo_rows.size()) * 8u);
   writer.write_tensor(model_format::kValueColumn, columns.data(), columns.size() * 4u);
 
-  XXH3_state_t* small_hash = XXH3_createState();
-  XXH3_64bits_reset(small_hash);
+  Xxh3Hasher small_hash;
   for (const auto& [ptr, bytes] :
        {std::pair<const void*, std::size_t>{latent_rows.data(), latent_rows.size() * 8u},
         {gram_rows.data(), gram_rows.size() * 8u},
@@ -233,11 +226,10 @@ BuildReport build_model(const MaterialSet& set, const BuildOptions& options, con
         {mean_f.data(), mean_f.size() * 4u},
         {columns.data(), columns.size() * 4u},
         {layout_gram_rows.data(), layout_gram_rows.size() * 8u}})
-    XXH3_64bits_update(small_hash, ptr, bytes);
-  const std::uint64_t small_checksum = XXH3_64bits_digest(small_hash);
-  XXH3_freeState(small_hash);
+    small_hash.update(ptr, bytes);
+  const std::uint64_t small_checksum = small_hash.digest();
 
-  for (std::size_t i = 0; i < set.size(); ++i) meta["sources"][i]["xxh3_64"] = hex(g.hashes[i]);
+  for (std::size_t i = 0; i < set.size(); ++i) meta["sources"][i]["xxh3_64"] = hex64(g.hashes[i]);
   meta["log_likelihood"] = report.log_likelihood;
   meta["optimizer"] = {{"method", gp::to_string(options.optimize.method)},
                        {"iterations", report.optimization.iterations},
@@ -247,7 +239,7 @@ BuildReport build_model(const MaterialSet& set, const BuildOptions& options, con
                        {"converged", report.optimization.converged()}};
   meta["kept_columns"] = g.kept_columns;
   meta["dropped_columns"] = report.dropped_columns;
-  meta["small_tensors_xxh3_64"] = hex(small_checksum);
+  meta["small_tensors_xxh3_64"] = hex64(small_checksum);
   writer.add_metadata(model_format::kMetadataKey, meta.dump());
   writer.commit();
   report.finish_seconds = seconds_since(t0);

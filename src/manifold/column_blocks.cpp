@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <future>
-#include <optional>
 
 #include "manifold/block_rows.h"
 
@@ -13,10 +12,10 @@ namespace {
 /// Reads columns [first, first + count) of every material into `block` (physical units) and
 /// marks the kept columns.
 void read_block(const MaterialSet& set, std::size_t first, std::size_t count, BlockMatrix& block,
-                std::vector<std::uint8_t>& kept, XXH3_state_t* const* hashers) {
+                std::vector<std::uint8_t>& kept) {
   block.resize(static_cast<Eigen::Index>(set.size()), static_cast<Eigen::Index>(count));
   kept.resize(count);
-  read_block_rows(set, first, count, 0, set.size(), block, hashers,
+  read_block_rows(set, first, count, 0, set.size(), block, nullptr,
                   {nullptr, kept.data()});
 }
 
@@ -29,9 +28,6 @@ void for_each_column_block(const MaterialSet& set, const std::function<void(cons
   const std::size_t blocks = (total + step - 1) / step;
   ProgressTask task(progress, options.label, blocks);
 
-  std::optional<FileHashers> hashers;
-  if (options.hashes) hashers.emplace(set.size());
-
   BlockMatrix buffers[2];
   std::vector<std::uint8_t> kept[2];
   auto start_read = [&](std::size_t b) {
@@ -40,7 +36,7 @@ void for_each_column_block(const MaterialSet& set, const std::function<void(cons
       // Cold files: have the disk fetch the block after this one while this one is read.
       if (first + count < total)
         for (std::size_t i = 0; i < set.size(); ++i) set.file(i).prefetch(first + count, step);
-      read_block(set, first, count, buffers[b % 2], kept[b % 2], hashers ? hashers->data() : nullptr);
+      read_block(set, first, count, buffers[b % 2], kept[b % 2]);
     });
   };
   std::future<void> pending = start_read(0);
@@ -56,7 +52,6 @@ void for_each_column_block(const MaterialSet& set, const std::function<void(cons
     }
     task.advance();
   }
-  if (options.hashes) *options.hashes = hashers->digests();
 }
 
 }  // namespace matlas

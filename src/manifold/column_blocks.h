@@ -1,8 +1,11 @@
 #pragma once
 // Streaming over a MaterialSet in column blocks: the n x D data matrix (one row per material,
 // D = 3 * bins values in physical units) is visited a block of columns at a time, so memory never
-// holds more than one block of all n materials. Every pass of a build, the evaluation and the
-// projection goes through here.
+// holds more than one block of all n materials. The evaluation's passes over a database
+// (`eval/model_checks.cpp`, `eval/combination_pass.cpp`) go through for_each_column_block. A
+// build does not: its one pass is `Pass` in gram.cpp, which reads with read_block_rows
+// (block_rows.h) in smaller cache-resident blocks, hashes the files as it reads and hands
+// ColumnBlock views of its buffers to the raw-data visitors (gram.h).
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -36,9 +39,6 @@ struct BlockOptions {
   std::size_t block_columns = 32768;
   /// Label for progress reporting.
   std::string label = "reading";
-  /// When set, receives one xxh3-64 hash per material of its stored value bytes (the whole
-  /// file after the 12-byte header), computed during the pass.
-  std::vector<std::uint64_t>* hashes = nullptr;
 };
 
 /// Calls visit(block) for consecutive blocks covering all columns, in order, from one thread

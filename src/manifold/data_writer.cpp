@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/cpu_features.h"
 #include "manifold/column_blocks.h"
 
 #if defined(__x86_64__)
@@ -71,10 +72,6 @@ __attribute__((target("avx2,fma"))) void transpose_full_tile_avx2(const double* 
     transpose_tile_scalar(values + n4 * stride, stride, n - n4, n, columns, DataWriter::kTile, out + n4, norm2, error2);
 }
 
-bool cpu_has_avx2_fma() {
-  static const bool ok = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-  return ok;
-}
 #endif
 
 }  // namespace

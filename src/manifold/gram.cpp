@@ -11,6 +11,7 @@
 #include "manifold/column_blocks.h"
 #include "manifold/gram_update.h"
 #include "manifold/kept_runs.h"
+#include "manifold/model_format.h"
 
 namespace matlas {
 
@@ -59,15 +60,15 @@ public:
       : set_(set), layout_(layout), raw_(raw), n_(set.size()), bins_(set.dims().bins()),
         total_(set.value_count()), step_(std::max<std::size_t>(1, std::min(block_columns, total_))),
         groups_((n_ + kReadRows - 1) / kReadRows), separate_layout_(!layout.is_identity()),
-        albedo_op_(albedo_operator(set.dims(), 90)),
+        albedo_op_(albedo_operator(set.dims(), kAlbedoAngles)),
         cosine_(layout.cosine_weighted ? bin_cosine_factors(set.dims()) : std::vector<double>{}), hashers_(n_),
         values_(static_cast<Eigen::Index>(n_), static_cast<Eigen::Index>(step_)), group_sums_(groups_ * step_),
         group_kept_(groups_ * step_), centred_(n_ * step_), transformed_(separate_layout_ ? n_ * step_ : 0),
         block_mean_(step_), block_cos_(layout.cosine_weighted ? step_ : 0),
         linear_gram_(static_cast<Eigen::Index>(n_), step_),
         layout_gram_(static_cast<Eigen::Index>(n_), separate_layout_ ? step_ : 1),
-        albedo_centred_(RowMajor::Zero(static_cast<Eigen::Index>(n_), 90 * 3)),
-        albedo_of_mean_(Eigen::RowVectorXd::Zero(90 * 3)) {
+        albedo_centred_(RowMajor::Zero(static_cast<Eigen::Index>(n_), kAlbedoAngles * 3)),
+        albedo_of_mean_(Eigen::RowVectorXd::Zero(kAlbedoAngles * 3)) {
     result_.kept.assign(total_, false);
     mean_.reserve(total_);
   }

@@ -27,7 +27,7 @@ struct GramResult {
   Eigen::VectorXd mean;           ///< per kept column, in value-index order
   Eigen::MatrixXd gram;           ///< n x n centred Gram of the linear data
   Eigen::MatrixXd layout_gram;    ///< n x n centred Gram of the transformed data
-  Eigen::MatrixXd albedo;         ///< n x (90 * 3) directional albedo curves of the kept data
+  Eigen::MatrixXd albedo;         ///< n x (kAlbedoAngles * 3) directional albedo curves of the kept data
   std::vector<std::uint64_t> hashes;  ///< xxh3-64 of each input file's value bytes
   PassSteps steps;
 };

@@ -6,9 +6,10 @@
 #include <cstring>
 #include <limits>
 
-#include <xxhash.h>
+#include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/hash.h"
 #include "core/parallel.h"
 #include "formats/merl_file.h"
 #include "formats/safetensors.h"
@@ -29,7 +30,7 @@ struct Model::Impl {
   json meta;
   std::vector<std::string> names;
   Eigen::MatrixXd latent;
-  Eigen::MatrixXd albedo;  // n x (90 * 3)
+  Eigen::MatrixXd albedo;  // n x (kAlbedoAngles * 3)
   Eigen::MatrixXd gram;
   MerlDims dims;
   std::size_t kept = 0;
@@ -63,12 +64,6 @@ Eigen::MatrixXd read_matrix(const SafetensorsFile& f, const char* name, std::int
                             std::int64_t cols) {
   const auto v = f.view<double>(name, DType::F64, {rows, cols});
   return Eigen::Map<const RowMajor>(v.data(), rows, cols);
-}
-
-std::string hex(std::uint64_t h) {
-  char buf[17];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
-  return buf;
 }
 
 }  // namespace
@@ -223,21 +218,16 @@ Model Model::open(const fs::path& path) {
     throw file_error(path, "corrupted model: unknown storage '" + m->storage + "'");
 
   // Integrity of everything but the bulk data: checksum, and the column map's consistency.
-  XXH3_state_t* h = XXH3_createState();
-  XXH3_64bits_reset(h);
+  Xxh3Hasher h;
   const bool has_layout_gram = f.find(model_format::kLayoutGram) != nullptr;
   for (const char* name : {model_format::kLatent, model_format::kGram, model_format::kAlbedo,
                            model_format::kMean, model_format::kValueColumn, model_format::kLayoutGram}) {
     if (std::string_view(name) == model_format::kLayoutGram && !has_layout_gram) continue;  // optional (older models)
     const TensorInfo* t = f.find(name);
-    if (!t) {
-      XXH3_freeState(h);
-      throw file_error(path, std::string("corrupted model: missing tensor '") + name + "'");
-    }
-    XXH3_64bits_update(h, f.bytes(*t), t->bytes());
+    if (!t) throw file_error(path, std::string("corrupted model: missing tensor '") + name + "'");
+    h.update(f.bytes(*t), t->bytes());
   }
-  const std::string checksum = hex(XXH3_64bits_digest(h));
-  XXH3_freeState(h);
+  const std::string checksum = hex64(h.digest());
   const auto stored_checksum = m->meta.find("small_tensors_xxh3_64");
   if (stored_checksum == m->meta.end() || !stored_checksum->is_string() ||
       checksum != stored_checksum->get<std::string>())

@@ -16,18 +16,14 @@
 #include <vector>
 
 #include <Eigen/Core>
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>  // metadata(): include manifold/model_metadata.h to read it
 
 #include "brdf/brdf_table.h"
 #include "gp/posterior.h"
 #include "manifold/interpolation.h"
+#include "manifold/model_format.h"  // kAlbedoAngles
 
 namespace matlas {
-
-
-/// Number of albedo-curve samples stored per material: theta_o at bin centres of 90 uniform
-/// bins over [0, 90) degrees.
-inline constexpr int kAlbedoAngles = 90;
 
 class Model {
 public:
@@ -50,7 +46,9 @@ public:
   const MerlDims& dims() const;
   std::size_t kept_columns() const;  ///< D'
   const gp::GpPosterior& posterior() const;
-  /// Everything in the header's metadata (names, kernel, optimiser, likelihood, sources, ...).
+  /// Everything in the header's metadata (names, kernel, optimiser, likelihood, sources, ...);
+  /// manifold/model_metadata.h declares the JSON type (and helpers), so that includers of this
+  /// header do not all compile nlohmann/json.hpp.
   const nlohmann::json& metadata() const;
   /// Centred Gram matrix S = (Z - mean)(Z - mean)^T of the inputs over the kept columns (n x n).
   const Eigen::MatrixXd& gram() const;

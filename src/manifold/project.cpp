@@ -59,6 +59,14 @@ Eigen::VectorXd sum_over_values(const Model& model, const BrdfTable& table, doub
 
 }  // namespace
 
+std::vector<int> nearest_materials(const Eigen::Ref<const Eigen::VectorXd>& distance2, int count) {
+  std::vector<int> order(static_cast<std::size_t>(distance2.size()));
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return distance2[a] < distance2[b]; });
+  order.resize(static_cast<std::size_t>(std::clamp(count, 0, static_cast<int>(order.size()))));
+  return order;
+}
+
 MaterialInnerProducts inner_products(const Model& model, const BrdfTable& table) {
   if (table.dims() != model.dims())
     throw Error("material grid " + table.dims().to_string() + " differs from the model's " +
@@ -128,13 +136,10 @@ Projection project_material(const Model& model, const BrdfTable& table, int star
   Projection p;
   p.missing = ip.missing;
   // Nearest materials in data space.
-  std::vector<double> d2(ip.distance2.data(), ip.distance2.data() + n);
-  std::vector<int> order(static_cast<std::size_t>(n));
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](int a, int b) { return d2[static_cast<std::size_t>(a)] < d2[static_cast<std::size_t>(b)]; });
+  const std::vector<int> order = nearest_materials(ip.distance2, std::max(starts, 1));
   p.nearest = order[0];
   const double norm2 = std::max(ip.norm2, 1e-300);
-  p.nearest_relative_error = std::sqrt(d2[static_cast<std::size_t>(order[0])] / norm2);
+  p.nearest_relative_error = std::sqrt(ip.distance2[p.nearest] / norm2);
 
   std::vector<Eigen::VectorXd> seeds;
   for (int k = 0; k < std::min(starts, n); ++k) seeds.push_back(model.latent().row(order[static_cast<std::size_t>(k)]).transpose());

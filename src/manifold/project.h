@@ -1,6 +1,9 @@
 #pragma once
 // Projection of a new measured material onto a model's map: the latent point x whose BRDF m(x)
-// is closest (L2 over the model's kept columns) to the material.
+// is closest (L2 over the model's kept columns) to the material. This is the one home of the
+// concept: the evaluation's leave-one-out (eval/latent_fit.h, project_in_gram) is the same
+// search measured in a Gram matrix instead of a model file, from the same starts
+// (nearest_materials).
 //
 // Two passes over the table: the first measures d_i = |z - z_i|^2 for every input and picks the
 // nearest input j; the second computes g_i = <z - z_j, z_i - mean>. With u = w(x) - e_j the
@@ -10,6 +13,7 @@
 // materials.
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -37,6 +41,10 @@ struct Projection {
   double nearest_relative_error = 0;
   std::size_t missing = 0;      ///< see MaterialInnerProducts
 };
+
+/// The starts of a projection: indices of the `count` materials with the smallest squared
+/// distances to the material (nearest first, ties in index order; fewer if there are fewer).
+std::vector<int> nearest_materials(const Eigen::Ref<const Eigen::VectorXd>& distance2, int count);
 
 /// Residual |z - m(x)|^2 and, if `gradient` is given, its gradient with respect to x.
 double projection_residual(const Model& model, const MaterialInnerProducts& ip,

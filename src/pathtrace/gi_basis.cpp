@@ -15,7 +15,7 @@
 #include "core/simd_clones.h"
 #include "formats/safetensors.h"
 #include "pathtrace/model_bank.h"
-#include "render/image_basis.h"
+#include "atlas/model_basis.h"
 
 namespace matlas::pathtrace {
 
@@ -254,7 +254,7 @@ GiBasis GiBasis::load(const std::filesystem::path& path) {
 std::string gi_basis_key(const Model& model, const World& world, const TraceSettings& s) {
   nlohmann::json density = nlohmann::json::array();
   for (const auto& [alpha, weight] : s.density.lobes) density.push_back({alpha, weight});
-  const nlohmann::json key = {{"model_fingerprint", render::model_fingerprint(model)},
+  const nlohmann::json key = {{"model_fingerprint", atlas::model_fingerprint(model)},
                               {"scene", scene_to_json(world.spec())},
                               {"width", s.width}, {"height", s.height}, {"spp", s.spp}, {"seed", s.seed},
                               {"max_depth", s.max_depth}, {"roulette_depth", s.roulette_depth},
@@ -313,7 +313,7 @@ GiBasis build_gi_basis(const Model& model, const World& world, const TraceSettin
   std::map<std::string, std::string> meta;
   meta["key"] = key;
   meta["model"] = model.path().filename().string();
-  meta["model_fingerprint"] = render::model_fingerprint(model);
+  meta["model_fingerprint"] = atlas::model_fingerprint(model);
   meta["scene"] = scene_to_json(world.spec()).dump();
   meta["spp"] = std::to_string(settings.spp);
   meta["seed"] = std::to_string(settings.seed);

@@ -1,9 +1,7 @@
 #include "render/image_basis.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
-#include <cstdio>
 #include <cstring>
 #include <mutex>
 
@@ -13,18 +11,13 @@
 #include "core/error.h"
 #include "core/parallel.h"
 #include "formats/safetensors.h"
-#include "manifold/model.h"
-#include "render/material.h"
-#include "render/render.h"
-#include "render/scene.h"
-
-#if defined(__x86_64__) || defined(__i386__)
-#include <cpuid.h>
-#include <immintrin.h>
-#define MATLAS_X86 1
-#endif
+#include "render/basis_kernels.h"
 
 namespace matlas::render {
+
+using detail::accumulate_f16;
+using detail::accumulate_f32;
+using detail::half_table;
 
 namespace {
 
@@ -40,128 +33,6 @@ std::size_t tile_count(std::size_t packed) { return (packed + kChunk - 1) / kChu
 /// Position of packed entry k of row `row` in tiled storage of `rows` rows.
 std::size_t tiled(std::size_t row, std::size_t k, std::size_t rows) {
   return (k / kChunk) * kChunk * rows + row * kChunk + k % kChunk;
-}
-
-const float* half_table() {
-  static const std::vector<float> table = [] {
-    std::vector<float> t(65536);
-    for (std::uint32_t h = 0; h < 65536; ++h) t[h] = half_to_float(static_cast<std::uint16_t>(h));
-    return t;
-  }();
-  return table.data();
-}
-
-// --- accumulation kernels: acc[0, len) += sum_i w[i] * row_i[begin, begin + len) -------------
-
-void accumulate_f32_portable(const float* values, std::size_t stride, std::size_t begin, std::size_t len,
-                             const float* w, int n, float* acc) {
-  for (int i = 0; i < n; ++i) {
-    const float wi = w[i];
-    if (wi == 0.0f) continue;
-    const float* row = values + static_cast<std::size_t>(i) * stride + begin;
-    for (std::size_t j = 0; j < len; ++j) acc[j] += wi * row[j];
-  }
-}
-
-void accumulate_f16_portable(const std::uint16_t* values, std::size_t stride, std::size_t begin, std::size_t len,
-                             const float* w, int n, float* acc) {
-  const float* table = half_table();
-  for (int i = 0; i < n; ++i) {
-    const float wi = w[i];
-    if (wi == 0.0f) continue;
-    const std::uint16_t* row = values + static_cast<std::size_t>(i) * stride + begin;
-    for (std::size_t j = 0; j < len; ++j) acc[j] += wi * table[row[j]];
-  }
-}
-
-#ifdef MATLAS_X86
-// The AVX2 kernels add four rows per pass over the accumulator (one load and one store of acc
-// per four products), which keeps them memory-bound rather than bound by L1 traffic.
-template <class Load>
-__attribute__((target("avx2,fma"), always_inline)) inline void accumulate_rows_avx2(Load load, std::size_t len,
-                                                                                  const float* w, int n, float* acc) {
-  int i = 0;
-  for (; i + 4 <= n; i += 4) {
-    const __m256 w0 = _mm256_set1_ps(w[i]), w1 = _mm256_set1_ps(w[i + 1]), w2 = _mm256_set1_ps(w[i + 2]),
-                 w3 = _mm256_set1_ps(w[i + 3]);
-    for (std::size_t j = 0; j + 8 <= len; j += 8) {
-      __m256 a = _mm256_loadu_ps(acc + j);
-      a = _mm256_fmadd_ps(w0, load(i, j), a);
-      a = _mm256_fmadd_ps(w1, load(i + 1, j), a);
-      a = _mm256_fmadd_ps(w2, load(i + 2, j), a);
-      a = _mm256_fmadd_ps(w3, load(i + 3, j), a);
-      _mm256_storeu_ps(acc + j, a);
-    }
-  }
-  for (; i < n; ++i) {
-    const __m256 wi = _mm256_set1_ps(w[i]);
-    for (std::size_t j = 0; j + 8 <= len; j += 8)
-      _mm256_storeu_ps(acc + j, _mm256_fmadd_ps(wi, load(i, j), _mm256_loadu_ps(acc + j)));
-  }
-}
-
-__attribute__((target("avx2,fma"))) void accumulate_f32_avx2(const float* values, std::size_t stride,
-                                                             std::size_t begin, std::size_t len, const float* w,
-                                                             int n, float* acc) {
-  const std::size_t vec = len / 8 * 8;
-  accumulate_rows_avx2(
-      [&](int i, std::size_t j) __attribute__((target("avx2,fma"))) {
-        return _mm256_loadu_ps(values + static_cast<std::size_t>(i) * stride + begin + j);
-      },
-      vec, w, n, acc);
-  for (int i = 0; i < n; ++i)
-    for (std::size_t j = vec; j < len; ++j) acc[j] += w[i] * values[static_cast<std::size_t>(i) * stride + begin + j];
-}
-
-__attribute__((target("avx2,fma,f16c"))) void accumulate_f16_f16c(const std::uint16_t* values, std::size_t stride,
-                                                                  std::size_t begin, std::size_t len, const float* w,
-                                                                  int n, float* acc) {
-  const std::size_t vec = len / 8 * 8;
-  accumulate_rows_avx2(
-      [&](int i, std::size_t j) __attribute__((target("avx2,fma,f16c"))) {
-        return _mm256_cvtph_ps(
-            _mm_loadu_si128(reinterpret_cast<const __m128i*>(values + static_cast<std::size_t>(i) * stride + begin + j)));
-      },
-      vec, w, n, acc);
-  const float* table = half_table();
-  for (int i = 0; i < n; ++i)
-    for (std::size_t j = vec; j < len; ++j) acc[j] += w[i] * table[values[static_cast<std::size_t>(i) * stride + begin + j]];
-}
-
-bool cpu_has_avx2_fma() {
-  static const bool ok = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-  return ok;
-}
-bool cpu_has_f16c() {
-  // CPUID leaf 1, ECX bit 29 (clang's __builtin_cpu_supports does not know "f16c").
-  static const bool ok = [] {
-    unsigned a = 0, b = 0, c = 0, d = 0;
-    return cpu_has_avx2_fma() && __get_cpuid(1, &a, &b, &c, &d) && (c & bit_F16C) != 0;
-  }();
-  return ok;
-}
-#endif
-
-void accumulate_f32(const float* values, std::size_t stride, std::size_t begin, std::size_t len, const float* w,
-                    int n, float* acc) {
-#ifdef MATLAS_X86
-  if (cpu_has_avx2_fma()) return accumulate_f32_avx2(values, stride, begin, len, w, n, acc);
-#endif
-  accumulate_f32_portable(values, stride, begin, len, w, n, acc);
-}
-
-void accumulate_f16(const std::uint16_t* values, std::size_t stride, std::size_t begin, std::size_t len,
-                    const float* w, int n, float* acc) {
-#ifdef MATLAS_X86
-  if (cpu_has_f16c()) return accumulate_f16_f16c(values, stride, begin, len, w, n, acc);
-#endif
-  accumulate_f16_portable(values, stride, begin, len, w, n, acc);
-}
-
-std::uint64_t fnv1a(const void* data, std::size_t bytes, std::uint64_t h = 0xcbf29ce484222325ull) {
-  const auto* p = static_cast<const unsigned char*>(data);
-  for (std::size_t i = 0; i < bytes; ++i) h = (h ^ p[i]) * 0x100000001b3ull;
-  return h;
 }
 
 template <class T>
@@ -519,44 +390,6 @@ ImageBasis ImageBasis::open(const std::filesystem::path& path) {
       basis.low_rank_report_.max_abs_error = std::atof(it->second.c_str());
   }
   return basis;
-}
-
-// --- rendering a basis ------------------------------------------------------------------------
-
-std::string model_fingerprint(const Model& model) {
-  const std::string meta = model.metadata().dump();
-  std::uint64_t h = fnv1a(meta.data(), meta.size());
-  const Eigen::MatrixXd& x = model.latent();
-  h = fnv1a(x.data(), static_cast<std::size_t>(x.size()) * sizeof(double), h);
-  char buf[17];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
-  return buf;
-}
-
-ImageBasis render_basis(const Model& model, const Scene& scene, const RenderSettings& settings,
-                        ProgressSink& progress) {
-  const ModelBank bank(model);
-  std::vector<Image> images = render_bank(scene, bank, settings, progress);
-  Image mean = std::move(images.front());
-  images.erase(images.begin());
-  const SceneDescription& d = scene.description();
-  std::map<std::string, std::string> meta;
-  meta["scene"] = d.object + (d.ground ? "+ground" : "");
-  meta["env"] = d.environment;
-  meta["env_rotation"] = std::to_string(d.environment_rotation);
-  meta["env_intensity"] = std::to_string(d.environment_intensity);
-  meta["camera"] = nlohmann::json{{"orthographic", d.camera.orthographic},
-                                  {"position", {d.camera.position.x(), d.camera.position.y(), d.camera.position.z()}},
-                                  {"target", {d.camera.target.x(), d.camera.target.y(), d.camera.target.z()}},
-                                  {"fov_degrees", d.camera.fov_degrees},
-                                  {"ortho_height", d.camera.ortho_height}}
-                       .dump();
-  meta["lights"] = std::to_string(d.lights.size());
-  meta["spp"] = std::to_string(settings.spp);
-  meta["seed"] = std::to_string(settings.seed);
-  meta["model"] = model.path().filename().string();
-  meta["model_fingerprint"] = model_fingerprint(model);
-  return ImageBasis(std::move(mean), images, model.names(), std::move(meta));
 }
 
 }  // namespace matlas::render

@@ -21,6 +21,9 @@
 // values, which bounds its time by memory bandwidth. compress() adds an optional low-rank form
 // (eigen-decomposition of the n x n Gram matrix of the centred images): I(w) ~ I_mean +
 // sum_k c_k(w) F_k with rank r <= n, its error measured.
+//
+// A basis of a model (its mean and database materials, rendered with identical samples) is made
+// by atlas/model_basis.h; this class only stores and composes images.
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -32,14 +35,7 @@
 #include "core/progress.h"
 #include "formats/image_io.h"
 
-namespace matlas {
-class Model;
-}
-
 namespace matlas::render {
-
-class Scene;
-struct RenderSettings;
 
 enum class BasisPrecision { f32, f16 };
 
@@ -121,15 +117,5 @@ private:
   Eigen::MatrixXd coefficients_;          // n x rank
   LowRankReport low_rank_report_;
 };
-
-/// Renders the basis of a model: the mean (w = 0) and every material i (w = e_i, i.e.
-/// Model::material_weights(i)) with identical samples. Metadata: names, spp, seed, width, height,
-/// scene fields, model name and fingerprint.
-ImageBasis render_basis(const Model& model, const Scene& scene, const RenderSettings& settings,
-                        ProgressSink& progress = null_progress());
-
-/// A short stable fingerprint of a model (hex of a 64-bit hash of its metadata and latent
-/// points), stored in bases to check they belong to a model.
-std::string model_fingerprint(const Model& model);
 
 }  // namespace matlas::render

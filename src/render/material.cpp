@@ -1,32 +1,29 @@
 #include "render/material.h"
 
+#include "core/error.h"
 
 namespace matlas::render {
+
+TableCombination::TableCombination(std::vector<const BrdfTable*> tables, std::vector<double> coefficients)
+    : tables_(std::move(tables)), coefficients_(std::move(coefficients)) {
+  if (tables_.empty() || tables_.size() != coefficients_.size())
+    throw Error("table combination: " + std::to_string(tables_.size()) + " tables and " +
+                std::to_string(coefficients_.size()) + " coefficients (expected the same count, at least 1)");
+  for (const BrdfTable* t : tables_)
+    if (!t || !(t->dims() == tables_.front()->dims()))
+      throw Error("table combination: the tables must exist and share one grid");
+}
+
+Rgb TableCombination::eval(const Vec3& wi, const Vec3& wo) const {
+  Rgb f = Rgb::Zero();
+  for (std::size_t k = 0; k < tables_.size(); ++k) f += coefficients_[k] * tables_[k]->lookup(wi, wo);
+  return f;
+}
 
 void MaterialList::eval_all(const Vec3& wi, const Vec3& wo, double* out) const {
   for (std::size_t k = 0; k < materials_.size(); ++k) {
     const Rgb f = materials_[k]->eval(wi, wo);
     for (int c = 0; c < 3; ++c) out[3 * k + static_cast<std::size_t>(c)] = f[c];
-  }
-}
-
-void ModelBank::eval_all(const Vec3& wi, const Vec3& wo, double* out) const {
-  const int n = model_.count();
-  const std::size_t bins = model_.dims().bins();
-  const std::size_t bin = bin_of(model_.dims(), wi, wo);
-  thread_local std::vector<float> run;
-  run.resize(static_cast<std::size_t>(n));
-  for (int c = 0; c < 3; ++c) {
-    const std::size_t v = static_cast<std::size_t>(c) * bins + bin;
-    const int col = model_.column_of(v);
-    if (col < 0) {  // dropped column: reads 0 for every material, as Model::bin_rgb does
-      for (int k = 0; k <= n; ++k) out[3 * k + c] = 0.0;
-      continue;
-    }
-    const double mean = model_.mean(static_cast<std::size_t>(col));
-    model_.data(static_cast<std::size_t>(col), run.data());
-    out[c] = mean;
-    for (int i = 0; i < n; ++i) out[3 * (i + 1) + c] = static_cast<double>(run[static_cast<std::size_t>(i)]);
   }
 }
 

@@ -1,14 +1,14 @@
 #pragma once
 // What the renderer shades with: any BRDF f(wi, wo) in the local frame (normal +z), and banks of
 // many materials evaluated together (for image bases). The renderer's estimator is linear in f:
-// every sample's direction and weight are independent of the material.
+// every sample's direction and weight are independent of the material. The renderer knows
+// nothing of the manifold: model-backed materials are in atlas/model_material.h.
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "brdf/brdf_table.h"
 #include "brdf/tabulate.h"
-#include "manifold/model.h"
 
 namespace matlas::render {
 
@@ -30,16 +30,18 @@ private:
   const BrdfTable& table_;
 };
 
-/// The model's material at weights w (nearest-bin lookup through Model::lookup: one dot product
-/// of length n per channel, no table is built).
-class ModelMaterial final : public Material {
+/// A linear combination sum_k a_k T_k of tables on one grid (nearest-bin lookups; missing values
+/// read as 0 in each table).
+class TableCombination final : public Material {
 public:
-  ModelMaterial(const Model& model, Eigen::VectorXd weights) : model_(model), w_(std::move(weights)) {}
-  Rgb eval(const Vec3& wi, const Vec3& wo) const override { return model_.lookup(wi, wo, w_); }
+  /// tables and coefficients have the same length (>= 1) and the tables the same dims; the tables
+  /// must outlive the material. Throws matlas::Error otherwise.
+  TableCombination(std::vector<const BrdfTable*> tables, std::vector<double> coefficients);
+  Rgb eval(const Vec3& wi, const Vec3& wo) const override;
 
 private:
-  const Model& model_;
-  Eigen::VectorXd w_;
+  std::vector<const BrdfTable*> tables_;
+  std::vector<double> coefficients_;
 };
 
 /// Any callable BRDF (analytic models, tests).
@@ -70,20 +72,6 @@ public:
 
 private:
   std::vector<const Material*> materials_;
-};
-
-/// The model's mean material (w = 0) followed by every database material i (w = e_i =
-/// Model::material_weights(i), so dropped columns read 0 exactly as in ModelMaterial): count() is
-/// n + 1. One bin index and one contiguous run of n stored values per channel serve all of them:
-/// f_i = mean + centred_i, exactly Model::value(v, e_i).
-class ModelBank final : public MaterialBank {
-public:
-  explicit ModelBank(const Model& model) : model_(model) {}
-  int count() const override { return model_.count() + 1; }
-  void eval_all(const Vec3& wi, const Vec3& wo, double* out) const override;
-
-private:
-  const Model& model_;
 };
 
 }  // namespace matlas::render

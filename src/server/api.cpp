@@ -1,26 +1,21 @@
 #include "server/api.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <numeric>
 #include <thread>
-#include <unistd.h>
 
-#include "core/atomic_file.h"
+#include "atlas/map_layers.h"
+#include "atlas/material_panels.h"
 #include "core/error.h"
 #include "core/parallel.h"
+#include "formats/fast_png.h"
 #include "formats/merl_file.h"
-#include "manifold/model.h"
+#include "manifold/export.h"
+#include "manifold/model_metadata.h"
 #include "manifold/project.h"
-#include "render/latent_map.h"
-#include "server/fast_png.h"
 #include "server/http_error.h"
-#include "server/latent_map_layer.h"
-#include "server/material_panels.h"
-#include "server/merl_bytes.h"
 #include "server/preview_source.h"
 
 namespace matlas::server {
@@ -42,33 +37,6 @@ std::string point_key(const Eigen::VectorXd& x) {
   }
   return key;
 }
-
-std::string model_name(const Model& model) {
-  const auto& meta = model.metadata();
-  if (meta.contains("name") && meta["name"].is_string()) return meta["name"].get<std::string>();
-  return model.path().stem().string();
-}
-
-/// A temporary file removed on scope exit.
-class TempUpload {
-public:
-  explicit TempUpload(const std::string& bytes) {
-    static std::atomic<unsigned> counter{0};
-    path_ = std::filesystem::temp_directory_path() /
-            ("matlas-upload-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ".binary");
-    write_file_atomic(path_, bytes.data(), bytes.size());
-  }
-  ~TempUpload() {
-    std::error_code ec;
-    std::filesystem::remove(path_, ec);
-  }
-  TempUpload(const TempUpload&) = delete;
-  TempUpload& operator=(const TempUpload&) = delete;
-  const std::filesystem::path& path() const { return path_; }
-
-private:
-  std::filesystem::path path_;
-};
 
 }  // namespace
 
@@ -127,7 +95,7 @@ Api::Api(const Model& model, std::shared_ptr<const PreviewSource> previews, cons
   // How m(x) is made from the inputs: "gp" (the paper's GP weights) or "convex" (non-negative
   // weights summing to 1); models without the field predate the choice and are "gp".
   j["interpolation"] = std::string(to_string(model.interpolation()));
-  j["uncertainty"] = {{"fade_from", render::kFadeFrom}, {"fade_to", render::kFadeTo}};
+  j["uncertainty"] = {{"fade_from", atlas::kFadeFrom}, {"fade_to", atlas::kFadeTo}};
   j["albedo_angles"] = kAlbedoAngles;
   model_json_ = j.dump();
 }
@@ -215,7 +183,7 @@ Reply Api::slice(const std::string& body) {
   std::string png;
   {
     auto slot = acquire(compute_);
-    png = slice_png(model_, model_.weights(x), phi_d, &vmax);
+    png = atlas::slice_png(model_, model_.weights(x), phi_d, &vmax);
   }
   Reply r = Reply::bytes(std::move(png), kPng);
   r.headers.emplace_back("X-Matlas-Max", std::to_string(vmax));
@@ -227,7 +195,7 @@ Reply Api::lobe(const std::string& body) {
   const Eigen::VectorXd x = parse_latent(j, "x", domain_);
   const double theta_i = parse_number(j, "theta_i", 0.0, 89.0, 30.0);
   const int samples = parse_int(j, "samples", 8, 721, 181);
-  const Lobe lobe = incidence_plane_lobe(model_, model_.weights(x), theta_i, samples);
+  const atlas::Lobe lobe = atlas::incidence_plane_lobe(model_, model_.weights(x), theta_i, samples);
   nlohmann::json rgb = nlohmann::json::array();
   for (const Rgb& v : lobe.value) rgb.push_back({v[0], v[1], v[2]});
   return Reply::json({{"theta_i", theta_i}, {"theta_o", lobe.theta_o_degrees}, {"rgb", rgb}});
@@ -239,23 +207,23 @@ Reply Api::albedo(const std::string& body) {
   const auto curve = model_.albedo_curve(model_.weights(x));
   nlohmann::json rgb = nlohmann::json::array();
   for (const Rgb& v : curve) rgb.push_back({v[0], v[1], v[2]});
-  return Reply::json({{"theta_o", albedo_angles_degrees()}, {"rgb", rgb}});
+  return Reply::json({{"theta_o", atlas::albedo_angles_degrees()}, {"rgb", rgb}});
 }
 
 Reply Api::map_layer(const std::string& body) {
   const auto j = parse_json_object(body);
-  MapLayerRequest r;
-  const std::string layer = parse_choice(j, "layer", {"albedo", "variance", "plausibility"}, "albedo");
-  r.layer = layer == "variance" ? MapLayer::variance : layer == "plausibility" ? MapLayer::plausibility : MapLayer::albedo;
-  r.base = parse_latent(j, "x", domain_);
+  const atlas::MapLayer layer =
+      atlas::map_layer_from_name(parse_choice(j, "layer", {"albedo", "variance", "plausibility"}, "albedo"), "layer");
+  const Eigen::VectorXd base = parse_latent(j, "x", domain_);
+  int axis_x = 0, axis_y = 1;
   const int q = model_.dim();
   if (q < 2) throw bad_request("map layers need a latent space of at least 2 dimensions");
   if (j.contains("axes")) {
     const auto& axes = j["axes"];
     if (!axes.is_array() || axes.size() != 2) throw bad_request("\"axes\" must be two integers");
-    r.axis_x = parse_int_value(axes[0], "\"axes\"[0]", 0, q - 1);
-    r.axis_y = parse_int_value(axes[1], "\"axes\"[1]", 0, q - 1);
-    if (r.axis_x == r.axis_y)
+    axis_x = parse_int_value(axes[0], "\"axes\"[0]", 0, q - 1);
+    axis_y = parse_int_value(axes[1], "\"axes\"[1]", 0, q - 1);
+    if (axis_x == axis_y)
       throw bad_request("\"axes\" must be two different axes in [0, " + std::to_string(q - 1) + "]");
   }
   if (!j.contains("rect") || !j["rect"].is_array() || j["rect"].size() != 4)
@@ -268,37 +236,29 @@ Reply Api::map_layer(const std::string& body) {
     rect[i] = v.get<double>();
   }
   if (!(rect[0] < rect[1] && rect[2] < rect[3])) throw bad_request("\"rect\" must have x0 < x1 and y0 < y1");
-  r.x0 = rect[0], r.x1 = rect[1], r.y0 = rect[2], r.y1 = rect[3];
+  int width = 64, height = 64;
   if (j.contains("size")) {
     const auto& s = j["size"];
     if (!s.is_array() || s.size() != 2) throw bad_request("\"size\" must be [width, height]");
-    r.width = parse_int_value(s[0], "\"size\"[0] (width)", 4, 256);
-    r.height = parse_int_value(s[1], "\"size\"[1] (height)", 4, 256);
+    width = parse_int_value(s[0], "\"size\"[0] (width)", 4, 256);
+    height = parse_int_value(s[1], "\"size\"[1] (height)", 4, 256);
   }
   auto slot = acquire(heavy_);
-  return Reply::bytes(map_layer_png(model_, r, &map_plausibility_), kPng);
+  const auto plane = atlas::LatentPlane::rectangle(base, axis_x, axis_y, rect[0], rect[1], rect[2], rect[3]);
+  return Reply::bytes(atlas::map_layer_png(model_, plane, width, height, layer, &map_plausibility_), kPng);
 }
 
 Reply Api::export_merl(const std::string& body) {
   const auto j = parse_json_object(body);
   const Eigen::VectorXd x = parse_latent(j, "x", domain_);
   std::string bytes;
-  std::size_t clamped = 0;
+  ExportStats stats;
   {
     auto slot = acquire(heavy_);
-    BrdfTable table = model_.table(model_.weights(x));
-    // Away from the data the interpolation can dip below 0, and a MERL reader takes a negative
-    // value for "not measured": measured columns are clamped to 0, only dropped ones stay -1.
-    auto values = table.stored();
-    for (std::size_t v = 0; v < values.size(); ++v)
-      if (values[v] < 0 && model_.kept(v)) {
-        values[v] = 0;
-        ++clamped;
-      }
-    bytes = merl_bytes(table);
+    bytes = encode_merl(export_table(model_, model_.weights(x), &stats));  // negative values clamped to 0
   }
   Reply r = Reply::bytes(std::move(bytes), "application/octet-stream");
-  r.headers.emplace_back("X-Matlas-Clamped", std::to_string(clamped));
+  r.headers.emplace_back("X-Matlas-Clamped", std::to_string(stats.clamped));
   std::string name = "matlas";
   char buf[32];
   for (Eigen::Index i = 0; i < x.size(); ++i) {
@@ -312,16 +272,13 @@ Reply Api::export_merl(const std::string& body) {
 Reply Api::project(const std::string& file_bytes) {
   if (file_bytes.empty()) throw bad_request("the upload is empty: send a MERL .binary file as the body");
   BrdfTable table;
-  {
-    TempUpload upload(file_bytes);
-    try {
-      table = read_merl(upload.path());
-    } catch (const Error& e) {
-      std::string message = e.what();
-      const std::string prefix = upload.path().string() + ": ";
-      if (message.rfind(prefix, 0) == 0) message = message.substr(prefix.size());
-      throw HttpError(422, "the upload is not a valid MERL .binary file: " + message);
-    }
+  try {
+    table = decode_merl(file_bytes, "upload");
+  } catch (const Error& e) {
+    std::string message = e.what();
+    const std::string prefix = "upload: ";
+    if (message.rfind(prefix, 0) == 0) message = message.substr(prefix.size());
+    throw HttpError(422, "the upload is not a valid MERL .binary file: " + message);
   }
   if (!(table.dims() == model_.dims()))
     throw HttpError(422, "the upload's grid is " + table.dims().to_string() + " but the model's is " +

@@ -10,14 +10,14 @@
 #include <set>
 #include <thread>
 
+#include "atlas/model_basis.h"
 #include "core/error.h"
+#include "formats/image_resize.h"
 #include "manifold/model.h"
 #include "render/assets.h"
-#include "render/image_basis.h"
 #include "render/render.h"
 #include "render/scene.h"
 #include "server/http_error.h"
-#include "server/image_resize.h"
 
 namespace matlas::server {
 
@@ -70,7 +70,7 @@ struct BasisPreviews::Impl {
   std::thread worker;
 
   Impl(const Model& m, BasisPreviewOptions o) : model(m), options(std::move(o)) {
-    fingerprint = render::model_fingerprint(model);
+    fingerprint = atlas::model_fingerprint(model);
     envs = options.environments;
     if (envs.empty()) {
       envs = installed_environments();
@@ -134,7 +134,7 @@ struct BasisPreviews::Impl {
       settings.spp = options.spp;
       settings.seed = options.seed;
       CancellableSink sink(progress, stop);
-      full = std::make_shared<render::ImageBasis>(render::render_basis(model, scene, settings, sink));
+      full = std::make_shared<render::ImageBasis>(atlas::render_basis(model, scene, settings, sink));
       full->convert_to_half();
       if (!path.empty()) {
         std::filesystem::create_directories(path.parent_path());

@@ -1,6 +1,8 @@
 // The `matlas` command on hostile and careless input (issue 14): FIFOs, outputs that are inputs,
-// interrupted builds, absurd values, malformed flags, crafted models. Each case runs the built
-// command and checks its exit code (1 bad input, 2 usage) and that the message names the problem.
+// interrupted builds, absurd values, malformed flags, crafted models. Each case checks the exit
+// code (1 bad input, 2 usage) and that the message names the problem. Most cases call the command
+// in-process (cli::run); those about the process itself (signals, a FIFO that must not block,
+// `serve`, the exit status seen by a shell) run the built executable.
 #include <chrono>
 #include <algorithm>
 #include <csignal>
@@ -20,6 +22,7 @@
 
 #include "brdf/catalog.h"
 #include "cli/model_surgery.h"
+#include "cli/in_process.h"
 #include "formats/merl_file.h"
 #include "formats/synth_database.h"
 #include "support/temp_dir.h"
@@ -34,8 +37,15 @@ struct CommandResult {
   std::string out;  ///< stdout and stderr
 };
 
-/// Runs `matlas ARGS...` with a time limit (a hang fails the test instead of blocking it).
-CommandResult run(const std::vector<std::string>& args, int seconds = 60) {
+/// Runs `matlas ARGS...` in this process (standard error after standard output).
+CommandResult run(const std::vector<std::string>& args) {
+  const test::CliOutput r = test::call_matlas(args);
+  return {r.code, r.out + r.err};
+}
+
+/// Runs the built `matlas ARGS...` as a child process with a time limit (a hang fails the test
+/// instead of blocking it).
+CommandResult run_process(const std::vector<std::string>& args, int seconds = 60) {
   test::TempDir tmp("matlas-cli-out");
   const fs::path out = tmp.path() / "out.txt";
   const pid_t pid = ::fork();
@@ -96,10 +106,42 @@ TEST_F(CliHardening, FifoInputsAreRefusedForEveryCommand) {
            {"project", model().string(), fifo.string()},
            {"latent", fifo_model.string()},
            {"serve", fifo_model.string(), "--port", "0"}}) {
-    const CommandResult r = run(args, 20);
+    const CommandResult r = run_process(args, 20);
     EXPECT_EQ(r.code, 1) << args[0] << ": " << r.out;
     EXPECT_CONTAINS(r.out, "named pipe (FIFO)");
   }
+}
+
+// ---- The exit status a shell sees: 0 success, 1 bad input, 2 usage
+TEST_F(CliHardening, ProcessExitStatusIsTheCommandsCode) {
+  EXPECT_EQ(run_process({"--help"}).code, 0);
+  CommandResult r = run_process({"latent", (dir_->path() / "absent.matlas").string()});
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_CONTAINS(r.out, "absent.matlas");
+  r = run_process({"weights", model().string(), "--at", "0,0", "--top", "-1"});
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_CONTAINS(r.out, "--top");
+}
+
+// ---- `--cache` names the same folder for demo and serve (issue 15)
+TEST_F(CliHardening, DemoAndServeShareTheCacheFolder) {
+  test::TempDir t;
+  const fs::path cache = t.path() / "cache";
+  CommandResult r = run_process({"demo", "--no-serve", "--grid", "8,8,16", "--count", "4", "--size", "32", "--spp",
+                                 "1", "--cache", cache.string()},
+                                120);
+  ASSERT_EQ(r.code, 0) << r.out;
+  ASSERT_TRUE(fs::is_directory(cache / "bases")) << r.out;
+  std::vector<fs::path> models;
+  for (const auto& e : fs::directory_iterator(cache / "models")) models.push_back(e.path());
+  ASSERT_EQ(models.size(), 1u);
+  // serve with the same --cache finds the demo's image bases in cache/bases; it serves until
+  // the time limit ends it (SIGALRM).
+  r = run_process({"serve", models[0].string(), "--port", "0", "--size", "32", "--spp", "1", "--cache",
+                   cache.string()},
+                  5);
+  EXPECT_CONTAINS(r.out, "cached in " + (cache / "bases").string());
+  EXPECT_FALSE(fs::exists(cache / "cache")) << r.out;
 }
 
 // ---- 7. A build never overwrites one of its inputs
@@ -231,7 +273,7 @@ TEST_F(CliHardening, MessagesNameTheProblem) {
                "--height", "8", "--spp", "1", "--env", "constant"});
   EXPECT_EQ(r.code, 1) << r.out;
   EXPECT_CONTAINS(r.out, "--light 'nan,1,1'");
-  r = run({"eval", m, "--material", name, "-o", ""});
+  r = run({"export", m, "--material", name, "-o", ""});
   EXPECT_EQ(r.code, 1) << r.out;
   EXPECT_CONTAINS(r.out, "output file name is empty");
   EXPECT_EQ(r.out.find("internal error"), std::string::npos) << r.out;
@@ -268,7 +310,7 @@ TEST_F(CliHardening, CraftedModelsAreRefused) {
     for (const std::vector<std::string>& args :
          {std::vector<std::string>{"latent", crafted.string()},
           std::vector<std::string>{"serve", crafted.string(), "--port", "0", "--cache", t.path().string()}}) {
-      const CommandResult r = run(args, 20);
+      const CommandResult r = args[0] == "serve" ? run_process(args, 20) : run(args);
       EXPECT_EQ(r.code, 1) << args[0] << ": " << r.out;
       EXPECT_CONTAINS(r.out, "crafted.matlas: ");
       EXPECT_CONTAINS(r.out, c.what);

@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "formats/merl_file.h"
+#include "support/error_of.h"
 #include "support/temp_dir.h"
 
 namespace matlas {
@@ -107,6 +108,58 @@ TEST(MerlFile, PartialReadsMatchWholeRead) {
   std::vector<double> block(1000);
   f.read_values(2000000, block.size(), block.data());
   for (std::size_t i = 0; i < block.size(); ++i) EXPECT_EQ(block[i], t.stored()[2000000 + i]);
+}
+
+std::string file_bytes(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+std::string raw_bytes(const std::int32_t dims[3], std::size_t values, double fill = 1.0) {
+  std::string bytes(reinterpret_cast<const char*>(dims), 12);
+  for (std::size_t i = 0; i < values; ++i) bytes.append(reinterpret_cast<const char*>(&fill), 8);
+  return bytes;
+}
+
+TEST(MerlBytes, EncodeIsTheFileWriteMerlWritesAndDecodeReadsItBack) {
+  test::TempDir dir;
+  const BrdfTable t = pattern_table();
+  write_merl(dir / "a.binary", t);
+  const std::string bytes = encode_merl(t);
+  ASSERT_EQ(bytes.size(), 34992012u);
+  EXPECT_TRUE(bytes == file_bytes(dir / "a.binary"));
+  // decode(file's bytes) is bit-exact against read_merl of the file, missing values included.
+  const BrdfTable from_file = read_merl(dir / "a.binary");
+  const BrdfTable decoded = decode_merl(file_bytes(dir / "a.binary"), "upload");
+  ASSERT_EQ(decoded.dims(), from_file.dims());
+  EXPECT_EQ(0, std::memcmp(decoded.stored().data(), from_file.stored().data(), t.size() * 8));
+  EXPECT_FALSE(decoded.measured(0, 5));
+  // Non-standard dims go through memory as well (write_merl's refusal is for files).
+  BrdfTable small(MerlDims{2, 3, 4});
+  for (std::size_t i = 0; i < small.size(); ++i) small.stored()[i] = -0.5 + 0.25 * static_cast<double>(i);
+  const BrdfTable back = decode_merl(encode_merl(small), "small");
+  ASSERT_EQ(back.dims(), small.dims());
+  EXPECT_EQ(0, std::memcmp(back.stored().data(), small.stored().data(), small.size() * 8));
+}
+
+TEST(MerlBytes, MalformedBytesGiveTheErrorsOfAFileNamingTheSource) {
+  auto error = [](const std::string& bytes) { return test::error_of([&] { decode_merl(bytes, "upload"); }); };
+  EXPECT_EQ(error(""), "upload: empty file, expected a MERL .binary BRDF");
+  EXPECT_NE(error("abc").find("upload: truncated: 3 bytes, shorter than the 12-byte MERL header"), std::string::npos);
+  const std::int32_t good[3] = {2, 2, 2};
+  EXPECT_NE(error(raw_bytes(good, 23)).find("upload: truncated: 196 bytes, but header"), std::string::npos);
+  EXPECT_NE(error(raw_bytes(good, 25)).find("upload: size mismatch: 212 bytes"), std::string::npos);
+  const std::int32_t negative[3] = {90, -90, 180}, absurd[3] = {90, 90, 1000000};
+  EXPECT_NE(error(raw_bytes(negative, 1)).find("upload: invalid MERL header: dims 90 -90 180"), std::string::npos);
+  EXPECT_NE(error(raw_bytes(absurd, 1)).find("upload: invalid MERL header"), std::string::npos);
+  EXPECT_EQ(error(raw_bytes(good, 24, std::numeric_limits<double>::quiet_NaN())),
+            "upload: NaN value in the red channel at bin 0");
+  std::string one_bad = raw_bytes(good, 24);
+  const double inf = -std::numeric_limits<double>::infinity();
+  std::memcpy(one_bad.data() + 12 + 8 * 9, &inf, 8);  // value 9: green channel (8 bins), bin 1
+  EXPECT_EQ(error(one_bad), "upload: infinite value in the green channel at bin 1");
+  EXPECT_NE(error(raw_bytes(good, 24, 1e16)).find("upload: absurd value 1e+16 in the red channel"), std::string::npos);
+  EXPECT_EQ(error(raw_bytes(good, 24, -1.0)), "no error");  // negative values mean "missing"
 }
 
 }  // namespace

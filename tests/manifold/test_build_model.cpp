@@ -11,7 +11,7 @@
 #include "core/error.h"
 #include "manifold/build.h"
 #include "manifold/export.h"
-#include "manifold/model.h"
+#include "manifold/model_metadata.h"
 #include "manifold/project.h"
 #include "support/error_of.h"
 #include "support/temp_dir.h"
@@ -147,6 +147,13 @@ TEST_F(BuiltModel, ProjectionFindsAnInputAtItsOwnPoint) {
   // A new material from the same family projects with a small residual.
   const Projection q = project_material(m, test::smooth_table(0.5, 0.5));
   EXPECT_LT(q.relative_error, q.nearest_relative_error + 1e-12);
+}
+
+TEST(NearestMaterials, AreSortedByDistanceWithTiesInIndexOrder) {
+  const Eigen::VectorXd d2 = (Eigen::VectorXd(5) << 4.0, 1.0, 9.0, 1.0, 0.5).finished();
+  EXPECT_EQ(nearest_materials(d2, 3), (std::vector<int>{4, 1, 3}));
+  EXPECT_EQ(nearest_materials(d2, 9), (std::vector<int>{4, 1, 3, 0, 2}));  // no more than there are
+  EXPECT_TRUE(nearest_materials(d2, 0).empty());
 }
 
 TEST_F(BuiltModel, ProjectionGradientMatchesFiniteDifferences) {

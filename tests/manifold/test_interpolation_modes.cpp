@@ -7,7 +7,7 @@
 
 #include "gp/likelihood.h"
 #include "manifold/build.h"
-#include "manifold/model.h"
+#include "manifold/model_metadata.h"
 #include "support/temp_dir.h"
 #include "synthetic_database.h"
 

@@ -164,6 +164,34 @@ TEST(Render, TabulatedGgxRendersLikeTheAnalyticBrdf) {
   EXPECT_LT(std::sqrt(diff2 / norm2), 0.08);
 }
 
+TEST(Render, ATableCombinationIsTheWeightedSumOfItsTables) {
+  // Two small tables (coarse grid) with missing bins in one: the combination's value at any pair
+  // of directions is a*T1 + b*T2 with missing values read as 0, and its render is the same
+  // weighted sum of the tables' renders (the estimator is linear in f with shared samples; the
+  // coefficients sum to 1 so that the background, which no BRDF touches, is the same too).
+  const MerlDims dims{8, 8, 16};
+  const BrdfTable t1 = tabulate(Lambertian{Rgb(0.8, 0.4, 0.2)}, dims);
+  BrdfTable t2 = tabulate(GgxConductor{Rgb(0.9, 0.6, 0.5), 0.4}, dims);
+  for (std::size_t b = 0; b < t2.bins(); b += 7) t2.set_missing(1, b);
+  const TableCombination mix({&t1, &t2}, {1.25, -0.25});
+  for (const auto& [wi, wo] : {std::pair{Vec3(0, 0, 1), Vec3(0.3, 0.1, 0.9).normalized()},
+                               std::pair{Vec3(0.6, -0.2, 0.5).normalized(), Vec3(-0.5, 0.2, 0.6).normalized()}}) {
+    const Rgb expected = 1.25 * t1.lookup(wi, wo) - 0.25 * t2.lookup(wi, wo);
+    const Rgb got = mix.eval(wi, wo);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], expected[c], 1e-12 * (1 + std::abs(expected[c])));
+  }
+  const Scene scene(SceneDescription{}, std::nullopt, Environment(test::synthetic_environment()));
+  const RenderSettings settings = small(16, 4);
+  const Image a = render(scene, TableMaterial(t1), settings), b = render(scene, TableMaterial(t2), settings);
+  const Image m = render(scene, mix, settings);
+  for (std::size_t k = 0; k < m.rgb.size(); ++k)
+    ASSERT_NEAR(m.rgb[k], 1.25 * a.rgb[k] - 0.25 * b.rgb[k], 1e-5 * (1 + std::abs(a.rgb[k]) + std::abs(b.rgb[k]))) << k;
+  EXPECT_THROW(TableCombination({&t1}, {1.0, 2.0}), Error);
+  EXPECT_THROW(TableCombination({}, {}), Error);
+  const BrdfTable other(MerlDims{4, 4, 8});
+  EXPECT_THROW(TableCombination({&t1, &other}, {1.0, 1.0}), Error);
+}
+
 TEST(Render, IsLinearInTheBrdfAndDeterministic) {
   SceneDescription d;
   d.ground = true;

@@ -18,8 +18,7 @@
 #include "manifold/model.h"
 #include "server/atlas_server.h"
 #include "server/basis_previews.h"
-#include "server/fast_png.h"
-#include "server/latent_map_layer.h"
+#include "formats/fast_png.h"
 #include "support/temp_dir.h"
 
 // Last: httplib.h defines a `_res` macro (from <resolv.h>) that breaks Eigen headers after it.
@@ -128,29 +127,6 @@ TEST_F(ApiServerTest, ModelDescribesNamesLatentPointsAndBounds) {
   EXPECT_EQ(j["interpolation"], "convex");
   EXPECT_DOUBLE_EQ(j["uncertainty"]["fade_from"].get<double>(), 0.5);
   EXPECT_DOUBLE_EQ(j["uncertainty"]["fade_to"].get<double>(), 0.9);
-}
-
-TEST_F(ApiServerTest, AlbedoLayerIsTransparentFarFromTheDataAndOpaqueAtIt) {
-  // A rectangle around material 0 (tiny: every cell at the data) and one in the domain's corner.
-  const Eigen::VectorXd lo = model_->latent_min(), hi = model_->latent_max(), x0 = model_->latent().row(0).transpose();
-  MapLayerRequest r;
-  r.base = x0;
-  r.width = r.height = 4;
-  const double e = 1e-6 * (hi - lo).maxCoeff();
-  r.x0 = x0[0] - e, r.x1 = x0[0] + e, r.y0 = x0[1] - e, r.y1 = x0[1] + e;
-  const std::vector<unsigned char> near = map_layer_pixels(*model_, r);
-  ASSERT_EQ(near.size(), 64u);
-  for (std::size_t k = 3; k < near.size(); k += 4) EXPECT_EQ(near[k], 255);
-  const Eigen::VectorXd span = hi - lo;
-  r.x0 = lo[0] - span[0], r.x1 = lo[0] - 0.8 * span[0], r.y0 = lo[1] - span[1], r.y1 = lo[1] - 0.8 * span[1];
-  Eigen::VectorXd corner = x0;
-  corner[0] = r.x0, corner[1] = r.y0;
-  ASSERT_GT(model_->variance(corner), 0.9) << "the test needs a corner far from the data";
-  const std::vector<unsigned char> far = map_layer_pixels(*model_, r);
-  EXPECT_EQ(far[(3 * 4 + 0) * 4 + 3], 0) << "bottom-left cell, at the corner";
-  r.layer = MapLayer::variance;  // other layers are opaque
-  const std::vector<unsigned char> var = map_layer_pixels(*model_, r);
-  for (std::size_t k = 3; k < var.size(); k += 4) EXPECT_EQ(var[k], 255);
 }
 
 TEST_F(ApiServerTest, PreviewIsTheImageBasisComposedAtTheWeightsOfX) {

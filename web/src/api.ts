@@ -1,23 +1,82 @@
 // Typed client of the matlas JSON API (docs/API.md).
 
+// The types below mirror docs/api.schema.json one to one (same names, fields and optionality);
+// web/tests/api-schema.test.mjs checks that they do, and that a live server's answers match.
+
+/** A latent point: q numbers. */
+export type Point = number[];
+export type Rgb = [number, number, number];
+
+export interface Range {
+  min: Point;
+  max: Point;
+}
+
+export interface TopWeight {
+  index: number;
+  name: string;
+  weight: number;
+}
+
+export interface ErrorReply {
+  error: string;
+}
+
 export interface ModelInfo {
   name: string;
   count: number;
   dim: number;
   names: string[];
-  latent: number[][];
+  latent: Point[];
   /** sRGB colour (0..255) of each material's albedo at normal incidence. */
-  colors: [number, number, number][];
-  bounds: { min: number[]; max: number[] };
-  domain: { min: number[]; max: number[] };
+  colors: Rgb[];
+  bounds: Range;
+  domain: Range;
   dims: [number, number, number];
   scenes: { envs: string[]; objects: string[]; default_env: string; default_object: string };
   preview: { size: number; drag_size: number; max_size: number };
   layers: string[];
+  /** Number of theta_o bins of the albedo curves. */
+  albedo_angles: number;
   /** How m(x) mixes the inputs: "gp" (the paper's GP weights) or "convex"; absent in older servers. */
-  interpolation?: string;
+  interpolation?: "gp" | "convex";
   /** Predictive variances over which the albedo layer fades into "no data here". */
   uncertainty?: { fade_from: number; fade_to: number };
+}
+
+export interface PointRequest {
+  x: Point;
+}
+
+export interface PreviewRequest {
+  x: Point;
+  env?: string;
+  object?: string;
+  size?: number;
+}
+
+export interface WeightsRequest {
+  x: Point;
+  top?: number;
+}
+
+export interface SliceRequest {
+  x: Point;
+  phi_d?: number;
+}
+
+export interface LobeRequest {
+  x: Point;
+  theta_i?: number;
+  samples?: number;
+}
+
+export interface MapRequest {
+  layer?: "albedo" | "variance" | "plausibility";
+  axes?: [number, number];
+  x: Point;
+  rect: [number, number, number, number];
+  size: [number, number];
 }
 
 export interface Plausibility {
@@ -30,28 +89,37 @@ export interface Plausibility {
 }
 
 export interface WeightsReply {
+  x: Point;
   weights: number[];
   variance: number;
-  top: { index: number; name: string; weight: number }[];
+  top: TopWeight[];
   plausibility: Plausibility;
 }
 
 export interface LobeReply {
   theta_i: number;
   theta_o: number[];
-  rgb: [number, number, number][];
+  rgb: Rgb[];
 }
 
 export interface AlbedoReply {
   theta_o: number[];
-  rgb: [number, number, number][];
+  rgb: Rgb[];
+}
+
+export interface Nearest {
+  index: number;
+  name: string;
+  residual: number;
 }
 
 export interface ProjectReply {
-  x: number[];
+  x: Point;
   residual: number;
   variance: number;
-  top: { index: number; name: string; weight: number }[];
+  missing: number;
+  nearest: Nearest | null;
+  top: TopWeight[];
 }
 
 export class ApiError extends Error {
@@ -64,7 +132,7 @@ async function check(res: Response): Promise<Response> {
   if (res.ok) return res;
   let message = `${res.status} ${res.statusText}`;
   try {
-    const body = await res.json();
+    const body = (await res.json()) as Partial<ErrorReply> | null;
     if (body && typeof body.error === "string") message = body.error;
   } catch {
     /* not JSON */
@@ -72,7 +140,7 @@ async function check(res: Response): Promise<Response> {
   throw new ApiError(res.status, message);
 }
 
-function post(path: string, body: unknown, signal?: AbortSignal): Promise<Response> {
+function post<B extends PointRequest>(path: string, body: B, signal?: AbortSignal): Promise<Response> {
   return fetch(path, {
     method: "POST",
     headers: { "Content-Type": "application/json" },
@@ -83,21 +151,17 @@ function post(path: string, body: unknown, signal?: AbortSignal): Promise<Respon
 
 export const api = {
   model: (): Promise<ModelInfo> => fetch("api/model").then(check).then((r) => r.json()),
-  preview: (x: number[], env: string, object: string, size: number, signal?: AbortSignal): Promise<Blob> =>
-    post("api/preview", { x, env, object, size }, signal).then((r) => r.blob()),
-  weights: (x: number[], top = 8): Promise<WeightsReply> => post("api/weights", { x, top }).then((r) => r.json()),
-  slice: (x: number[], phi_d: number): Promise<Blob> => post("api/slice", { x, phi_d }).then((r) => r.blob()),
-  lobe: (x: number[], theta_i: number): Promise<LobeReply> =>
-    post("api/lobe", { x, theta_i, samples: 181 }).then((r) => r.json()),
-  albedo: (x: number[]): Promise<AlbedoReply> => post("api/albedo", { x }).then((r) => r.json()),
-  map: (body: {
-    layer: string;
-    axes: [number, number];
-    x: number[];
-    rect: [number, number, number, number];
-    size: [number, number];
-  }): Promise<Blob> => post("api/map", body).then((r) => r.blob()),
-  exportMerl: (x: number[]): Promise<Blob> => post("api/export", { x }).then((r) => r.blob()),
+  preview: (x: Point, env: string, object: string, size: number, signal?: AbortSignal): Promise<Blob> =>
+    post("api/preview", { x, env, object, size } satisfies PreviewRequest, signal).then((r) => r.blob()),
+  weights: (x: Point, top = 8): Promise<WeightsReply> =>
+    post("api/weights", { x, top } satisfies WeightsRequest).then((r) => r.json()),
+  slice: (x: Point, phi_d: number): Promise<Blob> =>
+    post("api/slice", { x, phi_d } satisfies SliceRequest).then((r) => r.blob()),
+  lobe: (x: Point, theta_i: number): Promise<LobeReply> =>
+    post("api/lobe", { x, theta_i, samples: 181 } satisfies LobeRequest).then((r) => r.json()),
+  albedo: (x: Point): Promise<AlbedoReply> => post("api/albedo", { x }).then((r) => r.json()),
+  map: (body: MapRequest): Promise<Blob> => post("api/map", body).then((r) => r.blob()),
+  exportMerl: (x: Point): Promise<Blob> => post("api/export", { x }).then((r) => r.blob()),
   project: (file: Blob): Promise<ProjectReply> =>
     fetch("api/project", { method: "POST", headers: { "Content-Type": "application/octet-stream" }, body: file })
       .then(check)

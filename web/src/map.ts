@@ -6,14 +6,11 @@
 // +/- zoom, 0 resets the view. Labels are decluttered (labels.ts): those that would overlap are
 // hidden, shown on hover, and come back as zooming in spreads the markers. Where the albedo layer
 // is transparent (far from the data) a hatched grey says "no data here".
-import { isolation, overlaps, placeLabels, type Box } from "./labels";
+import type { Box } from "./labels";
+import { MapPainter, type MapFrame, type MapLayerImage, type MapMarker, type MapPath, type ViewRect } from "./map-draw";
+import { clamp, coreBox, MARGIN } from "./map-geometry";
 
-export interface ViewRect {
-  x0: number;
-  x1: number;
-  y0: number;
-  y1: number;
-}
+export type { MapMarker, ViewRect } from "./map-draw";
 
 export interface MapCallbacks {
   /** The current point moved (dragging: the pointer is still down). */
@@ -22,23 +19,19 @@ export interface MapCallbacks {
   viewChanged(rect: ViewRect): void;
 }
 
-export interface MapMarker {
-  x: number[];
-  label: string;
-}
-
-export class LatentMap {
+export class LatentMap implements MapFrame {
   axes: [number, number] = [0, 1];
   point: number[];
   showLabels = true;
-  path: { a: number[]; b: number[]; samples: number[][] } | null = null;
+  path: MapPath | null = null;
   projected: MapMarker | null = null;
 
   private cx = 0;
   private cy = 0;
   /** Half the view's width in latent units (its height follows the canvas' aspect). */
   private half = 1;
-  private layer: { image: ImageBitmap; rect: ViewRect; hatched: boolean } | null = null;
+  /** The background layer (read by the painter). */
+  layer: MapLayerImage | null = null;
   /** The labels drawn by the last frame (decluttered; not the hovered one), for the page and tests. */
   labelBoxes: { index: number; box: Box }[] = [];
   /** Materials whose marker is inside the canvas in the last frame. */
@@ -47,19 +40,19 @@ export class LatentMap {
   hoverLabel: { index: number; box: Box } | null = null;
   /** Called after each frame (the page updates its label count). */
   onDrawn: (() => void) | null = null;
-  private widths = new Map<number, number>();
-  private hatch: CanvasPattern | null = null;
+  private readonly painter = new MapPainter();
   private dragging = false;
   /** Panning: the latent point held under the pointer. */
   private panAnchor: [number, number] | null = null;
-  private hovered: number | null = null;
+  /** The hovered material (read by the painter). */
+  hovered: number | null = null;
   private frame = 0;
 
   constructor(
-    private readonly canvas: HTMLCanvasElement,
-    private readonly latent: number[][],
-    private readonly names: string[],
-    private readonly colors: [number, number, number][],
+    readonly canvas: HTMLCanvasElement,
+    readonly latent: number[][],
+    readonly names: string[],
+    readonly colors: [number, number, number][],
     private readonly domain: { min: number[]; max: number[] },
     private readonly bounds: { min: number[]; max: number[] },
     private readonly cb: MapCallbacks,
@@ -151,7 +144,11 @@ export class LatentMap {
     if (this.frame) return;
     this.frame = requestAnimationFrame(() => {
       this.frame = 0;
-      this.draw();
+      const drawn = this.painter.draw(this);
+      this.labelBoxes = drawn.labelBoxes;
+      this.visibleMaterials = drawn.visibleMaterials;
+      this.hoverLabel = drawn.hoverLabel;
+      this.onDrawn?.();
     });
   }
 
@@ -289,241 +286,4 @@ export class LatentMap {
     this.redraw();
     this.cb.move(x, false, e.timeStamp);
   }
-
-  private draw(): void {
-    const c = this.canvas;
-    const dpr = window.devicePixelRatio || 1;
-    const r = c.getBoundingClientRect();
-    const w = Math.max(1, Math.round(r.width * dpr)), h = Math.max(1, Math.round(r.height * dpr));
-    if (c.width !== w || c.height !== h) {
-      c.width = w;
-      c.height = h;
-    }
-    const g = c.getContext("2d")!;
-    g.setTransform(dpr, 0, 0, dpr, 0, 0);
-    g.fillStyle = "#101216";
-    g.fillRect(0, 0, r.width, r.height);
-    const [a, b] = this.axes;
-
-    if (this.layer) {
-      const { x0, x1, y0, y1 } = this.layer.rect;
-      const [sx0, sy0] = this.toScreen(x0, y1);
-      const [sx1, sy1] = this.toScreen(x1, y0);
-      g.imageSmoothingEnabled = true;
-      if (this.layer.hatched) {
-        g.fillStyle = this.hatchPattern(g);
-        g.fillRect(sx0, sy0, sx1 - sx0, sy1 - sy0);
-      }
-      g.globalAlpha = this.layer.hatched ? 1 : 0.9;  // the hatch must not show through the data
-      g.drawImage(this.layer.image, sx0, sy0, sx1 - sx0, sy1 - sy0);
-      g.globalAlpha = 1;
-    }
-    this.drawGrid(g, r.width, r.height);
-
-    if (this.path) {
-      const [ax, ay] = this.toScreen(this.path.a[a], this.path.a[b]);
-      const [bx, by] = this.toScreen(this.path.b[a], this.path.b[b]);
-      g.strokeStyle = "#f5c04a";
-      g.lineWidth = 2;
-      g.setLineDash([6, 4]);
-      g.beginPath();
-      g.moveTo(ax, ay);
-      g.lineTo(bx, by);
-      g.stroke();
-      g.setLineDash([]);
-      g.fillStyle = "#f5c04a";
-      for (const s of this.path.samples) {
-        const [sx, sy] = this.toScreen(s[a], s[b]);
-        g.fillRect(sx - 2, sy - 2, 4, 4);
-      }
-    }
-
-    g.font = "11px system-ui, sans-serif";
-    g.textBaseline = "middle";
-    // Markers inside the canvas, and their decluttered labels.
-    const visible: number[] = [], xs: number[] = [], ys: number[] = [];
-    this.latent.forEach((p, i) => {
-      const [sx, sy] = this.toScreen(p[a], p[b]);
-      if (sx < -8 || sy < -8 || sx > r.width + 8 || sy > r.height + 8) return;
-      visible.push(i);
-      xs.push(sx);
-      ys.push(sy);
-    });
-    this.visibleMaterials = visible.length;
-    const labelHeight = 15;
-    let boxes: (Box | null)[] = visible.map(() => null);
-    if (this.showLabels) {
-      const priority = isolation(xs, ys);
-      boxes = placeLabels(
-        visible.map((i, k) => ({ x: xs[k], y: ys[k], width: this.labelWidth(g, i), height: labelHeight, priority: priority[k] })),
-        r.width, r.height, 7);
-    }
-    this.labelBoxes = [];
-    this.hoverLabel = null;
-    visible.forEach((i, k) => {
-      const [sx, sy] = [xs[k], ys[k]];
-      const [cr, cg, cb] = this.colors[i] ?? [200, 200, 200];
-      g.beginPath();
-      g.arc(sx, sy, i === this.hovered ? 7 : 5, 0, 2 * Math.PI);
-      g.fillStyle = `rgb(${cr},${cg},${cb})`;
-      g.fill();
-      g.lineWidth = i === this.hovered ? 2 : 1;
-      g.strokeStyle = i === this.hovered ? "#ffffff" : "rgba(255,255,255,0.55)";
-      g.stroke();
-    });
-    visible.forEach((i, k) => {
-      const box = boxes[k];
-      if (!box) return;
-      this.labelBoxes.push({ index: i, box });
-      this.drawLabel(g, i, box, i === this.hovered ? "#ffffff" : "#c9ced8", false);
-    });
-    if (this.hovered !== null && !this.labelBoxes.some((l) => l.index === this.hovered)) {
-      // A hidden label on hover: on top of the others, on a dark plate.
-      const i = this.hovered;
-      const [sx, sy] = this.toScreen(this.latent[i][a], this.latent[i][b]);
-      const w = this.labelWidth(g, i);
-      const x0 = sx + 10 + w > r.width ? sx - 10 - w : sx + 10;
-      const box = { x0, y0: sy - labelHeight / 2, x1: x0 + w, y1: sy + labelHeight / 2 };
-      this.hoverLabel = { index: i, box };
-      this.drawLabel(g, i, box, "#ffffff", true);
-    }
-
-    if (this.projected) {
-      const [sx, sy] = this.toScreen(this.projected.x[a], this.projected.x[b]);
-      g.save();
-      g.translate(sx, sy);
-      g.rotate(Math.PI / 4);
-      g.fillStyle = "#58d68d";
-      g.strokeStyle = "#0b0c0f";
-      g.lineWidth = 1.5;
-      g.fillRect(-6, -6, 12, 12);
-      g.strokeRect(-6, -6, 12, 12);
-      g.restore();
-      // Its name, unless it would cover a material's label (the status line names it too).
-      const w = g.measureText(this.projected.label).width;
-      const box = { x0: sx + 10, y0: sy - 17, x1: sx + 10 + w, y1: sy - 3 };
-      if (!this.labelBoxes.some((l) => overlaps(l.box, box))) {
-        g.fillStyle = "#58d68d";
-        g.fillText(this.projected.label, sx + 10, sy - 10);
-      }
-    }
-
-    const [px, py] = this.toScreen(this.point[a], this.point[b]);
-    g.strokeStyle = "#ffffff";
-    g.lineWidth = 2;
-    g.beginPath();
-    g.arc(px, py, 9, 0, 2 * Math.PI);
-    g.stroke();
-    g.strokeStyle = "#4aa3ff";
-    g.beginPath();
-    g.moveTo(px - 14, py); g.lineTo(px - 5, py);
-    g.moveTo(px + 5, py); g.lineTo(px + 14, py);
-    g.moveTo(px, py - 14); g.lineTo(px, py - 5);
-    g.moveTo(px, py + 5); g.lineTo(px, py + 14);
-    g.stroke();
-    this.onDrawn?.();
-  }
-
-  private labelWidth(g: CanvasRenderingContext2D, i: number): number {
-    let w = this.widths.get(i);
-    if (w === undefined) {
-      w = Math.ceil(g.measureText(this.names[i]).width) + 6;
-      this.widths.set(i, w);
-    }
-    return w;
-  }
-
-  private drawLabel(g: CanvasRenderingContext2D, i: number, box: Box, colour: string, plate: boolean): void {
-    if (plate) {
-      g.fillStyle = "rgba(12,13,16,0.9)";
-      g.fillRect(box.x0, box.y0, box.x1 - box.x0, box.y1 - box.y0);
-    }
-    const y = 0.5 * (box.y0 + box.y1);
-    g.lineWidth = 3;
-    g.strokeStyle = "rgba(16,18,22,0.85)";
-    g.strokeText(this.names[i], box.x0 + 3, y);
-    g.fillStyle = colour;
-    g.fillText(this.names[i], box.x0 + 3, y);
-  }
-
-  /** "No data here": mid grey with dark diagonals (the same look as `matlas map`). */
-  private hatchPattern(g: CanvasRenderingContext2D): CanvasPattern | string {
-    if (!this.hatch) {
-      const c = document.createElement("canvas");
-      c.width = c.height = 9;
-      const h = c.getContext("2d")!;
-      h.fillStyle = "#666a70";
-      h.fillRect(0, 0, 9, 9);
-      h.strokeStyle = "#2a2c30";
-      h.lineWidth = 2;
-      h.beginPath();
-      for (const o of [-9, 0, 9]) {
-        h.moveTo(o, 9);
-        h.lineTo(o + 9, 0);
-      }
-      h.stroke();
-      this.hatch = g.createPattern(c, "repeat");
-    }
-    return this.hatch ?? "#666a70";
-  }
-
-  private drawGrid(g: CanvasRenderingContext2D, width: number, height: number): void {
-    const span = 2 * this.half;
-    const step = niceStep(span / 6);
-    g.strokeStyle = "rgba(255,255,255,0.07)";
-    g.fillStyle = "rgba(255,255,255,0.35)";
-    g.lineWidth = 1;
-    g.font = "10px system-ui, sans-serif";
-    const { x0, x1, y0, y1 } = this.view;
-    for (let u = Math.ceil(x0 / step) * step; u <= x1; u += step) {
-      const [sx] = this.toScreen(u, 0);
-      g.beginPath(); g.moveTo(sx, 0); g.lineTo(sx, height); g.stroke();
-      g.fillText(fmt(u, step), sx + 3, height - 8);
-    }
-    for (let v = Math.ceil(y0 / step) * step; v <= y1; v += step) {
-      const [, sy] = this.toScreen(0, v);
-      g.beginPath(); g.moveTo(0, sy); g.lineTo(width, sy); g.stroke();
-      g.fillText(fmt(v, step), 4, sy - 6);
-    }
-  }
-}
-
-/**
- * The box of the materials within 4 median distances of the per-axis median point (at least half
- * of them), as `matlas map --frame core`: the crowd when a few outliers stretch the data's box.
- */
-export function coreBox(points: number[][]): [number[], number[]] {
-  const median = (v: number[]) => v.slice().sort((x, y) => x - y)[v.length >> 1];
-  const mu = median(points.map((p) => p[0])), mv = median(points.map((p) => p[1]));
-  const d = points.map((p) => Math.hypot(p[0] - mu, p[1] - mv));
-  const limit = 4 * median(d);
-  const lo = [Infinity, Infinity], hi = [-Infinity, -Infinity];
-  points.forEach((p, i) => {
-    if (d[i] > limit) return;
-    for (const k of [0, 1]) {
-      lo[k] = Math.min(lo[k], p[k]);
-      hi[k] = Math.max(hi[k], p[k]);
-    }
-  });
-  return [lo, hi];
-}
-
-/** Margin of the fitted view on every side, as a fraction of the data box's longer side (as `matlas map`). */
-const MARGIN = 0.1;
-
-function clamp(v: number, lo: number, hi: number): number {
-  return Math.min(hi, Math.max(lo, v));
-}
-
-function niceStep(raw: number): number {
-  const p = Math.pow(10, Math.floor(Math.log10(raw)));
-  const m = raw / p;
-  return (m < 1.5 ? 1 : m < 3.5 ? 2 : m < 7.5 ? 5 : 10) * p;
-}
-
-/** A grid value with as many decimals as the grid's step needs (ticks stay distinct when zoomed in). */
-function fmt(v: number, step: number): string {
-  if (Math.abs(v) < 1e-9 * step) return "0";
-  const decimals = Math.max(0, Math.min(10, -Math.floor(Math.log10(step) + 1e-9)));
-  return v.toFixed(decimals);
 }

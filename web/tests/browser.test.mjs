@@ -9,44 +9,26 @@
 // path tool fills its strip; shift+drag and alt+arrows pan the map; the plausibility line and layer;
 // drawn labels never overlap (fitted and zoomed in) and a hidden one shows on hover; the
 // interpolation badge says the model's mode; the albedo layer is transparent far from the data.
-// Screenshots go to test-results/browser.png and test-results/map-zoomed.png.
+// Scene switching (issue #12): a scene being prepared is retried with progress shown, a stale
+// error disappears after a later success, environment and object changed together render that one
+// combination, a newer scene supersedes one still being prepared, and the tooltip falls back to
+// the default scene's thumbnails while the chosen one is prepared.
+// Screenshots go to test-results/ (browser.png, map-zoomed.png, scene-*.png, error-*.png).
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
-import { spawn } from "node:child_process";
 import { mkdtempSync, readFileSync, mkdirSync, rmSync, readdirSync } from "node:fs";
 import { tmpdir } from "node:os";
-import { join, resolve } from "node:path";
+import { join } from "node:path";
 import { chromium } from "playwright-core";
 
-const here = resolve(import.meta.dirname, "..");
-const bin = resolve(process.env.MATLAS_BIN ?? join(here, "..", "build", "matlas"));
+import { startDemo, webDir as here } from "./server.mjs";
+
 const chromiumPath = process.env.CHROMIUM ?? "/usr/bin/chromium";
 const work = mkdtempSync(join(tmpdir(), "matlas-browser-"));
 const results = join(here, "test-results");
 mkdirSync(results, { recursive: true });
 
 let server, url, context, page;
-
-function startServer() {
-  return new Promise((resolvePromise, reject) => {
-    server = spawn(bin, [
-      "demo", "--grid", "16,16,32", "--size", "128", "--spp", "8", "--port", "0",
-      "--cache", join(work, "cache"), "--web-root", join(here, "dist"),
-    ], { stdio: ["ignore", "pipe", "pipe"] });
-    let out = "", err = "";
-    const timer = setTimeout(() => reject(new Error(`matlas demo did not start:\n${out}\n${err}`)), 120_000);
-    server.stdout.on("data", (d) => {
-      out += d;
-      const m = out.match(/open (http:\/\/\S+)/);
-      if (m) {
-        clearTimeout(timer);
-        resolvePromise(m[1]);
-      }
-    });
-    server.stderr.on("data", (d) => (err += d));
-    server.on("exit", (code) => reject(new Error(`matlas demo exited (${code}):\n${out}\n${err}`)));
-  });
-}
 
 async function api(path, body) {
   const res = await fetch(new URL(path, url), body === undefined ? {} : {
@@ -77,7 +59,7 @@ async function settled() {
 }
 
 before(async () => {
-  url = await startServer();
+  ({ url, server } = await startDemo(work));
   context = await chromium.launchPersistentContext(join(work, "profile"), {
     executablePath: chromiumPath,
     headless: true,
@@ -164,7 +146,11 @@ test("the plausibility line and map layer describe the current point", async () 
   const [mx, my] = await page.evaluate(() => window.matlas.map.materialClientPosition(1));
   await page.mouse.click(mx, my);
   await settled();
-  await page.waitForFunction(() => /plausible/.test(document.getElementById("plausibility").textContent), null, { timeout: 10_000 });
+  // The panels of this point (not those of the previous one, still shown under load).
+  await page.waitForFunction(() => {
+    const m = window.matlas;
+    return m.lastWeights && JSON.stringify(m.lastWeights.x) === JSON.stringify(m.x);
+  }, null, { timeout: 10_000 });
   const line = await page.textContent("#plausibility");
   assert.match(line, /^physically plausible: albedo/, line);
   const layer = page.waitForResponse((r) => r.url().endsWith("/api/map") && r.request().postData().includes("plausibility"));
@@ -316,4 +302,125 @@ test("the crowd button frames at least half of the materials, labels still apart
   await page.click("#reset-view");
   await page.waitForTimeout(100);
   assert.equal((await labelState()).visible, s.count, "fit shows every material again");
+});
+
+// --- scene switching (issue #12): retry with progress, stale errors, one combination ---
+
+/** Waits until the preview shows the full-size image of the current point in scene env/object. */
+async function settledIn(env, object) {
+  await page.waitForFunction(([e, o]) => {
+    const m = window.matlas;
+    return m.env === e && m.object === o && m.shown && m.shown.env === e && m.shown.object === o &&
+      m.shown.size === m.model.preview.size && JSON.stringify(m.shown.x) === JSON.stringify(m.x);
+  }, [env, object], { timeout: 90_000 });
+}
+
+/** Checks that the preview is the server's image of the current point in the current scene. */
+async function previewIsServers() {
+  const s = await page.evaluate(() => ({ x: window.matlas.x, env: window.matlas.env, object: window.matlas.object, size: window.matlas.model.preview.size }));
+  assert.deepEqual(await imageBytes("#preview"), await api("api/preview", s), `the preview is the server's image in ${s.env}/${s.object}`);
+}
+
+/** The (env, object) of every preview request the page sends from now on. */
+function recordPreviewRequests() {
+  const seen = [];
+  const onRequest = (r) => {
+    if (r.url().endsWith("/api/preview")) {
+      const b = JSON.parse(r.postData());
+      seen.push(`${b.env}/${b.object}`);
+    }
+  };
+  page.on("request", onRequest);
+  return { seen, stop: () => page.off("request", onRequest) };
+}
+
+test("a scene being prepared is retried with progress shown, then appears", async () => {
+  const { envs, default_object: object } = await page.evaluate(() => window.matlas.model.scenes);
+  assert.ok(envs.length >= 3, `environments: ${envs}`);
+  const statuses = [];
+  const onResponse = (r) => r.url().endsWith("/api/preview") && statuses.push(r.status());
+  page.on("response", onResponse);
+  await page.selectOption("#env", envs[1]);
+  await page.waitForFunction(() => !document.getElementById("preview-progress").hidden, null, { timeout: 10_000 });
+  assert.match(await page.textContent("#preview-progress"), new RegExp(`preparing ${envs[1]} · ${object}`));
+  await page.locator(".preview-card").screenshot({ path: join(results, "scene-preparing.png") });
+  await settledIn(envs[1], object);
+  page.off("response", onResponse);
+  assert.ok(statuses.includes(503), `the server answered 503 first: ${statuses}`);
+  assert.equal(statuses[statuses.length - 1], 200);
+  assert.ok(await page.locator("#preview-progress").isHidden(), "progress hidden once the image is there");
+  assert.equal(await page.evaluate(() => window.matlas.preparing), null);
+  assert.equal(await page.getAttribute("#status", "class"), "status", "no error shown");
+  await previewIsServers();
+  await page.locator(".preview-card").screenshot({ path: join(results, "scene-ready.png") });
+});
+
+test("a preview error disappears once a later preview succeeds", async () => {
+  await page.route("**/api/preview", (route) => route.fulfill({
+    status: 500, contentType: "application/json", body: JSON.stringify({ error: "injected failure" }),
+  }), { times: 1 });
+  await page.locator("#map").focus();
+  await page.keyboard.press("ArrowRight");
+  await page.waitForFunction(() => document.getElementById("status").classList.contains("error"), null, { timeout: 10_000 });
+  assert.match(await page.textContent("#status"), /preview: injected failure/);
+  await page.locator(".preview-card").screenshot({ path: join(results, "error-shown.png") });
+  await page.keyboard.press("ArrowLeft");
+  await settled();
+  await page.waitForFunction(() => !document.getElementById("status").classList.contains("error"), null, { timeout: 10_000 });
+  assert.equal((await page.textContent("#status")).trim(), "", "the stale error is gone");
+  await previewIsServers();
+  await page.locator(".preview-card").screenshot({ path: join(results, "error-cleared.png") });
+});
+
+test("switching environment and object together renders that one combination", async () => {
+  const { envs, objects, default_object: obj0 } = await page.evaluate(() => window.matlas.model.scenes);
+  const env = envs[2], object = objects.find((o) => o !== obj0);
+  const requests = recordPreviewRequests();
+  const shownBefore = await page.evaluate(() => window.matlas.shownScenes.length);
+  await page.selectOption("#env", env);
+  await page.selectOption("#object", object);
+  await settledIn(env, object);
+  requests.stop();
+  assert.ok(requests.seen.length > 0 && requests.seen.every((s) => s === `${env}/${object}`),
+    `only ${env}/${object} was asked for: ${requests.seen}`);
+  const shown = await page.evaluate((n) => window.matlas.shownScenes.slice(n), shownBefore);
+  assert.deepEqual(shown, [`${env}/${object}`]);
+  await previewIsServers();
+  await page.locator(".preview-card").screenshot({ path: join(results, "scene-together.png") });
+});
+
+test("a newer scene supersedes one still being prepared", async () => {
+  const { envs, objects } = await page.evaluate(() => window.matlas.model.scenes);
+  const first = envs[envs.length - 1], object = await page.evaluate(() => window.matlas.object);
+  const second = objects.find((o) => o !== object);
+  const shownBefore = await page.evaluate(() => window.matlas.shownScenes.length);
+  await page.selectOption("#env", first);
+  // The server is preparing first/object: the page is retrying it when the object changes.
+  await page.waitForFunction((e) => window.matlas.preparing?.env === e, first, { timeout: 10_000 });
+  await page.selectOption("#object", second);
+  await settledIn(first, second);
+  // Long enough for the superseded scene to be ready on the server: its image must not show up.
+  await page.waitForTimeout(1500);
+  const shown = await page.evaluate((n) => window.matlas.shownScenes.slice(n), shownBefore);
+  assert.deepEqual(shown, [`${first}/${second}`], "the superseded scene was never shown");
+  await previewIsServers();
+  await page.locator(".preview-card").screenshot({ path: join(results, "scene-superseded.png") });
+});
+
+test("while the scene's thumbnails are being prepared, the tooltip shows the default scene's", async () => {
+  const { env, defaultEnv } = await page.evaluate(() => ({ env: window.matlas.env, defaultEnv: window.matlas.model.scenes.default_env }));
+  assert.notEqual(env, defaultEnv, "the tests above left a scene other than the default");
+  const busy = (route) => route.fulfill({ status: 503, contentType: "application/json", body: JSON.stringify({ error: "being prepared" }) });
+  const pattern = (u) => u.pathname.startsWith("/api/thumbnail/") && u.searchParams.get("env") === env;
+  await page.route(pattern, busy);
+  const [mx, my] = await page.evaluate(() => window.matlas.map.materialClientPosition(4));
+  await page.mouse.move(mx, my);
+  await page.waitForFunction((e) => {
+    const img = document.querySelector("#tooltip img");
+    return !document.getElementById("tooltip").hidden && img.complete && img.naturalWidth > 0 &&
+      new URL(img.src).searchParams.get("env") === e;
+  }, defaultEnv, { timeout: 10_000 });
+  await page.locator(".map-wrap").screenshot({ path: join(results, "tooltip-fallback.png") });
+  await page.unroute(pattern, busy);
+  await page.mouse.move(mx + 200, my + 200);
 });

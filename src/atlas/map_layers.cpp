@@ -1,0 +1,128 @@
+#include "atlas/map_layers.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "core/error.h"
+#include "formats/image_io.h"
+
+namespace matlas::atlas {
+
+namespace {
+
+constexpr std::array<MapLayer, 4> kLayers = {MapLayer::albedo, MapLayer::variance, MapLayer::plausibility,
+                                             MapLayer::image};
+
+const Eigen::Array3d kImplausibleSrgb(0.95, 0.16, 0.12);
+
+/// sRGB in [0, 1] -> linear.
+Eigen::Array3d linear_of(const Eigen::Array3d& srgb) {
+  Eigen::Array3d c;
+  for (int k = 0; k < 3; ++k) c[k] = srgb_decode(static_cast<float>(srgb[k]));
+  return c;
+}
+
+}  // namespace
+
+const char* to_string(MapLayer layer) {
+  switch (layer) {
+    case MapLayer::albedo: return "albedo";
+    case MapLayer::variance: return "variance";
+    case MapLayer::plausibility: return "plausibility";
+    case MapLayer::image: return "image";
+  }
+  return "?";
+}
+
+MapLayer map_layer_from_name(const std::string& name, const std::string& what) {
+  for (MapLayer l : kLayers)
+    if (name == to_string(l)) return l;
+  throw Error(what + " '" + name + "': expected albedo, variance, plausibility or image");
+}
+
+double uncertainty_fade(double variance, double from, double to) {
+  if (!(to > from)) return variance >= from ? 1.0 : 0.0;
+  const double t = std::clamp((variance - from) / (to - from), 0.0, 1.0);
+  return t * t * (3 - 2 * t);
+}
+
+Eigen::Array3d unknown_colour(int x, int y) {
+  // sRGB 0.46 grey with 2-pixel dark diagonals every 9 pixels.
+  const bool line = ((x + y) % 9 + 9) % 9 < 2;
+  return Eigen::Array3d::Constant(line ? 0.035 : 0.18);
+}
+
+Eigen::Array3d colour_map(double t) {
+  // A dark-to-warm ramp at 5 sRGB stops, interpolated in sRGB (web/src/style.css draws the same
+  // stops as the legend's swatch), then linearised.
+  static constexpr std::array<std::array<double, 3>, 5> kStops = {
+      {{0.05, 0.06, 0.10}, {0.18, 0.16, 0.38}, {0.55, 0.20, 0.45}, {0.92, 0.45, 0.30}, {0.99, 0.90, 0.60}}};
+  t = std::clamp(t, 0.0, 1.0) * (kStops.size() - 1);
+  const std::size_t i = std::min<std::size_t>(static_cast<std::size_t>(t), kStops.size() - 2);
+  const double f = t - static_cast<double>(i);
+  Eigen::Array3d srgb;
+  for (std::size_t c = 0; c < 3; ++c) srgb[static_cast<Eigen::Index>(c)] = kStops[i][c] * (1 - f) + kStops[i + 1][c] * f;
+  return linear_of(srgb);
+}
+
+Eigen::Array3d implausible_colour() { return linear_of(kImplausibleSrgb); }
+
+LayerCells layer_cells(const Model& model, const LatentGrid& grid, MapLayer layer, const LayerStyle& style,
+                       const PlausibilityProbe* probe) {
+  if (layer == MapLayer::image) throw Error("latent map: the image layer is composed from a basis (internal error)");
+  if (layer == MapLayer::plausibility && !probe) throw Error("plausibility layer without a probe (internal error)");
+  const auto cells = static_cast<std::size_t>(grid.points.rows());
+  LayerCells out;
+  out.colour.resize(cells);
+  out.fade.assign(cells, 0.0);
+  // The albedo and plausibility by matrix products over all cells at once.
+  Eigen::MatrixXd albedo;
+  std::vector<Plausibility> plausibility;
+  if (layer != MapLayer::variance) {
+    albedo = model.albedo_batch(grid.weights);  // rows 0..2: normal incidence
+    if (layer == MapLayer::plausibility) plausibility = probe->batch(grid.weights);
+  }
+  for (std::size_t k = 0; k < cells; ++k) {
+    const auto j = static_cast<Eigen::Index>(k);
+    if (layer == MapLayer::variance) {
+      out.colour[k] = colour_map(grid.variance[j]);
+      continue;
+    }
+    const Eigen::Array3d a = (albedo.block<3, 1>(0, j).array() * style.albedo_gain).max(0.0).min(1.0);
+    if (layer == MapLayer::albedo) {
+      out.colour[k] = a;
+      out.fade[k] = uncertainty_fade(grid.variance[j], style.fade_from, style.fade_to);
+    } else {
+      // Plausible: the albedo, dimmed. Not plausible: red, brighter the larger the violation
+      // (mixed in sRGB).
+      const double violation = plausibility[k].violation();
+      const double t = violation > 0 ? 0.45 + 0.55 * std::clamp(violation / 0.3, 0.0, 1.0) : 0.0;
+      Eigen::Array3d srgb;
+      for (int c = 0; c < 3; ++c) srgb[c] = srgb_encode(static_cast<float>(a[c]));
+      out.colour[k] = linear_of((1.0 - t) * 0.45 * srgb + t * kImplausibleSrgb);
+    }
+  }
+  return out;
+}
+
+std::vector<unsigned char> map_layer_pixels(const Model& model, const LatentPlane& plane, int width, int height,
+                                            MapLayer layer, const PlausibilityProbe* probe) {
+  const LayerCells cells = layer_cells(model, latent_grid(model, plane, width, height), layer, {}, probe);
+  std::vector<unsigned char> pixels(cells.colour.size() * 4);
+  for (std::size_t k = 0; k < cells.colour.size(); ++k) {
+    unsigned char* px = pixels.data() + k * 4;
+    for (int c = 0; c < 3; ++c)
+      px[c] = static_cast<unsigned char>(std::lround(255.0 * srgb_encode(static_cast<float>(cells.colour[k][c]))));
+    px[3] = static_cast<unsigned char>(std::lround(255.0 * (1.0 - cells.fade[k])));
+  }
+  return pixels;
+}
+
+std::string map_layer_png(const Model& model, const LatentPlane& plane, int width, int height, MapLayer layer,
+                          const PlausibilityProbe* probe) {
+  const std::vector<unsigned char> pixels = map_layer_pixels(model, plane, width, height, layer, probe);
+  return encode_png_srgba8(pixels.data(), width, height);
+}
+
+}  // namespace matlas::atlas

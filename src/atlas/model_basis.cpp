@@ -1,0 +1,48 @@
+#include "atlas/model_basis.h"
+
+#include <map>
+#include <vector>
+
+#include "atlas/model_material.h"
+#include "core/hash.h"
+#include "manifold/model_metadata.h"
+#include "render/render.h"
+#include "render/scene.h"
+
+namespace matlas::atlas {
+
+std::string model_fingerprint(const Model& model) {
+  Xxh3Hasher h;
+  h.update(model.metadata().dump());
+  const Eigen::MatrixXd& x = model.latent();
+  h.update(x.data(), static_cast<std::size_t>(x.size()) * sizeof(double));
+  return hex64(h.digest());
+}
+
+render::ImageBasis render_basis(const Model& model, const render::Scene& scene,
+                                const render::RenderSettings& settings, ProgressSink& progress) {
+  const ModelBank bank(model);
+  std::vector<Image> images = render::render_bank(scene, bank, settings, progress);
+  Image mean = std::move(images.front());
+  images.erase(images.begin());
+  const render::SceneDescription& d = scene.description();
+  std::map<std::string, std::string> meta;
+  meta["scene"] = d.object + (d.ground ? "+ground" : "");
+  meta["env"] = d.environment;
+  meta["env_rotation"] = std::to_string(d.environment_rotation);
+  meta["env_intensity"] = std::to_string(d.environment_intensity);
+  meta["camera"] = nlohmann::json{{"orthographic", d.camera.orthographic},
+                                  {"position", {d.camera.position.x(), d.camera.position.y(), d.camera.position.z()}},
+                                  {"target", {d.camera.target.x(), d.camera.target.y(), d.camera.target.z()}},
+                                  {"fov_degrees", d.camera.fov_degrees},
+                                  {"ortho_height", d.camera.ortho_height}}
+                       .dump();
+  meta["lights"] = std::to_string(d.lights.size());
+  meta["spp"] = std::to_string(settings.spp);
+  meta["seed"] = std::to_string(settings.seed);
+  meta["model"] = model.path().filename().string();
+  meta["model_fingerprint"] = model_fingerprint(model);
+  return render::ImageBasis(std::move(mean), images, model.names(), std::move(meta));
+}
+
+}  // namespace matlas::atlas

@@ -1,0 +1,27 @@
+#pragma once
+// Image bases of a model (render/image_basis.h): the images of its mean and of every database
+// material, from which any point of the map is composed.
+#include <string>
+
+#include "core/progress.h"
+#include "manifold/model.h"
+#include "render/image_basis.h"
+
+namespace matlas::render {
+class Scene;
+struct RenderSettings;
+}  // namespace matlas::render
+
+namespace matlas::atlas {
+
+/// Renders the basis of a model: the mean (w = 0) and every material i (w = e_i, i.e.
+/// Model::material_weights(i)) with identical samples. Metadata: names, spp, seed, width, height,
+/// scene fields, model name and fingerprint.
+render::ImageBasis render_basis(const Model& model, const render::Scene& scene, const render::RenderSettings& settings,
+                                ProgressSink& progress = null_progress());
+
+/// A short stable fingerprint of a model (hex of a 64-bit hash of its metadata and latent
+/// points), stored in bases to check they belong to a model.
+std::string model_fingerprint(const Model& model);
+
+}  // namespace matlas::atlas

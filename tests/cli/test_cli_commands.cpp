@@ -1,0 +1,152 @@
+// The commands called in-process through cli::run (cli/run.h): what they write, to which stream,
+// and the files they produce, against the library's own answers.
+#include <algorithm>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "brdf/catalog.h"
+#include "cli/in_process.h"
+#include "formats/merl_file.h"
+#include "formats/synth_database.h"
+#include "manifold/model.h"
+#include "support/temp_dir.h"
+
+namespace matlas {
+namespace {
+
+namespace fs = std::filesystem;
+
+using Output = test::CliOutput;
+Output call(const std::vector<std::string>& args) { return test::call_matlas(args); }
+
+#define EXPECT_CONTAINS(text, part) EXPECT_NE((text).find(part), std::string::npos) << (text)
+
+class CliCommands : public ::testing::Test {
+protected:
+  static void SetUpTestSuite() {
+    dir_ = new test::TempDir("matlas-cli-commands");
+    write_database(dir_->path() / "db", random_catalog(5, 11), null_progress(), MerlDims{8, 8, 16});
+    const Output r = call({"build", (dir_->path() / "db").string(), "-o", model().string(), "--quiet", "--dim", "2"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    ASSERT_TRUE(r.err.empty()) << r.err;  // --quiet: the report only, on stdout
+    ASSERT_NE(r.out.find("wrote " + model().string()), std::string::npos) << r.out;
+  }
+  static void TearDownTestSuite() { delete dir_; }
+  static fs::path model() { return dir_->path() / "m.matlas"; }
+  static fs::path material(int i) {
+    std::vector<fs::path> files;
+    for (const auto& e : fs::directory_iterator(dir_->path() / "db")) files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    return files.at(static_cast<std::size_t>(i));
+  }
+  static inline test::TempDir* dir_ = nullptr;
+};
+
+TEST_F(CliCommands, HelpListsExportAndCallsEvalADeprecatedAlias) {
+  const Output r = call({"--help"});
+  EXPECT_EQ(r.code, 0);
+  EXPECT_CONTAINS(r.out, "export");
+  EXPECT_CONTAINS(r.out, "alias: eval, deprecated");
+  EXPECT_TRUE(r.err.empty()) << r.err;
+  const Output v = call({"--version"});
+  EXPECT_EQ(v.code, 0);
+  EXPECT_CONTAINS(v.out, "matlas ");
+}
+
+TEST_F(CliCommands, ExportRefusesANonStandardGridUnderBothNames) {
+  for (const char* command : {"export", "eval"}) {
+    const Output r = call({command, model().string(), "--at", "0,0", "-o", (dir_->path() / "x.binary").string()});
+    EXPECT_EQ(r.code, 1) << command;
+    EXPECT_CONTAINS(r.err, "MERL files for other tools are 90x90x180");
+  }
+}
+
+TEST(CliExport, WritesTheMaterialAndEvalIsTheSameCommand) {
+  test::TempDir t;
+  write_database(t.path() / "db", random_catalog(3, 5), null_progress(), MerlDims{90, 90, 180});
+  const fs::path m = t.path() / "m.matlas", input_file = *fs::directory_iterator(t.path() / "db");
+  ASSERT_EQ(call({"build", (t.path() / "db").string(), "-o", m.string(), "--quiet", "--dim", "1"}).code, 0);
+  const std::string name = input_file.stem().string();
+  const fs::path a = t.path() / "a.binary", b = t.path() / "b.binary";
+  const Output r = call({"export", m.string(), "--material", name, "-o", a.string()});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_CONTAINS(r.out, "wrote " + a.string());
+  ASSERT_EQ(call({"eval", m.string(), "--material", name, "-o", b.string()}).code, 0);
+  const BrdfTable exported = read_merl(a), again = read_merl(b), input = read_merl(input_file);
+  const auto x = exported.stored(), y = again.stored();
+  EXPECT_TRUE(std::equal(x.begin(), x.end(), y.begin(), y.end()));
+  // The model reproduces its inputs at their latent points (float32 storage).
+  double worst = 0, peak = 0;
+  for (std::size_t i = 0; i < input.stored().size(); ++i) {
+    worst = std::max(worst, std::abs(exported.stored()[i] - input.stored()[i]));
+    peak = std::max(peak, std::abs(input.stored()[i]));
+  }
+  EXPECT_LT(worst, 1e-4 * peak);
+}
+
+TEST_F(CliCommands, LatentJsonIsTheModelsNamesAndPoints) {
+  const Output r = call({"latent", model().string(), "--json"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  const Model m = Model::open(model());
+  EXPECT_EQ(j.at("q").get<int>(), 2);
+  ASSERT_EQ(j.at("materials").size(), 5u);
+  for (int i = 0; i < 5; ++i) {
+    const auto& e = j["materials"][static_cast<std::size_t>(i)];
+    EXPECT_EQ(e.at("name").get<std::string>(), material(i).stem().string());
+    EXPECT_DOUBLE_EQ(e.at("x")[0].get<double>(), m.latent()(i, 0));
+    EXPECT_DOUBLE_EQ(e.at("x")[1].get<double>(), m.latent()(i, 1));
+  }
+}
+
+TEST_F(CliCommands, WeightsAtAMaterialSelectItAndSumToOne) {
+  const std::string name = material(1).stem().string();
+  const Output r = call({"weights", model().string(), "--material", name, "--json"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_NEAR(j.at("sum").get<double>(), 1.0, 1e-9);
+  EXPECT_LT(j.at("variance").get<double>(), 1e-3);
+  for (const auto& w : j.at("weights"))
+    EXPECT_NEAR(w.at("w").get<double>(), w.at("name") == name ? 1.0 : 0.0, 1e-3) << w.dump();
+}
+
+TEST_F(CliCommands, ProjectFindsAnInputAndErrorsGoToTheErrorStream) {
+  const Output r = call({"project", model().string(), material(3).string(), "--json"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j.at("nearest").get<std::string>(), material(3).stem().string());
+  EXPECT_LT(j.at("relative_error").get<double>(), 1e-3);
+
+  const Output bad = call({"project", model().string(), (dir_->path() / "absent.binary").string()});
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_TRUE(bad.out.empty()) << bad.out;
+  EXPECT_CONTAINS(bad.err, "matlas: error: ");
+  EXPECT_CONTAINS(bad.err, "absent.binary");
+}
+
+TEST_F(CliCommands, UsageErrorsExitTwoNamingTheFlag) {
+  const Output r = call({"weights", model().string(), "--at", "0,0", "--top", "-1"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_CONTAINS(r.err, "--top");
+  EXPECT_EQ(call({"no-such-command"}).code, 2);
+  EXPECT_EQ(call({}).code, 2);  // a command is required
+}
+
+TEST_F(CliCommands, InfoAndSynthWriteTheirReportsToOut) {
+  test::TempDir t;
+  const Output s = call({"synth", "-o", (t.path() / "db").string(), "--count", "2", "--seed", "3"});
+  ASSERT_EQ(s.code, 0) << s.err;
+  EXPECT_EQ(std::count(s.out.begin(), s.out.end(), '\n'), 2) << s.out;  // one line per file
+  EXPECT_CONTAINS(s.err, "wrote 2 MERL files");
+  const Output i = call({"info", material(0).string()});
+  ASSERT_EQ(i.code, 0) << i.err;
+  EXPECT_CONTAINS(i.out, material(0).string());
+  EXPECT_CONTAINS(i.out, "dims            8 x 8 x 16");
+}
+
+}  // namespace
+}  // namespace matlas

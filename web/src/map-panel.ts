@@ -1,0 +1,128 @@
+// The map card: the latent map with its hover tooltip, the background layer over the visible
+// rectangle, the legend and label count, the toolbar (layer, labels, fit, crowd) and the
+// interpolation badge.
+import { api, type MapRequest, type ModelInfo } from "./api";
+import { $ } from "./dom";
+import { LatestOnly } from "./latest";
+import { LatentMap, type ViewRect } from "./map";
+import { setStatus } from "./status";
+
+/** A background layer, or none. */
+type MapKind = NonNullable<MapRequest["layer"]> | "none";
+
+export interface MapPanel {
+  map: LatentMap;
+  /** Asks for the background layer of the current view (debounced). */
+  refreshLayer(): void;
+}
+
+export function createMapPanel(
+  model: ModelInfo,
+  move: (x: number[], dragging: boolean, eventTime: number) => void,
+  scene: () => { env: string; object: string },
+): MapPanel {
+  showInterpolation(model.interpolation ?? "gp");
+  const tooltip = $("tooltip");
+  const thumb = tooltip.querySelector("img")!;
+  thumb.addEventListener("error", () => {
+    // The chosen scene is still being prepared (503): the default scene's thumbnail meanwhile.
+    const { default_env, default_object } = model.scenes;
+    const fallback = api.thumbnailUrl(Number(thumb.dataset.index), default_env, default_object);
+    if (thumb.getAttribute("src") !== fallback) thumb.src = fallback;
+  });
+  const layerSel = $<HTMLSelectElement>("layer");
+  let layerTimer = 0;
+  const layer = new LatestOnly<{ view: ViewRect; kind: MapKind; axes: [number, number]; x: number[] }, ImageBitmap | null>(
+    async ({ view, kind, axes, x }) => {
+      if (kind === "none") return null;
+      const rows = Math.max(4, Math.min(256, Math.round((128 * (view.y1 - view.y0)) / (view.x1 - view.x0))));
+      const blob = await api.map({ layer: kind, axes, x, rect: [view.x0, view.x1, view.y0, view.y1], size: [128, rows] });
+      return createImageBitmap(blob);
+    },
+    (bitmap, input) => map.setLayer(bitmap, input.view, input.kind === "albedo"),
+    (e) => setStatus(`map layer: ${(e as Error).message}`, true, "map layer"),
+  );
+  const refreshLayer = () => {
+    clearTimeout(layerTimer);
+    layerTimer = window.setTimeout(() => {
+      layer.request({ view: map.view, kind: layerSel.value as MapKind, axes: map.axes, x: map.point.slice() });
+    }, 120);
+  };
+
+  const map = new LatentMap(
+    $<HTMLCanvasElement>("map"), model.latent, model.names, model.colors, model.domain, model.bounds,
+    {
+      move,
+      hover: (i, cx, cy) => {
+        if (i === null) {
+          tooltip.hidden = true;
+          return;
+        }
+        const { env, object } = scene();
+        const key = `${i}/${env}/${object}`;
+        if (thumb.dataset.key !== key) {
+          thumb.dataset.key = key;
+          thumb.dataset.index = String(i);
+          thumb.src = api.thumbnailUrl(i, env, object);
+        }
+        tooltip.querySelector(".name")!.textContent = model.names[i];
+        const wrap = tooltip.parentElement!.getBoundingClientRect();
+        tooltip.style.left = `${Math.min(cx - wrap.left + 14, wrap.width - 140)}px`;
+        tooltip.style.top = `${Math.min(cy - wrap.top + 14, wrap.height - 150)}px`;
+        tooltip.hidden = false;
+      },
+      viewChanged: refreshLayer,
+    },
+  );
+
+  const fade = model.uncertainty ?? { fade_from: 0.5, fade_to: 0.9 };
+  const showLegend = () => {
+    const kind = layerSel.value;
+    const item = (swatch: string, text: string) => `<span class="item"><span class="swatch ${swatch}"></span>${text}</span>`;
+    $("legend-layer").innerHTML =
+      kind === "albedo"
+        ? item("fade", `albedo fades out from variance ${fade.fade_from}`) +
+          item("hatch", `no data here (variance &gt; ${fade.fade_to}): the model only has the database mean`)
+        : kind === "variance"
+          ? item("variance", "predictive variance 0 (at the data) → 1 (far away)")
+          : kind === "plausibility"
+            ? item("red", "not physically plausible (negative values or albedo outside [0, 1])")
+            : "";
+  };
+  showLegend();
+  let labelText = "";
+  map.onDrawn = () => {
+    const shown = map.labelBoxes.length, n = map.visibleMaterials;
+    const text = !map.showLabels ? "" : shown < n ? `${shown} of ${n} labels shown: hover a point or zoom in for the others` : "";
+    if (text !== labelText) $("label-count").textContent = labelText = text;
+  };
+
+  layerSel.addEventListener("change", () => {
+    if (layerSel.value === "none") map.setLayer(null, map.view);
+    showLegend();
+    refreshLayer();
+  });
+  $<HTMLInputElement>("labels").addEventListener("change", (e) => {
+    map.showLabels = (e.target as HTMLInputElement).checked;
+    map.redraw();
+  });
+  $("reset-view").addEventListener("click", () => map.resetView(true));
+  $("core-view").addEventListener("click", () => map.resetView(true, true));
+  return { map, refreshLayer };
+}
+
+/** The interpolation mode badge next to the map, with what the mode means. */
+function showInterpolation(mode: string): void {
+  const el = $("interpolation");
+  el.textContent = `interpolation: ${mode === "convex" ? "convex" : mode === "gp" ? "GP (paper)" : mode}`;
+  el.classList.add(mode === "convex" ? "convex" : "gp");
+  el.dataset.mode = mode;
+  el.title = mode === "convex"
+    ? "Convex interpolation: every point of the map is a mix of database materials with non-negative weights " +
+      "summing to 1, so its table has no negative value and its albedo never exceeds the largest of the inputs."
+    : mode === "gp"
+      ? "GP interpolation (Soler et al. 2018): the weights K⁻¹k(x) can be negative or sum above 1, so points between " +
+        "very different materials can have negative values or reflect more light than they receive " +
+        "(see the plausibility line and the plausibility background)."
+      : `interpolation mode "${mode}"`;
+}

@@ -1,0 +1,55 @@
+// The tools of the current point: go to a database material, download its MERL table or its
+// coordinates, and upload a .binary file to project it onto the map.
+import { api } from "./api";
+import { $, download, fillSelect, fmtX } from "./dom";
+import type { LatentMap } from "./map";
+import { moveTo, type PageStore } from "./state";
+import { setStatus } from "./status";
+
+export function createPointTools(store: PageStore, map: LatentMap): void {
+  const model = store.state.model;
+  const goTo = (x: number[]) => {
+    map.setPoint(x);
+    moveTo(store, x, false);
+  };
+  const matSel = $<HTMLSelectElement>("material");
+  fillSelect(matSel, [{ value: "", label: "—" }, ...model.names.map((n, i) => ({ value: String(i), label: n }))], "");
+  matSel.addEventListener("change", () => {
+    if (matSel.value !== "") goTo(model.latent[Number(matSel.value)].slice());
+  });
+
+  $("export-binary").addEventListener("click", async () => {
+    try {
+      setStatus("computing the table…");
+      const x = store.state.x.slice();
+      const blob = await api.exportMerl(x);
+      download(blob, `matlas-${x.map((v) => v.toFixed(3)).join("_")}.binary`);
+      setStatus(`downloaded the MERL table at (${fmtX(x)})`);
+    } catch (e) {
+      setStatus(`export: ${(e as Error).message}`, true, "export");
+    }
+  });
+  $("export-json").addEventListener("click", () => {
+    const s = store.state;
+    const body = { model: model.name, q: model.dim, x: s.x, weights: s.lastWeights?.top ?? [] };
+    download(new Blob([JSON.stringify(body, null, 2)], { type: "application/json" }), "matlas-point.json");
+  });
+
+  $<HTMLInputElement>("upload").addEventListener("change", async (e) => {
+    const input = e.target as HTMLInputElement;
+    const file = input.files?.[0];
+    if (!file) return;
+    setStatus(`projecting ${file.name}…`);
+    try {
+      const reply = await api.project(file);
+      store.update({ projected: { x: reply.x, residual: reply.residual } });
+      map.projected = { x: reply.x, label: file.name.replace(/\.binary$/, "") };
+      goTo(reply.x);
+      setStatus(`${file.name}: x = (${fmtX(reply.x)}), relative residual ${reply.residual.toPrecision(3)}`);
+    } catch (err) {
+      setStatus(`upload: ${(err as Error).message}`, true, "upload");
+    } finally {
+      input.value = "";
+    }
+  });
+}

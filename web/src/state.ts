@@ -1,0 +1,58 @@
+// The page's typed state (one Store, web/src/store.ts), also exposed as window.matlas for the
+// browser tests and for debugging in the console.
+import type { ModelInfo, WeightsReply } from "./api";
+import type { LatentMap } from "./map";
+import { Store } from "./store";
+
+/** An image shown in the preview: where, how large and in which scene. */
+export interface ShownPreview {
+  x: number[];
+  size: number;
+  env: string;
+  object: string;
+}
+
+export interface PageState {
+  model: ModelInfo;
+  /** The current latent point. */
+  x: number[];
+  /** Whether the pointer is still down (the preview streams half-size images). */
+  dragging: boolean;
+  /** performance.now() of the event that moved the point (for the latency badge). */
+  movedAt: number;
+  env: string;
+  object: string;
+  /** The image now shown in the preview. */
+  shown: ShownPreview | null;
+  /** Every scene the preview showed, in order (the tests check no in-between combination). */
+  shownScenes: string[];
+  previews: number;
+  latencies: number[];
+  /** While the server prepares the current scene: how long the page has been waiting for it. */
+  preparing: { env: string; object: string; attempts: number; waitedMs: number } | null;
+  lastWeights: WeightsReply | null;
+  projected: { x: number[]; residual: number } | null;
+  map: LatentMap;
+}
+
+export type PageStore = Store<PageState>;
+
+declare global {
+  interface Window {
+    matlas?: PageState;
+  }
+}
+
+export function createStore(model: ModelInfo, map: LatentMap, env: string, object: string): PageStore {
+  const store = new Store<PageState>({
+    model, x: map.point.slice(), dragging: false, movedAt: 0, env, object, shown: null, shownScenes: [],
+    previews: 0, latencies: [], preparing: null, lastWeights: null, projected: null, map,
+  });
+  window.matlas = store.state;
+  return store;
+}
+
+/** Moves the current point (the map is told separately when the move did not come from it). */
+export function moveTo(store: PageStore, x: number[], dragging: boolean, at = performance.now()): void {
+  store.update({ x: x.slice(), dragging, movedAt: at });
+}

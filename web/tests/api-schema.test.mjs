@@ -1,0 +1,131 @@
+// The API's types in one place: docs/api.schema.json. Checks that the TypeScript client's types
+// (web/src/api.ts) have the same names, fields, optionality and types as the schema's $defs, that
+// docs/API.md documents exactly the schema's endpoints, names their fields and shows no other,
+// and that a live `matlas demo` answers every endpoint as the schema says (requests validated too).
+//
+//   MATLAS_BIN=../build/matlas node --test tests/api-schema.test.mjs
+import { test, before, after } from "node:test";
+import assert from "node:assert/strict";
+import { mkdtempSync, readdirSync, readFileSync, rmSync } from "node:fs";
+import { tmpdir } from "node:os";
+import { join } from "node:path";
+import { documentedEndpoints, normalSchema, normalTs, schema, validate } from "./schema.mjs";
+import { startDemo, webDir } from "./server.mjs";
+
+const def = (name) => ({ $ref: `#/$defs/${name}` });
+
+test("the TypeScript client's types are the schema's", () => {
+  const tsTypes = normalTs(join(webDir, "src", "api.ts"));
+  for (const [name, node] of Object.entries(schema.$defs)) {
+    assert.ok(tsTypes[name], `web/src/api.ts has no type ${name}`);
+    assert.deepEqual(tsTypes[name], normalSchema(node), `web/src/api.ts: ${name} differs from docs/api.schema.json`);
+  }
+});
+
+test("docs/API.md documents exactly the schema's endpoints and their fields", () => {
+  const docs = documentedEndpoints(join(webDir, "..", "docs", "API.md"));
+  const key = (e) => `${e.method} ${e.path} -> ${e.type}`;
+  assert.deepEqual(docs.map(key).sort(), schema.endpoints.map((e) => key({ ...e, type: e.response.type })).sort());
+  for (const e of schema.endpoints) {
+    const text = docs.find((d) => d.method === e.method && d.path === e.path).text;
+    const fields = [e.request, e.response.schema].filter((s) => s?.$ref)
+      .flatMap((s) => Object.keys(schema.$defs[s.$ref.replace("#/$defs/", "")].properties));
+    for (const f of fields) assert.match(text, new RegExp(`\\b${f}\\b`), `docs/API.md, ${e.method} ${e.path}: no "${f}"`);
+    // And the other way: every JSON key the section shows is a field of its request or answer.
+    const known = new Set([e.request, e.response.schema].filter((s) => s?.$ref).flatMap((s) => fieldNames(s)));
+    // Keys are "key": value, or listed without values: {"index", "name", "weight"}.
+    const keys = [...text.matchAll(/"([a-z_]+)"\s*:/g)].map((m) => m[1]);
+    for (const [, list] of text.matchAll(/\{("[a-z_]+"(?:\s*,\s*"[a-z_]+")+)\s*\}/g))
+      keys.push(...list.split(",").map((k) => k.trim().slice(1, -1)));
+    for (const key of keys) assert.ok(known.has(key), `docs/API.md, ${e.method} ${e.path}: "${key}" is not in the schema`);
+  }
+});
+
+/** Every property name reachable from a schema node. */
+function fieldNames(node, seen = new Set()) {
+  if (node.$ref) {
+    if (seen.has(node.$ref)) return [];
+    seen.add(node.$ref);
+    return fieldNames(schema.$defs[node.$ref.replace("#/$defs/", "")], seen);
+  }
+  const children = [...Object.values(node.properties ?? {}), ...(node.anyOf ?? []), ...(node.prefixItems ?? []),
+    ...(typeof node.items === "object" ? [node.items] : [])];
+  return [...Object.keys(node.properties ?? {}), ...children.flatMap((c) => fieldNames(c, seen))];
+}
+
+test("the validator rejects what the schema forbids", () => {
+  const good = { index: 1, name: "a", weight: 0.5 };
+  assert.deepEqual(validate(good, def("TopWeight")), []);
+  assert.equal(validate({ ...good, index: 1.5 }, def("TopWeight")).length, 1);
+  assert.equal(validate({ ...good, extra: 1 }, def("TopWeight")).length, 1);
+  assert.equal(validate({ index: 1, name: "a" }, def("TopWeight")).length, 1);
+  assert.equal(validate([1, 2], def("Rgb")).length, 1);
+  assert.deepEqual(validate(null, schema.$defs.ProjectReply.properties.nearest), []);
+});
+
+let work, server, url;
+before(async () => {
+  work = mkdtempSync(join(tmpdir(), "matlas-api-"));
+  ({ url, server } = await startDemo(work));
+});
+after(() => {
+  server?.kill("SIGTERM");
+  rmSync(work, { recursive: true, force: true });
+});
+
+/** Calls an endpoint of the schema with `body` (validated against its request schema). */
+async function call(method, path, body, contentType = "application/json") {
+  const bare = `/${path.split("?")[0]}`;
+  const e = schema.endpoints.find((x) => x.method === method && new RegExp(`^${x.path.replace("INDEX", "\\d+")}$`).test(bare));
+  assert.ok(e, `${method} ${path} is in the schema`);
+  if (e.request?.$ref) assert.deepEqual(validate(body, e.request), [], `request to ${path}`);
+  const init = body === undefined ? {} : {
+    method, headers: { "Content-Type": contentType }, body: contentType === "application/json" ? JSON.stringify(body) : body,
+  };
+  const res = await fetch(new URL(path, url), init);
+  return { res, e };
+}
+
+async function expectAnswer(method, path, body, contentType) {
+  const { res, e } = await call(method, path, body, contentType);
+  assert.equal(res.status, 200, `${path}: ${res.status}`);
+  assert.equal(res.headers.get("content-type").split(";")[0], e.response.type, `${path}: content type`);
+  if (e.response.schema) {
+    const json = await res.json();
+    assert.deepEqual(validate(json, e.response.schema), [], `${path}: answer`);
+    return json;
+  }
+  const bytes = Buffer.from(await res.arrayBuffer());
+  if (e.response.type === "image/png") assert.equal(bytes.subarray(1, 4).toString(), "PNG", `${path}: a PNG`);
+  return bytes;
+}
+
+test("a live server answers every endpoint as the schema says", async () => {
+  const model = await expectAnswer("GET", "api/model");
+  const x = model.latent[1];
+  await expectAnswer("POST", "api/preview", { x, env: model.scenes.default_env, object: model.scenes.default_object, size: 64 });
+  await expectAnswer("GET", `api/thumbnail/2?env=${model.scenes.default_env}&object=${model.scenes.default_object}&size=32`);
+  const w = await expectAnswer("POST", "api/weights", { x, top: 4 });
+  assert.equal(w.weights.length, model.count);
+  const table = await expectAnswer("POST", "api/export", { x });
+  assert.equal(table.readInt32LE(0), model.dims[0]);
+  await expectAnswer("POST", "api/slice", { x, phi_d: 45 });
+  await expectAnswer("POST", "api/lobe", { x, theta_i: 20, samples: 31 });
+  const albedo = await expectAnswer("POST", "api/albedo", { x });
+  assert.equal(albedo.theta_o.length, model.albedo_angles);
+  await expectAnswer("POST", "api/map", { layer: "variance", axes: [0, 1], x, rect: [model.bounds.min[0], model.bounds.max[0],
+    model.bounds.min[1], model.bounds.max[1]], size: [8, 8] });
+  const cache = join(work, "cache");
+  const db = join(cache, readdirSync(cache).find((d) => d.startsWith("demo-db-")));
+  const projected = await expectAnswer("POST", "api/project", readFileSync(join(db, `${model.names[2]}.binary`)),
+    "application/octet-stream");
+  assert.equal(projected.nearest.index, 2);
+});
+
+test("errors are the schema's error object", async () => {
+  const { res } = await call("POST", "api/weights", { x: [1e9, 0] });
+  assert.equal(res.status, 400);
+  const body = await res.json();
+  assert.deepEqual(validate(body, schema.errors.schema), []);
+  assert.match(body.error, /x\[0\]/);
+});

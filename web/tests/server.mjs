@@ -1,0 +1,29 @@
+// Starts `matlas demo` on a small synthetic database (16x16x32 grid, 128 px previews, 8 spp) on
+// an ephemeral port in a temporary cache, for the node tests of this folder.
+import { spawn } from "node:child_process";
+import { join, resolve } from "node:path";
+
+export const webDir = resolve(import.meta.dirname, "..");
+export const bin = resolve(process.env.MATLAS_BIN ?? join(webDir, "..", "build", "matlas"));
+
+/** Resolves to { url, server } once the server prints its URL. */
+export function startDemo(work) {
+  return new Promise((resolvePromise, reject) => {
+    const server = spawn(bin, [
+      "demo", "--grid", "16,16,32", "--size", "128", "--spp", "8", "--port", "0",
+      "--cache", join(work, "cache"), "--web-root", join(webDir, "dist"),
+    ], { stdio: ["ignore", "pipe", "pipe"] });
+    let out = "", err = "";
+    const timer = setTimeout(() => reject(new Error(`matlas demo did not start:\n${out}\n${err}`)), 120_000);
+    server.stdout.on("data", (d) => {
+      out += d;
+      const m = out.match(/open (http:\/\/\S+)/);
+      if (m) {
+        clearTimeout(timer);
+        resolvePromise({ url: m[1], server });
+      }
+    });
+    server.stderr.on("data", (d) => (err += d));
+    server.on("exit", (code) => reject(new Error(`matlas demo exited (${code}):\n${out}\n${err}`)));
+  });
+}
