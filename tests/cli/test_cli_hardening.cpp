@@ -326,7 +326,7 @@ TEST_F(CliHardening, GiBasisResumesAndGiRefusesWhatIsNotABasis) {
   const CommandResult first = run(args);
   ASSERT_EQ(first.code, 0) << first.out;
   EXPECT_TRUE(fs::exists(tmp.path() / "b.safetensors.cache" / "material-0005.safetensors"));
-  const CommandResult again = run(args);
+  const CommandResult again = run_process(args);  // progress messages go to the process's stderr
   ASSERT_EQ(again.code, 0) << again.out;
   EXPECT_CONTAINS(again.out, "reused 6 cached material images");
   const CommandResult gi = run({"gi", model().string(), "--at", "0,0", "--basis", basis, "-o",
