@@ -328,5 +328,31 @@ TEST_F(CliHardening, CraftedModelsAreRefused) {
   }
 }
 
+TEST_F(CliHardening, GiBasisResumesAndGiRefusesWhatIsNotABasis) {
+  test::TempDir tmp("matlas-cli-gi");
+  const std::string basis = (tmp.path() / "b.safetensors").string();
+  const std::vector<std::string> args = {"gi-basis", model().string(), "--scene", "box", "--width", "8",
+                                         "--height", "6", "--spp", "1", "--batch", "2", "-o", basis};
+  const CommandResult first = run(args);
+  ASSERT_EQ(first.code, 0) << first.out;
+  EXPECT_TRUE(fs::exists(tmp.path() / "b.safetensors.cache" / "material-0005.safetensors"));
+  const CommandResult again = run_process(args);  // progress messages go to the process's stderr
+  ASSERT_EQ(again.code, 0) << again.out;
+  EXPECT_CONTAINS(again.out, "reused 6 cached material images");
+  const CommandResult gi = run({"gi", model().string(), "--at", "0,0", "--basis", basis, "-o",
+                                (tmp.path() / "x.exr").string()});
+  EXPECT_EQ(gi.code, 0) << gi.out;
+  EXPECT_TRUE(fs::exists(tmp.path() / "x.exr"));
+  const CommandResult not_basis = run({"gi", model().string(), "--at", "0,0", "--basis", model().string(), "-o",
+                                       (tmp.path() / "y.exr").string()});
+  EXPECT_EQ(not_basis.code, 1);
+  EXPECT_CONTAINS(not_basis.out, "not a matlas GI basis");
+  EXPECT_EQ(run({"gi-basis", model().string(), "--spp", "0", "-o", basis}).code, 2);
+  const CommandResult scene = run({"gi-render", model().string(), "--at", "0,0", "--scene", "nope.txt", "-o",
+                                   (tmp.path() / "z.png").string()});
+  EXPECT_EQ(scene.code, 1);
+  EXPECT_CONTAINS(scene.out, "scene 'nope.txt'");
+}
+
 }  // namespace
 }  // namespace matlas
