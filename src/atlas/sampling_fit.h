@@ -27,10 +27,10 @@
 namespace matlas::atlas {
 
 struct SamplingFitOptions {
-  double environment = 0.2;
+  double environment = 0.35;
   double cosine = 0.1;
   double lobe_share = 0.1;
-  double tabulated = 0.6;  ///< the database's lobes per theta_h bin (set_profile)
+  double tabulated = 0.45;  ///< the database's lobes per theta_h bin (set_profile)
   std::vector<double> quantiles = {0.1, 0.5, 0.9};
   double min_alpha = 0.001, max_alpha = 0.5;
 };
