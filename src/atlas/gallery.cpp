@@ -1,4 +1,5 @@
 #include "atlas/gallery.h"
+#include "atlas/sampling_fit.h"
 
 #include <algorithm>
 #include <cmath>
@@ -239,6 +240,8 @@ Image render_gallery(const Model& model, const std::vector<GalleryEntry>& entrie
   Image grid(cols * w + (cols + 1) * gap, rows * h + (rows + 1) * gap);
   std::fill(grid.rgb.begin(), grid.rgb.end(), 0.02f);
   ProgressTask task(progress, "gallery", static_cast<std::uint64_t>(count));
+  // Every cell through the model's fitted mixture: real and generated cells alike, as in a basis.
+  const render::RenderSettings fitted = settings ? model_render_settings(model, *settings) : render::RenderSettings{};
   for (int k = 0; k < count; ++k) {
     const GalleryEntry& e = entries[static_cast<std::size_t>(k)];
     const Eigen::VectorXd weights = e.real ? model.material_weights(model.index_of(e.name)) : model.weights(e.x);
@@ -246,7 +249,7 @@ Image render_gallery(const Model& model, const std::vector<GalleryEntry>& entrie
     if (basis) {
       cell = basis->compose(weights);
     } else {
-      cell = render::render(*scene, ModelMaterial(model, weights), *settings);
+      cell = render::render(*scene, ModelMaterial(model, weights), fitted);
     }
     const int ox = gap + (k % cols) * (w + gap), oy = gap + (k / cols) * (h + gap);
     for (int y = 0; y < h; ++y)

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "atlas/model_material.h"
+#include "atlas/sampling_fit.h"
 #include "core/hash.h"
 #include "manifold/model_metadata.h"
 #include "render/render.h"
@@ -20,8 +21,9 @@ std::string model_fingerprint(const Model& model) {
 }
 
 render::ImageBasis render_basis(const Model& model, const render::Scene& scene,
-                                const render::RenderSettings& settings, ProgressSink& progress) {
+                                const render::RenderSettings& requested, ProgressSink& progress) {
   const ModelBank bank(model);
+  const render::RenderSettings settings = model_render_settings(model, requested);
   std::vector<Image> images = render::render_bank(scene, bank, settings, progress);
   Image mean = std::move(images.front());
   images.erase(images.begin());
@@ -40,6 +42,11 @@ render::ImageBasis render_basis(const Model& model, const render::Scene& scene,
   meta["lights"] = std::to_string(d.lights.size());
   meta["spp"] = std::to_string(settings.spp);
   meta["seed"] = std::to_string(settings.seed);
+  nlohmann::json lobes = nlohmann::json::array();
+  for (const auto& [alpha, weight] : settings.mixture.lobes) lobes.push_back({alpha, weight});
+  meta["sampling_mixture"] =
+      nlohmann::json{{"environment", settings.mixture.environment}, {"cosine", settings.mixture.cosine}, {"lobes", lobes}}
+          .dump();
   meta["model"] = model.path().filename().string();
   meta["model_fingerprint"] = model_fingerprint(model);
   return render::ImageBasis(std::move(mean), images, model.names(), std::move(meta));

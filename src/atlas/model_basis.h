@@ -15,8 +15,9 @@ struct RenderSettings;
 namespace matlas::atlas {
 
 /// Renders the basis of a model: the mean (w = 0) and every material i (w = e_i, i.e.
-/// Model::material_weights(i)) with identical samples. Metadata: names, spp, seed, width, height,
-/// scene fields, model name and fingerprint.
+/// Model::material_weights(i)) with identical samples, through the sampling mixture fitted to the
+/// model (atlas/sampling_fit.h; the settings' own mixture is replaced). Metadata: names, spp,
+/// seed, width, height, scene fields, sampling_mixture (JSON), model name and fingerprint.
 render::ImageBasis render_basis(const Model& model, const render::Scene& scene, const render::RenderSettings& settings,
                                 ProgressSink& progress = null_progress());
 

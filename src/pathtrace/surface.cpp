@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/error.h"
 #include "render/sampling.h"
 
 namespace matlas::pathtrace {
@@ -62,41 +61,6 @@ double surface_pdf(const SurfaceSpec& s, const Vec3& wo, const Vec3& wi) {
   double p = (1.0 - ps) * render::cosine_pdf(wi);
   if (ps > 0) p += ps * render::ggx_reflection_pdf(wo, wi, s.alpha);
   return p;
-}
-
-double FixedDensity::sample(const Vec3& wo, double u0, double u1, double u2, Vec3* wi) const {
-  double total = cosine;
-  for (const auto& l : lobes) total += l.second;
-  double pick = u0 * total - cosine;
-  if (pick < 0) {
-    *wi = render::sample_cosine(u1, u2);
-  } else {
-    std::size_t k = 0;
-    while (k + 1 < lobes.size() && pick >= lobes[k].second) pick -= lobes[k++].second;
-    *wi = render::sample_ggx_reflection(wo, lobes[k].first, u1, u2);
-  }
-  if (wi->z() <= 0) return 0.0;
-  return pdf(wo, *wi);
-}
-
-double FixedDensity::pdf(const Vec3& wo, const Vec3& wi) const {
-  double total = cosine, p = cosine * render::cosine_pdf(wi);
-  for (const auto& [alpha, weight] : lobes) {
-    total += weight;
-    p += weight * render::ggx_reflection_pdf(wo, wi, alpha);
-  }
-  return p / total;
-}
-
-void FixedDensity::validate() const {
-  double total = cosine;
-  if (cosine < 0) throw Error("fixed density: negative cosine probability");
-  for (const auto& [alpha, weight] : lobes) {
-    if (!(alpha > 0 && alpha <= 1)) throw Error("fixed density: lobe alpha must be in (0, 1]");
-    if (weight < 0) throw Error("fixed density: negative lobe probability");
-    total += weight;
-  }
-  if (!(total > 0)) throw Error("fixed density: all probabilities are zero");
 }
 
 }  // namespace matlas::pathtrace

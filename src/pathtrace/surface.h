@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "pathtrace/scene_spec.h"
+#include "render/sampling_mixture.h"
 
 namespace matlas::pathtrace {
 
@@ -21,19 +22,14 @@ Rgb surface_eval(const SurfaceSpec& s, const Vec3& wi, const Vec3& wo);
 double surface_sample(const SurfaceSpec& s, const Vec3& wo, double u0, double u1, double u2, Vec3* wi);
 double surface_pdf(const SurfaceSpec& s, const Vec3& wo, const Vec3& wi);
 
-/// The measured object's sampling density: a one-sample mixture of the cosine lobe and GGX lobes
-/// of fixed widths around the mirror direction, the same for every material (so that the image
-/// is affine in the table). Environment and area lights are sampled by next-event estimation and
-/// combined with this density by multiple importance sampling.
-struct FixedDensity {
-  double cosine = 0.3;
-  /// (alpha, probability) of the GGX lobes; with `cosine`, normalised to sum 1.
-  std::vector<std::pair<double, double>> lobes = {{0.02, 0.3}, {0.12, 0.4}};
+/// The measured object's sampling density: render/sampling_mixture.h without its environment
+/// strategy (a one-sample mixture of the cosine lobe and GGX lobes around the mirror direction, the
+/// same for every material, so that the image is affine in the table). Environment and area
+/// lights are sampled by next-event estimation and combined with it by multiple importance
+/// sampling.
+using FixedDensity = render::SamplingMixture;
 
-  double sample(const Vec3& wo, double u0, double u1, double u2, Vec3* wi) const;
-  double pdf(const Vec3& wo, const Vec3& wi) const;
-  /// Throws matlas::Error for negative or all-zero probabilities or alphas out of (0, 1].
-  void validate() const;
-};
+/// The path tracer's default density: cosine 0.3, GGX lobes of alpha 0.02 (0.3) and 0.12 (0.4).
+inline FixedDensity default_fixed_density() { return {0.0, 0.3, {{0.02, 0.3}, {0.12, 0.4}}}; }
 
 }  // namespace matlas::pathtrace

@@ -181,6 +181,8 @@ void TraceSettings::validate() const {
   if (max_depth <= 0 || max_depth > 64) throw Error("max depth must be in 1..64");
   if (roulette_depth < 1) throw Error("roulette depth must be positive");
   density.validate();
+  if (density.environment != 0)
+    throw Error("the path tracer samples the environment by next-event estimation: its density's environment probability must be 0");
 }
 
 Image TraceImages::i1(int k) const {

@@ -32,7 +32,7 @@ struct TraceSettings {
   std::uint64_t seed = 1;
   int max_depth = 8;       ///< scattering vertices per path
   int roulette_depth = 3;  ///< Russian roulette from this many vertices on
-  FixedDensity density;    ///< the measured object's sampling density
+  FixedDensity density = default_fixed_density();  ///< the measured object's sampling density
   /// Throws matlas::Error for non-positive sizes, spp or depth, or a bad density.
   void validate() const;
 };

@@ -21,26 +21,10 @@ struct Frame {
   Vec3 to_world(const Vec3& v) const { return t * v.x() + b * v.y() + n * v.z(); }
 };
 
-/// The fixed sampling mixture (normalised probabilities).
-struct Mixture {
-  double env, cosine, mirror, sharp, rough, alpha_mirror, alpha_sharp, alpha_rough;
-  explicit Mixture(const RenderSettings& s) {
-    const double total = s.mix_environment + s.mix_cosine + s.mix_mirror + s.mix_sharp + s.mix_rough;
-    env = s.mix_environment / total;
-    cosine = s.mix_cosine / total;
-    mirror = s.mix_mirror / total;
-    alpha_mirror = s.alpha_mirror;
-    sharp = s.mix_sharp / total;
-    rough = s.mix_rough / total;
-    alpha_sharp = s.alpha_sharp;
-    alpha_rough = s.alpha_rough;
-  }
-};
-
 /// One camera sample: returns the material-independent radiance C and reports each BRDF tap
 /// through tap(wi, wo, W) (local frame, W includes 1/pdf and the light).
 template <class Tap>
-Rgb trace_sample(const Scene& scene, const Mixture& mix, SampleStream& rng, const Vec3& origin,
+Rgb trace_sample(const Scene& scene, const SamplingMixture& mix, SampleStream& rng, const Vec3& origin,
                  const Vec3& dir, bool* hit_object, Tap&& tap) {
   // Always draw the same numbers in the same order so every path sees the same stream.
   const double u_pick = rng.next(), u0 = rng.next(), u1 = rng.next();
@@ -61,26 +45,16 @@ Rgb trace_sample(const Scene& scene, const Mixture& mix, SampleStream& rng, cons
     *hit_object = true;
     if (wo.z() <= 0) return Rgb::Zero();
     Vec3 wi_world, wi;
-    if (u_pick < mix.env) {
+    if (mix.picks_environment(u_pick)) {
       double pdf;
       wi_world = env.sample(u0, u1, &pdf);
       wi = f.to_local(wi_world);
     } else {
-      if (u_pick < mix.env + mix.cosine)
-        wi = sample_cosine(u0, u1);
-      else if (u_pick < mix.env + mix.cosine + mix.mirror)
-        wi = sample_ggx_reflection(wo, mix.alpha_mirror, u0, u1);
-      else if (u_pick < mix.env + mix.cosine + mix.mirror + mix.sharp)
-        wi = sample_ggx_reflection(wo, mix.alpha_sharp, u0, u1);
-      else
-        wi = sample_ggx_reflection(wo, mix.alpha_rough, u0, u1);
+      wi = mix.sample_local(wo, u_pick, u0, u1);
       wi_world = f.to_world(wi);
     }
     if (wi.z() > 0 && wi_world.dot(ng) > 0) {
-      const double pdf = mix.env * env.pdf(wi_world) + mix.cosine * cosine_pdf(wi) +
-                         mix.mirror * ggx_reflection_pdf(wo, wi, mix.alpha_mirror) +
-                         mix.sharp * ggx_reflection_pdf(wo, wi, mix.alpha_sharp) +
-                         mix.rough * ggx_reflection_pdf(wo, wi, mix.alpha_rough);
+      const double pdf = mix.environment_probability() * env.pdf(wi_world) + mix.local_pdf(wo, wi);
       if (pdf > 0 && !scene.occluded(p, wi_world, 0.0)) {
         const Rgb w = env.eval(wi_world) * (wi.z() / pdf);
         if ((w > 0).any()) tap(wi.normalized(), wo, w);
@@ -96,7 +70,8 @@ Rgb trace_sample(const Scene& scene, const Mixture& mix, SampleStream& rng, cons
 
   // Ground: Lambertian, sampled with the environment and cosine strategies only.
   const Rgb f_ground = desc.ground_albedo / kPi;
-  const double pe = mix.env / (mix.env + mix.cosine), pc = 1.0 - pe;
+  const double ground_total = mix.environment + mix.cosine;
+  const double pe = ground_total > 0 ? mix.environment / ground_total : 0.5, pc = 1.0 - pe;
   Vec3 wi_world, wi;
   if (u_pick < pe || pc <= 0) {
     double pdf;
@@ -153,7 +128,7 @@ SampleStream camera_sample(const Scene& scene, const RenderSettings& settings, i
 }
 
 template <class Tap>
-Rgb trace_pixel(const Scene& scene, const Mixture& mix, const RenderSettings& settings, int x, int y, Tap&& tap,
+Rgb trace_pixel(const Scene& scene, const SamplingMixture& mix, const RenderSettings& settings, int x, int y, Tap&& tap,
                 std::uint64_t& taps) {
   Rgb constant = Rgb::Zero();
   for (int s = 0; s < settings.spp; ++s) {
@@ -184,17 +159,14 @@ void RenderSettings::validate() const {
     throw Error("render size must be between 1 and 16384 pixels, got " + std::to_string(width) + "x" +
                 std::to_string(height));
   if (spp <= 0) throw Error("samples per pixel must be positive, got " + std::to_string(spp));
-  if (mix_environment < 0 || mix_cosine < 0 || mix_mirror < 0 || mix_sharp < 0 || mix_rough < 0 ||
-      !(mix_environment + mix_cosine + mix_mirror + mix_sharp + mix_rough > 0))
-    throw Error("sampling mixture probabilities must be non-negative and not all zero");
-  if (!(alpha_mirror > 0) || !(alpha_sharp > 0) || !(alpha_rough > 0)) throw Error("GGX sampling widths must be positive");
+  mixture.validate();
 }
 
 Image render(const Scene& scene, const Material& material, const RenderSettings& settings,
              ProgressSink& progress, RenderStats* stats) {
   settings.validate();
   const auto start = std::chrono::steady_clock::now();
-  const Mixture mix(settings);
+  const SamplingMixture& mix = settings.mixture;
   Image image(settings.width, settings.height);
   std::atomic<std::uint64_t> taps{0};
   for_each_pixel(settings, progress, "render", [&](int x, int y) {
@@ -216,7 +188,7 @@ std::vector<Image> render_bank(const Scene& scene, const MaterialBank& bank, con
                                ProgressSink& progress, RenderStats* stats) {
   settings.validate();
   const auto start = std::chrono::steady_clock::now();
-  const Mixture mix(settings);
+  const SamplingMixture& mix = settings.mixture;
   const int k_count = bank.count();
   if (k_count <= 0) throw Error("material bank is empty");
   std::vector<Image> images(static_cast<std::size_t>(k_count), Image(settings.width, settings.height));

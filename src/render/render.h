@@ -3,9 +3,9 @@
 // with shadows, for tabulated (or any) BRDFs.
 //
 // Estimator. Per pixel, `spp` primary rays (jittered in the pixel). At the object, one direction
-// wi is drawn from a FIXED one-sample mixture (environment importance sampling, cosine lobe, and
-// three GGX lobes of fixed widths around the view's mirror direction) and weighted by the
-// balance-heuristic mixture density; every directional light adds one shadow ray. The pixel is
+// wi is drawn from a FIXED one-sample mixture (render/sampling_mixture.h: environment importance
+// sampling, cosine lobe, and GGX lobes of given widths around the view's mirror direction) and
+// weighted by the balance-heuristic mixture density; every directional light adds one shadow ray. The pixel is
 //
 //     I = C + sum_s W_s * f(wi_s, wo_s)           (W_s: RGB, independent of f)
 //
@@ -19,6 +19,7 @@
 #include "core/progress.h"
 #include "formats/image_io.h"
 #include "render/material.h"
+#include "render/sampling_mixture.h"
 #include "render/scene.h"
 
 namespace matlas::render {
@@ -28,11 +29,9 @@ struct RenderSettings {
   int height = 512;
   int spp = 64;             ///< samples (primary rays, each with one environment sample) per pixel
   std::uint64_t seed = 1;
-  /// Mixture probabilities of the sampling strategies (normalised): environment, cosine, and
-  /// GGX lobes of widths alpha_mirror, alpha_sharp, alpha_rough around the mirror direction.
-  /// Fixed, material-independent.
-  double mix_environment = 0.4, mix_cosine = 0.15, mix_mirror = 0.15, mix_sharp = 0.15, mix_rough = 0.15;
-  double alpha_mirror = 0.012, alpha_sharp = 0.06, alpha_rough = 0.3;
+  /// The sampling strategies at the object: fixed, material-independent (a model's renders use
+  /// the mixture fitted to its database, atlas/sampling_fit.h).
+  SamplingMixture mixture = SamplingMixture::preview_default();
 
   /// Throws matlas::Error for non-positive sizes or spp, or an all-zero mixture.
   void validate() const;

@@ -7,6 +7,7 @@
 
 #include "atlas/model_basis.h"
 #include "atlas/model_material.h"
+#include "atlas/sampling_fit.h"
 #include "brdf/catalog.h"
 #include "core/error.h"
 #include "formats/synth_database.h"
@@ -75,6 +76,11 @@ Model* ImageBasisTest::model_ = nullptr;
 TEST_F(ImageBasisTest, ComposedImageEqualsTheDirectRenderOfTheManifoldPoint) {
   const Scene s = scene();
   const ImageBasis basis = render_basis(*model_, s, settings());
+  // The basis is rendered through the mixture fitted to the model (glossy materials: fitted
+  // lobes, not the default ones), and direct renders of map points use the same one.
+  const RenderSettings fitted = model_render_settings(*model_, settings());
+  EXPECT_NE(fitted.mixture.lobes, RenderSettings().mixture.lobes);
+  EXPECT_NE(basis.metadata().at("sampling_mixture").find("lobes"), std::string::npos);
   EXPECT_EQ(basis.count(), 6);
   EXPECT_EQ(basis.width(), 24);
   EXPECT_EQ(basis.height(), 20);
@@ -85,11 +91,11 @@ TEST_F(ImageBasisTest, ComposedImageEqualsTheDirectRenderOfTheManifoldPoint) {
   for (const Eigen::VectorXd& x : {Eigen::VectorXd(0.5 * (X.row(0) + X.row(3)).transpose()),
                                   Eigen::VectorXd(1.3 * X.row(2).transpose() - 0.2 * X.row(4).transpose())}) {
     const Eigen::VectorXd w = model_->weights(x);
-    const Image direct = render::render(s, ModelMaterial(*model_, w), settings());
+    const Image direct = render::render(s, ModelMaterial(*model_, w), fitted);
     EXPECT_LT(max_relative(basis.compose(w), direct), 2e-6);
   }
   // Material images are the renders of the database materials.
-  const Image direct2 = render::render(s, ModelMaterial(*model_, model_->material_weights(2)), settings());
+  const Image direct2 = render::render(s, ModelMaterial(*model_, model_->material_weights(2)), fitted);
   EXPECT_LT(max_relative(basis.material_image(2), direct2), 1e-6);
   EXPECT_LT(max_relative(basis.compose(model_->material_weights(2)), direct2), 1e-6);
   EXPECT_THROW(basis.compose(Eigen::VectorXd::Zero(5)), Error);

@@ -24,8 +24,7 @@ RenderSettings small(int size, int spp) {
 }
 
 RenderSettings cosine_only(RenderSettings s) {
-  s.mix_environment = s.mix_mirror = s.mix_sharp = s.mix_rough = 0.0;
-  s.mix_cosine = 1.0;
+  s.mixture = {0.0, 1.0, {}};
   return s;
 }
 

@@ -1,0 +1,113 @@
+// Preview noise (docs/RENDERING.md "Noise"): for named materials of a model, the relative RMS
+// difference between two renders that differ only in their seed, with the previews' former fixed
+// mixture (render/sampling_mixture.h's defaults) and with the mixture fitted to the model
+// (atlas/sampling_fit.h); then the time of the model's preview basis at the fitted mixture.
+//
+//   bench_preview_noise MODEL ENV SIZE SPP BASIS_SIZE BASIS_SPP MATERIAL...
+//
+// Relative RMS: sqrt(sum (a - b)^2 / sum ((a + b) / 2)^2) over the pixels fully covered by the
+// sphere, all channels. Both renders of a pair use the same mixture, so the number is the
+// estimator's noise (sqrt 2 times one image's), independent of any reference.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "atlas/model_basis.h"
+#include "atlas/model_material.h"
+#include "atlas/sampling_fit.h"
+#include "manifold/model.h"
+#include "render/render.h"
+#include "render/scene.h"
+
+namespace {
+
+using namespace matlas;
+
+double relative_rms(const Image& a, const Image& b, const std::vector<float>& coverage) {
+  double d = 0, s = 0;
+  for (std::size_t p = 0; p < coverage.size(); ++p) {
+    if (coverage[p] != 1.0f) continue;
+    for (std::size_t c = 0; c < 3; ++c) {
+      const double x = a.rgb[3 * p + c], y = b.rgb[3 * p + c];
+      d += (x - y) * (x - y);
+      s += 0.25 * (x + y) * (x + y);
+    }
+  }
+  return std::sqrt(d / s);
+}
+
+double seed_noise(const render::Scene& scene, const render::Material& m, render::RenderSettings s,
+                  const std::vector<float>& coverage) {
+  s.seed = 1;
+  const Image a = render::render(scene, m, s);
+  s.seed = 2;
+  const Image b = render::render(scene, m, s);
+  return relative_rms(a, b, coverage);
+}
+
+std::string describe(const render::SamplingMixture& m) {
+  std::string out = "env " + std::to_string(m.environment) + ", cosine " + std::to_string(m.cosine) + ", lobes";
+  for (const auto& [alpha, weight] : m.lobes) out += " (" + std::to_string(alpha) + ", " + std::to_string(weight) + ")";
+  out += ", tabulated " + std::to_string(m.tabulated);
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 8) {
+    std::fprintf(stderr, "usage: %s MODEL ENV SIZE SPP BASIS_SIZE BASIS_SPP MATERIAL...\n", argv[0]);
+    return 2;
+  }
+  try {
+    const Model model = Model::open(argv[1]);
+    render::SceneDescription desc;
+    desc.environment = argv[2];
+    const render::Scene scene(desc);
+    render::RenderSettings settings;
+    settings.width = settings.height = std::stoi(argv[3]);
+    settings.spp = std::stoi(argv[4]);
+    render::RenderSettings fitted = atlas::model_render_settings(model, settings);
+    if (const char* mix = std::getenv("MATLAS_BENCH_MIXTURE")) {  // "env,cosine,alpha:p,alpha:p..."
+      render::SamplingMixture m = fitted.mixture;
+      m.lobes.clear();
+      std::sscanf(mix, "%lf,%lf", &m.environment, &m.cosine);
+      for (const char* c = std::strchr(std::strchr(mix, ',') + 1, ','); c; c = std::strchr(c + 1, ',')) {
+        double a = 0, p = 0;
+        std::sscanf(c + 1, "%lf:%lf", &a, &p);
+        if (a > 1) m.set_profile(m.profile(), p);  // "2:p": the tabulated lobe's probability
+        else m.lobes.emplace_back(a, p);
+      }
+      fitted.mixture = m;
+    }
+    std::printf("old mixture:    %s\nfitted mixture: %s\n", describe(settings.mixture).c_str(),
+                describe(fitted.mixture).c_str());
+    const std::vector<float> coverage = render::object_coverage(scene, settings);
+    const std::vector<double> widths = atlas::specular_lobe_widths(atlas::ModelBank(model));
+    std::printf("%-28s %10s %12s %12s %8s\n", "material", "lobe alpha", "old rel RMS", "fitted", "ratio");
+    for (int k = 7; k < argc; ++k) {
+      const int i = model.index_of(argv[k]);
+      const atlas::ModelMaterial m(model, model.material_weights(i));
+      const double old_noise = seed_noise(scene, m, settings, coverage);
+      const double new_noise = seed_noise(scene, m, fitted, coverage);
+      std::printf("%-28s %10.4f %12.4f %12.4f %8.2f\n", argv[k], widths[static_cast<std::size_t>(i) + 1], old_noise,
+                  new_noise, old_noise / new_noise);
+    }
+    render::RenderSettings basis_settings;
+    basis_settings.width = basis_settings.height = std::stoi(argv[5]);
+    basis_settings.spp = std::stoi(argv[6]);
+    const auto t0 = std::chrono::steady_clock::now();
+    const render::ImageBasis basis = atlas::render_basis(model, scene, basis_settings);
+    const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::printf("preview basis %dx%d, %d spp, n = %d (+ mean): %.1f s\n",
+                basis.width(), basis.height(), basis_settings.spp, basis.count(), sec);
+    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_preview_noise: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,50 @@
+#pragma once
+// The sampling mixture of a database's renders (render/sampling_mixture.h), fitted to the
+// database and not to the material being rendered: every material of a basis keeps the same
+// density, so images stay linear in the table.
+//
+// Fit. Each material's specular lobe is read from its luminance along theta_h (theta_d = 10
+// degrees, phi_d = 90 degrees, MERL bin centres, theta_h up to 70 degrees): the lobe is the part
+// above the floor (the smallest value), and materials whose peak is under twice the floor have
+// none. Its energy per theta_h bin, (f - floor) cos(theta_h) times the bin's solid angle of half
+// vectors, normalised per material, gives
+//  - the tabulated lobe (SamplingMixture::set_profile): per bin the LARGEST share over the
+//    database's materials, so that every material's lobe is covered within a bounded factor
+//    (an average would dilute chrome's few sharp bins among the rough materials);
+//  - GGX widths: a GGX lobe of width alpha sampled by D cos puts the fraction
+//    tan^2 / (alpha^2 + tan^2) below theta_h, so the energy's quartiles and median give three
+//    estimates of alpha (the median one is the material's width); the mixture's GGX lobes sit
+//    at the 10th, 50th and 90th percentiles of the pooled log-widths (merged when within a
+//    factor 1.5), sharing `lobe_share`.
+// Environment and cosine keep their probabilities.
+#include <vector>
+
+#include "manifold/model.h"
+#include "render/material.h"
+#include "render/render.h"
+#include "render/sampling_mixture.h"
+
+namespace matlas::atlas {
+
+struct SamplingFitOptions {
+  double environment = 0.35;
+  double cosine = 0.1;
+  double lobe_share = 0.1;
+  double tabulated = 0.45;  ///< the database's lobes per theta_h bin (set_profile)
+  std::vector<double> quantiles = {0.1, 0.5, 0.9};
+  double min_alpha = 0.001, max_alpha = 0.5;
+};
+
+/// Width (GGX alpha) of each material's specular lobe, 0 for materials without one.
+std::vector<double> specular_lobe_widths(const render::MaterialBank& bank);
+
+/// The mixture fitted to a bank's materials; with no glossy material, the default mixture.
+render::SamplingMixture fit_sampling_mixture(const render::MaterialBank& bank, const SamplingFitOptions& options = {});
+/// The mixture fitted to a model's database materials (its ModelBank without the mean).
+render::SamplingMixture fit_sampling_mixture(const Model& model, const SamplingFitOptions& options = {});
+
+/// `settings` with the mixture fitted to the model: what render_basis uses, and what a direct
+/// render of a map point must use to equal the composition of the basis.
+render::RenderSettings model_render_settings(const Model& model, render::RenderSettings settings);
+
+}  // namespace matlas::atlas
