@@ -51,7 +51,8 @@ PrefilteredEnvironment::PrefilteredEnvironment(const render::Environment& env, c
     }
     std::vector<double> p;
     normalized_legendre(L, std::cos(theta), p);
-    const double w = std::sin(theta) * dtheta * dphi;
+    // The row's exact solid angle (the midpoint rule's sin(theta) dtheta is off by O(dtheta^2)).
+    const double w = (std::cos(theta - dtheta / 2) - std::cos(theta + dtheta / 2)) * dphi;
     row_cos[r].assign(n, Rgb::Zero());
     row_sin[r].assign(n, Rgb::Zero());
     for (int l = 0; l <= L; ++l)
@@ -74,16 +75,16 @@ PrefilteredEnvironment::PrefilteredEnvironment(const render::Environment& env, c
   maps_.resize(static_cast<std::size_t>(L) + 1);
   parallel_for_each(0, static_cast<std::size_t>(L) + 1, [&](std::size_t band) {
     const int l = static_cast<int>(band);
-    const int h = std::max(8, static_cast<int>(std::ceil(settings.texels_per_band * (l + 1)))), w = 2 * h;
+    const int h = std::max(8, static_cast<int>(std::ceil(settings.texels_per_band * (l + 1)))), w = 2 * (h - 1);
     heights_[band] = h;
     std::vector<float>& map = maps_[band];
     map.resize(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 3);
     std::vector<double> p;
     const double scale = std::sqrt(4.0 * kPi / (2.0 * l + 1.0));
     for (int y = 0; y < h; ++y) {
-      normalized_legendre(l, std::cos((y + 0.5) * kPi / h), p);
+      normalized_legendre(l, std::cos(y * kPi / (h - 1)), p);
       for (int x = 0; x < w; ++x) {
-        const double phi = (x + 0.5) * 2.0 * kPi / w;
+        const double phi = x * 2.0 * kPi / w;
         Rgb e = Rgb::Zero();
         for (int m = 0; m <= l; ++m) {
           const double pl = real_factor(m) * p[lm_index(l, m)];
@@ -115,9 +116,9 @@ Rgb PrefilteredEnvironment::exact(int l, const Vec3& d) const {
 Rgb PrefilteredEnvironment::lookup(int l, const Vec3& d) const {
   double theta, phi;
   angles(d, &theta, &phi);
-  const int h = heights_[static_cast<std::size_t>(l)], w = 2 * h;
-  const double fx = phi / (2.0 * kPi) * w - 0.5;
-  const double fy = std::clamp(theta / kPi * h - 0.5, 0.0, h - 1.0);
+  const int h = heights_[static_cast<std::size_t>(l)], w = 2 * (h - 1);
+  const double fx = phi / (2.0 * kPi) * w;
+  const double fy = std::clamp(theta / kPi * (h - 1), 0.0, h - 1.0);
   const int x0 = static_cast<int>(std::floor(fx)), y0 = std::min(static_cast<int>(fy), h - 2);
   const double tx = fx - x0, ty = fy - y0;
   const std::vector<float>& map = maps_[static_cast<std::size_t>(l)];

@@ -11,8 +11,9 @@
 // [0, 2 pi). The SH coefficients are integrated on a lat-long grid `supersample` times finer
 // than the map (each point reading Environment::eval, the renderer's piecewise-constant
 // radiance, rotation and intensity included). E_l is tabulated on a lat-long grid of
-// H_l = max(8, ceil(texels_per_band * (l + 1))) rows and 2 H_l columns (texel centres) and
-// read bilinearly (periodic in phi, clamped in theta).
+// H_l = max(8, ceil(texels_per_band * (l + 1))) rows at theta = pi y / (H_l - 1) (the first and
+// last rows are the poles) and W_l = 2 (H_l - 1) columns at phi = 2 pi x / W_l, and read
+// bilinearly (periodic in phi): no clamping near the poles.
 #include <vector>
 
 #include "brdf/types.h"
@@ -22,7 +23,7 @@ namespace matlas::zonal {
 
 struct PrefilterSettings {
   int bands = 24;
-  double texels_per_band = 4.0;
+  double texels_per_band = 8.0;
   int supersample = 2;
   /// Grid of a constant environment's SH integral (it has no map).
   int constant_grid = 64;
@@ -39,9 +40,9 @@ public:
   Rgb exact(int l, const Vec3& d) const;
   /// Real SH coefficient L_l^m (m < 0: the sin(|m| phi) harmonic).
   Rgb coefficient(int l, int m) const;
-  int map_width(int l) const { return 2 * map_height(l); }
+  int map_width(int l) const { return 2 * (map_height(l) - 1); }
   int map_height(int l) const { return heights_[static_cast<std::size_t>(l)]; }
-  /// Band l's map, RGB float, rows from theta = 0 (+y): the texture layout of a shader.
+  /// Band l's map, RGB float, row-major from the +y pole: the texture layout of a shader.
   const std::vector<float>& map(int l) const { return maps_[static_cast<std::size_t>(l)]; }
 
 private:

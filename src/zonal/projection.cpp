@@ -32,10 +32,11 @@ ZonalProjector::ZonalProjector(const ProjectionSettings& settings, MerlDims dims
     const double theta = (r + 0.5) * dtheta;
     cos_theta_[static_cast<std::size_t>(r)] = std::cos(theta);
     normalized_legendre(L, std::cos(theta), p);
+    const double row_weight = std::cos(theta - dtheta / 2) - std::cos(theta + dtheta / 2);  // exact band area
     for (int l = 0; l <= L; ++l)
       for (int m = 0; m <= l; ++m)
         legendre_(r, static_cast<Eigen::Index>(lm_index(l, m))) =
-            (m > 0 ? std::sqrt(2.0) : 1.0) * p[lm_index(l, m)] * std::sin(theta) * dtheta;
+            (m > 0 ? std::sqrt(2.0) : 1.0) * p[lm_index(l, m)] * row_weight;
   }
   const std::size_t per_t = static_cast<std::size_t>(rows) * static_cast<std::size_t>(cols);
   bins_.resize(per_t * static_cast<std::size_t>(T));

@@ -44,7 +44,7 @@ private:
   std::vector<std::uint32_t> bins_;  ///< [t][row][column]
   std::vector<double> cos_theta_;    ///< per row
   Eigen::MatrixXd cosines_;          ///< [column][m]: cos(m phi) * column width * 2 (both halves)
-  Eigen::MatrixXd legendre_;         ///< [row][lm]: sqrt(2)^(m>0) Pbar_l^m(cos theta) sin theta dtheta
+  Eigen::MatrixXd legendre_;         ///< [row][lm]: sqrt(2)^(m>0) Pbar_l^m(cos theta) (cos theta0 - cos theta1)
 };
 
 /// The slice reconstructed from coefficients: sum_{l,k} lambda_l^k(theta_o) Y_l^0(d_{l,k} . wi),
