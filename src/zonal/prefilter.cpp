@@ -19,6 +19,27 @@ void angles(const Vec3& d, double* theta, double* phi) {
   *phi = p;
 }
 
+/// cos(m phi_c) and sin(m phi_c) for phi_c = 2 pi (c + offset) / columns, m <= L.
+class Trig {
+public:
+  Trig(int L, int columns, double offset) : stride_(static_cast<std::size_t>(L) + 1) {
+    cos_.resize(stride_ * static_cast<std::size_t>(columns));
+    sin_.resize(cos_.size());
+    for (int c = 0; c < columns; ++c)
+      for (int m = 0; m <= L; ++m) {
+        const double a = m * 2.0 * kPi * (c + offset) / columns;
+        cos_[static_cast<std::size_t>(c) * stride_ + static_cast<std::size_t>(m)] = std::cos(a);
+        sin_[static_cast<std::size_t>(c) * stride_ + static_cast<std::size_t>(m)] = std::sin(a);
+      }
+  }
+  double cos(int c, int m) const { return cos_[static_cast<std::size_t>(c) * stride_ + static_cast<std::size_t>(m)]; }
+  double sin(int c, int m) const { return sin_[static_cast<std::size_t>(c) * stride_ + static_cast<std::size_t>(m)]; }
+
+private:
+  std::size_t stride_;
+  std::vector<double> cos_, sin_;
+};
+
 /// sqrt(2)^(m>0) for the real harmonics.
 double real_factor(int m) { return m > 0 ? std::sqrt(2.0) : 1.0; }
 
@@ -38,6 +59,7 @@ PrefilteredEnvironment::PrefilteredEnvironment(const render::Environment& env, c
   // into per-row partial sums, added in order: deterministic).
   std::vector<std::vector<Rgb>> row_cos(static_cast<std::size_t>(rows)), row_sin(static_cast<std::size_t>(rows));
   const double dtheta = kPi / rows, dphi = 2.0 * kPi / cols;
+  const Trig columns(L, cols, 0.5);
   parallel_for_each(0, static_cast<std::size_t>(rows), [&](std::size_t r) {
     const double theta = (static_cast<double>(r) + 0.5) * dtheta;
     std::vector<Rgb> fc(static_cast<std::size_t>(L) + 1, Rgb::Zero()), fs(static_cast<std::size_t>(L) + 1, Rgb::Zero());
@@ -45,8 +67,8 @@ PrefilteredEnvironment::PrefilteredEnvironment(const render::Environment& env, c
       const double phi = (c + 0.5) * dphi;
       const Rgb radiance = env.eval(Vec3(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi)));
       for (int m = 0; m <= L; ++m) {
-        fc[static_cast<std::size_t>(m)] += radiance * std::cos(m * phi);
-        fs[static_cast<std::size_t>(m)] += radiance * std::sin(m * phi);
+        fc[static_cast<std::size_t>(m)] += radiance * columns.cos(c, m);
+        fs[static_cast<std::size_t>(m)] += radiance * columns.sin(c, m);
       }
     }
     std::vector<double> p;
@@ -81,14 +103,14 @@ PrefilteredEnvironment::PrefilteredEnvironment(const render::Environment& env, c
     map.resize(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 3);
     std::vector<double> p;
     const double scale = std::sqrt(4.0 * kPi / (2.0 * l + 1.0));
+    const Trig trig(l, w, 0.0);
     for (int y = 0; y < h; ++y) {
       normalized_legendre(l, std::cos(y * kPi / (h - 1)), p);
       for (int x = 0; x < w; ++x) {
-        const double phi = x * 2.0 * kPi / w;
         Rgb e = Rgb::Zero();
         for (int m = 0; m <= l; ++m) {
           const double pl = real_factor(m) * p[lm_index(l, m)];
-          e += pl * (cos_coeffs_[lm_index(l, m)] * std::cos(m * phi) + sin_coeffs_[lm_index(l, m)] * std::sin(m * phi));
+          e += pl * (cos_coeffs_[lm_index(l, m)] * trig.cos(x, m) + sin_coeffs_[lm_index(l, m)] * trig.sin(x, m));
         }
         float* out = &map[(static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)) * 3];
         for (int c = 0; c < 3; ++c) out[c] = static_cast<float>(scale * e[c]);
