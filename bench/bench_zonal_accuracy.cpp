@@ -3,10 +3,10 @@
 //
 //   bench_zonal_accuracy [--env studio] [--bands 4,8,16,24,32] [--size 64] [--spp 4096]
 //                        [--theta-o 32] [--rows 128] [--cols 256] [--texels 8] [--subsamples 2]
-//                        [--chunk 12] FILE.binary... > results.csv
+//                        [--chunk 12] [--dump DIR] FILE.binary... > results.csv
 //
 // For every material: two reference renders R1, R2 of a sphere with seeds 1 and 2 (the `matlas
-// render` scene and camera; render_bank shares the samples of a chunk of materials), R = (R1 +
+// render` scene and camera; render_bank shares the samples of a chunk of materials, one bin index per sample), R = (R1 +
 // R2) / 2, then for every L the coefficients, the prefiltered environment and shade_image Z.
 // Errors: zonal/compare.h (l1 includes the reference's noise, rms is noise-free).
 // Also prints per material its gloss
@@ -38,6 +38,24 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
+/// Tables on one grid evaluated together: one bin index per sample for all of them (the values
+/// equal TableMaterial's lookups; render_bank's MaterialList would recompute the bin per table).
+class TableBank final : public render::MaterialBank {
+public:
+  explicit TableBank(const std::vector<BrdfTable>& tables) : tables_(tables) {}
+  int count() const override { return static_cast<int>(tables_.size()); }
+  void eval_all(const Vec3& wi, const Vec3& wo, double* out) const override {
+    const std::size_t bin = bin_of(tables_[0].dims(), wi, wo);
+    for (std::size_t k = 0; k < tables_.size(); ++k) {
+      const Rgb f = tables_[k].bin_rgb(bin);
+      for (int c = 0; c < 3; ++c) out[3 * k + static_cast<std::size_t>(c)] = f[c];
+    }
+  }
+
+private:
+  const std::vector<BrdfTable>& tables_;
+};
+
 double luminance(const Rgb& c) { return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]; }
 
 double gloss(const BrdfTable& t) {
@@ -60,6 +78,7 @@ int run(int argc, char** argv) {
   int size = 64, spp = 4096, theta_o = 32, rows = 128, cols = 256, subsamples = 2, chunk = 12;
   double texels = 8.0;
   std::vector<std::string> files;
+  std::string dump;  // folder for PNGs of the references and shadings (inspection)
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string {
@@ -76,6 +95,7 @@ int run(int argc, char** argv) {
     else if (a == "--texels") texels = std::stod(next());
     else if (a == "--subsamples") subsamples = std::stoi(next());
     else if (a == "--chunk") chunk = std::stoi(next());
+    else if (a == "--dump") dump = next();
     else files.push_back(a);
   }
   if (files.empty()) throw Error("no .binary files given");
@@ -109,17 +129,12 @@ int run(int argc, char** argv) {
     const std::size_t end = std::min(files.size(), begin + static_cast<std::size_t>(chunk));
     std::vector<BrdfTable> tables;
     for (std::size_t i = begin; i < end; ++i) tables.push_back(read_merl(files[i]));
-    std::vector<std::unique_ptr<render::TableMaterial>> materials;
-    std::vector<const render::Material*> list;
-    for (const BrdfTable& t : tables) {
-      materials.push_back(std::make_unique<render::TableMaterial>(t));
-      list.push_back(materials.back().get());
-    }
+    const TableBank bank(tables);
     auto t = std::chrono::steady_clock::now();
-    const std::vector<Image> refs = render::render_bank(scene, render::MaterialList(list), rs);
+    const std::vector<Image> refs = render::render_bank(scene, bank, rs);
     render::RenderSettings other = rs;
     other.seed = 2;
-    const std::vector<Image> refs2 = render::render_bank(scene, render::MaterialList(list), other);
+    const std::vector<Image> refs2 = render::render_bank(scene, bank, other);
     std::fprintf(stderr, "reference of %zu materials (two seeds): %.1f s\n", tables.size(), seconds_since(t));
     for (std::size_t i = 0; i < tables.size(); ++i) {
       std::string name = files[begin + i];
@@ -132,6 +147,15 @@ int run(int argc, char** argv) {
         t = std::chrono::steady_clock::now();
         const Image img = zonal::shade_image(scene, projectors[b]->basis(), c, *filtered[b], ss);
         const zonal::ImageErrors e = zonal::compare_to_reference(img, refs[i], refs2[i], coverage);
+        if (!dump.empty()) {
+          const std::string stem = dump + "/" + name.substr(0, name.find('.'));
+          if (b == 0) write_image(stem + "-ref.png", refs[i]);
+          write_image(stem + "-L" + std::to_string(bands[b]) + ".png", img);
+          Image diff = img;
+          for (std::size_t v = 0; v < diff.rgb.size(); ++v)
+            diff.rgb[v] = std::abs(img.rgb[v] - 0.5f * (refs[i].rgb[v] + refs2[i].rgb[v])) * 4.0f;
+          write_image(stem + "-L" + std::to_string(bands[b]) + "-diff4.png", diff);
+        }
         std::printf("%s,%.3f,%d,%.5f,%.5f,%.5f\n", name.c_str(), g, bands[b], e.l1, e.rms, e.noise);
         std::fprintf(stderr, "%s L=%d project %.3f s shade %.2f s\n", name.c_str(), bands[b], tp, seconds_since(t));
       }
