@@ -13,21 +13,27 @@
 namespace matlas::zonal {
 namespace {
 
-BrdfTable lambertian_table(const Rgb& albedo) {
-  return tabulate(Lambertian{albedo});
+struct Projected {
+  ZonalProjector projector;
+  ZonalCoefficients coefficients;
+};
+
+Projected project_lambertian(const Rgb& albedo, int bands, int theta_o_count) {
+  ProjectionSettings s;
+  s.bands = bands;
+  s.theta_o_count = theta_o_count;
+  ZonalProjector projector(s);
+  ZonalCoefficients c = projector.project(tabulate(Lambertian{albedo}));
+  return {std::move(projector), std::move(c)};
 }
 
 TEST(Projection, LambertianIsTheClampedCosineAroundTheNormal) {
   // (a/pi) max(cos, 0) = (a/pi) sum_l c_l Y_l^0(n . w), with c_0 = sqrt(pi)/2, c_1 = sqrt(pi/3),
   // c_2 = sqrt(5 pi)/8, c_l = 0 for odd l >= 3: only the kernels around the normal (k = 0).
   const Rgb albedo(0.8, 0.5, 0.2);
-  ProjectionSettings s;
-  s.bands = 6;
-  s.theta_o_count = 8;
-  const ZonalProjector projector(s);
-  const ZonalCoefficients c = projector.project(lambertian_table(albedo));
+  const ZonalCoefficients c = project_lambertian(albedo, 6, 8).coefficients;
   const double expected[] = {std::sqrt(kPi) / 2, std::sqrt(kPi / 3), std::sqrt(5 * kPi) / 8, 0.0};
-  for (int t = 0; t < s.theta_o_count; ++t)
+  for (int t = 0; t < 8; ++t)
     for (int l = 0; l <= 6; ++l)
       for (int k = 0; k <= l; ++k)
         for (int ch = 0; ch < 3; ++ch) {
@@ -41,12 +47,9 @@ TEST(Projection, LambertianIsTheClampedCosineAroundTheNormal) {
 }
 
 TEST(Projection, LambertianAtL2ReconstructsItsTruncatedExpansion) {
-  const Rgb albedo(0.6, 0.6, 0.6);
-  ProjectionSettings s;
-  s.bands = 2;
-  s.theta_o_count = 4;
-  const ZonalProjector projector(s);
-  const ZonalCoefficients c = projector.project(lambertian_table(albedo));
+  const Projected p = project_lambertian(Rgb::Constant(0.6), 2, 4);
+  const ZonalProjector& projector = p.projector;
+  const ZonalCoefficients& c = p.coefficients;
   for (double ti : {0.0, 0.4, 1.2, 2.0}) {
     const Vec3 wi(std::sin(ti), 0.0, std::cos(ti));
     const double t = std::cos(ti);
