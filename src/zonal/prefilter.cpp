@@ -1,0 +1,157 @@
+#include "zonal/prefilter.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "core/error.h"
+#include "core/parallel.h"
+#include "zonal/sh.h"
+
+namespace matlas::zonal {
+
+namespace {
+
+void angles(const Vec3& d, double* theta, double* phi) {
+  *theta = std::acos(std::clamp(d.y(), -1.0, 1.0));
+  double p = std::atan2(d.z(), d.x());
+  if (p < 0) p += 2.0 * kPi;
+  *phi = p;
+}
+
+/// cos(m phi_c) and sin(m phi_c) for phi_c = 2 pi (c + offset) / columns, m <= L.
+class Trig {
+public:
+  Trig(int L, int columns, double offset) : stride_(static_cast<std::size_t>(L) + 1) {
+    cos_.resize(stride_ * static_cast<std::size_t>(columns));
+    sin_.resize(cos_.size());
+    for (int c = 0; c < columns; ++c)
+      for (int m = 0; m <= L; ++m) {
+        const double a = m * 2.0 * kPi * (c + offset) / columns;
+        cos_[static_cast<std::size_t>(c) * stride_ + static_cast<std::size_t>(m)] = std::cos(a);
+        sin_[static_cast<std::size_t>(c) * stride_ + static_cast<std::size_t>(m)] = std::sin(a);
+      }
+  }
+  double cos(int c, int m) const { return cos_[static_cast<std::size_t>(c) * stride_ + static_cast<std::size_t>(m)]; }
+  double sin(int c, int m) const { return sin_[static_cast<std::size_t>(c) * stride_ + static_cast<std::size_t>(m)]; }
+
+private:
+  std::size_t stride_;
+  std::vector<double> cos_, sin_;
+};
+
+/// sqrt(2)^(m>0) for the real harmonics.
+double real_factor(int m) { return m > 0 ? std::sqrt(2.0) : 1.0; }
+
+}  // namespace
+
+PrefilteredEnvironment::PrefilteredEnvironment(const render::Environment& env, const PrefilterSettings& settings)
+    : settings_(settings) {
+  const int L = settings.bands;
+  if (L < 0 || L > 128) throw Error("prefilter bands must be between 0 and 128, got " + std::to_string(L));
+  if (!(settings.texels_per_band > 0) || settings.texels_per_band > 64 || settings.supersample < 1 ||
+      settings.supersample > 16 || settings.constant_grid < 4)
+    throw Error("prefilter resolution out of range");
+  const int rows = env.is_constant() ? settings.constant_grid : env.height() * settings.supersample;
+  const int cols = 2 * rows;
+  const std::size_t n = triangle_size(L);
+  // Per row: Fourier sums over phi, then the Legendre functions of the row (rows run in parallel
+  // into per-row partial sums, added in order: deterministic).
+  std::vector<std::vector<Rgb>> row_cos(static_cast<std::size_t>(rows)), row_sin(static_cast<std::size_t>(rows));
+  const double dtheta = kPi / rows, dphi = 2.0 * kPi / cols;
+  const Trig columns(L, cols, 0.5);
+  parallel_for_each(0, static_cast<std::size_t>(rows), [&](std::size_t r) {
+    const double theta = (static_cast<double>(r) + 0.5) * dtheta;
+    std::vector<Rgb> fc(static_cast<std::size_t>(L) + 1, Rgb::Zero()), fs(static_cast<std::size_t>(L) + 1, Rgb::Zero());
+    for (int c = 0; c < cols; ++c) {
+      const double phi = (c + 0.5) * dphi;
+      const Rgb radiance = env.eval(Vec3(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi)));
+      for (int m = 0; m <= L; ++m) {
+        fc[static_cast<std::size_t>(m)] += radiance * columns.cos(c, m);
+        fs[static_cast<std::size_t>(m)] += radiance * columns.sin(c, m);
+      }
+    }
+    std::vector<double> p;
+    normalized_legendre(L, std::cos(theta), p);
+    // The row's exact solid angle (the midpoint rule's sin(theta) dtheta is off by O(dtheta^2)).
+    const double w = (std::cos(theta - dtheta / 2) - std::cos(theta + dtheta / 2)) * dphi;
+    row_cos[r].assign(n, Rgb::Zero());
+    row_sin[r].assign(n, Rgb::Zero());
+    for (int l = 0; l <= L; ++l)
+      for (int m = 0; m <= l; ++m) {
+        const double y = real_factor(m) * p[lm_index(l, m)] * w;
+        row_cos[r][lm_index(l, m)] = y * fc[static_cast<std::size_t>(m)];
+        row_sin[r][lm_index(l, m)] = y * fs[static_cast<std::size_t>(m)];
+      }
+  });
+  cos_coeffs_.assign(n, Rgb::Zero());
+  sin_coeffs_.assign(n, Rgb::Zero());
+  for (int r = 0; r < rows; ++r)
+    for (std::size_t i = 0; i < n; ++i) {
+      cos_coeffs_[i] += row_cos[static_cast<std::size_t>(r)][i];
+      sin_coeffs_[i] += row_sin[static_cast<std::size_t>(r)][i];
+    }
+
+  // Tabulate every band.
+  heights_.resize(static_cast<std::size_t>(L) + 1);
+  maps_.resize(static_cast<std::size_t>(L) + 1);
+  parallel_for_each(0, static_cast<std::size_t>(L) + 1, [&](std::size_t band) {
+    const int l = static_cast<int>(band);
+    const int h = std::max(8, static_cast<int>(std::ceil(settings.texels_per_band * (l + 1)))), w = 2 * (h - 1);
+    heights_[band] = h;
+    std::vector<float>& map = maps_[band];
+    map.resize(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 3);
+    std::vector<double> p;
+    const double scale = std::sqrt(4.0 * kPi / (2.0 * l + 1.0));
+    const Trig trig(l, w, 0.0);
+    for (int y = 0; y < h; ++y) {
+      normalized_legendre(l, std::cos(y * kPi / (h - 1)), p);
+      for (int x = 0; x < w; ++x) {
+        Rgb e = Rgb::Zero();
+        for (int m = 0; m <= l; ++m) {
+          const double pl = real_factor(m) * p[lm_index(l, m)];
+          e += pl * (cos_coeffs_[lm_index(l, m)] * trig.cos(x, m) + sin_coeffs_[lm_index(l, m)] * trig.sin(x, m));
+        }
+        float* out = &map[(static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)) * 3];
+        for (int c = 0; c < 3; ++c) out[c] = static_cast<float>(scale * e[c]);
+      }
+    }
+  });
+}
+
+Rgb PrefilteredEnvironment::coefficient(int l, int m) const {
+  return m >= 0 ? cos_coeffs_[lm_index(l, m)] : sin_coeffs_[lm_index(l, -m)];
+}
+
+Rgb PrefilteredEnvironment::exact(int l, const Vec3& d) const {
+  double theta, phi;
+  angles(d, &theta, &phi);
+  std::vector<double> p;
+  normalized_legendre(l, std::cos(theta), p);
+  Rgb e = Rgb::Zero();
+  for (int m = 0; m <= l; ++m)
+    e += real_factor(m) * p[lm_index(l, m)] *
+         (cos_coeffs_[lm_index(l, m)] * std::cos(m * phi) + sin_coeffs_[lm_index(l, m)] * std::sin(m * phi));
+  return std::sqrt(4.0 * kPi / (2.0 * l + 1.0)) * e;
+}
+
+Rgb PrefilteredEnvironment::lookup(int l, const Vec3& d) const {
+  double theta, phi;
+  angles(d, &theta, &phi);
+  const int h = heights_[static_cast<std::size_t>(l)], w = 2 * (h - 1);
+  const double fx = phi / (2.0 * kPi) * w;
+  const double fy = std::clamp(theta / kPi * (h - 1), 0.0, h - 1.0);
+  const int x0 = static_cast<int>(std::floor(fx)), y0 = std::min(static_cast<int>(fy), h - 2);
+  const double tx = fx - x0, ty = fy - y0;
+  const std::vector<float>& map = maps_[static_cast<std::size_t>(l)];
+  Rgb sum = Rgb::Zero();
+  for (int dy = 0; dy < 2; ++dy)
+    for (int dx = 0; dx < 2; ++dx) {
+      const int x = ((x0 + dx) % w + w) % w;
+      const float* p = &map[(static_cast<std::size_t>(y0 + dy) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)) * 3];
+      sum += (dx ? tx : 1 - tx) * (dy ? ty : 1 - ty) * Rgb(p[0], p[1], p[2]);
+    }
+  return sum;
+}
+
+}  // namespace matlas::zonal

@@ -1,0 +1,110 @@
+#include "zonal/projection.h"
+
+#include <cmath>
+#include <string>
+
+#include "core/error.h"
+#include "core/parallel.h"
+#include "zonal/sh.h"
+
+namespace matlas::zonal {
+
+void ProjectionSettings::validate() const {
+  if (bands < 0 || bands > 128) throw Error("zonal bands must be between 0 and 128, got " + std::to_string(bands));
+  if (theta_o_count < 1 || theta_o_count > 1024)
+    throw Error("theta_o samples must be between 1 and 1024, got " + std::to_string(theta_o_count));
+  if (theta_rows < 4 || theta_rows > 4096 || phi_columns < 4 || phi_columns > 8192)
+    throw Error("projection grid must be between 4x4 and 4096x8192, got " + std::to_string(theta_rows) + "x" +
+                std::to_string(phi_columns));
+}
+
+ZonalProjector::ZonalProjector(const ProjectionSettings& settings, MerlDims dims)
+    : settings_(settings), dims_(dims), basis_((settings.validate(), settings.bands)) {
+  const int L = settings.bands, rows = settings.theta_rows, cols = settings.phi_columns, T = settings.theta_o_count;
+  const double dtheta = (kPi / 2) / rows, dphi = kPi / cols;
+  cos_theta_.resize(static_cast<std::size_t>(rows));
+  cosines_.resize(cols, L + 1);
+  for (int c = 0; c < cols; ++c)
+    for (int m = 0; m <= L; ++m) cosines_(c, m) = std::cos(m * (c + 0.5) * dphi) * 2.0 * dphi;
+  legendre_.resize(rows, static_cast<Eigen::Index>(triangle_size(L)));
+  std::vector<double> p;
+  for (int r = 0; r < rows; ++r) {
+    const double theta = (r + 0.5) * dtheta;
+    cos_theta_[static_cast<std::size_t>(r)] = std::cos(theta);
+    normalized_legendre(L, std::cos(theta), p);
+    const double row_weight = std::cos(theta - dtheta / 2) - std::cos(theta + dtheta / 2);  // exact band area
+    for (int l = 0; l <= L; ++l)
+      for (int m = 0; m <= l; ++m)
+        legendre_(r, static_cast<Eigen::Index>(lm_index(l, m))) =
+            (m > 0 ? std::sqrt(2.0) : 1.0) * p[lm_index(l, m)] * row_weight;
+  }
+  const std::size_t per_t = static_cast<std::size_t>(rows) * static_cast<std::size_t>(cols);
+  bins_.resize(per_t * static_cast<std::size_t>(T));
+  parallel_for_each(0, static_cast<std::size_t>(T), [&](std::size_t t) {
+    const double to = ZonalCoefficients::theta_o(static_cast<int>(t), T);
+    const Vec3 wo(std::sin(to), 0.0, std::cos(to));
+    for (int r = 0; r < rows; ++r) {
+      const double theta = (r + 0.5) * dtheta;
+      for (int c = 0; c < cols; ++c) {
+        const double phi = (c + 0.5) * dphi;
+        const Vec3 wi(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+        bins_[t * per_t + static_cast<std::size_t>(r) * static_cast<std::size_t>(cols) + static_cast<std::size_t>(c)] =
+            static_cast<std::uint32_t>(bin_of(dims_, wi, wo));
+      }
+    }
+  });
+}
+
+ZonalCoefficients ZonalProjector::project(const BrdfTable& table) const {
+  if (!(table.dims() == dims_))
+    throw Error("zonal projection: table of size " + table.dims().to_string() + ", projector for " + dims_.to_string());
+  const int L = settings_.bands, rows = settings_.theta_rows, cols = settings_.phi_columns, T = settings_.theta_o_count;
+  ZonalCoefficients out;
+  out.bands = L;
+  out.theta_o_count = T;
+  const std::size_t K = out.size();
+  out.values.assign(static_cast<std::size_t>(T) * K * 3, 0.0);
+  const std::size_t per_t = static_cast<std::size_t>(rows) * static_cast<std::size_t>(cols);
+  parallel_for_each(0, static_cast<std::size_t>(T), [&](std::size_t t) {
+    // rho per channel as a rows x cols matrix (row-major: one theta_i row after the other).
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> rho[3];
+    for (auto& m : rho) m.resize(rows, cols);
+    const std::uint32_t* bins = &bins_[t * per_t];
+    for (int r = 0; r < rows; ++r) {
+      const double ct = cos_theta_[static_cast<std::size_t>(r)];
+      for (int c = 0; c < cols; ++c) {
+        const Rgb f = table.bin_rgb(bins[static_cast<std::size_t>(r) * static_cast<std::size_t>(cols) +
+                                         static_cast<std::size_t>(c)]);
+        for (int ch = 0; ch < 3; ++ch) rho[ch](r, c) = f[ch] * ct;
+      }
+    }
+    Eigen::VectorXd a_l;
+    for (int ch = 0; ch < 3; ++ch) {
+      const Eigen::MatrixXd fourier = rho[ch] * cosines_;  // rows x (L+1)
+      for (int l = 0; l <= L; ++l) {
+        a_l.resize(l + 1);
+        for (int m = 0; m <= l; ++m)
+          a_l(m) = fourier.col(m).dot(legendre_.col(static_cast<Eigen::Index>(lm_index(l, m))));
+        const Eigen::VectorXd lambda = basis_.inverse(l) * a_l;
+        for (int k = 0; k <= l; ++k)
+          out.values[(t * K + lm_index(l, k)) * 3 + static_cast<std::size_t>(ch)] = lambda(k);
+      }
+    }
+  });
+  return out;
+}
+
+Rgb reconstruct(const ZonalBasis& basis, const ZonalCoefficients& c, double theta_o, const Vec3& wi) {
+  if (c.bands > basis.bands()) throw Error("zonal reconstruction: coefficients have more bands than the basis");
+  std::vector<double> lambda, y;
+  c.interpolate(theta_o, lambda);
+  Rgb sum = Rgb::Zero();
+  for (std::size_t j = 0; j < c.size(); ++j) {
+    const int l = basis.band(j);
+    zonal_harmonics(l, basis.direction(j).dot(wi), y);
+    sum += y[static_cast<std::size_t>(l)] * Rgb(lambda[3 * j], lambda[3 * j + 1], lambda[3 * j + 2]);
+  }
+  return sum;
+}
+
+}  // namespace matlas::zonal

@@ -1,0 +1,54 @@
+#pragma once
+// Projection of a tabulated BRDF to rotated-ZH coefficients: lambda = M rho, linear in the table.
+//
+// For each theta_o sample the slice rho(wi) = f(wi, wo) cos theta_i (MERL's nearest-bin lookup,
+// as the renderer evaluates tables; missing values read 0) is integrated against the even real
+// harmonics on a midpoint grid of the upper hemisphere: `theta_rows` rows in theta_i and
+// `phi_columns` columns over phi_i in [0, pi) (the slice is even in phi_i). The integral is
+// separable: a cosine transform of each row (a matrix product), then the normalised associated
+// Legendre functions per row. Band l's coefficients are then changed to the rotated-ZH basis
+// (ZonalBasis::inverse). The bins read by every grid point are computed once per projector.
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "brdf/brdf_table.h"
+#include "zonal/basis.h"
+#include "zonal/coefficients.h"
+
+namespace matlas::zonal {
+
+struct ProjectionSettings {
+  int bands = 24;          ///< L
+  int theta_o_count = 32;  ///< T
+  int theta_rows = 128;    ///< quadrature rows in theta_i over [0, pi/2]
+  int phi_columns = 256;   ///< quadrature columns in phi_i over [0, pi)
+  /// Throws matlas::Error naming the setting out of range.
+  void validate() const;
+};
+
+class ZonalProjector {
+public:
+  explicit ZonalProjector(const ProjectionSettings& settings, MerlDims dims = {});
+
+  const ProjectionSettings& settings() const { return settings_; }
+  const ZonalBasis& basis() const { return basis_; }
+  /// The coefficients of a table (of this projector's grid size; matlas::Error otherwise).
+  ZonalCoefficients project(const BrdfTable& table) const;
+
+private:
+  ProjectionSettings settings_;
+  MerlDims dims_;
+  ZonalBasis basis_;
+  std::vector<std::uint32_t> bins_;  ///< [t][row][column]
+  std::vector<double> cos_theta_;    ///< per row
+  Eigen::MatrixXd cosines_;          ///< [column][m]: cos(m phi) * column width * 2 (both halves)
+  Eigen::MatrixXd legendre_;         ///< [row][lm]: sqrt(2)^(m>0) Pbar_l^m(cos theta) (cos theta0 - cos theta1)
+};
+
+/// The slice reconstructed from coefficients: sum_{l,k} lambda_l^k(theta_o) Y_l^0(d_{l,k} . wi),
+/// wi in the local frame of the slice (wo in the x-z plane, x >= 0).
+Rgb reconstruct(const ZonalBasis& basis, const ZonalCoefficients& c, double theta_o, const Vec3& wi);
+
+}  // namespace matlas::zonal

@@ -1,0 +1,36 @@
+#pragma once
+// The CPU reference of real-time rotated-ZH shading (what the browser's fragment shader computes).
+//
+// At a surface point with normal n and view direction wo (unit, towards the camera), theta_o =
+// acos(n . wo), the local frame has z = n and x along wo's tangential part, and
+//
+//     radiance = sum_{l <= L} sum_{k <= l} lambda_l^k(theta_o) E_l(sin alpha_{l,k} x + cos alpha_{l,k} n),
+//
+// with lambda interpolated linearly in theta_o and E_l the band-l prefiltered environment.
+// Environment lighting only, without shadows (exact for a convex object such as the sphere).
+#include "formats/image_io.h"
+#include "render/scene.h"
+#include "zonal/basis.h"
+#include "zonal/coefficients.h"
+#include "zonal/prefilter.h"
+
+namespace matlas::zonal {
+
+/// Radiance leaving a point of normal n towards wo (world, unit vectors).
+Rgb shade_point(const ZonalBasis& basis, const ZonalCoefficients& c, const PrefilteredEnvironment& env,
+                const Vec3& n, const Vec3& wo);
+
+struct ShadeSettings {
+  int width = 256;
+  int height = 256;
+  int subsamples = 2;  ///< per axis: subsamples^2 stratified rays per pixel, averaged
+};
+
+/// The scene's object shaded with the coefficients under the prefiltered environment, through
+/// the scene's camera (same rays as render::render); pixels missing the object show the
+/// environment (Environment::eval_smooth) or black, as the renderer does. Throws matlas::Error
+/// for scenes with a ground plane or directional lights, which this shading does not model.
+Image shade_image(const render::Scene& scene, const ZonalBasis& basis, const ZonalCoefficients& c,
+                  const PrefilteredEnvironment& env, const ShadeSettings& settings);
+
+}  // namespace matlas::zonal
