@@ -1,7 +1,11 @@
 // The three.js side of the real-time viewer: renderer, camera with orbit controls, the object
 // (sphere, a served mesh, or a user's .glb) with the rotated-ZH shader (realtime-shader.ts), and
 // the textures: coefficients of the current point (K x T), basis directions (K x 1) and the
-// environment's band maps (a texture array). Renders on demand; frame times are recorded.
+// environment's band maps (a texture array). Renders on demand; frame times are recorded. While
+// the user interacts (orbit, rotation, dragging on the map) frames are drawn at a quarter of the
+// canvas's side into a render target and stretched over the canvas (16x fewer fragments, so the
+// view follows the pointer even with software WebGL); the full-resolution frame follows once the
+// interaction pauses.
 import * as THREE from "three";
 import { OrbitControls } from "three/examples/jsm/controls/OrbitControls.js";
 import { GLTFLoader } from "three/examples/jsm/loaders/GLTFLoader.js";
@@ -30,10 +34,19 @@ export class RealtimeGl {
   private object: THREE.Object3D | null = null;
   private envTexture: THREE.DataArrayTexture | null = null;
   private pending = false;
-  /** Milliseconds of the last frames (render + finish), newest last. */
+  private pendingFast = false;
+  private refine: ReturnType<typeof setTimeout> | null = null;
+  private readonly low: THREE.WebGLRenderTarget;
+  private readonly blitScene = new THREE.Scene();
+  private readonly blitCamera = new THREE.OrthographicCamera(-1, 1, 1, -1, 0, 1);
+  /** Milliseconds of the last full-resolution frames (render + finish), newest last. */
   readonly frameTimes: number[] = [];
-  /** Called after each drawn frame with performance.now(). */
-  onFrame: (at: number) => void = () => {};
+  /** The same for the reduced frames drawn during interaction. */
+  readonly fastFrameTimes: number[] = [];
+  /** Side of the reduced frames relative to the canvas. */
+  static readonly fastScale = 0.25;
+  /** Called after each drawn frame with performance.now() and whether it was reduced. */
+  onFrame: (at: number, fast: boolean) => void = () => {};
 
   constructor(readonly canvas: HTMLCanvasElement, readonly info: RealtimeInfo) {
     this.renderer = new THREE.WebGLRenderer({ canvas, antialias: false, preserveDrawingBuffer: true });
@@ -70,7 +83,11 @@ export class RealtimeGl {
     this.material.userData.floatLinear = floatLinear;
     this.camera = new THREE.PerspectiveCamera(info.camera.fov_degrees, canvas.width / canvas.height, 0.05, 100);
     this.controls = new OrbitControls(this.camera, canvas);
-    this.controls.addEventListener("change", () => this.invalidate());
+    this.controls.addEventListener("change", () => this.invalidate(true));
+    this.low = new THREE.WebGLRenderTarget(Math.max(1, Math.round(canvas.width * RealtimeGl.fastScale)),
+      Math.max(1, Math.round(canvas.height * RealtimeGl.fastScale)), { depthBuffer: true });
+    this.low.texture.minFilter = this.low.texture.magFilter = THREE.LinearFilter;
+    this.blitScene.add(new THREE.Mesh(new THREE.PlaneGeometry(2, 2), new THREE.MeshBasicMaterial({ map: this.low.texture })));
     this.resetCamera();
     this.setObject(RealtimeGl.sphere());
   }
@@ -95,10 +112,10 @@ export class RealtimeGl {
   }
 
   /** Coefficients of the current point: float32 [T][K][3]. */
-  setCoefficients(rgb: Float32Array): void {
+  setCoefficients(rgb: Float32Array, interactive = false): void {
     rgba(rgb, this.info.coefficients * this.info.theta_o_count, this.coefData);
     this.coef.needsUpdate = true;
-    this.invalidate();
+    this.invalidate(interactive);
   }
 
   setEnvironment(atlas: EnvironmentAtlas): void {
@@ -120,9 +137,9 @@ export class RealtimeGl {
     this.invalidate();
   }
 
-  setRotation(degrees: number): void {
+  setRotation(degrees: number, interactive = false): void {
     this.material.uniforms.uRotation.value = (degrees * Math.PI) / 180;
-    this.invalidate();
+    this.invalidate(interactive);
   }
 
   setExposure(stops: number): void {
@@ -180,8 +197,23 @@ export class RealtimeGl {
     return group;
   }
 
-  /** Schedules one frame. */
-  invalidate(): void {
+  /** Schedules one frame: a reduced one now if `interactive`, then the full one after a pause. */
+  invalidate(interactive = false): void {
+    if (this.refine) clearTimeout(this.refine);
+    this.refine = null;
+    if (interactive) {
+      this.refine = setTimeout(() => {
+        this.refine = null;
+        this.invalidate();
+      }, 300);
+      if (this.pendingFast || this.pending) return;
+      this.pendingFast = true;
+      requestAnimationFrame(() => {
+        this.pendingFast = false;
+        this.draw(true);
+      });
+      return;
+    }
     if (this.pending) return;
     this.pending = true;
     requestAnimationFrame(() => {
@@ -190,17 +222,25 @@ export class RealtimeGl {
     });
   }
 
-  /** Draws now and waits for the GPU; returns the milliseconds taken. */
-  draw(): number {
+  /** Draws now (reduced if `fast`) and waits for the GPU; returns the milliseconds taken. */
+  draw(fast = false): number {
     if (!this.envTexture) return 0;
     const start = performance.now();
-    this.renderer.render(this.scene, this.camera);
+    if (fast) {
+      this.renderer.setRenderTarget(this.low);
+      this.renderer.render(this.scene, this.camera);
+      this.renderer.setRenderTarget(null);
+      this.renderer.render(this.blitScene, this.blitCamera);
+    } else {
+      this.renderer.render(this.scene, this.camera);
+    }
     const gl = this.renderer.getContext();
     gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));  // waits for the frame
     const end = performance.now();
-    this.frameTimes.push(end - start);
-    if (this.frameTimes.length > 1000) this.frameTimes.shift();
-    this.onFrame(end);
+    const times = fast ? this.fastFrameTimes : this.frameTimes;
+    times.push(end - start);
+    if (times.length > 1000) times.shift();
+    this.onFrame(end, fast);
     return end - start;
   }
 }

@@ -67,19 +67,22 @@ export async function createRealtimeView(store: PageStore): Promise<ViewerState>
     (w, x, at) => {
       combineCoefficients(all, w, block, point);
       movedAt = at;
-      gl.setCoefficients(point);
+      gl.setCoefficients(point, store.state.dragging);
       state.shownX = x;
     },
     (e) => setStatus(`real-time view: ${(e as Error).message}`, true, "realtime"),
   );
+  const median = (v: number[]) => {
+    const s = v.slice(-30).sort((a, b) => a - b);
+    return s.length ? `${s[s.length >> 1].toFixed(0)} ms` : "–";
+  };
   gl.onFrame = (end) => {
-    if (movedAt) {
+    if (movedAt) {  // the first frame (reduced or not) with the new coefficients
       state.moveToFrame.push(end - movedAt);
       if (state.moveToFrame.length > 500) state.moveToFrame.shift();
       movedAt = 0;
     }
-    const times = gl.frameTimes.slice(-30).sort((a, b) => a - b);
-    $("rt-fps").textContent = `${times[times.length >> 1].toFixed(0)} ms/frame`;
+    $("rt-fps").textContent = `${median(gl.frameTimes)} per frame · ${median(gl.fastFrameTimes)} while moving`;
   };
   store.on(["x"], (s) => weights.request(s.x, s.movedAt));
 
@@ -141,7 +144,7 @@ export async function createRealtimeView(store: PageStore): Promise<ViewerState>
     input.addEventListener("input", set);
     set();
   };
-  slider("rt-rotation", (v) => gl.setRotation(v), (v) => `${v}°`);
+  slider("rt-rotation", (v) => gl.setRotation(v, true), (v) => `${v}°`);
   slider("rt-exposure", (v) => gl.setExposure(v), (v) => `${v > 0 ? "+" : ""}${v}`);
   const bands = $<HTMLInputElement>("rt-bands");
   bands.max = String(info.bands);
