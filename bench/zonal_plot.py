@@ -2,7 +2,7 @@
 """Summarise bench_zonal_accuracy CSVs (docs/REALTIME.md): per-class error against L as an SVG
 plot and Markdown tables. Standard library only.
 
-    bench/zonal_plot.py -o docs/realtime-convergence.svg studio.csv forest.csv > summary.md
+    bench/zonal_plot.py -o docs/realtime-convergence.svg forest.csv city.csv studio.csv > summary.md
 
 Classes by gloss = ln(pi f_peak / A) (see bench_zonal_accuracy.cpp): diffuse < 1 <= glossy < 6
 <= mirror-like. The plotted error is the noise-free relative RMS error (rms column); the tables

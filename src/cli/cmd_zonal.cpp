@@ -14,7 +14,6 @@
 #include "manifold/material_set.h"
 #include "manifold/model.h"
 #include "zonal/coefficient_file.h"
-#include "zonal/sh.h"
 
 namespace matlas::cli {
 
@@ -33,12 +32,12 @@ bool is_model(const std::vector<std::string>& inputs) {
 void run_zonal(const ZonalArgs& a, const Io& io) {
   const DType storage = a.storage == "f16" ? DType::F16 : DType::F32;
   const auto start = std::chrono::steady_clock::now();
+  const zonal::ZonalProjector projector(a.settings);
   zonal::CoefficientSet set;
+  set.settings = a.settings;
   if (is_model(a.inputs)) {
     set = atlas::model_coefficients(Model::open(a.inputs[0]), a.settings);
   } else {
-    const zonal::ZonalProjector projector(a.settings);
-    set.settings = a.settings;
     std::vector<std::filesystem::path> paths(a.inputs.begin(), a.inputs.end());
     TerminalProgress progress;
     const MaterialSet materials = MaterialSet::open(paths, progress);
@@ -55,7 +54,7 @@ void run_zonal(const ZonalArgs& a, const Io& io) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   print(io.out, "wrote %s: %zu materials, L = %d (%zu coefficients) x %d view angles, %s (storage error %.2e of the "
               "largest coefficient), %.2f s\n",
-              a.output.c_str(), set.materials.size(), a.settings.bands, zonal::triangle_size(a.settings.bands),
+              a.output.c_str(), set.materials.size(), a.settings.bands, projector.basis().size(),
               a.settings.theta_o_count, a.storage.c_str(), error, seconds);
 }
 
@@ -68,7 +67,7 @@ void add_zonal_command(CLI::App& app, const Io& io) {
   cmd->add_option("--theta-o", a->settings.theta_o_count, "View-angle samples")
       ->check(CLI::Range(1, 1024))->capture_default_str();
   cmd->add_option("--storage", a->storage, "f32 or f16")->check(CLI::IsMember({"f32", "f16"}))->capture_default_str();
-  cmd->callback([a, io] { run_zonal(*a, io); });
+  cmd->callback([io, a] { run_zonal(*a, io); });
 }
 
 }  // namespace

@@ -233,17 +233,17 @@ Rgb reciprocal_value(const Rgb& forward, const Rgb& backward, double ci, double 
   return (co * forward + ci * backward) / (ci * ci + co * co);
 }
 
-/// Bins below this theta_h index (theta_h < 11.4 deg on the 90-bin grid) hold the average of the
-/// reciprocal value over their theta_h extent rather than its value at the centre: there a specular
-/// peak can be narrower than a bin (chm_mint's is under 0.3 deg wide), and a point sample adds a
-/// bias of up to 1.6 % to the albedo. Four sub-bins of equal width in the grid's square-root
-/// coordinate, weighted by the half vector's solid angle (d theta_h / du sin theta_h); negative
-/// values are clamped before averaging, as every stored value is.
-constexpr int kCellAveragedThetaH = 32;
+/// Bins that end below this theta_h (0.2 rad, 11.5 deg: the first 32 of MERL's 90) hold the
+/// average of the reciprocal value over their theta_h x theta_d extent, not its value at the
+/// centre: there a specular peak can be narrower than a bin (chm_mint's is under 0.3 deg wide),
+/// and a point sample added up to 1.6 % to the albedo. 4 x 4 sub-bins of equal width in the grid's
+/// coordinates (square root in theta_h), weighted by the solid angle (d theta_h / du sin theta_h
+/// sin theta_d); negative values are clamped before averaging, as every stored value is.
+constexpr double kCellAveragedThetaH = 0.2;
 constexpr int kThetaHSubBins = 4;
 constexpr int kThetaDSubBins = 4;
 
-Rgb cell_average_theta_h(const RglBsdf& bsdf, const MerlDims& dims, int i, int j, int k) {
+Rgb cell_average(const RglBsdf& bsdf, const MerlDims& dims, int i, int j, int k) {
   HalfDiffAngles a = bin_centre(dims, i, j, k);
   Rgb sum = Rgb::Zero();
   double weight_sum = 0.0;
@@ -280,6 +280,8 @@ BrdfTable resample_to_merl(const RglBsdf& bsdf, RglResampling* report, const Mer
   std::vector<Partial> partial(static_cast<std::size_t>(dims.theta_h));
   parallel_for_each(0, static_cast<std::size_t>(dims.theta_h), [&](std::size_t i) {
     Partial& p = partial[i];
+    const double upper_u = static_cast<double>(i + 1) / dims.theta_h;
+    const bool averaged = upper_u * upper_u * (kPi / 2.0) <= kCellAveragedThetaH;
     for (int j = 0; j < dims.theta_d; ++j) {
       for (int k = 0; k < dims.phi_d; ++k) {
         const std::size_t bin = dims.flat(static_cast<int>(i), j, k);
@@ -301,7 +303,7 @@ BrdfTable resample_to_merl(const RglBsdf& bsdf, RglResampling* report, const Mer
             ++p.clamped;
           }
         }
-        if (static_cast<int>(i) < kCellAveragedThetaH) value = cell_average_theta_h(bsdf, dims, static_cast<int>(i), j, k);
+        if (averaged) value = cell_average(bsdf, dims, static_cast<int>(i), j, k);
         for (int c = 0; c < 3; ++c) table.set_value(c, bin, value[c]);
         p.max = p.max.max(value);
         ++p.measured;

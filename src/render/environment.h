@@ -33,8 +33,6 @@ public:
   /// Density of sample() for direction d.
   double pdf(const Vec3& d) const;
 
-  /// Whether this is a uniform environment (no map).
-  bool is_constant() const { return constant_; }
   int width() const { return map_.width; }
   int height() const { return map_.height; }
 

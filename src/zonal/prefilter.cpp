@@ -52,7 +52,8 @@ PrefilteredEnvironment::PrefilteredEnvironment(const render::Environment& env, c
   if (!(settings.texels_per_band > 0) || settings.texels_per_band > 64 || settings.supersample < 1 ||
       settings.supersample > 16 || settings.constant_grid < 4)
     throw Error("prefilter resolution out of range");
-  const int rows = env.is_constant() ? settings.constant_grid : env.height() * settings.supersample;
+  const bool constant = env.height() <= 0;  // a constant environment has no map
+  const int rows = constant ? settings.constant_grid : env.height() * settings.supersample;
   const int cols = 2 * rows;
   const std::size_t n = triangle_size(L);
   // Per row: Fourier sums over phi, then the Legendre functions of the row (rows run in parallel

@@ -1,0 +1,169 @@
+// matlas gi-basis / gi / gi-render: global-illumination images of any map point (docs/GI.md).
+#include <chrono>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "cli/commands.h"
+#include "cli/latent_point.h"
+#include "cli/render_options.h"
+#include "core/error.h"
+#include "manifold/model.h"
+#include "pathtrace/gi_basis.h"
+#include "pathtrace/model_bank.h"
+#include "atlas/model_basis.h"
+
+namespace matlas::cli {
+
+namespace {
+
+struct TraceOptions {
+  std::string scene = "floor", object = "sphere";
+  pathtrace::TraceSettings settings;
+};
+
+void add_trace_options(CLI::App& cmd, TraceOptions& o) {
+  cmd.add_option("--scene", o.scene, "Built-in scene (floor, box) or a .json scene file")->capture_default_str();
+  cmd.add_option("--object", o.object, "The measured object of a built-in scene: sphere, bunny, suzi, teapot or a mesh file")
+      ->capture_default_str();
+  cmd.add_option("--width", o.settings.width, "Image width")->capture_default_str()->check(CLI::Range(1, 16384));
+  cmd.add_option("--height", o.settings.height, "Image height")->capture_default_str()->check(CLI::Range(1, 16384));
+  cmd.add_option("--spp", o.settings.spp, "Paths per pixel")->capture_default_str()->check(CLI::Range(1, 1 << 20));
+  cmd.add_option("--seed", o.settings.seed, "Random seed")->capture_default_str();
+  cmd.add_option("--max-depth", o.settings.max_depth, "Scattering vertices per path")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 64));
+}
+
+struct ImageOptions {
+  std::string output;
+  RenderOptions tone;  // only --exposure and --tonemap are used
+};
+
+void add_image_options(CLI::App& cmd, ImageOptions& o) {
+  cmd.add_option("-o,--output", o.output, "Output image: .png (tone mapped sRGB) or .exr (linear)")->required();
+  cmd.add_option("--exposure", o.tone.exposure, "PNG exposure in stops")->capture_default_str()->check(finite_number());
+  cmd.add_option("--tonemap", o.tone.tonemap, "PNG tone curve: clamp, reinhard or aces")->capture_default_str();
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+// --- gi-basis ---
+
+struct BasisArgs {
+  std::string model, output, cache;
+  int batch = 16;
+  TraceOptions trace;
+};
+
+void run_gi_basis(const BasisArgs& a, const Io& io) {
+  const Model model = Model::open(a.model);
+  const pathtrace::World world(pathtrace::load_scene(a.trace.scene, a.trace.object));
+  pathtrace::GiBasisOptions options;
+  options.batch = a.batch;
+  options.cache = a.cache.empty() ? std::filesystem::path(a.output + ".cache") : std::filesystem::path(a.cache);
+  TerminalProgress progress;
+  const auto start = std::chrono::steady_clock::now();
+  const pathtrace::GiBasis basis = pathtrace::build_gi_basis(model, world, a.trace.settings, options, progress);
+  basis.save(a.output);
+  print(io.out, "basis of %d material images + P (%dx%d, %d spp) in %.1f s; cache %s\nwrote %s\n", basis.count() + 1,
+              basis.width(), basis.height(), a.trace.settings.spp, seconds_since(start), options.cache.c_str(),
+              a.output.c_str());
+}
+
+void add_gi_basis_command(CLI::App& app, const Io& io) {
+  auto* cmd = app.add_subcommand("gi-basis", "Path-trace the GI image basis of a model in a scene (resumable)");
+  auto a = std::make_shared<BasisArgs>();
+  cmd->add_option("model", a->model, ".matlas model")->required();
+  cmd->add_option("-o,--output", a->output, "Output basis (.safetensors)")->required();
+  cmd->add_option("--cache", a->cache, "Folder of per-material images (default OUTPUT.cache): a rerun resumes");
+  cmd->add_option("--batch", a->batch, "Materials traced per pass")->capture_default_str()->check(CLI::Range(1, 1 << 20));
+  add_trace_options(*cmd, a->trace);
+  cmd->callback([io, a] { run_gi_basis(*a, io); });
+}
+
+// --- gi ---
+
+struct GiArgs {
+  std::string model, basis, part = "all";
+  std::optional<std::string> at, material;
+  ImageOptions image;
+};
+
+void run_gi(const GiArgs& a, const Io& io) {
+  if (a.part != "all" && a.part != "i1") throw Error("--part must be all or i1");
+  const Model model = Model::open(a.model);
+  const pathtrace::GiBasis basis = pathtrace::GiBasis::load(a.basis);
+  const auto fp = basis.metadata().find("model_fingerprint");
+  if (fp == basis.metadata().end() || fp->second != atlas::model_fingerprint(model))
+    throw Error(a.basis + ": the basis was traced for another model than " + a.model);
+  const Eigen::VectorXd x = resolve_point(model, a.at, a.material);
+  const Eigen::VectorXd w = model.weights(x);
+  const auto start = std::chrono::steady_clock::now();
+  const Image image = basis.compose(w, a.part == "i1" ? pathtrace::GiBasis::Part::i1 : pathtrace::GiBasis::Part::all);
+  const double ms = 1e3 * seconds_since(start);
+  write_image(a.image.output, image, a.image.tone.tone());
+  print(io.out, "composed %dx%d from %d materials in %.1f ms; wrote %s\n", image.width, image.height, basis.count(), ms,
+              a.image.output.c_str());
+}
+
+void add_gi_command(CLI::App& app, const Io& io) {
+  auto* cmd = app.add_subcommand("gi", "The GI image of a map point, composed from a GI basis");
+  auto a = std::make_shared<GiArgs>();
+  cmd->add_option("model", a->model, ".matlas model")->required();
+  cmd->add_option("--basis", a->basis, "GI basis from matlas gi-basis")->required();
+  cmd->add_option("--part", a->part, "all (I1 + interpolated I2) or i1")->capture_default_str();
+  add_point_options(*cmd, a->at, a->material);
+  add_image_options(*cmd, a->image);
+  cmd->callback([io, a] { run_gi(*a, io); });
+}
+
+// --- gi-render ---
+
+struct RenderArgs {
+  std::string model, part = "all";
+  std::optional<std::string> at, material;
+  TraceOptions trace;
+  ImageOptions image;
+};
+
+void run_gi_render(const RenderArgs& a, const Io& io) {
+  if (a.part != "all" && a.part != "i1" && a.part != "i2" && a.part != "p")
+    throw Error("--part must be all, i1, i2 or p");
+  const Model model = Model::open(a.model);
+  const pathtrace::World world(pathtrace::load_scene(a.trace.scene, a.trace.object));
+  const pathtrace::ModelPointBank bank(model, model.weights(resolve_point(model, a.at, a.material)));
+  TerminalProgress progress;
+  const auto start = std::chrono::steady_clock::now();
+  const pathtrace::TraceImages r = pathtrace::trace(world, &bank, a.trace.settings, progress);
+  const bool has = !r.once.empty();
+  const Image image = a.part == "p" || !has ? r.p : a.part == "i1" ? r.i1(0) : a.part == "i2" ? r.more[0] : r.full(0);
+  write_image(a.image.output, image, a.image.tone.tone());
+  print(io.out, "traced %dx%d, %d spp in %.1f s; wrote %s\n", image.width, image.height, a.trace.settings.spp,
+              seconds_since(start), a.image.output.c_str());
+}
+
+void add_gi_render_command(CLI::App& app, const Io& io) {
+  auto* cmd = app.add_subcommand("gi-render", "Path-trace a map point's material in a scene (the GI reference)");
+  auto a = std::make_shared<RenderArgs>();
+  cmd->add_option("model", a->model, ".matlas model")->required();
+  cmd->add_option("--part", a->part, "all, i1 (paths touching the object at most once), i2 or p")->capture_default_str();
+  add_point_options(*cmd, a->at, a->material);
+  add_trace_options(*cmd, a->trace);
+  add_image_options(*cmd, a->image);
+  cmd->callback([io, a] { run_gi_render(*a, io); });
+}
+
+void add_gi_commands(CLI::App& app, const Io& io) {
+  add_gi_basis_command(app, io);
+  add_gi_command(app, io);
+  add_gi_render_command(app, io);
+}
+
+}  // namespace
+
+MATLAS_COMMAND(62, add_gi_commands);
+
+}  // namespace matlas::cli

@@ -1,0 +1,324 @@
+#include "pathtrace/gi_basis.h"
+
+#include <cmath>
+#include <cstdio>
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <cpuid.h>
+#include <immintrin.h>
+#endif
+
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+#include "core/parallel.h"
+#include "core/simd_clones.h"
+#include "formats/safetensors.h"
+#include "pathtrace/model_bank.h"
+#include "atlas/model_basis.h"
+
+namespace matlas::pathtrace {
+
+namespace {
+
+constexpr std::size_t kTile = 2048;
+
+std::size_t tile_count(std::size_t values) { return (values + kTile - 1) / kTile; }
+
+MATLAS_SIMD_CLONES void add_scaled(float a, const float* x, float* y, std::size_t n) {
+  for (std::size_t j = 0; j < n; ++j) y[j] += a * x[j];
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+// y += a x for float16 x, 8 values per step (n is a multiple of 8: whole tiles).
+__attribute__((target("avx2,fma,f16c"))) void add_scaled_half_f16c(float a, const std::uint16_t* x, float* y,
+                                                                    std::size_t n) {
+  const __m256 va = _mm256_set1_ps(a);
+  for (std::size_t j = 0; j < n; j += 8) {
+    const __m256 v = _mm256_cvtph_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(x + j)));
+    _mm256_storeu_ps(y + j, _mm256_fmadd_ps(va, v, _mm256_loadu_ps(y + j)));
+  }
+}
+
+bool has_f16c() {
+  unsigned eax = 0, ebx = 0, ecx = 0, edx = 0;
+  if (!__get_cpuid(1, &eax, &ebx, &ecx, &edx)) return false;
+  return (ecx & (1u << 29)) != 0 && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+}
+#endif
+
+void add_scaled_half(float a, const std::uint16_t* x, float* y, std::size_t n) {
+#if defined(__x86_64__) && defined(__GNUC__)
+  static const bool fast = has_f16c();
+  if (fast) return add_scaled_half_f16c(a, x, y, n);
+#endif
+  for (std::size_t j = 0; j < n; ++j) y[j] += a * half_to_float(x[j]);
+}
+
+std::vector<float> tile_images(const std::vector<const float*>& images, std::size_t values) {
+  const std::size_t k = images.size();
+  std::vector<float> out(tile_count(values) * k * kTile, 0.0f);
+  for (std::size_t t = 0; t < tile_count(values); ++t)
+    for (std::size_t i = 0; i < k; ++i) {
+      const std::size_t begin = t * kTile, n = std::min(kTile, values - begin);
+      std::copy_n(images[i] + begin, n, out.data() + (t * k + i) * kTile);
+    }
+  return out;
+}
+
+void untile(const std::vector<float>& tiles, std::size_t k_count, std::size_t k, std::size_t values, float* out) {
+  for (std::size_t t = 0; t < tile_count(values); ++t) {
+    const std::size_t begin = t * kTile, n = std::min(kTile, values - begin);
+    std::copy_n(tiles.data() + (t * k_count + k) * kTile, n, out + begin);
+  }
+}
+
+Error file_error(const std::filesystem::path& path, const std::string& what) {
+  return Error(path.string() + ": " + what);
+}
+
+std::filesystem::path material_file(const std::filesystem::path& cache, int k) {
+  char name[48];
+  std::snprintf(name, sizeof name, "material-%04d.safetensors", k);
+  return cache / name;
+}
+
+void write_images(const std::filesystem::path& path, const std::string& key,
+                  const std::vector<std::pair<std::string, const Image*>>& images) {
+  SafetensorsWriter w;
+  w.add_metadata("key", key);
+  for (const auto& [name, im] : images) w.declare(name, DType::F32, {im->height, im->width, 3});
+  w.begin(path);
+  for (const auto& [name, im] : images) w.write(std::span<const float>(im->rgb));
+  w.commit();
+}
+
+/// The named images of a cache file when it exists with this key and size, else false.
+bool read_images(const std::filesystem::path& path, const std::string& key, int width, int height,
+                 const std::vector<std::pair<std::string, Image*>>& images) {
+  if (!std::filesystem::exists(path)) return false;
+  try {
+    const SafetensorsFile f = SafetensorsFile::open(path);
+    const auto it = f.metadata().find("key");
+    if (it == f.metadata().end() || it->second != key) return false;
+    for (const auto& [name, im] : images) {
+      const auto v = f.view<float>(name, DType::F32, {height, width, 3});
+      *im = Image(width, height);
+      std::copy(v.begin(), v.end(), im->rgb.begin());
+    }
+    return true;
+  } catch (const Error&) {
+    return false;  // a damaged cache entry is traced again
+  }
+}
+
+}  // namespace
+
+Eigen::VectorXd material_coefficients(const Eigen::Ref<const Eigen::VectorXd>& w) {
+  Eigen::VectorXd a(w.size() + 1);
+  a[0] = 1.0 - w.sum();
+  a.tail(w.size()) = w;
+  return a;
+}
+
+GiBasis::GiBasis(Image p, const std::vector<Image>& linear, const std::vector<Image>& full,
+                 std::vector<std::string> names, std::map<std::string, std::string> metadata)
+    : p_(std::move(p)), names_(std::move(names)), metadata_(std::move(metadata)) {
+  if (linear.size() != names_.size() + 1 || full.size() != linear.size())
+    throw Error("GI basis: expected n + 1 images per part for n names");
+  std::vector<const float*> l, f;
+  for (std::size_t k = 0; k < linear.size(); ++k) {
+    if (linear[k].width != p_.width || linear[k].height != p_.height || full[k].width != p_.width ||
+        full[k].height != p_.height)
+      throw Error("GI basis: images of different sizes");
+    l.push_back(linear[k].rgb.data());
+    f.push_back(full[k].rgb.data());
+  }
+  linear_ = tile_images(l, p_.rgb.size());
+  full_ = tile_images(f, p_.rgb.size());
+}
+
+double GiBasis::convert_to_half() {
+  if (is_half()) return 0.0;
+  const std::size_t k_count = names_.size() + 1;
+  double worst = 0;
+  for (auto [from, to] : {std::pair{&linear_, &linear_half_}, std::pair{&full_, &full_half_}}) {
+    to->resize(from->size());
+    std::vector<float> scale(k_count, 0.0f);  // per image, its largest magnitude
+    for (std::size_t i = 0; i < from->size(); ++i)
+      scale[(i / kTile) % k_count] = std::max(scale[(i / kTile) % k_count], std::abs((*from)[i]));
+    for (std::size_t i = 0; i < from->size(); ++i) {
+      (*to)[i] = float_to_half((*from)[i]);
+      const float s = scale[(i / kTile) % k_count];
+      if (s > 0) worst = std::max(worst, static_cast<double>(std::abs(half_to_float((*to)[i]) - (*from)[i]) / s));
+    }
+  }
+  return worst;
+}
+
+Image GiBasis::image(Part part, int k) const {
+  Image out(width(), height());
+  untile(tiles(part), names_.size() + 1, static_cast<std::size_t>(k), out.rgb.size(), out.rgb.data());
+  return out;
+}
+
+Image GiBasis::compose(const Eigen::Ref<const Eigen::VectorXd>& w, Part part) const {
+  Image out(width(), height());
+  compose_into(w, part, out.rgb.data());
+  return out;
+}
+
+void GiBasis::compose_into(const Eigen::Ref<const Eigen::VectorXd>& w, Part part, float* rgb) const {
+  if (w.size() != count()) throw Error("GI basis: weights of length " + std::to_string(w.size()) + " for " +
+                                       std::to_string(count()) + " materials");
+  const Eigen::VectorXd a = material_coefficients(w);
+  const std::size_t k_count = a.size(), values = p_.rgb.size();
+  const std::vector<float>& data = tiles(part);
+  const std::vector<std::uint16_t>* half =
+      is_half() ? (part == Part::i1 ? &linear_half_ : &full_half_) : nullptr;
+  parallel_for(0, tile_count(values), [&](std::size_t t0, std::size_t t1) {
+    alignas(64) float acc[kTile];
+    for (std::size_t t = t0; t < t1; ++t) {
+      const std::size_t begin = t * kTile, n = std::min(kTile, values - begin);
+      std::copy_n(p_.rgb.data() + begin, n, acc);
+      std::fill(acc + n, acc + kTile, 0.0f);
+      for (std::size_t k = 0; k < k_count; ++k) {
+        const auto ak = static_cast<float>(a[static_cast<Eigen::Index>(k)]);
+        if (ak == 0) continue;
+        const std::size_t at = (t * k_count + k) * kTile;
+        if (half) add_scaled_half(ak, half->data() + at, acc, kTile);
+        else add_scaled(ak, data.data() + at, acc, kTile);
+      }
+      std::copy_n(acc, n, rgb + begin);
+    }
+  });
+}
+
+void GiBasis::save(const std::filesystem::path& path) const {
+  const std::int64_t k = count() + 1, h = height(), wd = width();
+  SafetensorsWriter w;
+  for (const auto& [key, value] : metadata_) w.add_metadata(key, value);
+  w.add_metadata("format", "matlas-gi-basis");
+  w.add_metadata("names", nlohmann::json(names_).dump());
+  w.declare("p", DType::F32, {h, wd, 3});
+  w.declare("linear", DType::F32, {k, h, wd, 3});
+  w.declare("full", DType::F32, {k, h, wd, 3});
+  w.begin(path);
+  w.write(std::span<const float>(p_.rgb));
+  std::vector<float> buffer(p_.rgb.size());
+  for (const Part part : {Part::i1, Part::all})
+    for (std::int64_t i = 0; i < k; ++i) {
+      untile(tiles(part), static_cast<std::size_t>(k), static_cast<std::size_t>(i), buffer.size(), buffer.data());
+      w.write(std::span<const float>(buffer));
+    }
+  w.commit();
+}
+
+GiBasis GiBasis::load(const std::filesystem::path& path) {
+  const SafetensorsFile f = SafetensorsFile::open(path);
+  const auto& meta = f.metadata();
+  const auto format = meta.find("format");
+  if (format == meta.end() || format->second != "matlas-gi-basis") throw file_error(path, "not a matlas GI basis");
+  std::vector<std::string> names;
+  try {
+    names = nlohmann::json::parse(meta.at("names")).get<std::vector<std::string>>();
+  } catch (const std::exception&) {
+    throw file_error(path, "bad \"names\" metadata");
+  }
+  const TensorInfo& pt = f.require("p", DType::F32);
+  if (pt.shape.size() != 3 || pt.shape[2] != 3 || pt.shape[0] <= 0 || pt.shape[1] <= 0)
+    throw file_error(path, "tensor p is not [H, W, 3]");
+  const std::int64_t h = pt.shape[0], wd = pt.shape[1], k = static_cast<std::int64_t>(names.size()) + 1;
+  const auto p = f.view<float>("p", DType::F32, {h, wd, 3});
+  const auto linear = f.view<float>("linear", DType::F32, {k, h, wd, 3});
+  const auto full = f.view<float>("full", DType::F32, {k, h, wd, 3});
+  for (const auto& span : {p, linear, full})
+    for (const float x : span)
+      if (!std::isfinite(x)) throw file_error(path, "GI basis has NaN or infinite pixels");
+  Image pi(static_cast<int>(wd), static_cast<int>(h));
+  std::copy(p.begin(), p.end(), pi.rgb.begin());
+  std::vector<Image> l, fu;
+  const std::size_t values = pi.rgb.size();
+  for (std::int64_t i = 0; i < k; ++i) {
+    l.emplace_back(pi.width, pi.height);
+    fu.emplace_back(pi.width, pi.height);
+    std::copy_n(linear.data() + static_cast<std::size_t>(i) * values, values, l.back().rgb.begin());
+    std::copy_n(full.data() + static_cast<std::size_t>(i) * values, values, fu.back().rgb.begin());
+  }
+  std::map<std::string, std::string> kept(meta.begin(), meta.end());
+  kept.erase("names");
+  kept.erase("format");
+  return GiBasis(std::move(pi), l, fu, std::move(names), std::move(kept));
+}
+
+std::string gi_basis_key(const Model& model, const World& world, const TraceSettings& s) {
+  nlohmann::json density = nlohmann::json::array();
+  for (const auto& [alpha, weight] : s.density.lobes) density.push_back({alpha, weight});
+  const nlohmann::json key = {{"model_fingerprint", atlas::model_fingerprint(model)},
+                              {"scene", scene_to_json(world.spec())},
+                              {"width", s.width}, {"height", s.height}, {"spp", s.spp}, {"seed", s.seed},
+                              {"max_depth", s.max_depth}, {"roulette_depth", s.roulette_depth},
+                              {"density_cosine", s.density.cosine}, {"density_lobes", density}};
+  return key.dump();
+}
+
+GiBasis build_gi_basis(const Model& model, const World& world, const TraceSettings& settings,
+                       const GiBasisOptions& options, ProgressSink& progress) {
+  settings.validate();
+  if (world.measured_object() < 0) throw Error("scene '" + world.spec().name + "' has no measured object");
+  if (options.batch <= 0) throw Error("batch must be positive");
+  const std::string key = gi_basis_key(model, world, settings);
+  const int k_count = model.count() + 1, w = settings.width, h = settings.height;
+  const bool cached = !options.cache.empty();
+  if (cached) std::filesystem::create_directories(options.cache);
+  Image p;
+  std::vector<Image> linear(static_cast<std::size_t>(k_count)), full(linear.size());
+  bool have_p = cached && read_images(options.cache / "p.safetensors", key, w, h, {{"p", &p}});
+  int reused = 0;
+  for (int first = 0; first < k_count; first += options.batch) {
+    const int last = std::min(k_count, first + options.batch);
+    bool all_cached = cached;
+    for (int k = first; k < last && all_cached; ++k)
+      all_cached = read_images(material_file(options.cache, k), key, w, h,
+                               {{"linear", &linear[static_cast<std::size_t>(k)]}, {"full", &full[static_cast<std::size_t>(k)]}});
+    if (all_cached) {
+      reused += last - first;
+      continue;
+    }
+    progress.message("tracing materials " + std::to_string(first) + ".." + std::to_string(last - 1) + " of " +
+                     std::to_string(k_count - 1) + " (0: the mean)");
+    const ModelBank bank(model, first, last);
+    TraceImages r = trace(world, &bank, settings, progress);
+    for (int k = first; k < last; ++k) {
+      const std::size_t j = static_cast<std::size_t>(k - first);
+      linear[static_cast<std::size_t>(k)] = r.once[j];
+      full[static_cast<std::size_t>(k)] = r.once[j];
+      for (std::size_t v = 0; v < r.more[j].rgb.size(); ++v) full[static_cast<std::size_t>(k)].rgb[v] += r.more[j].rgb[v];
+      if (cached)
+        write_images(material_file(options.cache, k), key,
+                     {{"linear", &linear[static_cast<std::size_t>(k)]}, {"full", &full[static_cast<std::size_t>(k)]}});
+    }
+    if (!have_p) {
+      p = std::move(r.p);
+      have_p = true;
+      if (cached) write_images(options.cache / "p.safetensors", key, {{"p", &p}});
+    }
+  }
+  if (!have_p) {  // every material came from the cache but P did not
+    const ModelBank bank(model, 0, 1);
+    p = trace(world, &bank, settings, progress).p;
+    if (cached) write_images(options.cache / "p.safetensors", key, {{"p", &p}});
+  }
+  if (reused > 0) progress.message("reused " + std::to_string(reused) + " cached material images");
+  std::map<std::string, std::string> meta;
+  meta["key"] = key;
+  meta["model"] = model.path().filename().string();
+  meta["model_fingerprint"] = atlas::model_fingerprint(model);
+  meta["scene"] = scene_to_json(world.spec()).dump();
+  meta["spp"] = std::to_string(settings.spp);
+  meta["seed"] = std::to_string(settings.seed);
+  meta["i2"] = "interpolated with the map's weights from the inputs' and the mean's I2 images";
+  return GiBasis(std::move(p), linear, full, model.names(), std::move(meta));
+}
+
+}  // namespace matlas::pathtrace

@@ -1,0 +1,237 @@
+#include "pathtrace/scene_spec.h"
+
+#include <cmath>
+#include <set>
+
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+#include "core/file_io.h"
+
+namespace matlas::pathtrace {
+
+namespace {
+
+using nlohmann::json;
+
+// The built-in scenes, in the file format itself ("$object" is replaced by the object's name).
+constexpr const char* kFloorScene = R"({
+  "name": "floor",
+  "camera": {"position": [0, 1.7, 5.6], "target": [0, 0.85, 0], "fov": 34},
+  "environment": {"map": "studio", "intensity": 0.3, "rotation": 180},
+  "objects": [
+    {"shape": "mesh", "mesh": "$object", "center": [0, 1, 0], "radius": 1,
+     "material": {"type": "measured"}},
+    {"shape": "quad", "corner": [-8, 0, -8], "edge1": [0, 0, 16], "edge2": [16, 0, 0],
+     "material": {"type": "ggx", "albedo": [0.12, 0.12, 0.13], "specular": [0.25, 0.25, 0.25], "alpha": 0.04}},
+    {"shape": "quad", "corner": [-8, 0, -2.2], "edge1": [16, 0, 0], "edge2": [0, 8, 0],
+     "material": {"type": "lambert", "albedo": [0.62, 0.58, 0.52]}}
+  ]
+})";
+
+constexpr const char* kBoxScene = R"({
+  "name": "box",
+  "camera": {"position": [0, 2, 3.9], "target": [0, 1.8, 0], "fov": 55},
+  "objects": [
+    {"shape": "mesh", "mesh": "$object", "center": [0, 1, -0.3], "radius": 1,
+     "material": {"type": "measured"}},
+    {"shape": "quad", "corner": [-2, 0, -2], "edge1": [0, 0, 6], "edge2": [4, 0, 0],
+     "material": {"type": "lambert", "albedo": [0.73, 0.73, 0.73]}},
+    {"shape": "quad", "corner": [-2, 4, -2], "edge1": [4, 0, 0], "edge2": [0, 0, 6],
+     "material": {"type": "lambert", "albedo": [0.73, 0.73, 0.73]}},
+    {"shape": "quad", "corner": [-2, 0, -2], "edge1": [4, 0, 0], "edge2": [0, 4, 0],
+     "material": {"type": "lambert", "albedo": [0.73, 0.73, 0.73]}},
+    {"shape": "quad", "corner": [-2, 0, 4], "edge1": [0, 4, 0], "edge2": [4, 0, 0],
+     "material": {"type": "lambert", "albedo": [0.73, 0.73, 0.73]}},
+    {"shape": "quad", "corner": [-2, 0, -2], "edge1": [0, 4, 0], "edge2": [0, 0, 6],
+     "material": {"type": "lambert", "albedo": [0.63, 0.065, 0.05]}},
+    {"shape": "quad", "corner": [2, 0, -2], "edge1": [0, 0, 6], "edge2": [0, 4, 0],
+     "material": {"type": "lambert", "albedo": [0.14, 0.45, 0.09]}},
+    {"shape": "quad", "corner": [-0.8, 3.99, -1.1], "edge1": [1.6, 0, 0], "edge2": [0, 0, 1.6],
+     "emission": [8, 6.8, 5.1]}
+  ]
+})";
+
+[[noreturn]] void fail(const std::string& source, const std::string& what) {
+  throw Error(source + ": " + what);
+}
+
+void check_keys(const json& j, const std::set<std::string>& allowed, const std::string& source,
+                const std::string& where) {
+  if (!j.is_object()) fail(source, where + " must be an object");
+  for (const auto& [key, value] : j.items())
+    if (!allowed.contains(key)) fail(source, where + ": unknown key '" + key + "'");
+}
+
+double number(const json& j, const std::string& source, const std::string& where) {
+  if (!j.is_number()) fail(source, where + " must be a number");
+  const double v = j.get<double>();
+  if (!std::isfinite(v)) fail(source, where + " must be finite");
+  return v;
+}
+
+Vec3 vec3(const json& j, const std::string& source, const std::string& where) {
+  if (!j.is_array() || j.size() != 3) fail(source, where + " must be an array of 3 numbers");
+  return Vec3(number(j[0], source, where), number(j[1], source, where), number(j[2], source, where));
+}
+
+Rgb rgb(const json& j, const std::string& source, const std::string& where, double max = 1e30) {
+  const Vec3 v = vec3(j, source, where);
+  if (v.minCoeff() < 0 || v.maxCoeff() > max)
+    fail(source, where + " must be in [0, " + (max < 1e29 ? std::to_string(max) : std::string("inf")) + "]");
+  return v.array();
+}
+
+SurfaceSpec parse_surface(const json& j, const std::string& source, const std::string& where) {
+  check_keys(j, {"type", "albedo", "specular", "alpha"}, source, where);
+  SurfaceSpec s;
+  const std::string type = j.value("type", std::string("lambert"));
+  if (type == "lambert") s.kind = SurfaceSpec::Kind::lambert;
+  else if (type == "ggx") s.kind = SurfaceSpec::Kind::ggx;
+  else if (type == "measured") s.kind = SurfaceSpec::Kind::measured;
+  else fail(source, where + ".type must be lambert, ggx or measured, not '" + type + "'");
+  if (j.contains("albedo")) s.albedo = rgb(j["albedo"], source, where + ".albedo", 1.0);
+  if (j.contains("specular")) s.specular = rgb(j["specular"], source, where + ".specular", 1.0);
+  if (j.contains("alpha")) {
+    s.alpha = number(j["alpha"], source, where + ".alpha");
+    if (!(s.alpha >= 1e-3 && s.alpha <= 1.0)) fail(source, where + ".alpha must be in [0.001, 1]");
+  }
+  return s;
+}
+
+ObjectSpec parse_object(const json& j, const std::string& source, const std::string& where) {
+  check_keys(j, {"shape", "mesh", "center", "radius", "rotate_y", "rest_on", "corner", "edge1", "edge2", "material", "emission"},
+             source, where);
+  ObjectSpec o;
+  o.shape = j.value("shape", std::string("sphere"));
+  if (o.shape != "sphere" && o.shape != "quad" && o.shape != "mesh")
+    fail(source, where + ".shape must be sphere, quad or mesh, not '" + o.shape + "'");
+  if (j.contains("mesh")) {
+    if (!j["mesh"].is_string()) fail(source, where + ".mesh must be a string");
+    o.mesh = j["mesh"].get<std::string>();
+  }
+  if (o.shape == "mesh" && o.mesh.empty()) fail(source, where + ": a mesh object needs \"mesh\"");
+  if (o.shape == "mesh" && o.mesh == "sphere") o.shape = "sphere";  // the exact sphere
+  if (j.contains("center")) o.center = vec3(j["center"], source, where + ".center");
+  if (j.contains("radius")) {
+    o.radius = number(j["radius"], source, where + ".radius");
+    if (!(o.radius > 0)) fail(source, where + ".radius must be positive");
+  }
+  if (j.contains("rotate_y")) o.rotate_y = number(j["rotate_y"], source, where + ".rotate_y");
+  if (j.contains("rest_on")) o.rest_on = number(j["rest_on"], source, where + ".rest_on");
+  if (j.contains("corner")) o.corner = vec3(j["corner"], source, where + ".corner");
+  if (j.contains("edge1")) o.edge1 = vec3(j["edge1"], source, where + ".edge1");
+  if (j.contains("edge2")) o.edge2 = vec3(j["edge2"], source, where + ".edge2");
+  if (o.shape == "quad" && !(o.edge1.cross(o.edge2).norm() > 0)) fail(source, where + ": the quad's edges are parallel");
+  if (j.contains("material")) o.surface = parse_surface(j["material"], source, where + ".material");
+  if (j.contains("emission")) o.emission = rgb(j["emission"], source, where + ".emission");
+  if (o.emission.maxCoeff() > 0 && o.shape == "sphere") fail(source, where + ": spheres cannot emit");
+  if (o.emission.maxCoeff() > 0 && o.surface.kind == SurfaceSpec::Kind::measured)
+    fail(source, where + ": the measured object cannot emit");
+  return o;
+}
+
+json to_json(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
+json to_json(const Rgb& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+SceneSpec builtin(const char* text, const std::string& object) {
+  std::string s = text;
+  const std::string key = "\"$object\"";
+  s.replace(s.find(key), key.size(), json(object).dump());
+  return parse_scene(json::parse(s), "built-in scene");
+}
+
+}  // namespace
+
+SceneSpec parse_scene(const json& j, const std::string& source) {
+  check_keys(j, {"name", "camera", "environment", "objects"}, source, "scene");
+  SceneSpec s;
+  s.name = j.value("name", std::string("scene"));
+  if (j.contains("camera")) {
+    const json& c = j["camera"];
+    check_keys(c, {"position", "target", "fov"}, source, "camera");
+    if (c.contains("position")) s.camera.position = vec3(c["position"], source, "camera.position");
+    if (c.contains("target")) s.camera.target = vec3(c["target"], source, "camera.target");
+    if (c.contains("fov")) s.camera.fov_degrees = number(c["fov"], source, "camera.fov");
+    if (!(s.camera.fov_degrees > 0 && s.camera.fov_degrees < 180)) fail(source, "camera.fov must be in (0, 180)");
+    if (!((s.camera.target - s.camera.position).norm() > 0)) fail(source, "camera.target equals camera.position");
+  }
+  if (j.contains("environment")) {
+    const json& e = j["environment"];
+    check_keys(e, {"map", "constant", "rotation", "intensity"}, source, "environment");
+    if (e.contains("map")) {
+      if (!e["map"].is_string()) fail(source, "environment.map must be a string");
+      s.environment.map = e["map"].get<std::string>();
+    }
+    if (e.contains("constant")) s.environment.constant = rgb(e["constant"], source, "environment.constant");
+    if (e.contains("rotation")) s.environment.rotation = number(e["rotation"], source, "environment.rotation");
+    if (e.contains("intensity")) {
+      s.environment.intensity = number(e["intensity"], source, "environment.intensity");
+      if (s.environment.intensity < 0) fail(source, "environment.intensity must not be negative");
+    }
+  }
+  if (!j.contains("objects") || !j["objects"].is_array() || j["objects"].empty())
+    fail(source, "\"objects\" must be a non-empty array");
+  int measured = 0;
+  for (std::size_t i = 0; i < j["objects"].size(); ++i) {
+    s.objects.push_back(parse_object(j["objects"][i], source, "objects[" + std::to_string(i) + "]"));
+    if (s.objects.back().surface.kind == SurfaceSpec::Kind::measured) ++measured;
+  }
+  if (measured > 1) fail(source, "more than one object has the measured material");
+  return s;
+}
+
+json scene_to_json(const SceneSpec& s) {
+  json j;
+  j["name"] = s.name;
+  j["camera"] = {{"position", to_json(s.camera.position)}, {"target", to_json(s.camera.target)},
+                 {"fov", s.camera.fov_degrees}};
+  json env = {{"constant", to_json(s.environment.constant)}, {"rotation", s.environment.rotation},
+              {"intensity", s.environment.intensity}};
+  if (!s.environment.map.empty()) env["map"] = s.environment.map;
+  j["environment"] = env;
+  j["objects"] = json::array();
+  for (const ObjectSpec& o : s.objects) {
+    static const char* kinds[] = {"lambert", "ggx", "measured"};
+    json m = {{"type", kinds[static_cast<int>(o.surface.kind)]}, {"albedo", to_json(o.surface.albedo)},
+              {"specular", to_json(o.surface.specular)}, {"alpha", o.surface.alpha}};
+    json oj = {{"shape", o.shape}, {"center", to_json(o.center)}, {"radius", o.radius}, {"rotate_y", o.rotate_y},
+               {"corner", to_json(o.corner)}, {"edge1", to_json(o.edge1)}, {"edge2", to_json(o.edge2)},
+               {"material", m}, {"emission", to_json(o.emission)}};
+    if (!o.mesh.empty()) oj["mesh"] = o.mesh;
+    if (o.rest_on) oj["rest_on"] = *o.rest_on;
+    j["objects"].push_back(oj);
+  }
+  return j;
+}
+
+std::vector<std::string> builtin_scenes() { return {"floor", "box"}; }
+
+SceneSpec load_scene(const std::string& name_or_path, const std::string& object) {
+  if (name_or_path == "floor") return builtin(kFloorScene, object);
+  if (name_or_path == "box") return builtin(kBoxScene, object);
+  const std::filesystem::path path(name_or_path);
+  if (path.extension() != ".json")
+    throw Error("scene '" + name_or_path + "': expected a built-in scene (floor, box) or a .json file");
+  const int fd = open_regular_file(path, "a JSON scene file");
+  std::string text;
+  try {
+    text.resize(std::filesystem::file_size(path));
+    read_exact_at(fd, path, text.data(), text.size(), 0);
+  } catch (...) {
+    ::close(fd);
+    throw;
+  }
+  ::close(fd);
+  json j;
+  try {
+    j = json::parse(text);
+  } catch (const json::exception& e) {
+    fail(path.string(), std::string("not valid JSON: ") + e.what());
+  }
+  return parse_scene(j, path.string());
+}
+
+}  // namespace matlas::pathtrace

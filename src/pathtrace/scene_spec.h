@@ -1,0 +1,80 @@
+#pragma once
+// The description of a path-traced scene (docs/GI.md): camera, environment and objects, read
+// from a small JSON file or taken from the built-in scenes. Exactly one object may carry the
+// "measured" material: the object whose tabulated BRDF the GI image basis varies.
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "brdf/types.h"
+
+namespace matlas::pathtrace {
+
+/// The surface of an object. lambert: albedo / pi. ggx: albedo / pi plus a GGX microfacet lobe
+/// (Schlick Fresnel from `specular` at normal incidence, roughness `alpha`, height-correlated
+/// Smith masking). measured: the tabulated BRDF given at render time.
+struct SurfaceSpec {
+  enum class Kind { lambert, ggx, measured };
+  Kind kind = Kind::lambert;
+  Rgb albedo = Rgb::Constant(0.5);
+  Rgb specular = Rgb::Constant(0.04);
+  double alpha = 0.2;
+};
+
+/// One object. shape "sphere" (exact: center, radius), "quad" (corner, edge1, edge2; its front
+/// side, the one that emits, faces edge1 x edge2) or "mesh" (a mesh name or file, scaled into a
+/// sphere of `radius` at `center`, turned by `rotate_y` degrees, and with `rest_on` set moved
+/// vertically so that its lowest vertex lies at y = rest_on). A non-zero `emission` makes the
+/// object an area light (one-sided for quads and meshes; spheres cannot emit).
+struct ObjectSpec {
+  std::string shape = "sphere";
+  std::string mesh;
+  Vec3 center = Vec3::Zero();
+  double radius = 1.0;
+  double rotate_y = 0.0;
+  std::optional<double> rest_on;
+  Vec3 corner = Vec3::Zero(), edge1 = Vec3(1, 0, 0), edge2 = Vec3(0, 0, 1);
+  SurfaceSpec surface;
+  Rgb emission = Rgb::Zero();
+};
+
+/// map: an installed map name or an .exr/.hdr file; else a constant radiance (zero: no
+/// environment light).
+struct EnvironmentSpec {
+  std::string map;
+  Rgb constant = Rgb::Zero();
+  double rotation = 0.0;   ///< degrees about +y
+  double intensity = 1.0;
+};
+
+/// Perspective pinhole camera looking from `position` at `target`, +y up.
+struct CameraSpec {
+  Vec3 position = Vec3(0, 1, 5);
+  Vec3 target = Vec3::Zero();
+  double fov_degrees = 35.0;  ///< vertical
+};
+
+struct SceneSpec {
+  std::string name;
+  CameraSpec camera;
+  EnvironmentSpec environment;
+  std::vector<ObjectSpec> objects;
+};
+
+/// Parses a scene; `source` names the file in error messages (matlas::Error for unknown keys,
+/// wrong types, bad values, several measured objects).
+SceneSpec parse_scene(const nlohmann::json& j, const std::string& source);
+/// The scene as JSON (parse_scene(scene_to_json(s)) gives s back): stored in GI bases.
+nlohmann::json scene_to_json(const SceneSpec& scene);
+
+/// Names of the built-in scenes: "floor" (the object on a glossy floor in front of a wall, under
+/// an environment map) and "box" (a closed box with coloured walls and an area light).
+std::vector<std::string> builtin_scenes();
+/// A built-in scene by name with `object` ("sphere", "bunny", "suzi" or a mesh file) as its
+/// measured object, or a JSON scene file (then `object` is ignored). matlas::Error otherwise.
+SceneSpec load_scene(const std::string& name_or_path, const std::string& object = "sphere");
+
+}  // namespace matlas::pathtrace

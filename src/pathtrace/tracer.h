@@ -1,0 +1,54 @@
+#pragma once
+// The path tracer (docs/GI.md). Unidirectional paths from the camera with next-event estimation
+// (environment and area lights, one sample each per vertex) combined with the surfaces' sampling
+// densities by multiple importance sampling (power heuristic), and Russian roulette.
+//
+// The measured object is sampled with a FixedDensity and its BRDF enters a path only as a
+// factor f(bin); nothing else on the path (directions, weights, roulette) depends on it. So each
+// contribution is C * prod_j f(bin_j) over the path's vertices on the measured object, with C
+// independent of the material, and the image splits as
+//
+//     I = P + N z + I2
+//
+// P: contributions touching the object zero times; N z: exactly once (linear in the table z);
+// I2: twice or more. trace() computes P once and N z_k and I2_k for every material k of a bank
+// with the same paths and random numbers (a hash of seed, pixel, sample, dimension: the same for
+// every thread count).
+#include <cstdint>
+#include <vector>
+
+#include "core/progress.h"
+#include "formats/image_io.h"
+#include "pathtrace/surface.h"
+#include "pathtrace/table_bank.h"
+#include "pathtrace/world.h"
+
+namespace matlas::pathtrace {
+
+struct TraceSettings {
+  int width = 256;
+  int height = 256;
+  int spp = 64;
+  std::uint64_t seed = 1;
+  int max_depth = 8;       ///< scattering vertices per path
+  int roulette_depth = 3;  ///< Russian roulette from this many vertices on
+  FixedDensity density;    ///< the measured object's sampling density
+  /// Throws matlas::Error for non-positive sizes, spp or depth, or a bad density.
+  void validate() const;
+};
+
+struct TraceImages {
+  Image p;                    ///< paths that never touch the measured object
+  std::vector<Image> once;    ///< N z_k: paths touching it exactly once, per material
+  std::vector<Image> more;    ///< I2_k: twice or more, per material
+  /// P + N z_k (+ I2_k): the I1 and the full image of material k.
+  Image i1(int k) const;
+  Image full(int k) const;
+};
+
+/// Traces the scene with every material of `bank` on the measured object (bank may be null when
+/// the scene has none; then only p is filled).
+TraceImages trace(const World& world, const TableBank* bank, const TraceSettings& settings,
+                  ProgressSink& progress = null_progress());
+
+}  // namespace matlas::pathtrace
