@@ -46,6 +46,7 @@ export function combineCoefficients(all: Float32Array, w: number[], block: numbe
 
 export async function createRealtimeView(store: PageStore): Promise<ViewerState> {
   const canvas = $<HTMLCanvasElement>("rt-canvas");
+  $("rt-info").textContent = "loading the coefficients (the server computes them from the model on first use)…";
   const t0 = performance.now();
   const [info, all] = await Promise.all([api.realtime(), api.realtimeCoefficients()]);
   const coefficientsMs = performance.now() - t0;
