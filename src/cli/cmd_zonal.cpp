@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "atlas/model_zonal.h"
 #include "cli/commands.h"
 #include "cli/print.h"
 #include "core/error.h"
@@ -35,12 +36,7 @@ void run_zonal(const ZonalArgs& a, const Io& io) {
   zonal::CoefficientSet set;
   set.settings = a.settings;
   if (is_model(a.inputs)) {
-    const Model model = Model::open(a.inputs[0]);
-    set.names = model.names();
-    set.materials.resize(static_cast<std::size_t>(model.count()));
-    for (int i = 0; i < model.count(); ++i)
-      set.materials[static_cast<std::size_t>(i)] = projector.project(model.table(model.material_weights(i)));
-    set.mean = projector.project(model.table(Eigen::VectorXd::Zero(model.count())));
+    set = atlas::model_coefficients(Model::open(a.inputs[0]), a.settings);
   } else {
     std::vector<std::filesystem::path> paths(a.inputs.begin(), a.inputs.end());
     TerminalProgress progress;

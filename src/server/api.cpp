@@ -65,7 +65,8 @@ Api::Api(const Model& model, std::shared_ptr<const PreviewSource> previews, cons
       compute_(options.compute_slots > 0 ? options.compute_slots
                                          : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))),
       heavy_(options.heavy_slots),
-      cache_(options.cache_entries) {
+      cache_(options.cache_entries),
+      realtime_(std::make_unique<Realtime>(model, envs_, objects_)) {
   nlohmann::json j;
   j["name"] = model_name(model);
   j["count"] = model.count();
@@ -304,6 +305,37 @@ Reply Api::project(const std::string& file_bytes) {
                       {"nearest", nearest},
                       {"missing", p.missing},
                       {"top", top_weights(model_.weights(p.x), 8)}});
+}
+
+Reply Api::realtime_info() { return Reply::json(realtime_->info()); }
+
+Reply Api::realtime_coefficients() {
+  Reply r = Reply::bytes(realtime_->coefficients(), "application/octet-stream");
+  r.headers.emplace_back("Cache-Control", "no-cache");
+  return r;
+}
+
+Reply Api::realtime_environment(const std::string& name) {
+  auto [shape, atlas] = realtime_->environment(name);
+  Reply r = Reply::bytes(*atlas, "application/octet-stream");
+  r.headers.emplace_back("X-Matlas-Shape", shape.dump());
+  r.headers.emplace_back("Cache-Control", "max-age=3600");
+  return r;
+}
+
+Reply Api::realtime_mesh(const std::string& name) { return Reply::bytes(realtime_->mesh(name), "application/octet-stream"); }
+
+Reply Api::realtime_reference(const std::string& body) {
+  const auto j = parse_json_object(body);
+  const Eigen::VectorXd x = parse_latent(j, "x", domain_);
+  const std::string env = parse_choice(j, "env", envs_, previews_->default_environment());
+  const double rotation = parse_number(j, "rotation", -360.0, 360.0, 0.0);
+  const double exposure = parse_number(j, "exposure", -16.0, 16.0, 0.0);
+  const int size = parse_int(j, "size", 16, 512, 256);
+  auto slot = acquire(heavy_);
+  Reply r = Reply::bytes(realtime_->reference_png(model_.weights(x), env, rotation, exposure, size), kPng);
+  r.headers.emplace_back("Cache-Control", "no-store");
+  return r;
 }
 
 }  // namespace matlas::server

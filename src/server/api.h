@@ -14,6 +14,7 @@
 #include "server/atlas_server.h"
 #include "server/compute_gate.h"
 #include "server/png_cache.h"
+#include "server/realtime.h"
 #include "server/request_parsing.h"
 
 namespace matlas::server {
@@ -53,6 +54,17 @@ public:
   /// POST /api/project: a MERL .binary file as the body -> its latent point and residual
   Reply project(const std::string& file_bytes);
 
+  /// GET /api/realtime: the real-time viewer's shapes and basis (JSON)
+  Reply realtime_info();
+  /// GET /api/realtime/coefficients: float32 coefficients of the mean and every material
+  Reply realtime_coefficients();
+  /// GET /api/realtime/environment/NAME: float32 prefiltered band maps (shape in X-Matlas-Shape)
+  Reply realtime_environment(const std::string& name);
+  /// GET /api/realtime/mesh/NAME: an installed mesh, decoded and placed as the renderer does
+  Reply realtime_mesh(const std::string& name);
+  /// POST /api/realtime/reference {"x", "env", "rotation", "exposure", "size"} -> RGBA PNG
+  Reply realtime_reference(const std::string& body);
+
   const LatentDomain& domain() const { return domain_; }
   const ComputeGate& compute_gate() const { return compute_; }
 
@@ -73,6 +85,7 @@ private:
   ComputeGate compute_;
   ComputeGate heavy_;
   PngCache cache_;
+  std::unique_ptr<Realtime> realtime_;
 };
 
 }  // namespace matlas::server

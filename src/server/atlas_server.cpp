@@ -267,6 +267,19 @@ struct AtlasServer::Impl {
     post("/api/albedo", &Api::albedo);
     post("/api/map", &Api::map_layer);
     post("/api/export", &Api::export_merl);
+    post("/api/realtime/reference", &Api::realtime_reference);
+    http.Get("/api/realtime", [this](const httplib::Request&, httplib::Response& res) {
+      serve_api(res, [&](Api& api) { return api.realtime_info(); });
+    });
+    http.Get("/api/realtime/coefficients", [this](const httplib::Request&, httplib::Response& res) {
+      serve_api(res, [&](Api& api) { return api.realtime_coefficients(); });
+    });
+    http.Get(R"(/api/realtime/environment/([A-Za-z0-9_.-]+))", [this](const httplib::Request& req, httplib::Response& res) {
+      serve_api(res, [&](Api& api) { return api.realtime_environment(req.matches[1]); });
+    });
+    http.Get(R"(/api/realtime/mesh/([A-Za-z0-9_.-]+))", [this](const httplib::Request& req, httplib::Response& res) {
+      serve_api(res, [&](Api& api) { return api.realtime_mesh(req.matches[1]); });
+    });
     http.Post("/api/project", [this](const httplib::Request& req, httplib::Response& res) {
       serve_api(res, [&](Api& api) {
         if (req.is_multipart_form_data()) {

@@ -122,6 +122,46 @@ export interface ProjectReply {
   top: TopWeight[];
 }
 
+export interface RealtimeCamera {
+  position: number[];
+  target: number[];
+  fov_degrees: number;
+}
+
+/** The real-time viewer's data shapes (GET /api/realtime, docs/REALTIME.md). */
+export interface RealtimeInfo {
+  bands: number;
+  theta_o_count: number;
+  /** K = (L + 1)(L + 2) / 2 */
+  coefficients: number;
+  materials: number;
+  alpha: number[];
+  band: number[];
+  theta_o: number[];
+  layout: string;
+  /** Seconds the server took to compute the coefficients from the model's tables. */
+  seconds: number;
+  environments: string[];
+  objects: string[];
+  camera: RealtimeCamera;
+}
+
+export interface ReferenceRequest {
+  x: Point;
+  env?: string;
+  rotation?: number;
+  exposure?: number;
+  size?: number;
+}
+
+/** The prefiltered band maps of one environment: [bands + 1][height][width][3] float32. */
+export interface EnvironmentAtlas {
+  bands: number;
+  width: number;
+  height: number;
+  values: Float32Array;
+}
+
 export class ApiError extends Error {
   constructor(readonly status: number, message: string) {
     super(message);
@@ -166,6 +206,17 @@ export const api = {
     fetch("api/project", { method: "POST", headers: { "Content-Type": "application/octet-stream" }, body: file })
       .then(check)
       .then((r) => r.json()),
+  realtime: (): Promise<RealtimeInfo> => fetch("api/realtime").then(check).then((r) => r.json()),
+  realtimeCoefficients: (): Promise<Float32Array> =>
+    fetch("api/realtime/coefficients").then(check).then((r) => r.arrayBuffer()).then((b) => new Float32Array(b)),
+  realtimeEnvironment: async (name: string): Promise<EnvironmentAtlas> => {
+    const r = await fetch(`api/realtime/environment/${encodeURIComponent(name)}`).then(check);
+    const shape = JSON.parse(r.headers.get("X-Matlas-Shape") ?? "{}") as Omit<EnvironmentAtlas, "values">;
+    return { ...shape, values: new Float32Array(await r.arrayBuffer()) };
+  },
+  realtimeMesh: (name: string): Promise<ArrayBuffer> =>
+    fetch(`api/realtime/mesh/${encodeURIComponent(name)}`).then(check).then((r) => r.arrayBuffer()),
+  realtimeReference: (body: ReferenceRequest): Promise<Blob> => post("api/realtime/reference", body).then((r) => r.blob()),
   thumbnailUrl: (index: number, env: string, object: string): string =>
     `api/thumbnail/${index}?env=${encodeURIComponent(env)}&object=${encodeURIComponent(object)}`,
 };

@@ -1,5 +1,5 @@
 // The material browser page: loads the model, creates the typed store (state.ts) and the views
-// (map card, preview, panels, point tools, path tool, scene pickers), which talk through it.
+// (map card, reference render (preview), real-time view, panels, point tools, path tool, scene pickers), which talk through it.
 import "./style.css";
 import { api } from "./api";
 import { $ } from "./dom";
@@ -8,6 +8,7 @@ import { createPanels } from "./panels";
 import { createPathTool } from "./path-tool";
 import { createPointTools } from "./point-tools";
 import { createPreview } from "./preview";
+import { createRealtimeView } from "./realtime";
 import { createScenePickers } from "./scene";
 import { createSliders } from "./sliders";
 import { createStore, moveTo, type PageStore } from "./state";
@@ -37,6 +38,7 @@ async function main(): Promise<void> {
   map.setPoint(start);
   moveTo(store, start, false);
   panel.refreshLayer();
+  createRealtimeView(store).catch((e) => setStatus(`real-time view: ${(e as Error).message}`, true, "realtime"));
 }
 
 main().catch((e) => {

@@ -76,7 +76,7 @@ after(() => {
 /** Calls an endpoint of the schema with `body` (validated against its request schema). */
 async function call(method, path, body, contentType = "application/json") {
   const bare = `/${path.split("?")[0]}`;
-  const e = schema.endpoints.find((x) => x.method === method && new RegExp(`^${x.path.replace("INDEX", "\\d+")}$`).test(bare));
+  const e = schema.endpoints.find((x) => x.method === method && new RegExp(`^${x.path.replace("INDEX", "\\d+").replace("NAME", "[A-Za-z0-9_.-]+")}$`).test(bare));
   assert.ok(e, `${method} ${path} is in the schema`);
   if (e.request?.$ref) assert.deepEqual(validate(body, e.request), [], `request to ${path}`);
   const init = body === undefined ? {} : {
@@ -120,6 +120,23 @@ test("a live server answers every endpoint as the schema says", async () => {
   const projected = await expectAnswer("POST", "api/project", readFileSync(join(db, `${model.names[2]}.binary`)),
     "application/octet-stream");
   assert.equal(projected.nearest.index, 2);
+  // The real-time viewer's data: shapes agree with the payloads.
+  const rt = await expectAnswer("GET", "api/realtime");
+  assert.equal(rt.coefficients, ((rt.bands + 1) * (rt.bands + 2)) / 2);
+  assert.equal(rt.materials, model.count);
+  const coefficients = await expectAnswer("GET", "api/realtime/coefficients");
+  assert.equal(coefficients.length, 4 * (model.count + 1) * rt.theta_o_count * rt.coefficients * 3);
+  const env = rt.environments[0];
+  const { res: envRes } = await call("GET", `api/realtime/environment/${env}`);
+  const shape = JSON.parse(envRes.headers.get("x-matlas-shape"));
+  assert.equal((await envRes.arrayBuffer()).byteLength, 4 * (shape.bands + 1) * shape.width * shape.height * 3);
+  const mesh = rt.objects.find((o) => o !== "sphere");
+  if (mesh) {
+    const bytes = await expectAnswer("GET", `api/realtime/mesh/${mesh}`);
+    const v = bytes.readUInt32LE(0), t = bytes.readUInt32LE(4);
+    assert.equal(bytes.length, 8 + 4 * (6 * v + 3 * t));
+  }
+  await expectAnswer("POST", "api/realtime/reference", { x, env, rotation: 30, exposure: 0, size: 32 });
 });
 
 test("errors are the schema's error object", async () => {

@@ -1,0 +1,80 @@
+// The real-time view in a real browser (Debian's Chromium, headless, software WebGL2 through
+// SwiftShader, 512 x 512 canvas) against a running `matlas serve`/`matlas demo`: the load time
+// of the coefficients and of an environment's maps, the frame time distribution (each frame
+// waited for with a 1-pixel readPixels) with the full L, its reduced frames drawn while the user
+// moves, and with fewer bands, and the time from a
+// pointer move on the map to the frame showing the new material (drags at 60 events per second).
+//
+//   node bench/realtime_viewer.mjs http://127.0.0.1:8080/ [frames=40]
+import { createRequire } from "node:module";
+import { mkdtempSync, rmSync } from "node:fs";
+import { tmpdir } from "node:os";
+import { join, resolve } from "node:path";
+
+const require = createRequire(resolve(import.meta.dirname, "..", "web", "package.json"));
+const { chromium } = require("playwright-core");
+const url = process.argv[2] ?? "http://127.0.0.1:8080/";
+const frames = Number(process.argv[3] ?? 40);
+const profile = mkdtempSync(join(tmpdir(), "matlas-realtime-bench-"));
+const context = await chromium.launchPersistentContext(profile, {
+  executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium", headless: true, viewport: { width: 1440, height: 1400 },
+  args: ["--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--ignore-gpu-blocklist",
+    "--disable-quic", "--no-first-run", "--disable-background-networking", "--disable-component-update", "--disable-sync"],
+});
+const pct = (v) => {
+  const s = [...v].sort((a, b) => a - b);
+  const at = (p) => s[Math.min(s.length - 1, Math.floor(p * s.length))];
+  return `n ${s.length}, min ${s[0].toFixed(1)}, p10 ${at(0.1).toFixed(1)}, median ${at(0.5).toFixed(1)}, p90 ${at(0.9).toFixed(1)}, max ${s[s.length - 1].toFixed(1)} ms`;
+};
+try {
+  const page = context.pages()[0] ?? (await context.newPage());
+  page.on("crash", () => console.error("the page crashed"));
+  page.on("console", (m) => m.type() === "error" && console.error("page:", m.text()));
+  const t0 = Date.now();
+  await page.goto(url);
+  await page.waitForFunction(() => window.matlasViewer && window.matlasViewer.gl.frameTimes.length > 0, null, { timeout: 600_000 });
+  console.log(`page to first real-time frame: ${((Date.now() - t0) / 1000).toFixed(1)} s`);
+  const loads = await page.evaluate(() => ({ ...window.matlasViewer.loads, info: window.matlasViewer.info.seconds,
+    L: window.matlasViewer.info.bands, K: window.matlasViewer.info.coefficients, n: window.matlasViewer.info.materials,
+    floatLinear: window.matlasViewer.gl.floatLinear }));
+  console.log(`n = ${loads.n}, L = ${loads.L} (K = ${loads.K}), float32 linear textures: ${loads.floatLinear}`);
+  console.log(`coefficients: computed by the server in ${loads.info.toFixed(2)} s; fetched by the page in ${loads.coefficientsMs.toFixed(0)} ms`);
+  console.log(`environment maps fetched in: ${JSON.stringify(loads.environmentMs)} ms`);
+  for (const [bands, fast] of [[loads.L, false], [loads.L, true], [8, false], [4, false]]) {
+    const times = await page.evaluate(({ frames, bands, fast }) => {
+      const { gl } = window.matlasViewer;
+      gl.setBands(bands);
+      gl.draw();
+      const out = [];
+      for (let i = 0; i < frames; ++i) {
+        gl.camera.position.applyAxisAngle({ x: 0, y: 1, z: 0, isVector3: true }, 0.02);
+        gl.camera.lookAt(0, 0, 0);
+        out.push(gl.draw(fast));
+      }
+      return out;
+    }, { frames, bands, fast });
+    console.log(`frame time at L = ${bands}${fast ? ", reduced frame (a quarter of the side, while moving)" : ""}: ${pct(times)}`);
+  }
+  try {
+    await page.evaluate((L) => window.matlasViewer.gl.setBands(L), loads.L);
+    const box = await page.locator("#map").boundingBox();
+    await page.evaluate(() => (window.matlasViewer.moveToFrame.length = 0));
+    for (let d = 0; d < 3; ++d) {
+      await page.mouse.move(box.x + box.width * 0.2, box.y + box.height * (0.3 + 0.2 * d));
+      await page.mouse.down();
+      for (let i = 1; i <= 60; ++i) {
+        await page.mouse.move(box.x + box.width * (0.2 + 0.01 * i), box.y + box.height * (0.3 + 0.2 * d + 0.002 * i));
+        await page.waitForTimeout(16);
+      }
+      await page.mouse.up();
+      await page.waitForTimeout(500);
+    }
+    const lat = await page.evaluate(() => window.matlasViewer.moveToFrame);
+    console.log(`pointer move to frame (frames shown during 3 drags of 60 moves): ${pct(lat)}`);
+  } catch (e) {
+    console.log(`pointer move to frame: not measured (${e.message.split("\n")[0]})`);
+  }
+} finally {
+  await context.close();
+  rmSync(profile, { recursive: true, force: true });
+}

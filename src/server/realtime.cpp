@@ -1,0 +1,172 @@
+#include "server/realtime.h"
+
+#include <algorithm>
+#include <cstring>
+#include <cstdint>
+
+#include "atlas/model_zonal.h"
+#include "formats/mesh_io.h"
+#include "manifold/model.h"
+#include "render/assets.h"
+#include "render/render.h"
+#include "render/scene.h"
+#include "server/http_error.h"
+#include "zonal/coefficients.h"
+#include "zonal/shade.h"
+#include "zonal/shader_layout.h"
+
+namespace matlas::server {
+
+namespace {
+
+std::string float_bytes(const std::vector<float>& v) {
+  std::string out(v.size() * sizeof(float), '\0');
+  std::memcpy(out.data(), v.data(), out.size());  // little-endian hosts (x86-64, the only target)
+  return out;
+}
+
+render::Environment load_environment(const std::string& name, double rotation) {
+  if (name == "constant") return render::Environment::constant(Rgb::Constant(1.0));
+  return render::Environment::load(resolve_environment(name), rotation);
+}
+
+zonal::PrefilterSettings prefilter_settings() {
+  zonal::PrefilterSettings s;
+  s.bands = kRealtimeBands;
+  return s;
+}
+
+}  // namespace
+
+Realtime::Realtime(const Model& model, std::vector<std::string> environments, std::vector<std::string> objects)
+    : model_(model), envs_(std::move(environments)), objects_(std::move(objects)) {}
+
+const zonal::CoefficientSet& Realtime::set() {
+  std::lock_guard lock(coefficients_mutex_);
+  if (!set_) {
+    const auto start = std::chrono::steady_clock::now();
+    const zonal::ProjectionSettings settings{kRealtimeBands, kRealtimeThetaO, 128, 256};
+    auto set = std::make_unique<zonal::CoefficientSet>(atlas::model_coefficients(model_, settings));
+    packed_ = float_bytes(zonal::pack_coefficients(*set));
+    seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    set_ = std::move(set);
+  }
+  return *set_;
+}
+
+nlohmann::json Realtime::info() {
+  const zonal::CoefficientSet& s = set();
+  const zonal::ZonalBasis basis(s.settings.bands);
+  nlohmann::json alpha = nlohmann::json::array(), band = nlohmann::json::array(), theta = nlohmann::json::array();
+  for (std::size_t j = 0; j < basis.size(); ++j) {
+    alpha.push_back(basis.alpha(j));
+    band.push_back(basis.band(j));
+  }
+  for (int t = 0; t < s.settings.theta_o_count; ++t)
+    theta.push_back(zonal::ZonalCoefficients::theta_o(t, s.settings.theta_o_count));
+  const render::Camera camera;
+  return {{"bands", s.settings.bands},
+          {"theta_o_count", s.settings.theta_o_count},
+          {"coefficients", basis.size()},
+          {"materials", s.materials.size()},
+          {"alpha", alpha},
+          {"band", band},
+          {"theta_o", theta},
+          {"layout", "float32 [materials + 1][theta_o_count][coefficients][3], the mean first"},
+          {"seconds", seconds_},
+          {"environments", envs_},
+          {"objects", objects_},
+          {"camera",
+           {{"position", {camera.position.x(), camera.position.y(), camera.position.z()}},
+            {"target", {camera.target.x(), camera.target.y(), camera.target.z()}},
+            {"fov_degrees", camera.fov_degrees}}}};
+}
+
+const std::string& Realtime::coefficients() {
+  set();
+  return packed_;
+}
+
+const Realtime::Prefiltered& Realtime::prefiltered(const std::string& name) {
+  if (std::find(envs_.begin(), envs_.end(), name) == envs_.end())
+    throw HttpError(404, "no environment \"" + name + "\" (the installed ones are listed by /api/realtime)");
+  std::lock_guard lock(env_mutex_);
+  auto it = envs_cache_.find(name);
+  if (it == envs_cache_.end()) {
+    Prefiltered p;
+    const auto start = std::chrono::steady_clock::now();
+    p.maps = std::make_shared<const zonal::PrefilteredEnvironment>(load_environment(name, 0.0), prefilter_settings());
+    const zonal::EnvironmentAtlas atlas = zonal::pack_environment(*p.maps);
+    p.atlas = std::make_shared<const std::string>(float_bytes(atlas.values));
+    p.shape = {{"name", name},
+               {"bands", atlas.bands},
+               {"width", atlas.width},
+               {"height", atlas.height},
+               {"seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()}};
+    it = envs_cache_.emplace(name, std::move(p)).first;
+  }
+  return it->second;
+}
+
+std::pair<nlohmann::json, std::shared_ptr<const std::string>> Realtime::environment(const std::string& name) {
+  const Prefiltered& p = prefiltered(name);
+  return {p.shape, p.atlas};
+}
+
+std::string Realtime::mesh(const std::string& name) const {
+  if (name == "sphere" || std::find(objects_.begin(), objects_.end(), name) == objects_.end())
+    throw HttpError(404, "no mesh \"" + name + "\" (the sphere is built by the page)");
+  TriangleMesh mesh = read_mesh(resolve_mesh(name));
+  render::normalize_mesh(mesh);
+  if (mesh.normals.size() != mesh.positions.size()) mesh.compute_normals();
+  const auto v = static_cast<std::uint32_t>(mesh.vertex_count()), t = static_cast<std::uint32_t>(mesh.triangle_count());
+  std::string out(8 + (std::size_t{v} * 6 + std::size_t{t} * 3) * 4, '\0');
+  char* p = out.data();
+  auto put = [&p](const void* data, std::size_t bytes) {
+    std::memcpy(p, data, bytes);
+    p += bytes;
+  };
+  put(&v, 4);
+  put(&t, 4);
+  for (const auto& x : mesh.positions) put(x.data(), 12);
+  for (const auto& n : mesh.normals) put(n.data(), 12);
+  for (const auto& tri : mesh.triangles) put(tri.data(), 12);
+  return out;
+}
+
+std::string Realtime::reference_png(const Eigen::VectorXd& w, const std::string& env, double rotation,
+                                    double exposure, int size) {
+  const zonal::CoefficientSet& s = set();
+  // m(w) = (1 - sum w) mean + sum w_i z_i, and the coefficients are linear in the table.
+  std::vector<const zonal::ZonalCoefficients*> parts{&*s.mean};
+  std::vector<double> weights{1.0 - w.sum()};
+  for (std::size_t i = 0; i < s.materials.size(); ++i) {
+    parts.push_back(&s.materials[i]);
+    weights.push_back(w[static_cast<Eigen::Index>(i)]);
+  }
+  const zonal::ZonalCoefficients c = zonal::combine(parts, weights);
+  // The prefiltered maps of the unrotated environment, as the page has them; a rotation is
+  // prefiltered anew (the page rotates its lookups instead, which is the same integral).
+  std::shared_ptr<const zonal::PrefilteredEnvironment> maps = prefiltered(env).maps;
+  if (rotation != 0.0)
+    maps = std::make_shared<const zonal::PrefilteredEnvironment>(load_environment(env, rotation), prefilter_settings());
+  render::SceneDescription description;
+  description.environment = "constant";
+  description.show_environment = false;
+  const render::Scene scene(description);
+  const zonal::ZonalBasis basis(s.settings.bands);
+  const Image image = zonal::shade_image(scene, basis, c, *maps, {size, size, 2});
+  render::RenderSettings rs;
+  rs.width = rs.height = size;
+  const std::vector<float> coverage = render::object_coverage(scene, rs);
+  const ToneMap tone{ToneMap::Curve::clamp, exposure};
+  std::vector<unsigned char> rgba(static_cast<std::size_t>(size) * static_cast<std::size_t>(size) * 4);
+  for (std::size_t p = 0; p < coverage.size(); ++p) {
+    for (int ch = 0; ch < 3; ++ch)
+      rgba[p * 4 + static_cast<std::size_t>(ch)] = tone_map_to_srgb8(image.rgb[p * 3 + static_cast<std::size_t>(ch)], tone);
+    rgba[p * 4 + 3] = coverage[p] >= 1.0f ? 255 : 0;
+  }
+  return encode_png_srgba8(rgba.data(), size, size);
+}
+
+}  // namespace matlas::server

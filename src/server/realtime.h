@@ -1,0 +1,71 @@
+#pragma once
+// The data of the browser's real-time viewer (docs/API.md "Real-time viewer", docs/REALTIME.md):
+// the rotated-ZH coefficients of every input material and of the model's mean (computed from the
+// model's tables once, on first use, then kept), the per-band prefiltered maps of an environment
+// (computed once per environment and kept), the installed meshes as files, and the CPU reference
+// image of a map point (zonal::shade_image of the sphere, the test's ground truth). HTTP-free: the
+// Api wraps the results into replies.
+#include <chrono>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "formats/image_io.h"
+#include "zonal/coefficient_file.h"
+#include "zonal/prefilter.h"
+
+namespace matlas {
+class Model;
+}
+
+namespace matlas::server {
+
+/// L and T of the viewer: L = 16 (153 coefficients, docs/REALTIME.md's preview setting), T = 32.
+inline constexpr int kRealtimeBands = 16;
+inline constexpr int kRealtimeThetaO = 32;
+
+class Realtime {
+public:
+  /// `environments`: the names offered (installed maps, or "constant").
+  Realtime(const Model& model, std::vector<std::string> environments, std::vector<std::string> objects);
+
+  /// Shapes and the basis: bands, theta_o, alpha, band, materials, environments, objects, the
+  /// reference camera, and how long the coefficients took (once computed).
+  nlohmann::json info();
+  /// float32 little-endian: the mean's [T, K, 3], then each material's (zonal/shader_layout.h).
+  const std::string& coefficients();
+  /// {"bands", "width", "height"} and the float32 [L + 1, H, W, 3] atlas of `name`.
+  std::pair<nlohmann::json, std::shared_ptr<const std::string>> environment(const std::string& name);
+  /// An offered mesh ("bunny", "suzi") as the renderer places it (render::normalize_mesh):
+  /// uint32 vertex and triangle counts, float32 positions [v][3], normals [v][3], uint32 [t][3].
+  std::string mesh(const std::string& name) const;
+  /// RGBA PNG: the sphere of the reference camera with weights w under `env` (rotated by
+  /// `rotation` degrees about +y), shaded by zonal::shade_image, tone mapped (clamp, exposure in
+  /// stops, sRGB); alpha 255 where the sphere covers the whole pixel, 0 elsewhere.
+  std::string reference_png(const Eigen::VectorXd& w, const std::string& env, double rotation, double exposure,
+                            int size);
+
+private:
+  struct Prefiltered {
+    std::shared_ptr<const zonal::PrefilteredEnvironment> maps;
+    std::shared_ptr<const std::string> atlas;
+    nlohmann::json shape;
+  };
+  const zonal::CoefficientSet& set();
+  const Prefiltered& prefiltered(const std::string& name);
+
+  const Model& model_;
+  std::vector<std::string> envs_, objects_;
+  std::mutex coefficients_mutex_, env_mutex_;
+  std::unique_ptr<zonal::CoefficientSet> set_;
+  std::string packed_;
+  double seconds_ = 0;
+  std::map<std::string, Prefiltered> envs_cache_;
+};
+
+}  // namespace matlas::server

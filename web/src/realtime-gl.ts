@@ -1,0 +1,246 @@
+// The three.js side of the real-time viewer: renderer, camera with orbit controls, the object
+// (sphere, a served mesh, or a user's .glb) with the rotated-ZH shader (realtime-shader.ts), and
+// the textures: coefficients of the current point (K x T), basis directions (K x 1) and the
+// environment's band maps (a texture array). Renders on demand; frame times are recorded. While
+// the user interacts (orbit, rotation, dragging on the map) frames are drawn at a quarter of the
+// canvas's side into a render target and stretched over the canvas (16x fewer fragments, so the
+// view follows the pointer even with software WebGL); the full-resolution frame follows once the
+// interaction pauses.
+import * as THREE from "three";
+import { OrbitControls } from "three/examples/jsm/controls/OrbitControls.js";
+import { GLTFLoader } from "three/examples/jsm/loaders/GLTFLoader.js";
+import type { EnvironmentAtlas, RealtimeInfo } from "./api";
+import { fragmentShader, vertexShader } from "./realtime-shader";
+
+/** RGB triples to RGBA (the alpha unused): WebGL2 cannot filter RGB float textures everywhere. */
+function rgba(rgb: Float32Array, count: number, out = new Float32Array(count * 4)): Float32Array<ArrayBuffer> {
+  for (let i = 0; i < count; ++i) {
+    out[4 * i] = rgb[3 * i];
+    out[4 * i + 1] = rgb[3 * i + 1];
+    out[4 * i + 2] = rgb[3 * i + 2];
+    out[4 * i + 3] = 1;
+  }
+  return out;
+}
+
+export class RealtimeGl {
+  readonly renderer: THREE.WebGLRenderer;
+  readonly camera: THREE.PerspectiveCamera;
+  readonly controls: OrbitControls;
+  private readonly scene = new THREE.Scene();
+  private readonly material: THREE.ShaderMaterial;
+  private readonly coef: THREE.DataTexture;
+  private readonly coefData: Float32Array<ArrayBuffer>;
+  private object: THREE.Object3D | null = null;
+  private envTexture: THREE.DataArrayTexture | null = null;
+  private pending = false;
+  private pendingFast = false;
+  private refine: ReturnType<typeof setTimeout> | null = null;
+  private readonly low: THREE.WebGLRenderTarget;
+  private readonly blitScene = new THREE.Scene();
+  private readonly blitCamera = new THREE.OrthographicCamera(-1, 1, 1, -1, 0, 1);
+  /** Milliseconds of the last full-resolution frames (render + finish), newest last. */
+  readonly frameTimes: number[] = [];
+  /** The same for the reduced frames drawn during interaction. */
+  readonly fastFrameTimes: number[] = [];
+  /** Side of the reduced frames relative to the canvas. */
+  static readonly fastScale = 0.25;
+  /** Called after each drawn frame with performance.now() and whether it was reduced. */
+  onFrame: (at: number, fast: boolean) => void = () => {};
+
+  constructor(readonly canvas: HTMLCanvasElement, readonly info: RealtimeInfo) {
+    this.renderer = new THREE.WebGLRenderer({ canvas, antialias: false, preserveDrawingBuffer: true });
+    this.renderer.outputColorSpace = THREE.LinearSRGBColorSpace;  // the shader encodes sRGB itself
+    this.renderer.setClearColor(0x202020, 1);
+    const K = info.coefficients, T = info.theta_o_count;
+    // Float textures are filtered only with OES_texture_float_linear; half floats always.
+    const floatLinear = this.renderer.extensions.has("OES_texture_float_linear");
+    this.coefData = new Float32Array(K * T * 4);
+    this.coef = new THREE.DataTexture(this.coefData, K, T, THREE.RGBAFormat, THREE.FloatType);
+    if (!floatLinear) this.coef.internalFormat = "RGBA16F";
+    this.coef.magFilter = this.coef.minFilter = THREE.LinearFilter;
+    this.coef.wrapS = this.coef.wrapT = THREE.ClampToEdgeWrapping;
+    this.coef.needsUpdate = true;
+    const basis = new Float32Array(K * 4);
+    for (let j = 0; j < K; ++j) basis.set([Math.sin(info.alpha[j]), Math.cos(info.alpha[j]), info.band[j], 0], 4 * j);
+    const basisTexture = new THREE.DataTexture(basis, K, 1, THREE.RGBAFormat, THREE.FloatType);
+    basisTexture.needsUpdate = true;
+    this.material = new THREE.ShaderMaterial({
+      glslVersion: THREE.GLSL3,
+      vertexShader,
+      fragmentShader,
+      side: THREE.DoubleSide,
+      uniforms: {
+        uCoef: { value: this.coef },
+        uBasis: { value: basisTexture },
+        uEnv: { value: null },
+        uCount: { value: K },
+        uEnvSize: { value: new THREE.Vector2(1, 1) },
+        uRotation: { value: 0 },
+        uExposure: { value: 0 },
+      },
+    });
+    this.material.userData.floatLinear = floatLinear;
+    this.camera = new THREE.PerspectiveCamera(info.camera.fov_degrees, canvas.width / canvas.height, 0.05, 100);
+    this.controls = new OrbitControls(this.camera, canvas);
+    this.controls.addEventListener("change", () => this.invalidate(true));
+    this.low = new THREE.WebGLRenderTarget(Math.max(1, Math.round(canvas.width * RealtimeGl.fastScale)),
+      Math.max(1, Math.round(canvas.height * RealtimeGl.fastScale)), { depthBuffer: true });
+    this.low.texture.minFilter = this.low.texture.magFilter = THREE.LinearFilter;
+    this.blitScene.add(new THREE.Mesh(new THREE.PlaneGeometry(2, 2), new THREE.MeshBasicMaterial({ map: this.low.texture })));
+    this.resetCamera();
+    this.setObject(RealtimeGl.sphere());
+  }
+
+  /** The unit sphere (finely tessellated: its normals are interpolated across facets). */
+  static sphere(): THREE.Mesh {
+    return new THREE.Mesh(new THREE.SphereGeometry(1, 160, 120));
+  }
+
+  get floatLinear(): boolean {
+    return this.material.userData.floatLinear as boolean;
+  }
+
+  /** The camera of the server's reference render (render::Camera's default). */
+  resetCamera(): void {
+    const { position: p, target: t } = this.info.camera;
+    this.camera.position.set(p[0], p[1], p[2]);
+    this.controls.target.set(t[0], t[1], t[2]);
+    this.camera.up.set(0, 1, 0);
+    this.controls.update();
+    this.invalidate();
+  }
+
+  /** Coefficients of the current point: float32 [T][K][3]. */
+  setCoefficients(rgb: Float32Array, interactive = false): void {
+    rgba(rgb, this.info.coefficients * this.info.theta_o_count, this.coefData);
+    this.coef.needsUpdate = true;
+    this.invalidate(interactive);
+  }
+
+  setEnvironment(atlas: EnvironmentAtlas): void {
+    const layers = atlas.bands + 1;
+    const tex = new THREE.DataArrayTexture(rgba(atlas.values, atlas.width * atlas.height * layers), atlas.width,
+      atlas.height, layers);
+    tex.format = THREE.RGBAFormat;
+    tex.type = THREE.FloatType;
+    if (!this.floatLinear) tex.internalFormat = "RGBA16F";
+    tex.magFilter = tex.minFilter = THREE.LinearFilter;
+    tex.wrapS = THREE.RepeatWrapping;
+    tex.wrapT = THREE.ClampToEdgeWrapping;
+    tex.generateMipmaps = false;
+    tex.needsUpdate = true;
+    this.envTexture?.dispose();
+    this.envTexture = tex;
+    this.material.uniforms.uEnv.value = tex;
+    (this.material.uniforms.uEnvSize.value as THREE.Vector2).set(atlas.width, atlas.height);
+    this.invalidate();
+  }
+
+  setRotation(degrees: number, interactive = false): void {
+    this.material.uniforms.uRotation.value = (degrees * Math.PI) / 180;
+    this.invalidate(interactive);
+  }
+
+  setExposure(stops: number): void {
+    this.material.uniforms.uExposure.value = stops;
+    this.invalidate();
+  }
+
+  /** Shows bands 0..L only (a cheaper, blurrier preview). */
+  setBands(L: number): void {
+    this.material.uniforms.uCount.value = ((L + 1) * (L + 2)) / 2;
+    this.invalidate();
+  }
+
+  /** Replaces the object; every mesh under it gets the shader. */
+  setObject(object: THREE.Object3D): void {
+    if (this.object) this.scene.remove(this.object);
+    object.traverse((o) => {
+      if ((o as THREE.Mesh).isMesh) (o as THREE.Mesh).material = this.material;
+    });
+    this.object = object;
+    this.scene.add(object);
+    this.invalidate();
+  }
+
+  /** A served mesh: counts, positions, normals, triangles (docs/API.md). */
+  static meshFromBuffer(buffer: ArrayBuffer): THREE.Mesh {
+    const [v, t] = new Uint32Array(buffer, 0, 2);
+    const g = new THREE.BufferGeometry();
+    g.setAttribute("position", new THREE.BufferAttribute(new Float32Array(buffer, 8, 3 * v), 3));
+    g.setAttribute("normal", new THREE.BufferAttribute(new Float32Array(buffer, 8 + 12 * v, 3 * v), 3));
+    g.setIndex(new THREE.BufferAttribute(new Uint32Array(buffer, 8 + 24 * v, 3 * t), 1));
+    return new THREE.Mesh(g);
+  }
+
+  /** A user's .glb, centred and scaled into the unit sphere as the renderer places meshes. */
+  static async meshFromGlb(buffer: ArrayBuffer): Promise<THREE.Object3D> {
+    const gltf = await new GLTFLoader().parseAsync(buffer, "");
+    const root = gltf.scene;
+    root.updateMatrixWorld(true);
+    const box = new THREE.Box3().setFromObject(root);
+    const centre = box.getCenter(new THREE.Vector3());
+    let radius = 0;
+    const p = new THREE.Vector3();
+    root.traverse((o) => {
+      const m = o as THREE.Mesh;
+      if (!m.isMesh) return;
+      if (!m.geometry.getAttribute("normal")) m.geometry.computeVertexNormals();
+      const pos = m.geometry.getAttribute("position");
+      for (let i = 0; i < pos.count; ++i) radius = Math.max(radius, p.fromBufferAttribute(pos, i).applyMatrix4(m.matrixWorld).distanceTo(centre));
+    });
+    const group = new THREE.Group();
+    group.add(root);
+    root.position.sub(centre);
+    group.scale.setScalar(1 / (radius || 1));
+    return group;
+  }
+
+  /** Schedules one frame: a reduced one now if `interactive`, then the full one after a pause. */
+  invalidate(interactive = false): void {
+    if (this.refine) clearTimeout(this.refine);
+    this.refine = null;
+    if (interactive) {
+      this.refine = setTimeout(() => {
+        this.refine = null;
+        this.invalidate();
+      }, 300);
+      if (this.pendingFast || this.pending) return;
+      this.pendingFast = true;
+      requestAnimationFrame(() => {
+        this.pendingFast = false;
+        this.draw(true);
+      });
+      return;
+    }
+    if (this.pending) return;
+    this.pending = true;
+    requestAnimationFrame(() => {
+      this.pending = false;
+      this.draw();
+    });
+  }
+
+  /** Draws now (reduced if `fast`) and waits for the GPU; returns the milliseconds taken. */
+  draw(fast = false): number {
+    if (!this.envTexture) return 0;
+    const start = performance.now();
+    if (fast) {
+      this.renderer.setRenderTarget(this.low);
+      this.renderer.render(this.scene, this.camera);
+      this.renderer.setRenderTarget(null);
+      this.renderer.render(this.blitScene, this.blitCamera);
+    } else {
+      this.renderer.render(this.scene, this.camera);
+    }
+    const gl = this.renderer.getContext();
+    gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));  // waits for the frame
+    const end = performance.now();
+    const times = fast ? this.fastFrameTimes : this.frameTimes;
+    times.push(end - start);
+    if (times.length > 1000) times.shift();
+    this.onFrame(end, fast);
+    return end - start;
+  }
+}
