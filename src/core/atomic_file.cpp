@@ -98,9 +98,15 @@ AtomicFile::AtomicFile(fs::path target) : target_(std::move(target)) {
   remove_stale_temporaries(target_);
   temp_ = target_;
   temp_ += ".tmp-" + std::to_string(::getpid());
-  fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd_ < 0) throw file_error(target_, std::string("cannot create output file: ") + std::strerror(errno));
+  // Registered before it exists: a signal between creating the file and registering it would
+  // leave it behind (the handler removing a name not yet created is harmless).
   slot_ = register_temporary(temp_);
+  fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd_ < 0) {
+    const int error = errno;
+    unregister_temporary(slot_);
+    throw file_error(target_, std::string("cannot create output file: ") + std::strerror(error));
+  }
 }
 
 AtomicFile::~AtomicFile() {

@@ -33,6 +33,7 @@ render::Environment load_environment(const std::string& name, double rotation) {
 zonal::PrefilterSettings prefilter_settings() {
   zonal::PrefilterSettings s;
   s.bands = kRealtimeBands;
+  s.hann_window = true;  // no truncation rings around small bright lights in the viewer
   return s;
 }
 

@@ -93,6 +93,15 @@ PrefilteredEnvironment::PrefilteredEnvironment(const render::Environment& env, c
       sin_coeffs_[i] += row_sin[static_cast<std::size_t>(r)][i];
     }
 
+  if (settings.hann_window)
+    for (int l = 0; l <= L; ++l) {
+      const double c = std::cos(kPi * l / (2.0 * (L + 1)));
+      for (int m = 0; m <= l; ++m) {
+        cos_coeffs_[lm_index(l, m)] *= c * c;
+        sin_coeffs_[lm_index(l, m)] *= c * c;
+      }
+    }
+
   // Tabulate every band.
   heights_.resize(static_cast<std::size_t>(L) + 1);
   maps_.resize(static_cast<std::size_t>(L) + 1);

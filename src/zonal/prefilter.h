@@ -27,6 +27,12 @@ struct PrefilterSettings {
   int supersample = 2;
   /// Grid of a constant environment's SH integral (it has no map).
   int constant_grid = 64;
+  /// Multiply band l of the environment by the Hann window cos^2(pi l / (2 (bands + 1))): a
+  /// small bright light then shades without the truncation's rings (negative lobes that
+  /// clamp to black bands on glossy materials), at the price of a blurrier highlight. Off for
+  /// the accuracy study (it moves the result away from the path tracer); the browser viewer
+  /// turns it on.
+  bool hann_window = false;
 };
 
 class PrefilteredEnvironment {

@@ -59,6 +59,23 @@ TEST(Prefilter, LinearEnvironmentBandOneIsItsGradient) {
   }
 }
 
+TEST(Prefilter, HannWindowScalesEachBandByItsFactor) {
+  // The linear environment again: band 0 keeps its value, band 1 is scaled by
+  // cos^2(pi / (2 (L + 1))) = cos^2(pi / 8) at L = 3.
+  PrefilterSettings s;
+  s.bands = 3;
+  s.hann_window = true;
+  const PrefilteredEnvironment env(render::Environment(linear_map(128, 64)), s);
+  const double c = std::cos(kPi / 8), factor = c * c;
+  for (const Vec3& raw : {Vec3(0, 1, 0), Vec3(0.3, -0.5, 0.8), Vec3(-1, 0.1, 0.2)}) {
+    const Vec3 d = raw.normalized();
+    const double e1 = std::sqrt(3 / (4 * kPi)) * (4 * kPi / 3) * kC.dot(d);
+    EXPECT_NEAR(env.exact(1, d)[0], factor * e1, 2e-3);
+    EXPECT_NEAR(env.lookup(1, d)[0], factor * e1, 1e-2);
+    EXPECT_NEAR(env.lookup(0, d)[0], kC0 * std::sqrt(4 * kPi), 2e-3);
+  }
+}
+
 TEST(Prefilter, RotationTurnsTheFilteredMaps) {
   PrefilterSettings s;
   s.bands = 2;
