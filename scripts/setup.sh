@@ -35,7 +35,9 @@ if ((${#missing[@]})); then
 fi
 
 jobs=$(nproc)
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release > /dev/null
+# MATLAS_CMAKE_ARGS adds CMake options (CI: -DMATLAS_BUILD_BENCH=OFF, benchmarks are not run there).
+# shellcheck disable=SC2086
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release ${MATLAS_CMAKE_ARGS:-} > /dev/null
 cmake --build build -j "$jobs"
 if [[ "${1:-}" == "--sanitize" ]]; then
   # Configured here; scripts/test.sh --sanitize and scripts/fuzz.sh build in it.
