@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Sets up matlas on a fresh Debian machine (idempotent): installs the Debian packages it needs,
 # builds the C++ code in Release, installs the rendering assets (npm package @pmndrs/assets) and
-# builds the web UI. Usage: scripts/setup.sh [--sanitize]  (also configures build-sanitize/, the clang ASan/UBSan/libFuzzer build).
+# builds the web UI. Usage: scripts/setup.sh [--sanitize]  (also configures build-sanitize/).
 set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$repo"
@@ -40,9 +40,9 @@ jobs=$(nproc)
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release ${MATLAS_CMAKE_ARGS:-} > /dev/null
 cmake --build build -j "$jobs"
 if [[ "${1:-}" == "--sanitize" ]]; then
-  # Configured here; scripts/test.sh --sanitize and scripts/fuzz.sh build in it.
-  source scripts/checked-build.sh
-  configure_checked_build
+  # Configured here; scripts/test.sh --sanitize builds and runs the core suites in it.
+  cmake -S . -B build-sanitize -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMATLAS_SANITIZE=ON \
+        -DMATLAS_BUILD_BENCH=OFF -DMATLAS_PYTHON=OFF > /dev/null
 fi
 
 [[ -x scripts/install-assets.sh ]] && scripts/install-assets.sh

@@ -3,7 +3,7 @@
 # the web UI (Playwright driving Debian's Chromium). Run scripts/setup.sh first.
 #   scripts/test.sh              all tests
 #   scripts/test.sh --sanitize   also the numerical core's suites (core, brdf, formats, gp, manifold) built
-#                                with clang's ASan/UBSan in build-sanitize/ (scripts/checked-build.sh)
+#                                with ASan/UBSan in build-sanitize/ (setup.sh --sanitize configures it)
 #   scripts/test.sh --fuzz       also a short fuzzing run of every libFuzzer target (scripts/fuzz.sh;
 #                                MATLAS_FUZZ_SECONDS per target, default 30)
 # The flags combine (CI: --sanitize --fuzz).
@@ -32,11 +32,9 @@ if ((sanitize)); then
   suites=(core brdf formats gp manifold)
   targets=()
   for s in "${suites[@]}"; do targets+=("matlas_${s}_tests"); done
-  source scripts/checked-build.sh
-  grep -qs "^MATLAS_FUZZ:BOOL=ON" "$checked_build_dir/CMakeCache.txt" || configure_checked_build
-  cmake --build "$checked_build_dir" -j "$jobs" --target "${targets[@]}" | tail -n 2
+  cmake --build build-sanitize -j "$jobs" --target "${targets[@]}" | tail -n 2
   ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
-    ctest --test-dir "$checked_build_dir" --output-on-failure -j "$jobs" -L "^($(IFS='|'; echo "${suites[*]}"))\$" \
+    ctest --test-dir build-sanitize --output-on-failure -j "$jobs" -L "^($(IFS='|'; echo "${suites[*]}"))\$" \
           -E '^RealRgl\.'  # minutes of quadrature under ASan on ../shared's files; they run in Release above
 fi
 
