@@ -16,7 +16,8 @@ namespace {
 
 Vec3 random_direction(std::mt19937_64& rng) {
   std::normal_distribution<double> n;
-  Vec3 v(n(rng), n(rng), n(rng));
+  const double z = n(rng), y = n(rng), x = n(rng);  // sequenced: argument order is unspecified
+  Vec3 v(x, y, z);
   return v.normalized();
 }
 

@@ -78,7 +78,8 @@ TEST(MerlGrid, LookupIsReciprocal) {
   for (std::size_t i = 0; i < table.size(); ++i) table.stored()[i] = static_cast<double>(i % 9973);
   int differ = 0;
   for (int n = 0; n < 100000; ++n) {
-    const Vec3 a = spherical(theta(rng), phi(rng)), b = spherical(theta(rng), phi(rng));
+    const double pa = phi(rng), ta = theta(rng), pb = phi(rng), tb = theta(rng);  // sequenced
+    const Vec3 a = spherical(ta, pa), b = spherical(tb, pb);
     if (!(table.lookup(a, b) == table.lookup(b, a)).all()) ++differ;
   }
   EXPECT_LE(differ, 10);  // phi_d exactly on a bin edge after folding, at most a handful

@@ -50,7 +50,9 @@ TEST(RglWarp, InvertUndoesSampleWithBlendedSlices) {
   const std::vector<float> outer{0.0f, 1.0f}, inner{0.0f, 2.0f};
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   for (int trial = 0; trial < 200; ++trial) {
-    const ParamBlend b = blend_params(outer, unit(rng), inner, 2 * unit(rng));
+    const double y = 2 * unit(rng);  // sequenced: argument order is unspecified
+    const double x = unit(rng);
+    const ParamBlend b = blend_params(outer, x, inner, y);
     const double a = unit(rng), c = unit(rng);
     const auto p = warp.sample(a, c, b);
     const auto q = warp.invert(p[0], p[1], b);

@@ -34,7 +34,11 @@ inline std::vector<std::filesystem::path> write_database(const std::filesystem::
   std::vector<std::filesystem::path> paths;
   std::filesystem::create_directories(dir);
   for (int m = 0; m < count; ++m) {
-    BrdfTable t = smooth_table(u(rng), u(rng));
+    // Two statements: the order of a call's arguments is unspecified (GCC draws the last one
+    // first, Clang the first), and the database must not depend on the compiler.
+    const double b = u(rng);
+    const double a = u(rng);
+    BrdfTable t = smooth_table(a, b);
     for (double& v : t.stored()) v *= scale;
     char name[32];
     std::snprintf(name, sizeof name, "mat%02d.binary", m);
