@@ -36,14 +36,28 @@ function(matlas_module name)
   endif()
 endfunction()
 
-# matlas_test_suite(NAME DEPS...): one GoogleTest executable per folder tests/NAME.
+# matlas_test_suite(NAME DEPS... [SHARED_FIXTURES SUITE...]): one GoogleTest executable per folder
+# tests/NAME; every test is one ctest test, except the GoogleTest suites named in SHARED_FIXTURES,
+# which run as one ctest test each (named after the suite) so that what their fixture loads once
+# (real data files) is shared by all their tests instead of being loaded again per process.
 function(matlas_test_suite name)
-  cmake_parse_arguments(ARG "" "" "DEPS" ${ARGN})
+  cmake_parse_arguments(ARG "" "" "DEPS;SHARED_FIXTURES" ${ARGN})
   file(GLOB sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.cpp)
   add_executable(matlas_${name}_tests ${sources})
   target_include_directories(matlas_${name}_tests PRIVATE ${PROJECT_SOURCE_DIR}/tests)
   target_link_libraries(matlas_${name}_tests PRIVATE ${ARG_DEPS} matlas_test_support
                         GTest::gtest_main matlas_options)
-  gtest_discover_tests(matlas_${name}_tests DISCOVERY_TIMEOUT 60
+  set(shared "")
+  foreach(suite ${ARG_SHARED_FIXTURES})
+    list(APPEND shared "${suite}.*")
+    add_test(NAME ${suite} COMMAND matlas_${name}_tests --gtest_filter=${suite}.*)
+    set_tests_properties(${suite} PROPERTIES LABELS ${name})
+  endforeach()
+  set(separate "*")
+  if(shared)
+    list(JOIN shared ":" shared)
+    set(separate "-${shared}")
+  endif()
+  gtest_discover_tests(matlas_${name}_tests DISCOVERY_TIMEOUT 60 TEST_FILTER "${separate}"
                        PROPERTIES LABELS ${name})
 endfunction()

@@ -12,9 +12,12 @@ cxx="$(command -v clang++-14 || command -v clang++ || true)"
 [[ -n "$cxx" ]] || { echo "fuzz: clang is missing: run scripts/setup.sh" >&2; exit 1; }
 # MATLAS_FUZZ_TARGETS narrows the list (CI leaves out api: it needs the whole library built again).
 read -r -a targets <<< "${MATLAS_FUZZ_TARGETS:-merl model request api}"
+# MATLAS_CMAKE_ARGS: as in setup.sh (CI: a unity build).
+# shellcheck disable=SC2086
 # -O1: fuzzing needs coverage and sanitizers more than speed, and the build is faster.
 cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_FLAGS="-O1 -gline-tables-only" \
-      -DCMAKE_CXX_COMPILER="$cxx" -DMATLAS_FUZZ=ON -DMATLAS_BUILD_TESTS=OFF -DMATLAS_BUILD_BENCH=OFF > /dev/null
+      -DCMAKE_CXX_COMPILER="$cxx" -DMATLAS_FUZZ=ON -DMATLAS_BUILD_TESTS=OFF -DMATLAS_BUILD_BENCH=OFF \
+      ${MATLAS_CMAKE_ARGS:-} > /dev/null
 cmake --build build-fuzz -j "$(nproc)" --target "${targets[@]/#/fuzz_}" | tail -n 1
 mkdir -p build-fuzz/artifacts
 status=0

@@ -35,14 +35,15 @@ if ((${#missing[@]})); then
 fi
 
 jobs=$(nproc)
-# MATLAS_CMAKE_ARGS adds CMake options (CI: -DMATLAS_BUILD_BENCH=OFF, benchmarks are not run there).
+# MATLAS_CMAKE_ARGS adds CMake options to every build folder (CI: -DMATLAS_BUILD_BENCH=OFF, the
+# benchmarks are not run there, and -DCMAKE_UNITY_BUILD=ON, half the compile time).
 # shellcheck disable=SC2086
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release ${MATLAS_CMAKE_ARGS:-} > /dev/null
 cmake --build build -j "$jobs"
 if [[ "${1:-}" == "--sanitize" ]]; then
   # Configured here; scripts/test.sh --sanitize builds and runs the core suites in it.
   cmake -S . -B build-sanitize -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMATLAS_SANITIZE=ON \
-        -DMATLAS_BUILD_BENCH=OFF -DMATLAS_PYTHON=OFF > /dev/null
+        -DMATLAS_BUILD_BENCH=OFF -DMATLAS_PYTHON=OFF ${MATLAS_CMAKE_ARGS:-} > /dev/null
 fi
 
 [[ -x scripts/install-assets.sh ]] && scripts/install-assets.sh

@@ -52,13 +52,13 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
 
 // --- gi-basis ---
 
-struct BasisArgs {
+struct GiBasisArgs {
   std::string model, output, cache;
   int batch = 16;
   TraceOptions trace;
 };
 
-void run_gi_basis(const BasisArgs& a, const Io& io) {
+void run_gi_basis(const GiBasisArgs& a, const Io& io) {
   const Model model = Model::open(a.model);
   const pathtrace::World world(pathtrace::load_scene(a.trace.scene, a.trace.object));
   pathtrace::GiBasisOptions options;
@@ -75,7 +75,7 @@ void run_gi_basis(const BasisArgs& a, const Io& io) {
 
 void add_gi_basis_command(CLI::App& app, const Io& io) {
   auto* cmd = app.add_subcommand("gi-basis", "Path-trace the GI image basis of a model in a scene (resumable)");
-  auto a = std::make_shared<BasisArgs>();
+  auto a = std::make_shared<GiBasisArgs>();
   cmd->add_option("model", a->model, ".matlas model")->required();
   cmd->add_option("-o,--output", a->output, "Output basis (.safetensors)")->required();
   cmd->add_option("--cache", a->cache, "Folder of per-material images (default OUTPUT.cache): a rerun resumes");

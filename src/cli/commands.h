@@ -26,6 +26,8 @@ std::vector<RegisteredCommand> registered_commands();
 
 }  // namespace matlas::cli
 
+// The variable is named after the factory so that several commands may share a translation unit
+// (unity builds).
 #define MATLAS_COMMAND(order, factory) \
-  [[maybe_unused]] static const bool matlas_registered_command = \
+  [[maybe_unused]] static const bool matlas_registered_##factory = \
       ::matlas::cli::register_command(order, factory)
