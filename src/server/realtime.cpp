@@ -4,7 +4,7 @@
 #include <cstring>
 #include <cstdint>
 
-#include "atlas/model_zonal.h"
+#include "atlas/zonal_cache.h"
 #include "formats/mesh_io.h"
 #include "manifold/model.h"
 #include "render/assets.h"
@@ -45,11 +45,14 @@ Realtime::Realtime(const Model& model, std::vector<std::string> environments, st
 const zonal::CoefficientSet& Realtime::set() {
   std::lock_guard lock(coefficients_mutex_);
   if (!set_) {
-    const auto start = std::chrono::steady_clock::now();
     const zonal::ProjectionSettings settings{kRealtimeBands, kRealtimeThetaO, 128, 256};
-    auto set = std::make_unique<zonal::CoefficientSet>(atlas::model_coefficients(model_, settings));
+    atlas::CachedCoefficients c =
+        atlas::cached_model_coefficients(model_, settings, atlas::zonal_cache_path(model_.path(), kRealtimeBands));
+    auto set = std::make_unique<zonal::CoefficientSet>(std::move(c.set));
     packed_ = float_bytes(zonal::pack_coefficients(*set));
-    seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    seconds_ = c.seconds;
+    cache_ = c.loaded ? "loaded" : "computed";
+    cache_note_ = c.note;
     set_ = std::move(set);
   }
   return *set_;
@@ -75,6 +78,8 @@ nlohmann::json Realtime::info() {
           {"theta_o", theta},
           {"layout", "float32 [materials + 1][theta_o_count][coefficients][3], the mean first"},
           {"seconds", seconds_},
+          {"cache", cache_},
+          {"cache_note", cache_note_},
           {"environments", envs_},
           {"objects", objects_},
           {"camera",

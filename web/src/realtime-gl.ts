@@ -1,16 +1,16 @@
 // The three.js side of the real-time viewer: renderer, camera with orbit controls, the object
 // (sphere, a served mesh, or a user's .glb) with the rotated-ZH shader (realtime-shader.ts), and
-// the textures: coefficients of the current point (K x T), basis directions (K x 1) and the
-// environment's band maps (a texture array). Renders on demand; frame times are recorded. While
-// the user interacts (orbit, rotation, dragging on the map) frames are drawn at a quarter of the
-// canvas's side into a render target and stretched over the canvas (16x fewer fragments, so the
-// view follows the pointer even with software WebGL); the full-resolution frame follows once the
-// interaction pauses.
+// the textures: coefficients of the current point (K x T) and the environment's octahedral band
+// maps (a texture array). Renders on demand; frame times are recorded. While the user interacts
+// (orbit, rotation, dragging on the map) frames are reduced: drawn at `fastScale` of the canvas's
+// side into a render target with bands 0..`fastBands` only, then stretched over the canvas, so
+// that the view follows the pointer even with software WebGL; the full frame (every band, full
+// resolution) follows once the interaction pauses for `refineMs`.
 import * as THREE from "three";
 import { OrbitControls } from "three/examples/jsm/controls/OrbitControls.js";
 import { GLTFLoader } from "three/examples/jsm/loaders/GLTFLoader.js";
 import type { EnvironmentAtlas, RealtimeInfo } from "./api";
-import { fragmentShader, vertexShader } from "./realtime-shader";
+import { fragmentShader, maxShaderBands, vertexShader } from "./realtime-shader";
 
 /** RGB triples to RGBA (the alpha unused): WebGL2 cannot filter RGB float textures everywhere. */
 function rgba(rgb: Float32Array, count: number, out = new Float32Array(count * 4)): Float32Array<ArrayBuffer> {
@@ -45,6 +45,12 @@ export class RealtimeGl {
   readonly fastFrameTimes: number[] = [];
   /** Side of the reduced frames relative to the canvas. */
   static readonly fastScale = 0.25;
+  /** Highest band of the reduced frames (at most the bands shown). */
+  fastBands = 8;
+  /** Pause of the interaction after which the full frame is drawn. */
+  refineMs = 300;
+  /** Highest band of the full frames. */
+  private bands: number;
   /** Called after each drawn frame with performance.now() and whether it was reduced. */
   onFrame: (at: number, fast: boolean) => void = () => {};
 
@@ -53,18 +59,22 @@ export class RealtimeGl {
     this.renderer.outputColorSpace = THREE.LinearSRGBColorSpace;  // the shader encodes sRGB itself
     this.renderer.setClearColor(0x202020, 1);
     const K = info.coefficients, T = info.theta_o_count;
-    // Float textures are filtered only with OES_texture_float_linear; half floats always.
+    if (info.bands > maxShaderBands) throw new Error(`the server's L = ${info.bands} exceeds the shader's ${maxShaderBands}`);
+    for (let j = 0, l = 0; l <= info.bands; ++l)  // the shader turns its directions by pi / (l + 1)
+      for (let k = 0; k <= l; ++k, ++j)
+        if (info.band[j] !== l || Math.abs(info.alpha[j] - (k * Math.PI) / (l + 1)) > 1e-6)
+          throw new Error(`the server's basis differs from the shader's at coefficient ${j}`);
+    // The environment maps are filtered: float32 only with OES_texture_float_linear, else half
+    // floats. The coefficients are read with texelFetch (no filtering): always float32.
     const floatLinear = this.renderer.extensions.has("OES_texture_float_linear");
     this.coefData = new Float32Array(K * T * 4);
     this.coef = new THREE.DataTexture(this.coefData, K, T, THREE.RGBAFormat, THREE.FloatType);
-    if (!floatLinear) this.coef.internalFormat = "RGBA16F";
-    this.coef.magFilter = this.coef.minFilter = THREE.LinearFilter;
+    this.coef.magFilter = this.coef.minFilter = THREE.NearestFilter;
     this.coef.wrapS = this.coef.wrapT = THREE.ClampToEdgeWrapping;
     this.coef.needsUpdate = true;
-    const basis = new Float32Array(K * 4);
-    for (let j = 0; j < K; ++j) basis.set([Math.sin(info.alpha[j]), Math.cos(info.alpha[j]), info.band[j], 0], 4 * j);
-    const basisTexture = new THREE.DataTexture(basis, K, 1, THREE.RGBAFormat, THREE.FloatType);
-    basisTexture.needsUpdate = true;
+    const steps = Array.from({ length: maxShaderBands + 1 }, (_, l) =>
+      new THREE.Vector2(Math.cos(Math.PI / (l + 1)), Math.sin(Math.PI / (l + 1))));
+    this.bands = info.bands;
     this.material = new THREE.ShaderMaterial({
       glslVersion: THREE.GLSL3,
       vertexShader,
@@ -72,11 +82,11 @@ export class RealtimeGl {
       side: THREE.DoubleSide,
       uniforms: {
         uCoef: { value: this.coef },
-        uBasis: { value: basisTexture },
         uEnv: { value: null },
-        uCount: { value: K },
-        uEnvSize: { value: new THREE.Vector2(1, 1) },
-        uRotation: { value: 0 },
+        uBands: { value: info.bands },
+        uStep: { value: steps },
+        uEnvSide: { value: 1 },
+        uRotation: { value: new THREE.Vector2(1, 0) },
         uExposure: { value: 0 },
       },
     });
@@ -126,19 +136,19 @@ export class RealtimeGl {
     tex.type = THREE.FloatType;
     if (!this.floatLinear) tex.internalFormat = "RGBA16F";
     tex.magFilter = tex.minFilter = THREE.LinearFilter;
-    tex.wrapS = THREE.RepeatWrapping;
-    tex.wrapT = THREE.ClampToEdgeWrapping;
+    tex.wrapS = tex.wrapT = THREE.ClampToEdgeWrapping;  // the border texels continue the map
     tex.generateMipmaps = false;
     tex.needsUpdate = true;
     this.envTexture?.dispose();
     this.envTexture = tex;
     this.material.uniforms.uEnv.value = tex;
-    (this.material.uniforms.uEnvSize.value as THREE.Vector2).set(atlas.width, atlas.height);
+    this.material.uniforms.uEnvSide.value = atlas.width - 2;
     this.invalidate();
   }
 
   setRotation(degrees: number, interactive = false): void {
-    this.material.uniforms.uRotation.value = (degrees * Math.PI) / 180;
+    const beta = (degrees * Math.PI) / 180;
+    (this.material.uniforms.uRotation.value as THREE.Vector2).set(Math.cos(beta), Math.sin(beta));
     this.invalidate(interactive);
   }
 
@@ -149,7 +159,7 @@ export class RealtimeGl {
 
   /** Shows bands 0..L only (a cheaper, blurrier preview). */
   setBands(L: number): void {
-    this.material.uniforms.uCount.value = ((L + 1) * (L + 2)) / 2;
+    this.bands = L;
     this.invalidate();
   }
 
@@ -205,7 +215,7 @@ export class RealtimeGl {
       this.refine = setTimeout(() => {
         this.refine = null;
         this.invalidate();
-      }, 300);
+      }, this.refineMs);
       if (this.pendingFast || this.pending) return;
       this.pendingFast = true;
       requestAnimationFrame(() => {
@@ -226,6 +236,7 @@ export class RealtimeGl {
   draw(fast = false): number {
     if (!this.envTexture) return 0;
     const start = performance.now();
+    this.material.uniforms.uBands.value = fast ? Math.min(this.bands, this.fastBands) : this.bands;
     if (fast) {
       this.renderer.setRenderTarget(this.low);
       this.renderer.render(this.scene, this.camera);
