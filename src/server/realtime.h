@@ -49,8 +49,17 @@ public:
   /// stops, sRGB); alpha 255 where the sphere covers the whole pixel, 0 elsewhere.
   std::string reference_png(const Eigen::VectorXd& w, const std::string& env, double rotation, double exposure,
                             int size);
+  /// The same image before tone mapping: float32 RGBA, row-major from the top, RGB = 2^exposure
+  /// times the radiance (not clamped), A = the fraction of the pixel the sphere covers.
+  std::string reference_radiance(const Eigen::VectorXd& w, const std::string& env, double rotation, double exposure,
+                                 int size);
 
 private:
+  struct Reference {
+    Image image;                ///< radiance, RGB
+    std::vector<float> coverage;  ///< per pixel
+  };
+  Reference reference(const Eigen::VectorXd& w, const std::string& env, double rotation, int size);
   struct Prefiltered {
     std::shared_ptr<const zonal::PrefilteredEnvironment> maps;
     std::shared_ptr<const std::string> atlas;

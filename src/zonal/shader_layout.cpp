@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "core/parallel.h"
+#include "zonal/sh.h"
 
 namespace matlas::zonal {
 

@@ -10,7 +10,9 @@ import * as THREE from "three";
 import { OrbitControls } from "three/examples/jsm/controls/OrbitControls.js";
 import { GLTFLoader } from "three/examples/jsm/loaders/GLTFLoader.js";
 import type { EnvironmentAtlas, RealtimeInfo } from "./api";
-import { fragmentShader, maxShaderBands, vertexShader } from "./realtime-shader";
+import {
+  deferredFragmentShader, fragmentShader, gbufferFragmentShader, maxShaderBands, quadVertexShader, vertexShader,
+} from "./realtime-shader";
 
 /** RGB triples to RGBA (the alpha unused): WebGL2 cannot filter RGB float textures everywhere. */
 function rgba(rgb: Float32Array, count: number, out = new Float32Array(count * 4)): Float32Array<ArrayBuffer> {
@@ -33,11 +35,14 @@ export class RealtimeGl {
   private readonly coefData: Float32Array<ArrayBuffer>;
   private object: THREE.Object3D | null = null;
   private envTexture: THREE.DataArrayTexture | null = null;
-  private pending = false;
   private pendingFast = false;
   private refine: ReturnType<typeof setTimeout> | null = null;
   private readonly low: THREE.WebGLRenderTarget;
   private readonly blitScene = new THREE.Scene();
+  /** The full frame's G-buffer (normal, wo) and the screen quad that shades it, tile by tile. */
+  private readonly gbuffer: THREE.WebGLRenderTarget;
+  private readonly gbufferMaterial: THREE.ShaderMaterial;
+  private readonly deferredScene = new THREE.Scene();
   private readonly blitCamera = new THREE.OrthographicCamera(-1, 1, 1, -1, 0, 1);
   /** Milliseconds of the last full-resolution frames (render + finish), newest last. */
   readonly frameTimes: number[] = [];
@@ -45,8 +50,15 @@ export class RealtimeGl {
   readonly fastFrameTimes: number[] = [];
   /** Side of the reduced frames relative to the canvas. */
   static readonly fastScale = 0.25;
-  /** Highest band of the reduced frames (at most the bands shown). */
-  fastBands = 8;
+  /** Highest band of the reduced frames (at most the bands shown); adapted to the budget. */
+  fastBands = 6;
+  /** Target time of a reduced frame. */
+  fastBudgetMs = 35;
+  /** Whether the reduced frames adapt their bands to the budget (the benchmark fixes them). */
+  adaptive = true;
+  /** Side of the full frame's tiles, and the time spent on tiles per animation frame. */
+  static readonly tileSize = 32;
+  static readonly tileBudgetMs = 30;
   /** Pause of the interaction after which the full frame is drawn. */
   refineMs = 300;
   /** Highest band of the full frames. */
@@ -88,6 +100,7 @@ export class RealtimeGl {
         uEnvSide: { value: 1 },
         uRotation: { value: new THREE.Vector2(1, 0) },
         uExposure: { value: 0 },
+        uLinear: { value: false },
       },
     });
     this.material.userData.floatLinear = floatLinear;
@@ -98,6 +111,28 @@ export class RealtimeGl {
       Math.max(1, Math.round(canvas.height * RealtimeGl.fastScale)), { depthBuffer: true });
     this.low.texture.minFilter = this.low.texture.magFilter = THREE.LinearFilter;
     this.blitScene.add(new THREE.Mesh(new THREE.PlaneGeometry(2, 2), new THREE.MeshBasicMaterial({ map: this.low.texture })));
+    this.gbuffer = new THREE.WebGLRenderTarget(canvas.width, canvas.height, {
+      count: 2, type: THREE.FloatType, minFilter: THREE.NearestFilter, magFilter: THREE.NearestFilter, depthBuffer: true,
+    });
+    this.gbufferMaterial = new THREE.ShaderMaterial({
+      glslVersion: THREE.GLSL3, vertexShader, fragmentShader: gbufferFragmentShader, side: THREE.DoubleSide,
+    });
+    const deferred = new THREE.ShaderMaterial({
+      glslVersion: THREE.GLSL3,
+      vertexShader: quadVertexShader,
+      fragmentShader: deferredFragmentShader,
+      depthTest: false,
+      depthWrite: false,
+      uniforms: {
+        ...this.material.uniforms,  // the same uniform objects: one set of values
+        uGNormal: { value: this.gbuffer.textures[0] },
+        uGView: { value: this.gbuffer.textures[1] },
+        uBackground: { value: this.renderer.getClearColor(new THREE.Color()) },
+      },
+    });
+    const quad = new THREE.Mesh(new THREE.PlaneGeometry(2, 2), deferred);
+    quad.frustumCulled = false;
+    this.deferredScene.add(quad);
     this.resetCamera();
     this.setObject(RealtimeGl.sphere());
   }
@@ -125,7 +160,8 @@ export class RealtimeGl {
   setCoefficients(rgb: Float32Array, interactive = false): void {
     rgba(rgb, this.info.coefficients * this.info.theta_o_count, this.coefData);
     this.coef.needsUpdate = true;
-    this.invalidate(interactive);
+    if (interactive) this.drawReducedNow();  // a map drag: the frame follows the weights at once
+    else this.invalidate();
   }
 
   setEnvironment(atlas: EnvironmentAtlas): void {
@@ -207,34 +243,141 @@ export class RealtimeGl {
     return group;
   }
 
-  /** Schedules one frame: a reduced one now if `interactive`, then the full one after a pause. */
+  /**
+   * Schedules the view's update: a reduced frame at once (within this animation frame), then,
+   * once nothing has changed for `refineMs` (0 for a non-interactive change), the full frame in
+   * tiles, a few per animation frame, so that the page stays responsive: a new change cancels
+   * the tiles not yet drawn and starts over.
+   */
   invalidate(interactive = false): void {
     if (this.refine) clearTimeout(this.refine);
     this.refine = null;
-    if (interactive) {
-      this.refine = setTimeout(() => {
-        this.refine = null;
-        this.invalidate();
-      }, this.refineMs);
-      if (this.pendingFast || this.pending) return;
+    this.tiles = null;
+    if (!this.pendingFast) {
       this.pendingFast = true;
       requestAnimationFrame(() => {
         this.pendingFast = false;
         this.draw(true);
       });
-      return;
     }
-    if (this.pending) return;
-    this.pending = true;
-    requestAnimationFrame(() => {
-      this.pending = false;
-      this.draw();
-    });
+    this.refine = setTimeout(() => {
+      this.refine = null;
+      this.startRefinement();
+    }, interactive ? this.refineMs : 0);
   }
 
-  /** Draws now (reduced if `fast`) and waits for the GPU; returns the milliseconds taken. */
+  /** Draws a reduced frame now if none is pending for this animation frame (map drags). */
+  drawReducedNow(): void {
+    if (this.refine) clearTimeout(this.refine);
+    this.tiles = null;
+    this.draw(true);
+    this.refine = setTimeout(() => {
+      this.refine = null;
+      this.startRefinement();
+    }, this.refineMs);
+  }
+
+  private tiles: { x: number; y: number }[] | null = null;
+  private refinementMs = 0;
+
+  /** The full frame, tile by tile over the reduced one, centre first. */
+  private startRefinement(): void {
+    const t = RealtimeGl.tileSize, w = this.canvas.width, h = this.canvas.height;
+    const tiles: { x: number; y: number }[] = [];
+    for (let y = 0; y < h; y += t) for (let x = 0; x < w; x += t) tiles.push({ x, y });
+    const d = (p: { x: number; y: number }) => (p.x + t / 2 - w / 2) ** 2 + (p.y + t / 2 - h / 2) ** 2;
+    tiles.sort((a, b) => d(a) - d(b));
+    this.tiles = tiles;
+    this.refinementMs = 0;
+    let gbuffer = false;
+    const step = () => {
+      if (this.tiles !== tiles) return;  // cancelled by a change
+      const start = performance.now();
+      if (!gbuffer) {
+        this.fillGbuffer();
+        gbuffer = true;
+      }
+      while (tiles.length && performance.now() - start < RealtimeGl.tileBudgetMs) this.drawTile(tiles.pop()!);
+      this.refinementMs += performance.now() - start;
+      if (tiles.length) {
+        requestAnimationFrame(step);
+        return;
+      }
+      this.tiles = null;
+      this.record(this.frameTimes, this.refinementMs, performance.now(), false);
+    };
+    requestAnimationFrame(step);
+  }
+
+  /** Rasterises the object into the G-buffer: normal and wo per pixel, alpha 0 outside. */
+  private fillGbuffer(): void {
+    const clear = this.renderer.getClearColor(new THREE.Color()), alpha = this.renderer.getClearAlpha();
+    this.renderer.setClearColor(0x000000, 0);
+    this.scene.overrideMaterial = this.gbufferMaterial;
+    try {
+      this.renderer.setRenderTarget(this.gbuffer);
+      this.renderer.render(this.scene, this.camera);
+    } finally {
+      this.renderer.setRenderTarget(null);
+      this.scene.overrideMaterial = null;
+      this.renderer.setClearColor(clear, alpha);
+    }
+  }
+
+  /** One tile of the full frame onto the canvas (its drawing buffer is preserved). */
+  private drawTile(tile: { x: number; y: number }): void {
+    if (!this.envTexture) return;
+    const t = RealtimeGl.tileSize;
+    this.material.uniforms.uBands.value = this.bands;
+    this.renderer.setScissorTest(true);
+    this.renderer.setScissor(tile.x, tile.y, t, t);
+    this.renderer.render(this.deferredScene, this.blitCamera);
+    this.renderer.setScissorTest(false);
+    const gl = this.renderer.getContext();
+    gl.readPixels(tile.x, tile.y, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));  // waits for the tile
+  }
+
+  /**
+   * The full frame at size x size as float RGBA, rows from the top: RGB = 2^exposure times the
+   * radiance, neither clamped nor encoded (what POST /api/realtime/reference/radiance answers).
+   */
+  radiance(size: number): Float32Array {
+    const target = new THREE.WebGLRenderTarget(size, size, { type: THREE.FloatType, depthBuffer: true });
+    const aspect = this.camera.aspect;
+    this.camera.aspect = 1;
+    this.camera.updateProjectionMatrix();
+    this.material.uniforms.uBands.value = this.bands;
+    this.material.uniforms.uLinear.value = true;
+    const pixels = new Float32Array(size * size * 4);
+    try {
+      this.renderer.setRenderTarget(target);
+      this.renderer.render(this.scene, this.camera);
+      this.renderer.readRenderTargetPixels(target, 0, 0, size, size, pixels);
+    } finally {
+      this.renderer.setRenderTarget(null);
+      this.material.uniforms.uLinear.value = false;
+      this.camera.aspect = aspect;
+      this.camera.updateProjectionMatrix();
+      target.dispose();
+    }
+    const out = new Float32Array(pixels.length);
+    for (let y = 0; y < size; ++y) out.set(pixels.subarray((size - 1 - y) * size * 4, (size - y) * size * 4), y * size * 4);
+    return out;
+  }
+
+  private record(times: number[], ms: number, end: number, fast: boolean): void {
+    times.push(ms);
+    if (times.length > 1000) times.shift();
+    this.onFrame(end, fast);
+  }
+
+  /**
+   * Draws a whole frame now, reduced (`fast`) or full, and waits for it; returns the
+   * milliseconds taken. A reduced frame adapts `fastBands` to stay within `fastBudgetMs`.
+   */
   draw(fast = false): number {
     if (!this.envTexture) return 0;
+    if (!fast) this.tiles = null;  // a full frame supersedes the tiles
     const start = performance.now();
     this.material.uniforms.uBands.value = fast ? Math.min(this.bands, this.fastBands) : this.bands;
     if (fast) {
@@ -248,10 +391,19 @@ export class RealtimeGl {
     const gl = this.renderer.getContext();
     gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));  // waits for the frame
     const end = performance.now();
-    const times = fast ? this.fastFrameTimes : this.frameTimes;
-    times.push(end - start);
-    if (times.length > 1000) times.shift();
-    this.onFrame(end, fast);
-    return end - start;
+    const ms = end - start;
+    if (fast && this.adaptive) {
+      // The cost is about proportional to the terms summed, (L' + 1)(L' + 2) / 2: the most that
+      // fit the budget by this frame's rate, at most two bands more per frame.
+      const terms = (b: number) => ((b + 1) * (b + 2)) / 2;
+      const current = Math.min(this.fastBands, this.bands);
+      const fit = (terms(current) * this.fastBudgetMs) / Math.max(ms, 1);
+      let next = current;
+      while (next > 1 && terms(next) > fit) --next;
+      while (next < Math.min(this.bands, current + 2) && terms(next + 1) <= fit) ++next;
+      this.fastBands = next;
+    }
+    this.record(fast ? this.fastFrameTimes : this.frameTimes, ms, end, fast);
+    return ms;
   }
 }

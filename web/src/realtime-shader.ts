@@ -11,7 +11,7 @@
 // lambda is the K x T coefficient texture of the current map point, row t = theta_o sample
 // (t + 1/2) (pi/2) / T: two texel reads per term, interpolated in float with the weight computed
 // once per pixel (clamped at the ends), as the CPU reference does. Output: 2^exposure, clamped,
-// sRGB-encoded.
+// sRGB-encoded (or, with uLinear, the radiance times 2^exposure as is, for float targets).
 
 /** Highest band the shader's step table holds. */
 export const maxShaderBands = 32;
@@ -27,7 +27,8 @@ void main() {
 }
 `;
 
-export const fragmentShader = /* glsl */ `
+// Uniforms and the shading of one point, shared by the forward and the deferred shaders.
+const shading = /* glsl */ `
 precision highp float;
 precision highp sampler2DArray;
 uniform sampler2D uCoef;       // K x T, RGB (+ unused A), read with texelFetch
@@ -37,8 +38,7 @@ uniform vec2 uStep[${maxShaderBands + 1}];  // cos, sin of pi / (l + 1)
 uniform float uEnvSide;        // N
 uniform vec2 uRotation;        // cos, sin of the environment's rotation
 uniform float uExposure;       // stops
-in vec3 vWorldPos;
-in vec3 vNormal;
+uniform bool uLinear;          // output 2^exposure radiance as is (float targets: the tests' comparison)
 out vec4 outColor;
 
 const float PI = 3.14159265358979;
@@ -61,10 +61,8 @@ vec3 unrotate(vec3 d) {
   return vec3(uRotation.x * d.x + uRotation.y * d.z, d.y, uRotation.x * d.z - uRotation.y * d.x);
 }
 
-void main() {
-  vec3 n = normalize(vNormal);
-  vec3 wo = normalize(cameraPosition - vWorldPos);
-  if (dot(n, wo) < 0.0) n = -n;  // back faces of open meshes
+// Radiance towards wo of a point with normal n (both unit, dot(n, wo) >= 0), as displayed.
+vec4 shade(vec3 n, vec3 wo) {
   float c = clamp(dot(n, wo), 0.0, 1.0);
   vec3 t = wo - c * n;
   float tl = length(t);
@@ -92,6 +90,56 @@ void main() {
       ++j;
     }
   }
-  outColor = vec4(srgb(sum * exp2(uExposure)), 1.0);
+  sum *= exp2(uExposure);
+  return vec4(uLinear ? sum : srgb(sum), 1.0);
+}
+`;
+
+export const fragmentShader = /* glsl */ `
+${shading}in vec3 vWorldPos;
+in vec3 vNormal;
+
+void main() {
+  vec3 n = normalize(vNormal);
+  vec3 wo = normalize(cameraPosition - vWorldPos);
+  if (dot(n, wo) < 0.0) n = -n;  // back faces of open meshes
+  outColor = shade(n, wo);
+}
+`;
+
+// Deferred shading of the full frame's tiles: the object is rasterised once into a G-buffer
+// (unit normal facing the viewer, and wo; alpha 0 where there is no object), then each tile is a
+// screen-filling quad (scissored) that shades the G-buffer's texels: the mesh is not drawn again
+// per tile.
+export const gbufferFragmentShader = /* glsl */ `
+precision highp float;
+in vec3 vWorldPos;
+in vec3 vNormal;
+layout(location = 0) out vec4 gNormal;
+layout(location = 1) out vec4 gView;
+void main() {
+  vec3 n = normalize(vNormal);
+  vec3 wo = normalize(cameraPosition - vWorldPos);
+  if (dot(n, wo) < 0.0) n = -n;
+  gNormal = vec4(n, 1.0);
+  gView = vec4(wo, 1.0);
+}
+`;
+
+export const quadVertexShader = /* glsl */ `
+void main() {
+  gl_Position = vec4(position.xy, 0.0, 1.0);
+}
+`;
+
+export const deferredFragmentShader = /* glsl */ `
+${shading}uniform sampler2D uGNormal;
+uniform sampler2D uGView;
+uniform vec3 uBackground;
+
+void main() {
+  ivec2 p = ivec2(gl_FragCoord.xy);
+  vec4 n = texelFetch(uGNormal, p, 0);
+  outColor = n.a == 0.0 ? vec4(uBackground, 1.0) : shade(n.xyz, texelFetch(uGView, p, 0).xyz);
 }
 `;
