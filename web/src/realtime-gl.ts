@@ -57,7 +57,7 @@ export class RealtimeGl {
   /** Whether the reduced frames adapt their bands to the budget (the benchmark fixes them). */
   adaptive = true;
   /** Side of the full frame's tiles, and the time spent on tiles per animation frame (batches). */
-  static readonly tileSize = 32;
+  static readonly tileSize = 64;
   static readonly tileBudgetMs = 30;
   /** Pause of the interaction after which the full frame is drawn. */
   refineMs = 300;

@@ -140,6 +140,10 @@ uniform vec3 uBackground;
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   vec4 n = texelFetch(uGNormal, p, 0);
-  outColor = n.a == 0.0 ? vec4(uBackground, 1.0) : shade(n.xyz, texelFetch(uGView, p, 0).xyz);
+  if (n.a == 0.0) {  // a branch, not a select: background pixels skip the sum
+    outColor = vec4(uBackground, 1.0);
+    return;
+  }
+  outColor = shade(n.xyz, texelFetch(uGView, p, 0).xyz);
 }
 `;
