@@ -53,7 +53,7 @@ export class RealtimeGl {
   /** Highest band of the reduced frames (at most the bands shown); adapted to the budget. */
   fastBands = 6;
   /** Target time of a reduced frame. */
-  fastBudgetMs = 35;
+  fastBudgetMs = 40;
   /** Whether the reduced frames adapt their bands to the budget (the benchmark fixes them). */
   adaptive = true;
   /** Side of the full frame's tiles, and the time spent on tiles per animation frame (batches). */
@@ -400,14 +400,18 @@ export class RealtimeGl {
     const end = performance.now();
     const ms = end - start;
     if (fast && this.adaptive) {
-      // The cost is about proportional to the terms summed, (L' + 1)(L' + 2) / 2: the most that
-      // fit the budget by this frame's rate, at most two bands more per frame.
+      // Over the budget: the most bands whose terms, (L' + 1)(L' + 2) / 2, fit it at this frame's
+      // rate per term (the cost is about proportional to them, plus the rasterisation). Well
+      // under it: one band more.
       const terms = (b: number) => ((b + 1) * (b + 2)) / 2;
       const current = Math.min(this.fastBands, this.bands);
-      const fit = (terms(current) * this.fastBudgetMs) / Math.max(ms, 1);
       let next = current;
-      while (next > 1 && terms(next) > fit) --next;
-      while (next < Math.min(this.bands, current + 2) && terms(next + 1) <= fit) ++next;
+      if (ms > this.fastBudgetMs) {
+        const fit = (terms(current) * this.fastBudgetMs) / ms;
+        while (next > 1 && terms(next) > fit) --next;
+      } else if (ms < 0.7 * this.fastBudgetMs && current < this.bands) {
+        ++next;
+      }
       this.fastBands = next;
     }
     this.record(fast ? this.fastFrameTimes : this.frameTimes, ms, end, fast);
