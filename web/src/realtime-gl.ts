@@ -306,7 +306,9 @@ export class RealtimeGl {
       const gl = this.renderer.getContext();
       gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));  // waits for the batch
       const ms = performance.now() - start;
-      batch = Math.max(1, Math.min(4 * count, Math.floor((count * RealtimeGl.tileBudgetMs) / Math.max(ms, 1))));
+      // At most 4 tiles: the next tiles may cost far more than the last ones (background ones
+      // are cheap), and a batch cannot be interrupted.
+      batch = Math.max(1, Math.min(4, 2 * count, Math.floor((count * RealtimeGl.tileBudgetMs) / Math.max(ms, 1))));
       this.refinementMs += ms;
       if (tiles.length) {
         requestAnimationFrame(step);
