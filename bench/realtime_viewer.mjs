@@ -6,6 +6,9 @@
 // pointer move on the map to the frame showing the new material (drags at 60 events per second).
 //
 //   node bench/realtime_viewer.mjs http://127.0.0.1:8080/ [frames=40]
+//
+// The full frames take seconds with software WebGL; the viewer draws them in tiles between
+// pointer events, so the scripted drags below run while tiles are pending.
 import { createRequire } from "node:module";
 import { mkdtempSync, rmSync } from "node:fs";
 import { tmpdir } from "node:os";
@@ -40,25 +43,53 @@ try {
   console.log(`n = ${loads.n}, L = ${loads.L} (K = ${loads.K}), float32 linear textures: ${loads.floatLinear}`);
   console.log(`coefficients: computed by the server in ${loads.info.toFixed(2)} s; fetched by the page in ${loads.coefficientsMs.toFixed(0)} ms`);
   console.log(`environment maps fetched in: ${JSON.stringify(loads.environmentMs)} ms`);
-  for (const [bands, fast] of [[loads.L, false], [loads.L, true], [8, false], [4, false]]) {
-    const times = await page.evaluate(({ frames, bands, fast }) => {
+  // Modes: the full frame (every band, full resolution) drawn at once, the reduced frames drawn
+  // while orbiting, rotating or dragging (a quarter of the side; the viewer adapts their bands to
+  // its budget, here also fixed at 8, 4, 2), and the full frame as the viewer draws it after an
+  // interaction: in tiles over a few hundred animation frames.
+  const modes = [["full", loads.L, false, Math.max(4, frames >> 3)], ["reduced, adaptive bands (the viewer's)", null, true, frames],
+    ["reduced", 8, true, frames], ["reduced", 4, true, frames], ["reduced", 2, true, frames]];
+  for (const [name, bands, fast, count] of modes) {
+    const { times, used } = await page.evaluate(({ count, bands, fast, L }) => {
       const { gl } = window.matlasViewer;
-      gl.setBands(bands);
-      gl.draw();
-      const out = [];
-      for (let i = 0; i < frames; ++i) {
+      gl.setBands(L);
+      gl.adaptive = bands === null;
+      if (bands !== null) gl.fastBands = bands;
+      gl.draw(fast);
+      const times = [], used = [];
+      for (let i = 0; i < count; ++i) {
         gl.camera.position.applyAxisAngle({ x: 0, y: 1, z: 0, isVector3: true }, 0.02);
         gl.camera.lookAt(0, 0, 0);
-        out.push(gl.draw(fast));
+        used.push(Math.min(gl.fastBands, L));
+        times.push(gl.draw(fast));
       }
-      return out;
-    }, { frames, bands, fast });
-    console.log(`frame time at L = ${bands}${fast ? ", reduced frame (a quarter of the side, while moving)" : ""}: ${pct(times)}`);
+      gl.adaptive = true;
+      return { times, used };
+    }, { count, bands, fast, L: loads.L });
+    const bandsUsed = fast ? `, bands 0..${[...new Set(used)].sort((a, b) => a - b).join("/")}` : "";
+    console.log(`frame time, ${name}, L = ${loads.L}${bandsUsed}: ${pct(times)}`);
   }
+  for (let r = 0; r < 2; ++r) {
+    const { tiles, wall } = await page.evaluate(async () => {
+      const { gl } = window.matlasViewer;
+      const before = gl.frameTimes.length;
+      const start = performance.now();
+      gl.setExposure(0);  // a change: a reduced frame, then the full one in tiles
+      while (gl.frameTimes.length === before) await new Promise((r) => setTimeout(r, 20));
+      return { tiles: gl.frameTimes[gl.frameTimes.length - 1], wall: performance.now() - start };
+    });
+    console.log(`full frame in tiles after a change: ${(tiles / 1000).toFixed(2)} s drawing, ${(wall / 1000).toFixed(2)} s until complete`);
+  }
+  await page.evaluate((L) => {
+    const { gl } = window.matlasViewer;
+    gl.setBands(L);
+    gl.resetCamera();
+  }, loads.L);
+  await page.waitForTimeout(1000);
   try {
     await page.evaluate((L) => window.matlasViewer.gl.setBands(L), loads.L);
     const box = await page.locator("#map").boundingBox();
-    await page.evaluate(() => (window.matlasViewer.moveToFrame.length = 0));
+    await page.evaluate(() => (window.matlasViewer.moveToFrame.length = window.matlasViewer.moveToFrameReduced.length = 0));
     for (let d = 0; d < 3; ++d) {
       await page.mouse.move(box.x + box.width * 0.2, box.y + box.height * (0.3 + 0.2 * d));
       await page.mouse.down();
@@ -69,8 +100,12 @@ try {
       await page.mouse.up();
       await page.waitForTimeout(500);
     }
-    const lat = await page.evaluate(() => window.matlasViewer.moveToFrame);
-    console.log(`pointer move to frame (frames shown during 3 drags of 60 moves): ${pct(lat)}`);
+    const { lat, reduced } = await page.evaluate(() => ({ lat: window.matlasViewer.moveToFrame, reduced: window.matlasViewer.moveToFrameReduced }));
+    console.log(`pointer move to frame (every frame with new coefficients during 3 drags of 60 moves): ${pct(lat)}`);
+    const during = lat.filter((_, i) => reduced[i]);
+    if (during.length) console.log(`  of which reduced frames (drawn while the pointer is down): ${pct(during)}`);
+    const after = lat.filter((_, i) => !reduced[i]);
+    if (after.length) console.log(`  of which full frames (the point reached after the pointer was released): ${pct(after)}`);
   } catch (e) {
     console.log(`pointer move to frame: not measured (${e.message.split("\n")[0]})`);
   }

@@ -325,7 +325,11 @@ Reply Api::realtime_environment(const std::string& name) {
 
 Reply Api::realtime_mesh(const std::string& name) { return Reply::bytes(realtime_->mesh(name), "application/octet-stream"); }
 
-Reply Api::realtime_reference(const std::string& body) {
+Reply Api::realtime_reference(const std::string& body) { return reference_reply(body, false); }
+
+Reply Api::realtime_reference_radiance(const std::string& body) { return reference_reply(body, true); }
+
+Reply Api::reference_reply(const std::string& body, bool radiance) {
   const auto j = parse_json_object(body);
   const Eigen::VectorXd x = parse_latent(j, "x", domain_);
   const std::string env = parse_choice(j, "env", envs_, previews_->default_environment());
@@ -333,7 +337,9 @@ Reply Api::realtime_reference(const std::string& body) {
   const double exposure = parse_number(j, "exposure", -16.0, 16.0, 0.0);
   const int size = parse_int(j, "size", 16, 512, 256);
   auto slot = acquire(heavy_);
-  Reply r = Reply::bytes(realtime_->reference_png(model_.weights(x), env, rotation, exposure, size), kPng);
+  Reply r = radiance ? Reply::bytes(realtime_->reference_radiance(model_.weights(x), env, rotation, exposure, size),
+                                    "application/octet-stream")
+                     : Reply::bytes(realtime_->reference_png(model_.weights(x), env, rotation, exposure, size), kPng);
   r.headers.emplace_back("Cache-Control", "no-store");
   return r;
 }

@@ -64,11 +64,14 @@ public:
   Reply realtime_mesh(const std::string& name);
   /// POST /api/realtime/reference {"x", "env", "rotation", "exposure", "size"} -> RGBA PNG
   Reply realtime_reference(const std::string& body);
+  /// POST /api/realtime/reference/radiance (same body) -> float32 RGBA before tone mapping
+  Reply realtime_reference_radiance(const std::string& body);
 
   const LatentDomain& domain() const { return domain_; }
   const ComputeGate& compute_gate() const { return compute_; }
 
 private:
+  Reply reference_reply(const std::string& body, bool radiance);
   ComputeGate::Slot acquire(ComputeGate& gate);
   std::string preview_png(const Eigen::VectorXd& w, const std::string& key, const std::string& env,
                           const std::string& object, int size);

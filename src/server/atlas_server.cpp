@@ -268,6 +268,7 @@ struct AtlasServer::Impl {
     post("/api/map", &Api::map_layer);
     post("/api/export", &Api::export_merl);
     post("/api/realtime/reference", &Api::realtime_reference);
+    post("/api/realtime/reference/radiance", &Api::realtime_reference_radiance);
     http.Get("/api/realtime", [this](const httplib::Request&, httplib::Response& res) {
       serve_api(res, [&](Api& api) { return api.realtime_info(); });
     });

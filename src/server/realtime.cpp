@@ -1,10 +1,11 @@
 #include "server/realtime.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <cstdint>
 
-#include "atlas/model_zonal.h"
+#include "atlas/zonal_cache.h"
 #include "formats/mesh_io.h"
 #include "manifold/model.h"
 #include "render/assets.h"
@@ -45,11 +46,14 @@ Realtime::Realtime(const Model& model, std::vector<std::string> environments, st
 const zonal::CoefficientSet& Realtime::set() {
   std::lock_guard lock(coefficients_mutex_);
   if (!set_) {
-    const auto start = std::chrono::steady_clock::now();
     const zonal::ProjectionSettings settings{kRealtimeBands, kRealtimeThetaO, 128, 256};
-    auto set = std::make_unique<zonal::CoefficientSet>(atlas::model_coefficients(model_, settings));
+    atlas::CachedCoefficients c =
+        atlas::cached_model_coefficients(model_, settings, atlas::zonal_cache_path(model_.path(), kRealtimeBands));
+    auto set = std::make_unique<zonal::CoefficientSet>(std::move(c.set));
     packed_ = float_bytes(zonal::pack_coefficients(*set));
-    seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    seconds_ = c.seconds;
+    cache_ = c.loaded ? "loaded" : "computed";
+    cache_note_ = c.note;
     set_ = std::move(set);
   }
   return *set_;
@@ -75,6 +79,8 @@ nlohmann::json Realtime::info() {
           {"theta_o", theta},
           {"layout", "float32 [materials + 1][theta_o_count][coefficients][3], the mean first"},
           {"seconds", seconds_},
+          {"cache", cache_},
+          {"cache_note", cache_note_},
           {"environments", envs_},
           {"objects", objects_},
           {"camera",
@@ -135,8 +141,7 @@ std::string Realtime::mesh(const std::string& name) const {
   return out;
 }
 
-std::string Realtime::reference_png(const Eigen::VectorXd& w, const std::string& env, double rotation,
-                                    double exposure, int size) {
+Realtime::Reference Realtime::reference(const Eigen::VectorXd& w, const std::string& env, double rotation, int size) {
   const zonal::CoefficientSet& s = set();
   // m(w) = (1 - sum w) mean + sum w_i z_i, and the coefficients are linear in the table.
   std::vector<const zonal::ZonalCoefficients*> parts{&*s.mean};
@@ -156,18 +161,36 @@ std::string Realtime::reference_png(const Eigen::VectorXd& w, const std::string&
   description.show_environment = false;
   const render::Scene scene(description);
   const zonal::ZonalBasis basis(s.settings.bands);
-  const Image image = zonal::shade_image(scene, basis, c, *maps, {size, size, 2});
+  Reference out{zonal::shade_image(scene, basis, c, *maps, {size, size, 2}), {}};
   render::RenderSettings rs;
   rs.width = rs.height = size;
-  const std::vector<float> coverage = render::object_coverage(scene, rs);
+  out.coverage = render::object_coverage(scene, rs);
+  return out;
+}
+
+std::string Realtime::reference_png(const Eigen::VectorXd& w, const std::string& env, double rotation,
+                                    double exposure, int size) {
+  const Reference r = reference(w, env, rotation, size);
   const ToneMap tone{ToneMap::Curve::clamp, exposure};
   std::vector<unsigned char> rgba(static_cast<std::size_t>(size) * static_cast<std::size_t>(size) * 4);
-  for (std::size_t p = 0; p < coverage.size(); ++p) {
+  for (std::size_t p = 0; p < r.coverage.size(); ++p) {
     for (int ch = 0; ch < 3; ++ch)
-      rgba[p * 4 + static_cast<std::size_t>(ch)] = tone_map_to_srgb8(image.rgb[p * 3 + static_cast<std::size_t>(ch)], tone);
-    rgba[p * 4 + 3] = coverage[p] >= 1.0f ? 255 : 0;
+      rgba[p * 4 + static_cast<std::size_t>(ch)] = tone_map_to_srgb8(r.image.rgb[p * 3 + static_cast<std::size_t>(ch)], tone);
+    rgba[p * 4 + 3] = r.coverage[p] >= 1.0f ? 255 : 0;
   }
   return encode_png_srgba8(rgba.data(), size, size);
+}
+
+std::string Realtime::reference_radiance(const Eigen::VectorXd& w, const std::string& env, double rotation,
+                                         double exposure, int size) {
+  const Reference r = reference(w, env, rotation, size);
+  const double scale = std::exp2(exposure);
+  std::vector<float> rgba(r.coverage.size() * 4);
+  for (std::size_t p = 0; p < r.coverage.size(); ++p) {
+    for (std::size_t ch = 0; ch < 3; ++ch) rgba[p * 4 + ch] = static_cast<float>(scale * r.image.rgb[p * 3 + ch]);
+    rgba[p * 4 + 3] = r.coverage[p];
+  }
+  return float_bytes(rgba);
 }
 
 }  // namespace matlas::server

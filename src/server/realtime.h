@@ -1,7 +1,7 @@
 #pragma once
 // The data of the browser's real-time viewer (docs/API.md "Real-time viewer", docs/REALTIME.md):
-// the rotated-ZH coefficients of every input material and of the model's mean (computed from the
-// model's tables once, on first use, then kept), the per-band prefiltered maps of an environment
+// the rotated-ZH coefficients of every input material and of the model's mean (on first use: read
+// from the cache beside the model, MODEL.zonal-L16, or computed and cached; then kept), the per-band prefiltered maps of an environment
 // (computed once per environment and kept), the installed meshes as files, and the CPU reference
 // image of a map point (zonal::shade_image of the sphere, the test's ground truth). HTTP-free: the
 // Api wraps the results into replies.
@@ -35,7 +35,7 @@ public:
   Realtime(const Model& model, std::vector<std::string> environments, std::vector<std::string> objects);
 
   /// Shapes and the basis: bands, theta_o, alpha, band, materials, environments, objects, the
-  /// reference camera, and how long the coefficients took (once computed).
+  /// reference camera, how long the coefficients took and whether they came from the cache.
   nlohmann::json info();
   /// float32 little-endian: the mean's [T, K, 3], then each material's (zonal/shader_layout.h).
   const std::string& coefficients();
@@ -49,8 +49,17 @@ public:
   /// stops, sRGB); alpha 255 where the sphere covers the whole pixel, 0 elsewhere.
   std::string reference_png(const Eigen::VectorXd& w, const std::string& env, double rotation, double exposure,
                             int size);
+  /// The same image before tone mapping: float32 RGBA, row-major from the top, RGB = 2^exposure
+  /// times the radiance (not clamped), A = the fraction of the pixel the sphere covers.
+  std::string reference_radiance(const Eigen::VectorXd& w, const std::string& env, double rotation, double exposure,
+                                 int size);
 
 private:
+  struct Reference {
+    Image image;                ///< radiance, RGB
+    std::vector<float> coverage;  ///< per pixel
+  };
+  Reference reference(const Eigen::VectorXd& w, const std::string& env, double rotation, int size);
   struct Prefiltered {
     std::shared_ptr<const zonal::PrefilteredEnvironment> maps;
     std::shared_ptr<const std::string> atlas;
@@ -65,6 +74,7 @@ private:
   std::unique_ptr<zonal::CoefficientSet> set_;
   std::string packed_;
   double seconds_ = 0;
+  std::string cache_, cache_note_;  ///< "loaded"/"computed" and what happened (atlas/zonal_cache.h)
   std::map<std::string, Prefiltered> envs_cache_;
 };
 

@@ -90,6 +90,7 @@ double write_coefficients(const std::filesystem::path& path, const CoefficientSe
   w.add_metadata("names", nlohmann::json(set.names).dump());
   w.add_metadata("storage", storage == DType::F16 ? "f16" : "f32");
   w.add_metadata("storage_error", std::to_string(relative));
+  if (!set.source_key.empty()) w.add_metadata("source_key", set.source_key);
   w.declare("coefficients", storage, {static_cast<std::int64_t>(set.materials.size()), T, K, 3});
   if (set.mean) w.declare("mean", storage, {T, K, 3});
   w.declare("alpha", DType::F32, {K});
@@ -119,6 +120,7 @@ CoefficientSet read_coefficients(const std::filesystem::path& path) {
   if (format == file.metadata().end() || format->second != "matlas-zonal")
     throw Error(path.string() + ": not a matlas zonal coefficient file (metadata format is not matlas-zonal)");
   CoefficientSet set;
+  if (const auto key = file.metadata().find("source_key"); key != file.metadata().end()) set.source_key = key->second;
   set.settings.bands = metadata_int(file, "bands");
   set.settings.theta_o_count = metadata_int(file, "theta_o_count");
   set.settings.theta_rows = metadata_int(file, "theta_rows");

@@ -13,7 +13,7 @@
 //   theta_o       F32 [T]                  (t + 0.5) (pi/2) / T
 // metadata: format "matlas-zonal", version "1", bands, theta_o_count, theta_rows, phi_columns,
 // names (JSON array), storage ("f32"/"f16"), storage_error (the largest |stored - exact| over
-// the largest |coefficient|, measured when written).
+// the largest |coefficient|, measured when written), and source_key when the set has one.
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -30,6 +30,8 @@ struct CoefficientSet {
   std::vector<std::string> names;
   std::vector<ZonalCoefficients> materials;
   std::optional<ZonalCoefficients> mean;
+  /// What the set was computed from (a cache's key, atlas/zonal_cache.h); empty if not known.
+  std::string source_key;
 };
 
 /// Writes the set (AtomicFile) with F32 or F16 storage; returns the measured storage error.

@@ -94,6 +94,58 @@ ZonalCoefficients ZonalProjector::project(const BrdfTable& table) const {
   return out;
 }
 
+std::vector<ZonalCoefficients> ZonalProjector::project_many(const Gather& gather, std::size_t count) const {
+  const int L = settings_.bands, rows = settings_.theta_rows, cols = settings_.phi_columns, T = settings_.theta_o_count;
+  std::vector<ZonalCoefficients> out(count);
+  const std::size_t K = triangle_size(L);
+  for (ZonalCoefficients& c : out) {
+    c.bands = L;
+    c.theta_o_count = T;
+    c.values.assign(static_cast<std::size_t>(T) * K * 3, 0.0);
+  }
+  if (count == 0) return out;
+  const auto n = static_cast<Eigen::Index>(count);
+  const std::size_t per_t = static_cast<std::size_t>(rows) * static_cast<std::size_t>(cols);
+  parallel_for_each(0, static_cast<std::size_t>(T) * 3, [&](std::size_t task) {
+    const std::size_t t = task / 3;
+    const int ch = static_cast<int>(task % 3);
+    // rho of every table: row (r, i) = theta_i row r of table i, columns phi_i.
+    Eigen::MatrixXd rho(static_cast<Eigen::Index>(rows) * n, cols);
+    std::vector<double> values(count);
+    const std::uint32_t* bins = &bins_[t * per_t];
+    for (int r = 0; r < rows; ++r) {
+      const double ct = cos_theta_[static_cast<std::size_t>(r)];
+      for (int c = 0; c < cols; ++c) {
+        gather(bins[static_cast<std::size_t>(r) * static_cast<std::size_t>(cols) + static_cast<std::size_t>(c)], ch,
+               values.data());
+        for (Eigen::Index i = 0; i < n; ++i) rho(r * n + i, c) = values[static_cast<std::size_t>(i)] * ct;
+      }
+    }
+    const Eigen::MatrixXd fourier = rho * cosines_;  // (rows n) x (L+1)
+    Eigen::MatrixXd by_row(rows, n);
+    for (int m = 0; m <= L; ++m) {
+      for (int r = 0; r < rows; ++r) by_row.row(r) = fourier.col(m).segment(r * n, n).transpose();
+      // a_lm of every table for l = m..L: Legendre weights (rows) against the rows' Fourier terms.
+      for (int l = m; l <= L; ++l) {
+        const Eigen::RowVectorXd a = legendre_.col(static_cast<Eigen::Index>(lm_index(l, m))).transpose() * by_row;
+        for (Eigen::Index i = 0; i < n; ++i)
+          out[static_cast<std::size_t>(i)].values[(t * K + lm_index(l, m)) * 3 + static_cast<std::size_t>(ch)] = a(i);
+      }
+    }
+    // SH coefficients a_l -> rotated-ZH lambda_l, in place per band.
+    Eigen::VectorXd a_l;
+    for (ZonalCoefficients& c : out) {
+      for (int l = 0; l <= L; ++l) {
+        a_l.resize(l + 1);
+        for (int m = 0; m <= l; ++m) a_l(m) = c.values[(t * K + lm_index(l, m)) * 3 + static_cast<std::size_t>(ch)];
+        const Eigen::VectorXd lambda = basis_.inverse(l) * a_l;
+        for (int k = 0; k <= l; ++k) c.values[(t * K + lm_index(l, k)) * 3 + static_cast<std::size_t>(ch)] = lambda(k);
+      }
+    }
+  });
+  return out;
+}
+
 Rgb reconstruct(const ZonalBasis& basis, const ZonalCoefficients& c, double theta_o, const Vec3& wi) {
   if (c.bands > basis.bands()) throw Error("zonal reconstruction: coefficients have more bands than the basis");
   std::vector<double> lambda, y;

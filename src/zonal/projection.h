@@ -9,6 +9,7 @@
 // Legendre functions per row. Band l's coefficients are then changed to the rotated-ZH basis
 // (ZonalBasis::inverse). The bins read by every grid point are computed once per projector.
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -36,6 +37,13 @@ public:
   const ZonalBasis& basis() const { return basis_; }
   /// The coefficients of a table (of this projector's grid size; matlas::Error otherwise).
   ZonalCoefficients project(const BrdfTable& table) const;
+  /// Values of `count` tables at one bin and channel: gather(bin, channel, out) writes out[0..count)
+  /// (missing values as 0). Called concurrently from several threads.
+  using Gather = std::function<void(std::uint32_t bin, int channel, double* out)>;
+  /// The coefficients of `count` tables at once, read through `gather` only at the bins the
+  /// quadrature uses; the transforms are matrix products over all tables (blocked GEMM). Equal to
+  /// project() of each table up to the order of the sums.
+  std::vector<ZonalCoefficients> project_many(const Gather& gather, std::size_t count) const;
 
 private:
   ProjectionSettings settings_;

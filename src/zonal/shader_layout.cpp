@@ -23,28 +23,42 @@ std::vector<float> pack_coefficients(const CoefficientSet& set) {
   return out;
 }
 
-EnvironmentAtlas pack_environment(const PrefilteredEnvironment& env) {
+int octahedral_side(int bands) { return 12 * (bands + 1); }
+
+Vec3 octahedral_direction(double px, double pz) {
+  if (std::abs(px) > 1.0) {
+    px = std::copysign(2.0, px) - px;
+    pz = -pz;
+  }
+  if (std::abs(pz) > 1.0) {
+    pz = std::copysign(2.0, pz) - pz;
+    px = -px;
+  }
+  const double y = 1.0 - std::abs(px) - std::abs(pz);
+  if (y < 0.0) {
+    const double x = (1.0 - std::abs(pz)) * (px < 0.0 ? -1.0 : 1.0);
+    pz = (1.0 - std::abs(px)) * (pz < 0.0 ? -1.0 : 1.0);
+    px = x;
+  }
+  return Vec3(px, y, pz).normalized();
+}
+
+EnvironmentAtlas pack_environment(const PrefilteredEnvironment& env, int side) {
   EnvironmentAtlas atlas;
   atlas.bands = env.bands();
-  atlas.height = env.map_height(atlas.bands);
-  atlas.width = env.map_width(atlas.bands);
-  const auto W = static_cast<std::size_t>(atlas.width), H = static_cast<std::size_t>(atlas.height);
-  atlas.values.resize(static_cast<std::size_t>(atlas.bands + 1) * H * W * 3);
-  parallel_for_each(0, static_cast<std::size_t>(atlas.bands + 1) * H, [&](std::size_t layer_row) {
-    const int l = static_cast<int>(layer_row / H);
-    const std::size_t y = layer_row % H;
-    float* row = &atlas.values[layer_row * W * 3];
-    if (l == atlas.bands) {
-      const std::vector<float>& own = env.map(l);
-      std::copy(own.begin() + static_cast<std::ptrdiff_t>(y * W * 3),
-                own.begin() + static_cast<std::ptrdiff_t>((y + 1) * W * 3), row);
-      return;
-    }
-    const double theta = kPi * static_cast<double>(y) / static_cast<double>(H - 1);
-    for (std::size_t x = 0; x < W; ++x) {
-      const double phi = 2.0 * kPi * static_cast<double>(x) / static_cast<double>(W);
-      const Rgb e = env.lookup(l, Vec3(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi)));
-      for (int c = 0; c < 3; ++c) row[x * 3 + static_cast<std::size_t>(c)] = static_cast<float>(e[c]);
+  const int N = side > 0 ? side : octahedral_side(atlas.bands);
+  atlas.width = atlas.height = N + 2;
+  const auto S = static_cast<std::size_t>(N + 2);
+  atlas.values.resize(static_cast<std::size_t>(atlas.bands + 1) * S * S * 3);
+  parallel_for_each(0, S, [&](std::size_t j) {
+    const double pz = 2.0 * (static_cast<double>(j) - 0.5) / N - 1.0;
+    for (std::size_t i = 0; i < S; ++i) {
+      const Vec3 d = octahedral_direction(2.0 * (static_cast<double>(i) - 0.5) / N - 1.0, pz);
+      for (int l = 0; l <= atlas.bands; ++l) {
+        const Rgb e = env.lookup(l, d);
+        float* texel = &atlas.values[((static_cast<std::size_t>(l) * S + j) * S + i) * 3];
+        for (int c = 0; c < 3; ++c) texel[c] = static_cast<float>(e[c]);
+      }
     }
   });
   return atlas;

@@ -4,11 +4,14 @@
 //
 // - coefficients: float32, the mean's [T, K, 3] (zeros for a set without mean) followed by each
 //   material's [T, K, 3], in the order of the set: n + 1 blocks of T * K * 3 values;
-// - environment: the L + 1 band maps E_l resampled onto one lat-long grid (that of band L:
-//   H = map_height(L) rows at theta = pi y / (H - 1), W = 2 (H - 1) columns at phi = 2 pi x / W),
-//   float32 [L + 1, H, W, 3], so that one texture array with hardware bilinear filtering (repeat
-//   in phi, clamp in theta) reads every band. Bands below L are read bilinearly from their own
-//   maps (PrefilteredEnvironment::lookup) at the grid's points; band L is its own map.
+// - environment: the L + 1 band maps E_l on one octahedral grid (y up): a direction d maps to
+//   p = (d_x, d_z) / (|d_x| + |d_y| + |d_z|), folded for d_y < 0 to (1 - |p_z|, 1 - |p_x|) with
+//   p's signs; the N x N texels of [-1, 1]^2 sit at p = 2 (i + 1/2) / N - 1, surrounded by a
+//   border of one texel that continues the map across its edges (p_x beyond +-1 is p_x mirrored
+//   at the edge with p_z negated, and likewise for p_z), so that hardware bilinear filtering of a
+//   texture array (clamp) is continuous everywhere and needs no trigonometry per lookup. float32
+//   [L + 1, N + 2, N + 2, 3]. Every texel is PrefilteredEnvironment::lookup (the CPU
+//   reference's own bilinear read of band l's lat-long map) at its direction.
 #include <vector>
 
 #include "zonal/coefficient_file.h"
@@ -21,12 +24,20 @@ std::vector<float> pack_coefficients(const CoefficientSet& set);
 
 struct EnvironmentAtlas {
   int bands = 0;   ///< L: L + 1 layers
-  int width = 0;   ///< W
-  int height = 0;  ///< H
+  int width = 0;   ///< N + 2 (N texels of [-1, 1] and the border on each side)
+  int height = 0;  ///< N + 2
   std::vector<float> values;  ///< [layer][row][column][channel]
 };
 
-/// Every band of `env` on band L's grid.
-EnvironmentAtlas pack_environment(const PrefilteredEnvironment& env);
+/// N = 12 (L + 1): about as many texels per layer as band L's lat-long map has; the octahedral
+/// grid's spacing varies less (at most by a factor of about 1.4).
+int octahedral_side(int bands);
+
+/// The unit direction of octahedral coordinates p (any p: outside [-1, 1]^2 it is first mirrored
+/// back across the edges, as the border texels are).
+Vec3 octahedral_direction(double px, double pz);
+
+/// Every band of `env` on the octahedral grid of side `side` (0: octahedral_side(L)).
+EnvironmentAtlas pack_environment(const PrefilteredEnvironment& env, int side = 0);
 
 }  // namespace matlas::zonal

@@ -1,5 +1,6 @@
-// The viewer's texture layouts: every band of a prefiltered environment on band L's grid (checked
-// against the analytic filtered maps of a linear environment), and the coefficient payload's order.
+// The viewer's texture layouts: every band of a prefiltered environment on one octahedral grid
+// (checked against the analytic filtered maps of a linear environment; its border continues the
+// map across the edges), and the coefficient payload's order.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,7 +12,7 @@
 namespace matlas::zonal {
 namespace {
 
-TEST(ShaderLayout, EnvironmentAtlasHoldsEveryBandOnOneGrid) {
+TEST(ShaderLayout, EnvironmentAtlasHoldsEveryBandOnOneOctahedralGrid) {
   // Radiance c0 + c . w: E_0 = sqrt(4 pi) c0, E_1(d) = sqrt(3/4pi) (4pi/3) c . d, E_l = 0 beyond.
   const double c0 = 1.5;
   const Vec3 c(0.3, 0.7, -0.2);
@@ -26,23 +27,39 @@ TEST(ShaderLayout, EnvironmentAtlasHoldsEveryBandOnOneGrid) {
   PrefilterSettings s;
   s.bands = 3;
   const PrefilteredEnvironment env(render::Environment(map), s);
-  const EnvironmentAtlas atlas = pack_environment(env);
+  const int N = 40, S = N + 2;
+  const EnvironmentAtlas atlas = pack_environment(env, N);
   ASSERT_EQ(atlas.bands, 3);
-  ASSERT_EQ(atlas.height, env.map_height(3));
-  ASSERT_EQ(atlas.width, 2 * (atlas.height - 1));
-  ASSERT_EQ(atlas.values.size(), 4u * static_cast<std::size_t>(atlas.width * atlas.height) * 3);
-  for (int y = 0; y < atlas.height; y += 5)
-    for (int x = 0; x < atlas.width; x += 7) {
-      const double theta = kPi * y / (atlas.height - 1), phi = 2 * kPi * x / atlas.width;
-      const Vec3 d(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
-      auto at = [&](int l, int ch) {
-        return atlas.values[((static_cast<std::size_t>(l) * atlas.height + y) * atlas.width + x) * 3 + ch];
-      };
-      EXPECT_NEAR(at(0, 0), std::sqrt(4 * kPi) * c0, 3e-3);
-      EXPECT_NEAR(at(1, 1), std::sqrt(3 / (4 * kPi)) * (4 * kPi / 3) * c.dot(d), 2e-2);
-      EXPECT_NEAR(at(2, 2), 0.0, 5e-3);
-      EXPECT_NEAR(at(3, 0), 0.0, 5e-3);
+  ASSERT_EQ(atlas.height, S);
+  ASSERT_EQ(atlas.width, S);
+  ASSERT_EQ(atlas.values.size(), 4u * static_cast<std::size_t>(S * S) * 3);
+  auto at = [&](int l, int i, int j, int ch) {
+    return atlas.values[((static_cast<std::size_t>(l) * S + j) * S + i) * 3 + ch];
+  };
+  // Interior texels: the direction of the octahedral point, decoded here independently (upper
+  // half: (p_x, 1 - |p_x| - |p_z|, p_z); lower half: the triangles folded over the diagonals).
+  for (int j = 1; j <= N; j += 3)
+    for (int i = 1; i <= N; i += 5) {
+      const double px = 2.0 * (i - 0.5) / N - 1, pz = 2.0 * (j - 0.5) / N - 1;
+      const double y = 1 - std::abs(px) - std::abs(pz);
+      Vec3 d = y >= 0 ? Vec3(px, y, pz)
+                      : Vec3(std::copysign(1 - std::abs(pz), px), y, std::copysign(1 - std::abs(px), pz));
+      d.normalize();
+      EXPECT_NEAR(at(0, i, j, 0), std::sqrt(4 * kPi) * c0, 3e-3);
+      EXPECT_NEAR(at(1, i, j, 1), std::sqrt(3 / (4 * kPi)) * (4 * kPi / 3) * c.dot(d), 2e-2) << i << " " << j;
+      EXPECT_NEAR(at(2, i, j, 2), 0.0, 5e-3);
+      EXPECT_NEAR(at(3, i, j, 0), 0.0, 5e-3);
     }
+  // The border continues the map: column 0 is column 1 mirrored top to bottom (and likewise the
+  // last column, the first and the last row), so bilinear reads across an edge are continuous.
+  for (int k = 0; k < S; ++k)
+    for (int ch = 0; ch < 3; ++ch) {
+      EXPECT_EQ(at(1, 0, k, ch), at(1, 1, S - 1 - k, ch));
+      EXPECT_EQ(at(1, S - 1, k, ch), at(1, S - 2, S - 1 - k, ch));
+      EXPECT_EQ(at(1, k, 0, ch), at(1, S - 1 - k, 1, ch));
+      EXPECT_EQ(at(1, k, S - 1, ch), at(1, S - 1 - k, S - 2, ch));
+    }
+  EXPECT_EQ(octahedral_side(16), 204);
 }
 
 TEST(ShaderLayout, CoefficientsAreTheMeanThenEachMaterial) {

@@ -139,8 +139,12 @@ export interface RealtimeInfo {
   band: number[];
   theta_o: number[];
   layout: string;
-  /** Seconds the server took to compute the coefficients from the model's tables. */
+  /** Seconds the server took to load the coefficients from the cache beside the model, or to compute (and cache) them. */
   seconds: number;
+  /** Whether they were loaded from the cache or computed. */
+  cache: "loaded" | "computed";
+  /** What happened to the cache (loaded, or why it was recomputed, and whether it was written). */
+  cache_note: string;
   environments: string[];
   objects: string[];
   camera: RealtimeCamera;
@@ -154,7 +158,7 @@ export interface ReferenceRequest {
   size?: number;
 }
 
-/** The prefiltered band maps of one environment: [bands + 1][height][width][3] float32. */
+/** The prefiltered band maps of one environment: [bands + 1][height][width][3] float32, octahedral with a one-texel border (width = height = N + 2). */
 export interface EnvironmentAtlas {
   bands: number;
   width: number;

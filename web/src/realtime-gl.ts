@@ -1,16 +1,18 @@
 // The three.js side of the real-time viewer: renderer, camera with orbit controls, the object
 // (sphere, a served mesh, or a user's .glb) with the rotated-ZH shader (realtime-shader.ts), and
-// the textures: coefficients of the current point (K x T), basis directions (K x 1) and the
-// environment's band maps (a texture array). Renders on demand; frame times are recorded. While
-// the user interacts (orbit, rotation, dragging on the map) frames are drawn at a quarter of the
-// canvas's side into a render target and stretched over the canvas (16x fewer fragments, so the
-// view follows the pointer even with software WebGL); the full-resolution frame follows once the
-// interaction pauses.
+// the textures: coefficients of the current point (K x T) and the environment's octahedral band
+// maps (a texture array). Renders on demand; frame times are recorded. While the user interacts
+// (orbit, rotation, dragging on the map) frames are reduced: drawn at `fastScale` of the canvas's
+// side into a render target with bands 0..`fastBands` only, then stretched over the canvas, so
+// that the view follows the pointer even with software WebGL; the full frame (every band, full
+// resolution) follows once the interaction pauses for `refineMs`.
 import * as THREE from "three";
 import { OrbitControls } from "three/examples/jsm/controls/OrbitControls.js";
 import { GLTFLoader } from "three/examples/jsm/loaders/GLTFLoader.js";
 import type { EnvironmentAtlas, RealtimeInfo } from "./api";
-import { fragmentShader, vertexShader } from "./realtime-shader";
+import {
+  deferredFragmentShader, fragmentShader, gbufferFragmentShader, maxShaderBands, quadVertexShader, vertexShader,
+} from "./realtime-shader";
 
 /** RGB triples to RGBA (the alpha unused): WebGL2 cannot filter RGB float textures everywhere. */
 function rgba(rgb: Float32Array, count: number, out = new Float32Array(count * 4)): Float32Array<ArrayBuffer> {
@@ -33,11 +35,14 @@ export class RealtimeGl {
   private readonly coefData: Float32Array<ArrayBuffer>;
   private object: THREE.Object3D | null = null;
   private envTexture: THREE.DataArrayTexture | null = null;
-  private pending = false;
   private pendingFast = false;
   private refine: ReturnType<typeof setTimeout> | null = null;
   private readonly low: THREE.WebGLRenderTarget;
   private readonly blitScene = new THREE.Scene();
+  /** The full frame's G-buffer (normal, wo) and the screen quad that shades it, tile by tile. */
+  private readonly gbuffer: THREE.WebGLRenderTarget;
+  private readonly gbufferMaterial: THREE.ShaderMaterial;
+  private readonly deferredScene = new THREE.Scene();
   private readonly blitCamera = new THREE.OrthographicCamera(-1, 1, 1, -1, 0, 1);
   /** Milliseconds of the last full-resolution frames (render + finish), newest last. */
   readonly frameTimes: number[] = [];
@@ -45,6 +50,19 @@ export class RealtimeGl {
   readonly fastFrameTimes: number[] = [];
   /** Side of the reduced frames relative to the canvas. */
   static readonly fastScale = 0.25;
+  /** Highest band of the reduced frames (at most the bands shown); adapted to the budget. */
+  fastBands = 6;
+  /** Target time of a reduced frame. */
+  fastBudgetMs = 40;
+  /** Whether the reduced frames adapt their bands to the budget (the benchmark fixes them). */
+  adaptive = true;
+  /** Side of the full frame's tiles, and the time spent on tiles per animation frame (batches). */
+  static readonly tileSize = 64;
+  static readonly tileBudgetMs = 30;
+  /** Pause of the interaction after which the full frame is drawn. */
+  refineMs = 300;
+  /** Highest band of the full frames. */
+  private bands: number;
   /** Called after each drawn frame with performance.now() and whether it was reduced. */
   onFrame: (at: number, fast: boolean) => void = () => {};
 
@@ -53,18 +71,22 @@ export class RealtimeGl {
     this.renderer.outputColorSpace = THREE.LinearSRGBColorSpace;  // the shader encodes sRGB itself
     this.renderer.setClearColor(0x202020, 1);
     const K = info.coefficients, T = info.theta_o_count;
-    // Float textures are filtered only with OES_texture_float_linear; half floats always.
+    if (info.bands > maxShaderBands) throw new Error(`the server's L = ${info.bands} exceeds the shader's ${maxShaderBands}`);
+    for (let j = 0, l = 0; l <= info.bands; ++l)  // the shader turns its directions by pi / (l + 1)
+      for (let k = 0; k <= l; ++k, ++j)
+        if (info.band[j] !== l || Math.abs(info.alpha[j] - (k * Math.PI) / (l + 1)) > 1e-6)
+          throw new Error(`the server's basis differs from the shader's at coefficient ${j}`);
+    // The environment maps are filtered: float32 only with OES_texture_float_linear, else half
+    // floats. The coefficients are read with texelFetch (no filtering): always float32.
     const floatLinear = this.renderer.extensions.has("OES_texture_float_linear");
     this.coefData = new Float32Array(K * T * 4);
     this.coef = new THREE.DataTexture(this.coefData, K, T, THREE.RGBAFormat, THREE.FloatType);
-    if (!floatLinear) this.coef.internalFormat = "RGBA16F";
-    this.coef.magFilter = this.coef.minFilter = THREE.LinearFilter;
+    this.coef.magFilter = this.coef.minFilter = THREE.NearestFilter;
     this.coef.wrapS = this.coef.wrapT = THREE.ClampToEdgeWrapping;
     this.coef.needsUpdate = true;
-    const basis = new Float32Array(K * 4);
-    for (let j = 0; j < K; ++j) basis.set([Math.sin(info.alpha[j]), Math.cos(info.alpha[j]), info.band[j], 0], 4 * j);
-    const basisTexture = new THREE.DataTexture(basis, K, 1, THREE.RGBAFormat, THREE.FloatType);
-    basisTexture.needsUpdate = true;
+    const steps = Array.from({ length: maxShaderBands + 1 }, (_, l) =>
+      new THREE.Vector2(Math.cos(Math.PI / (l + 1)), Math.sin(Math.PI / (l + 1))));
+    this.bands = info.bands;
     this.material = new THREE.ShaderMaterial({
       glslVersion: THREE.GLSL3,
       vertexShader,
@@ -72,12 +94,13 @@ export class RealtimeGl {
       side: THREE.DoubleSide,
       uniforms: {
         uCoef: { value: this.coef },
-        uBasis: { value: basisTexture },
         uEnv: { value: null },
-        uCount: { value: K },
-        uEnvSize: { value: new THREE.Vector2(1, 1) },
-        uRotation: { value: 0 },
+        uBands: { value: info.bands },
+        uStep: { value: steps },
+        uEnvSide: { value: 1 },
+        uRotation: { value: new THREE.Vector2(1, 0) },
         uExposure: { value: 0 },
+        uLinear: { value: false },
       },
     });
     this.material.userData.floatLinear = floatLinear;
@@ -88,13 +111,35 @@ export class RealtimeGl {
       Math.max(1, Math.round(canvas.height * RealtimeGl.fastScale)), { depthBuffer: true });
     this.low.texture.minFilter = this.low.texture.magFilter = THREE.LinearFilter;
     this.blitScene.add(new THREE.Mesh(new THREE.PlaneGeometry(2, 2), new THREE.MeshBasicMaterial({ map: this.low.texture })));
+    this.gbuffer = new THREE.WebGLRenderTarget(canvas.width, canvas.height, {
+      count: 2, type: THREE.FloatType, minFilter: THREE.NearestFilter, magFilter: THREE.NearestFilter, depthBuffer: true,
+    });
+    this.gbufferMaterial = new THREE.ShaderMaterial({
+      glslVersion: THREE.GLSL3, vertexShader, fragmentShader: gbufferFragmentShader, side: THREE.DoubleSide,
+    });
+    const deferred = new THREE.ShaderMaterial({
+      glslVersion: THREE.GLSL3,
+      vertexShader: quadVertexShader,
+      fragmentShader: deferredFragmentShader,
+      depthTest: false,
+      depthWrite: false,
+      uniforms: {
+        ...this.material.uniforms,  // the same uniform objects: one set of values
+        uGNormal: { value: this.gbuffer.textures[0] },
+        uGView: { value: this.gbuffer.textures[1] },
+        uBackground: { value: this.renderer.getClearColor(new THREE.Color()) },
+      },
+    });
+    const quad = new THREE.Mesh(new THREE.PlaneGeometry(2, 2), deferred);
+    quad.frustumCulled = false;
+    this.deferredScene.add(quad);
     this.resetCamera();
     this.setObject(RealtimeGl.sphere());
   }
 
   /** The unit sphere (finely tessellated: its normals are interpolated across facets). */
   static sphere(): THREE.Mesh {
-    return new THREE.Mesh(new THREE.SphereGeometry(1, 160, 120));
+    return new THREE.Mesh(new THREE.SphereGeometry(1, 96, 64));
   }
 
   get floatLinear(): boolean {
@@ -115,7 +160,8 @@ export class RealtimeGl {
   setCoefficients(rgb: Float32Array, interactive = false): void {
     rgba(rgb, this.info.coefficients * this.info.theta_o_count, this.coefData);
     this.coef.needsUpdate = true;
-    this.invalidate(interactive);
+    if (interactive) this.drawReducedNow();  // a map drag: the frame follows the weights at once
+    else this.invalidate();
   }
 
   setEnvironment(atlas: EnvironmentAtlas): void {
@@ -126,19 +172,19 @@ export class RealtimeGl {
     tex.type = THREE.FloatType;
     if (!this.floatLinear) tex.internalFormat = "RGBA16F";
     tex.magFilter = tex.minFilter = THREE.LinearFilter;
-    tex.wrapS = THREE.RepeatWrapping;
-    tex.wrapT = THREE.ClampToEdgeWrapping;
+    tex.wrapS = tex.wrapT = THREE.ClampToEdgeWrapping;  // the border texels continue the map
     tex.generateMipmaps = false;
     tex.needsUpdate = true;
     this.envTexture?.dispose();
     this.envTexture = tex;
     this.material.uniforms.uEnv.value = tex;
-    (this.material.uniforms.uEnvSize.value as THREE.Vector2).set(atlas.width, atlas.height);
+    this.material.uniforms.uEnvSide.value = atlas.width - 2;
     this.invalidate();
   }
 
   setRotation(degrees: number, interactive = false): void {
-    this.material.uniforms.uRotation.value = (degrees * Math.PI) / 180;
+    const beta = (degrees * Math.PI) / 180;
+    (this.material.uniforms.uRotation.value as THREE.Vector2).set(Math.cos(beta), Math.sin(beta));
     this.invalidate(interactive);
   }
 
@@ -149,7 +195,7 @@ export class RealtimeGl {
 
   /** Shows bands 0..L only (a cheaper, blurrier preview). */
   setBands(L: number): void {
-    this.material.uniforms.uCount.value = ((L + 1) * (L + 2)) / 2;
+    this.bands = L;
     this.invalidate();
   }
 
@@ -197,35 +243,152 @@ export class RealtimeGl {
     return group;
   }
 
-  /** Schedules one frame: a reduced one now if `interactive`, then the full one after a pause. */
+  /**
+   * Schedules the view's update: a reduced frame at once (within this animation frame), then,
+   * once nothing has changed for `refineMs` (0 for a non-interactive change), the full frame in
+   * tiles, a few per animation frame, so that the page stays responsive: a new change cancels
+   * the tiles not yet drawn and starts over.
+   */
   invalidate(interactive = false): void {
     if (this.refine) clearTimeout(this.refine);
     this.refine = null;
-    if (interactive) {
-      this.refine = setTimeout(() => {
-        this.refine = null;
-        this.invalidate();
-      }, 300);
-      if (this.pendingFast || this.pending) return;
+    this.tiles = null;
+    if (!this.pendingFast) {
       this.pendingFast = true;
       requestAnimationFrame(() => {
         this.pendingFast = false;
         this.draw(true);
       });
-      return;
     }
-    if (this.pending) return;
-    this.pending = true;
-    requestAnimationFrame(() => {
-      this.pending = false;
-      this.draw();
-    });
+    this.refine = setTimeout(() => {
+      this.refine = null;
+      this.startRefinement();
+    }, interactive ? this.refineMs : 0);
   }
 
-  /** Draws now (reduced if `fast`) and waits for the GPU; returns the milliseconds taken. */
+  /** Draws a reduced frame now if none is pending for this animation frame (map drags). */
+  drawReducedNow(): void {
+    if (this.refine) clearTimeout(this.refine);
+    this.tiles = null;
+    this.draw(true);
+    this.refine = setTimeout(() => {
+      this.refine = null;
+      this.startRefinement();
+    }, this.refineMs);
+  }
+
+  private tiles: { x: number; y: number }[] | null = null;
+  private refinementMs = 0;
+
+  /** The full frame, tile by tile over the reduced one, centre first. */
+  private startRefinement(): void {
+    if (!this.envTexture) return;
+    const t = RealtimeGl.tileSize, w = this.canvas.width, h = this.canvas.height;
+    const tiles: { x: number; y: number }[] = [];
+    for (let y = 0; y < h; y += t) for (let x = 0; x < w; x += t) tiles.push({ x, y });
+    const d = (p: { x: number; y: number }) => (p.x + t / 2 - w / 2) ** 2 + (p.y + t / 2 - h / 2) ** 2;
+    tiles.sort((a, b) => d(a) - d(b));
+    this.tiles = tiles;
+    this.refinementMs = 0;
+    let gbuffer = false;
+    let batch = 1;
+    const step = () => {
+      if (this.tiles !== tiles) return;  // cancelled by a change
+      const start = performance.now();
+      if (!gbuffer) {
+        this.fillGbuffer();
+        gbuffer = true;
+      }
+      // A batch of tiles, then one wait for the GPU: the batch is sized from the previous one's
+      // rate to fit the budget (a wait per tile costs more than small tiles do under load).
+      const count = Math.min(tiles.length, batch);
+      for (let i = 0; i < count; ++i) this.drawTile(tiles.pop()!);
+      const gl = this.renderer.getContext();
+      gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));  // waits for the batch
+      const ms = performance.now() - start;
+      // At most 4 tiles: the next tiles may cost far more than the last ones (background ones
+      // are cheap), and a batch cannot be interrupted.
+      batch = Math.max(1, Math.min(4, 2 * count, Math.floor((count * RealtimeGl.tileBudgetMs) / Math.max(ms, 1))));
+      this.refinementMs += ms;
+      if (tiles.length) {
+        requestAnimationFrame(step);
+        return;
+      }
+      this.tiles = null;
+      this.record(this.frameTimes, this.refinementMs, performance.now(), false);
+    };
+    requestAnimationFrame(step);
+  }
+
+  /** Rasterises the object into the G-buffer: normal and wo per pixel, alpha 0 outside. */
+  private fillGbuffer(): void {
+    const clear = this.renderer.getClearColor(new THREE.Color()), alpha = this.renderer.getClearAlpha();
+    this.renderer.setClearColor(0x000000, 0);
+    this.scene.overrideMaterial = this.gbufferMaterial;
+    try {
+      this.renderer.setRenderTarget(this.gbuffer);
+      this.renderer.render(this.scene, this.camera);
+    } finally {
+      this.renderer.setRenderTarget(null);
+      this.scene.overrideMaterial = null;
+      this.renderer.setClearColor(clear, alpha);
+    }
+  }
+
+  /** One tile of the full frame onto the canvas (its drawing buffer is preserved). */
+  private drawTile(tile: { x: number; y: number }): void {
+    if (!this.envTexture) return;
+    const t = RealtimeGl.tileSize;
+    this.material.uniforms.uBands.value = this.bands;
+    this.renderer.setScissorTest(true);
+    this.renderer.setScissor(tile.x, tile.y, t, t);
+    this.renderer.render(this.deferredScene, this.blitCamera);
+    this.renderer.setScissorTest(false);
+  }
+
+  /**
+   * The full frame at size x size as float RGBA, rows from the top: RGB = 2^exposure times the
+   * radiance, neither clamped nor encoded (what POST /api/realtime/reference/radiance answers).
+   */
+  radiance(size: number): Float32Array {
+    const target = new THREE.WebGLRenderTarget(size, size, { type: THREE.FloatType, depthBuffer: true });
+    const aspect = this.camera.aspect;
+    this.camera.aspect = 1;
+    this.camera.updateProjectionMatrix();
+    this.material.uniforms.uBands.value = this.bands;
+    this.material.uniforms.uLinear.value = true;
+    const pixels = new Float32Array(size * size * 4);
+    try {
+      this.renderer.setRenderTarget(target);
+      this.renderer.render(this.scene, this.camera);
+      this.renderer.readRenderTargetPixels(target, 0, 0, size, size, pixels);
+    } finally {
+      this.renderer.setRenderTarget(null);
+      this.material.uniforms.uLinear.value = false;
+      this.camera.aspect = aspect;
+      this.camera.updateProjectionMatrix();
+      target.dispose();
+    }
+    const out = new Float32Array(pixels.length);
+    for (let y = 0; y < size; ++y) out.set(pixels.subarray((size - 1 - y) * size * 4, (size - y) * size * 4), y * size * 4);
+    return out;
+  }
+
+  private record(times: number[], ms: number, end: number, fast: boolean): void {
+    times.push(ms);
+    if (times.length > 1000) times.shift();
+    this.onFrame(end, fast);
+  }
+
+  /**
+   * Draws a whole frame now, reduced (`fast`) or full, and waits for it; returns the
+   * milliseconds taken. A reduced frame adapts `fastBands` to stay within `fastBudgetMs`.
+   */
   draw(fast = false): number {
     if (!this.envTexture) return 0;
+    if (!fast) this.tiles = null;  // a full frame supersedes the tiles
     const start = performance.now();
+    this.material.uniforms.uBands.value = fast ? Math.min(this.bands, this.fastBands) : this.bands;
     if (fast) {
       this.renderer.setRenderTarget(this.low);
       this.renderer.render(this.scene, this.camera);
@@ -237,10 +400,23 @@ export class RealtimeGl {
     const gl = this.renderer.getContext();
     gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));  // waits for the frame
     const end = performance.now();
-    const times = fast ? this.fastFrameTimes : this.frameTimes;
-    times.push(end - start);
-    if (times.length > 1000) times.shift();
-    this.onFrame(end, fast);
-    return end - start;
+    const ms = end - start;
+    if (fast && this.adaptive) {
+      // Over the budget: the most bands whose terms, (L' + 1)(L' + 2) / 2, fit it at this frame's
+      // rate per term (the cost is about proportional to them, plus the rasterisation). Well
+      // under it: one band more.
+      const terms = (b: number) => ((b + 1) * (b + 2)) / 2;
+      const current = Math.min(this.fastBands, this.bands);
+      let next = current;
+      if (ms > this.fastBudgetMs) {
+        const fit = (terms(current) * this.fastBudgetMs) / ms;
+        while (next > 1 && terms(next) > fit) --next;
+      } else if (ms < 0.7 * this.fastBudgetMs && current < this.bands) {
+        ++next;
+      }
+      this.fastBands = next;
+    }
+    this.record(fast ? this.fastFrameTimes : this.frameTimes, ms, end, fast);
+    return ms;
   }
 }

@@ -1,13 +1,20 @@
 // The rotated-ZH shader of the real-time viewer (docs/REALTIME.md, "The browser viewer"):
 //
-//   radiance = sum_j lambda_j(theta_o) E_{l(j)}(d_j),   d_j = sin(alpha_j) x + cos(alpha_j) n,
+//   radiance = sum_{l <= L'} sum_{k <= l} lambda_lk(theta_o) E_l(R d_lk),
+//   d_lk = sin(alpha_lk) x + cos(alpha_lk) n,   alpha_lk = k pi / (l + 1),
 //
-// theta_o = acos(n . wo), x = the unit tangential part of wo. lambda is the K x T coefficient
-// texture of the current map point (row t = theta_o sample at v = (t + 1/2) / T, so a linear read
-// at v = theta_o / (pi/2) interpolates and clamps as the CPU reference does; column j read at its
-// centre); E is the texture array of the band maps on one lat-long grid (layer l, row y at
-// theta = pi y / (H - 1), column x at phi = 2 pi x / W, repeat in phi). Rotating the environment
-// by beta about +y reads E at phi - beta. Output: 2^exposure, clamped, sRGB-encoded.
+// theta_o = acos(n . wo), x = the unit tangential part of wo, R the environment's rotation by
+// -beta about +y (applied once to n and x: d is linear in them). No trigonometry per term: the
+// directions of band l are n and x turned in steps of pi / (l + 1) (uStep[l] = cos, sin of the
+// step), and the band maps E_l are octahedral (zonal/shader_layout.h: one texture array, one
+// texel of border continuing the map across its edges, so bilinear filtering is seamless).
+// lambda is the K x T coefficient texture of the current map point, row t = theta_o sample
+// (t + 1/2) (pi/2) / T: two texel reads per term, interpolated in float with the weight computed
+// once per pixel (clamped at the ends), as the CPU reference does. Output: 2^exposure, clamped,
+// sRGB-encoded (or, with uLinear, the radiance times 2^exposure as is, for float targets).
+
+/** Highest band the shader's step table holds. */
+export const maxShaderBands = 32;
 
 export const vertexShader = /* glsl */ `
 out vec3 vWorldPos;
@@ -20,18 +27,18 @@ void main() {
 }
 `;
 
-export const fragmentShader = /* glsl */ `
+// Uniforms and the shading of one point, shared by the forward and the deferred shaders.
+const shading = /* glsl */ `
 precision highp float;
 precision highp sampler2DArray;
-uniform sampler2D uCoef;       // K x T, RGB (+ unused A)
-uniform sampler2D uBasis;      // K x 1: sin alpha, cos alpha, band
-uniform sampler2DArray uEnv;   // W x H x (L + 1)
-uniform int uCount;            // coefficients summed: (L'+1)(L'+2)/2 for the bands shown
-uniform vec2 uEnvSize;         // W, H
-uniform float uRotation;       // radians
+uniform sampler2D uCoef;       // K x T, RGB (+ unused A), read with texelFetch
+uniform sampler2DArray uEnv;   // (N + 2) x (N + 2) x (L + 1), octahedral with a border
+uniform int uBands;            // L': bands 0..L' are summed
+uniform vec2 uStep[${maxShaderBands + 1}];  // cos, sin of pi / (l + 1)
+uniform float uEnvSide;        // N
+uniform vec2 uRotation;        // cos, sin of the environment's rotation
 uniform float uExposure;       // stops
-in vec3 vWorldPos;
-in vec3 vNormal;
+uniform bool uLinear;          // output 2^exposure radiance as is (float targets: the tests' comparison)
 out vec4 outColor;
 
 const float PI = 3.14159265358979;
@@ -41,10 +48,21 @@ vec3 srgb(vec3 c) {
   return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(0.0031308, c));
 }
 
-void main() {
-  vec3 n = normalize(vNormal);
-  vec3 wo = normalize(cameraPosition - vWorldPos);
-  if (dot(n, wo) < 0.0) n = -n;  // back faces of open meshes
+// Texture coordinates of direction d on the octahedral maps (y up).
+vec2 octahedral(vec3 d) {
+  vec2 p = d.xz / (abs(d.x) + abs(d.y) + abs(d.z));
+  vec2 s = vec2(p.x >= 0.0 ? 1.0 : -1.0, p.y >= 0.0 ? 1.0 : -1.0);
+  p = d.y < 0.0 ? (1.0 - abs(p.yx)) * s : p;
+  return (p * (0.5 * uEnvSide) + (0.5 * uEnvSide + 1.0)) / (uEnvSide + 2.0);
+}
+
+// The lookup direction of the rotated environment: phi - beta.
+vec3 unrotate(vec3 d) {
+  return vec3(uRotation.x * d.x + uRotation.y * d.z, d.y, uRotation.x * d.z - uRotation.y * d.x);
+}
+
+// Radiance towards wo of a point with normal n (both unit, dot(n, wo) >= 0), as displayed.
+vec4 shade(vec3 n, vec3 wo) {
   float c = clamp(dot(n, wo), 0.0, 1.0);
   vec3 t = wo - c * n;
   float tl = length(t);
@@ -52,19 +70,80 @@ void main() {
     t = abs(n.y) < 0.9 ? cross(n, vec3(0.0, 1.0, 0.0)) : cross(n, vec3(1.0, 0.0, 0.0));
     tl = length(t);
   }
-  vec3 x = t / tl;
-  float v = acos(c) / (0.5 * PI);
-  float K = float(textureSize(uCoef, 0).x);
+  vec3 x = unrotate(t / tl);
+  n = unrotate(n);
+  int T = textureSize(uCoef, 0).y;
+  float tf = clamp(acos(c) / (0.5 * PI) * float(T) - 0.5, 0.0, float(T - 1));
+  int t0 = int(tf);
+  int t1 = min(t0 + 1, T - 1);
+  float f = tf - float(t0);
   vec3 sum = vec3(0.0);
-  for (int j = 0; j < uCount; ++j) {
-    vec3 b = texelFetch(uBasis, ivec2(j, 0), 0).xyz;
-    vec3 lambda = texture(uCoef, vec2((float(j) + 0.5) / K, v)).rgb;
-    vec3 d = b.x * x + b.y * n;
-    float theta = acos(clamp(d.y, -1.0, 1.0));
-    float phi = atan(d.z, d.x) - uRotation;
-    vec2 uv = vec2(phi / (2.0 * PI) + 0.5 / uEnvSize.x, (theta / PI * (uEnvSize.y - 1.0) + 0.5) / uEnvSize.y);
-    sum += lambda * texture(uEnv, vec3(uv, b.z)).rgb;
+  int j = 0;
+  for (int l = 0; l <= uBands; ++l) {
+    vec2 st = uStep[l];
+    vec2 cs = vec2(1.0, 0.0);  // cos, sin of alpha_lk
+    float layer = float(l);
+    for (int k = 0; k <= l; ++k) {
+      vec3 lambda = mix(texelFetch(uCoef, ivec2(j, t0), 0).rgb, texelFetch(uCoef, ivec2(j, t1), 0).rgb, f);
+      sum += lambda * texture(uEnv, vec3(octahedral(cs.y * x + cs.x * n), layer)).rgb;
+      cs = vec2(cs.x * st.x - cs.y * st.y, cs.y * st.x + cs.x * st.y);
+      ++j;
+    }
   }
-  outColor = vec4(srgb(sum * exp2(uExposure)), 1.0);
+  sum *= exp2(uExposure);
+  return vec4(uLinear ? sum : srgb(sum), 1.0);
+}
+`;
+
+export const fragmentShader = /* glsl */ `
+${shading}in vec3 vWorldPos;
+in vec3 vNormal;
+
+void main() {
+  vec3 n = normalize(vNormal);
+  vec3 wo = normalize(cameraPosition - vWorldPos);
+  if (dot(n, wo) < 0.0) n = -n;  // back faces of open meshes
+  outColor = shade(n, wo);
+}
+`;
+
+// Deferred shading of the full frame's tiles: the object is rasterised once into a G-buffer
+// (unit normal facing the viewer, and wo; alpha 0 where there is no object), then each tile is a
+// screen-filling quad (scissored) that shades the G-buffer's texels: the mesh is not drawn again
+// per tile.
+export const gbufferFragmentShader = /* glsl */ `
+precision highp float;
+in vec3 vWorldPos;
+in vec3 vNormal;
+layout(location = 0) out vec4 gNormal;
+layout(location = 1) out vec4 gView;
+void main() {
+  vec3 n = normalize(vNormal);
+  vec3 wo = normalize(cameraPosition - vWorldPos);
+  if (dot(n, wo) < 0.0) n = -n;
+  gNormal = vec4(n, 1.0);
+  gView = vec4(wo, 1.0);
+}
+`;
+
+export const quadVertexShader = /* glsl */ `
+void main() {
+  gl_Position = vec4(position.xy, 0.0, 1.0);
+}
+`;
+
+export const deferredFragmentShader = /* glsl */ `
+${shading}uniform sampler2D uGNormal;
+uniform sampler2D uGView;
+uniform vec3 uBackground;
+
+void main() {
+  ivec2 p = ivec2(gl_FragCoord.xy);
+  vec4 n = texelFetch(uGNormal, p, 0);
+  if (n.a == 0.0) {  // a branch, not a select: background pixels skip the sum
+    outColor = vec4(uBackground, 1.0);
+    return;
+  }
+  outColor = shade(n.xyz, texelFetch(uGView, p, 0).xyz);
 }
 `;

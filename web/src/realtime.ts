@@ -21,6 +21,8 @@ export interface ViewerState {
   shownX: number[] | null;
   /** Milliseconds from a map move to the frame showing it, newest last. */
   moveToFrame: number[];
+  /** Whether that frame was a reduced one (drawn while dragging), per entry of moveToFrame. */
+  moveToFrameReduced: boolean[];
   env: string;
   object: string;
   loads: { coefficientsMs: number; environmentMs: Record<string, number> };
@@ -54,7 +56,7 @@ export async function createRealtimeView(store: PageStore): Promise<ViewerState>
   const block = info.theta_o_count * info.coefficients * 3;
   const point = new Float32Array(block);
   const state: ViewerState = {
-    info, gl, shownX: null, moveToFrame: [], env: "", object: "sphere",
+    info, gl, shownX: null, moveToFrame: [], moveToFrameReduced: [], env: "", object: "sphere",
     loads: { coefficientsMs, environmentMs: {} },
   };
   window.matlasViewer = state;
@@ -77,10 +79,14 @@ export async function createRealtimeView(store: PageStore): Promise<ViewerState>
     const s = v.slice(-30).sort((a, b) => a - b);
     return s.length ? `${s[s.length >> 1].toFixed(0)} ms` : "–";
   };
-  gl.onFrame = (end) => {
+  gl.onFrame = (end, fast) => {
     if (movedAt) {  // the first frame (reduced or not) with the new coefficients
       state.moveToFrame.push(end - movedAt);
-      if (state.moveToFrame.length > 500) state.moveToFrame.shift();
+      state.moveToFrameReduced.push(fast);
+      if (state.moveToFrame.length > 500) {
+        state.moveToFrame.shift();
+        state.moveToFrameReduced.shift();
+      }
       movedAt = 0;
     }
     $("rt-fps").textContent = `${median(gl.frameTimes)} per frame · ${median(gl.fastFrameTimes)} while moving`;

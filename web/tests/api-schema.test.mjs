@@ -137,6 +137,10 @@ test("a live server answers every endpoint as the schema says", async () => {
     assert.equal(bytes.length, 8 + 4 * (6 * v + 3 * t));
   }
   await expectAnswer("POST", "api/realtime/reference", { x, env, rotation: 30, exposure: 0, size: 32 });
+  const radiance = await expectAnswer("POST", "api/realtime/reference/radiance", { x, env, rotation: 30, exposure: 0, size: 32 });
+  assert.equal(radiance.length, 4 * 4 * 32 * 32);
+  const values = new Float32Array(radiance.buffer, radiance.byteOffset, radiance.length / 4);
+  assert.ok(values.some((v, i) => i % 4 === 3 && v === 1) && values.every((v) => Number.isFinite(v)));
 });
 
 test("errors are the schema's error object", async () => {
