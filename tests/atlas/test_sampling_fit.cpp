@@ -100,5 +100,28 @@ TEST(SamplingFit, ChromeIsLessNoisyWithTheFittedMixtureAtEqualSamples) {
   EXPECT_LT(new_noise, 0.75 * old_noise) << "old " << old_noise << ", fitted " << new_noise;
 }
 
+TEST(SamplingFit, TheStratifiedFittedSamplerIsFarLessNoisyThanTheFormerMixture) {
+  // The previews' former sampling (fixed mixture, independent numbers per sample) against the
+  // default one (the fitted mixture with its sharpest lobe, stratified per pixel), on a
+  // chrome-like conductor under a sky with a small bright sun. Measured: 0.87 against 0.23
+  // (3.8x) at 32x32, 32 spp; asserted: at least 3x lower.
+  const FunctionMaterial chrome = conductor(0.004), gold = conductor(0.03), p1 = plastic(0.1);
+  const FunctionMaterial lambert([](const Vec3&, const Vec3&) -> Rgb { return Rgb::Constant(0.5 / kPi); });
+  const render::MaterialList bank({&chrome, &gold, &p1, &lambert});
+  const render::Scene scene(render::SceneDescription{}, std::nullopt, render::Environment(test::synthetic_environment()));
+  RenderSettings former;
+  former.width = former.height = 32;
+  former.spp = 32;
+  former.sampler = render::Sampler::independent;
+  RenderSettings now = former;
+  now.sampler = render::Sampler::stratified;
+  now.mixture = fit_sampling_mixture(bank);
+  EXPECT_EQ(RenderSettings{}.sampler, render::Sampler::stratified);
+  const double former_noise = seed_noise(scene, chrome, former), new_noise = seed_noise(scene, chrome, now);
+  EXPECT_LT(new_noise, former_noise / 3.0) << "former " << former_noise << ", now " << new_noise;
+  // The sharpest lobe sits at the chrome's width.
+  EXPECT_NEAR(fit_sampling_mixture(bank).lobes.front().first / 0.004, 1.0, 0.25);
+}
+
 }  // namespace
 }  // namespace matlas::atlas
