@@ -22,8 +22,6 @@ struct Frame {
   Vec3 to_world(const Vec3& v) const { return t * v.x() + b * v.y() + n * v.z(); }
 };
 
-/// One camera sample: returns the material-independent radiance C and reports each BRDF tap
-/// through tap(wi, wo, W) (local frame, W includes 1/pdf and the light).
 /// The random choices of one camera sample after its jitter: the object's strategy (the
 /// environment, or u for SamplingMixture::sample_local), the ground's (environment or cosine,
 /// with the environment's probability) and the direction's two numbers.
@@ -47,6 +45,8 @@ Draw independent_draw(const SamplingMixture& mix, SampleStream& rng) {
   return d;
 }
 
+/// One camera sample: returns the material-independent radiance C and reports each BRDF tap
+/// through tap(wi, wo, W) (local frame, W includes 1/pdf and the light).
 template <class Tap>
 Rgb trace_sample(const Scene& scene, const SamplingMixture& mix, const Draw& draw, const Vec3& origin,
                  const Vec3& dir, bool* hit_object, Tap&& tap) {
