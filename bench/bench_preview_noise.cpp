@@ -1,16 +1,20 @@
 // Preview noise (docs/RENDERING.md "Noise"): for named materials of a model, the relative RMS
 // difference between two renders that differ only in their seed, with the previews' former fixed
 // mixture (render/sampling_mixture.h's defaults) and with the mixture fitted to the model
-// (atlas/sampling_fit.h); then the time of the model's preview basis at the fitted mixture.
+// (atlas/sampling_fit.h), each with the former independent numbers per sample and with the
+// stratified sampler (render/pixel_sampler.h); then the time of one render with either sampler
+// and of the model's preview basis (fitted mixture, stratified: the default).
 //
 //   bench_preview_noise MODEL ENV SIZE SPP BASIS_SIZE BASIS_SPP MATERIAL...
 //
 // Relative RMS: sqrt(sum (a - b)^2 / sum ((a + b) / 2)^2) over the pixels fully covered by the
-// sphere, all channels. Both renders of a pair use the same mixture, so the number is the
+// sphere, all channels; seeds 1 and 2, or pooled over MATLAS_BENCH_PAIRS pairs of seeds. Both renders of a pair use the same mixture, so the number is the
 // estimator's noise (sqrt 2 times one image's), independent of any reference.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <cstdlib>
 #include <cstring>
 #include <string>
@@ -27,26 +31,34 @@ namespace {
 
 using namespace matlas;
 
-double relative_rms(const Image& a, const Image& b, const std::vector<float>& coverage) {
-  double d = 0, s = 0;
+/// Sums of squared differences and of squared means over the pixels fully covered by the sphere.
+void accumulate_rms(const Image& a, const Image& b, const std::vector<float>& coverage, double* d, double* s) {
   for (std::size_t p = 0; p < coverage.size(); ++p) {
     if (coverage[p] != 1.0f) continue;
     for (std::size_t c = 0; c < 3; ++c) {
       const double x = a.rgb[3 * p + c], y = b.rgb[3 * p + c];
-      d += (x - y) * (x - y);
-      s += 0.25 * (x + y) * (x + y);
+      *d += (x - y) * (x - y);
+      *s += 0.25 * (x + y) * (x + y);
     }
   }
-  return std::sqrt(d / s);
 }
 
+/// Relative RMS difference between seeds 1 and 2, or pooled over the pairs (1, 2), (3, 4), ...
+/// (MATLAS_BENCH_PAIRS; the statistic is dominated by a few pixels that reflect small bright lights,
+/// so one pair of seeds is itself a noisy figure).
 double seed_noise(const render::Scene& scene, const render::Material& m, render::RenderSettings s,
                   const std::vector<float>& coverage) {
-  s.seed = 1;
-  const Image a = render::render(scene, m, s);
-  s.seed = 2;
-  const Image b = render::render(scene, m, s);
-  return relative_rms(a, b, coverage);
+  const char* pairs_env = std::getenv("MATLAS_BENCH_PAIRS");
+  const int pairs = pairs_env ? std::max(1, std::atoi(pairs_env)) : 1;
+  double d = 0, sum = 0;
+  for (int p = 0; p < pairs; ++p) {
+    s.seed = static_cast<std::uint64_t>(2 * p + 1);
+    const Image a = render::render(scene, m, s);
+    s.seed = static_cast<std::uint64_t>(2 * p + 2);
+    const Image b = render::render(scene, m, s);
+    accumulate_rms(a, b, coverage, &d, &sum);
+  }
+  return std::sqrt(d / sum);
 }
 
 std::string describe(const render::SamplingMixture& m) {
@@ -86,25 +98,51 @@ int main(int argc, char** argv) {
     }
     std::printf("old mixture:    %s\nfitted mixture: %s\n", describe(settings.mixture).c_str(),
                 describe(fitted.mixture).c_str());
+    // The former sampling: one-sample mixtures with independent numbers per sample.
+    settings.sampler = fitted.sampler = render::Sampler::independent;
+    render::RenderSettings old_stratified = settings, stratified = fitted;
+    old_stratified.sampler = stratified.sampler = render::Sampler::stratified;
     const std::vector<float> coverage = render::object_coverage(scene, settings);
     const std::vector<double> widths = atlas::specular_lobe_widths(atlas::ModelBank(model));
-    std::printf("%-28s %10s %12s %12s %8s\n", "material", "lobe alpha", "old rel RMS", "fitted", "ratio");
+    std::printf("relative RMS between seeds; independent numbers (former) and stratified (new)\n");
+    std::printf("%-28s %10s %10s %10s %10s %10s %8s\n", "material", "lobe alpha", "old", "fitted", "old strat",
+                "fit strat", "ratio");
     for (int k = 7; k < argc; ++k) {
       const int i = model.index_of(argv[k]);
       const atlas::ModelMaterial m(model, model.material_weights(i));
-      const double old_noise = seed_noise(scene, m, settings, coverage);
-      const double new_noise = seed_noise(scene, m, fitted, coverage);
-      std::printf("%-28s %10.4f %12.4f %12.4f %8.2f\n", argv[k], widths[static_cast<std::size_t>(i) + 1], old_noise,
-                  new_noise, old_noise / new_noise);
+      const bool quick = std::getenv("MATLAS_BENCH_NEW_ONLY");  // only the last column (ratio meaningless)
+      const double old_noise = quick ? 1 : seed_noise(scene, m, settings, coverage);
+      const double fitted_noise = quick ? 1 : seed_noise(scene, m, fitted, coverage);
+      const double old_strat_noise = quick ? 1 : seed_noise(scene, m, old_stratified, coverage);
+      const double new_noise = seed_noise(scene, m, stratified, coverage);
+      std::printf("%-28s %10.4f %10.4f %10.4f %10.4f %10.4f %8.2f\n", argv[k], widths[static_cast<std::size_t>(i) + 1],
+                  old_noise, fitted_noise, old_strat_noise, new_noise, old_noise / new_noise);
+      std::fflush(stdout);
+    }
+    for (const render::Sampler sampler : {render::Sampler::independent, render::Sampler::stratified}) {
+      render::RenderSettings timing = stratified;
+      timing.sampler = sampler;
+      const auto t0 = std::chrono::steady_clock::now();
+      const std::clock_t c0 = std::clock();  // CPU time of all threads: less sensitive to the load
+      render::RenderStats stats;
+      (void)render::render(scene, atlas::ModelMaterial(model, model.material_weights(model.index_of(argv[7]))), timing,
+                           null_progress(), &stats);
+      const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+      std::printf("%s sampler: one render %.2f s wall, %.2f s CPU (%.2f M camera samples per CPU second)\n",
+                  sampler == render::Sampler::stratified ? "stratified" : "independent", sec, cpu,
+                  static_cast<double>(stats.camera_samples) / cpu * 1e-6);
     }
     render::RenderSettings basis_settings;
     basis_settings.width = basis_settings.height = std::stoi(argv[5]);
     basis_settings.spp = std::stoi(argv[6]);
     const auto t0 = std::chrono::steady_clock::now();
+    const std::clock_t c0 = std::clock();
     const render::ImageBasis basis = atlas::render_basis(model, scene, basis_settings);
     const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::printf("preview basis %dx%d, %d spp, n = %d (+ mean): %.1f s\n",
-                basis.width(), basis.height(), basis_settings.spp, basis.count(), sec);
+    std::printf("preview basis %dx%d, %d spp, n = %d (+ mean): %.1f s wall, %.1f s CPU\n", basis.width(),
+                basis.height(), basis_settings.spp, basis.count(), sec,
+                static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC);
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_preview_noise: %s\n", e.what());

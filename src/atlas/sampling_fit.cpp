@@ -100,6 +100,10 @@ render::SamplingMixture mixture_from_fit(const LobeFit& fit, const SamplingFitOp
   m.environment = o.environment;
   m.cosine = o.cosine;
   m.lobes.clear();
+  double sharpest = 0;
+  for (double a : fit.widths)
+    if (a > 0 && (sharpest == 0 || a < sharpest)) sharpest = a;
+  if (o.sharpest_share > 0 && sharpest > 0) m.lobes.emplace_back(std::clamp(sharpest, o.min_alpha, o.max_alpha), o.sharpest_share);
   const double each = o.lobe_share / static_cast<double>(o.quantiles.size());
   for (double q : o.quantiles) {
     const double pos = std::clamp(q, 0.0, 1.0) * static_cast<double>(widths.size() - 1);

@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "core/parallel.h"
+#include "render/pixel_sampler.h"
 #include "render/sampling.h"
 
 namespace matlas::render {
@@ -21,13 +22,35 @@ struct Frame {
   Vec3 to_world(const Vec3& v) const { return t * v.x() + b * v.y() + n * v.z(); }
 };
 
+/// The random choices of one camera sample after its jitter: the object's strategy (the
+/// environment, or u for SamplingMixture::sample_local), the ground's (environment or cosine,
+/// with the environment's probability) and the direction's two numbers.
+struct Draw {
+  bool environment = false;
+  double pick = 0;
+  bool ground_environment = false;
+  double ground_environment_probability = 0;
+  double u0 = 0, u1 = 0;
+};
+
+/// The independent sampler's draw: three numbers of the sample's stream.
+Draw independent_draw(const SamplingMixture& mix, SampleStream& rng) {
+  // Always draw the same numbers in the same order so every path sees the same stream.
+  Draw d;
+  d.pick = rng.next(), d.u0 = rng.next(), d.u1 = rng.next();
+  d.environment = mix.picks_environment(d.pick);
+  const double ground_total = mix.environment + mix.cosine;
+  d.ground_environment_probability = ground_total > 0 ? mix.environment / ground_total : 0.5;
+  d.ground_environment = d.pick < d.ground_environment_probability || d.ground_environment_probability >= 1.0;
+  return d;
+}
+
 /// One camera sample: returns the material-independent radiance C and reports each BRDF tap
 /// through tap(wi, wo, W) (local frame, W includes 1/pdf and the light).
 template <class Tap>
-Rgb trace_sample(const Scene& scene, const SamplingMixture& mix, SampleStream& rng, const Vec3& origin,
+Rgb trace_sample(const Scene& scene, const SamplingMixture& mix, const Draw& draw, const Vec3& origin,
                  const Vec3& dir, bool* hit_object, Tap&& tap) {
-  // Always draw the same numbers in the same order so every path sees the same stream.
-  const double u_pick = rng.next(), u0 = rng.next(), u1 = rng.next();
+  const double u0 = draw.u0, u1 = draw.u1;
   *hit_object = false;
   const std::optional<Hit> hit = scene.intersect(origin, dir);
   const SceneDescription& desc = scene.description();
@@ -45,12 +68,12 @@ Rgb trace_sample(const Scene& scene, const SamplingMixture& mix, SampleStream& r
     *hit_object = true;
     if (wo.z() <= 0) return Rgb::Zero();
     Vec3 wi_world, wi;
-    if (mix.picks_environment(u_pick)) {
+    if (draw.environment) {
       double pdf;
       wi_world = env.sample(u0, u1, &pdf);
       wi = f.to_local(wi_world);
     } else {
-      wi = mix.sample_local(wo, u_pick, u0, u1);
+      wi = mix.sample_local(wo, draw.pick, u0, u1);
       wi_world = f.to_world(wi);
     }
     if (wi.z() > 0 && wi_world.dot(ng) > 0) {
@@ -70,10 +93,9 @@ Rgb trace_sample(const Scene& scene, const SamplingMixture& mix, SampleStream& r
 
   // Ground: Lambertian, sampled with the environment and cosine strategies only.
   const Rgb f_ground = desc.ground_albedo / kPi;
-  const double ground_total = mix.environment + mix.cosine;
-  const double pe = ground_total > 0 ? mix.environment / ground_total : 0.5, pc = 1.0 - pe;
+  const double pe = draw.ground_environment_probability, pc = 1.0 - pe;
   Vec3 wi_world, wi;
-  if (u_pick < pe || pc <= 0) {
+  if (draw.ground_environment) {
     double pdf;
     wi_world = env.sample(u0, u1, &pdf);
     wi = f.to_local(wi_world);
@@ -111,35 +133,70 @@ void for_each_pixel(const RenderSettings& settings, ProgressSink& progress, cons
   progress.finish(label);
 }
 
-/// The camera samples of pixel (x, y): for sample s, the stream (seed, pixel, s) gives the
-/// jitter and then the light path. Every material sees exactly these samples: this is what
-/// makes an image basis linear in the BRDF (render() and render_bank() both go through here).
-/// Returns the sum over samples of the material-independent radiance; tap(wi, wo, weight) is
-/// called for every BRDF evaluation on the object. Adds the number of taps to `taps`.
-/// Sample s of pixel (x, y): its random stream, positioned after the jitter, and camera ray.
-SampleStream camera_sample(const Scene& scene, const RenderSettings& settings, int x, int y, int s, Vec3* o,
-                           Vec3* d) {
+/// The samples of one render: which sampler, and the stratified sampler's split of the samples
+/// among the strategies.
+struct Sampling {
+  explicit Sampling(const RenderSettings& s)
+      : settings(s), stratified(s.sampler == Sampler::stratified),
+        plan(stratified ? plan_strategies(s.mixture, s.spp) : StrategyPlan{}) {}
+  /// The density of the samples at the object (what trace_sample divides by).
+  const SamplingMixture& density() const { return stratified ? plan.density : settings.mixture; }
+
+  const RenderSettings& settings;
+  bool stratified;
+  StrategyPlan plan;
+};
+
+/// Runs body(origin, dir, draw) for every camera sample of pixel (x, y). The numbers depend on
+/// (seed, pixel, sample) only: every material sees exactly these samples, which is what makes an
+/// image basis linear in the BRDF (render(), render_bank() and object_coverage() all go through
+/// here). Independent: sample s takes the stream (seed, pixel, s), jitter then draw. Stratified
+/// (render/pixel_sampler.h): the plan's counts per strategy, each strategy's samples stratified.
+template <class Body>
+void for_each_sample(const Scene& scene, const Sampling& sampling, int x, int y, Body&& body) {
+  const RenderSettings& settings = sampling.settings;
   const std::uint64_t pixel =
       static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(settings.width) + static_cast<std::uint64_t>(x);
-  SampleStream rng(settings.seed, pixel, static_cast<std::uint64_t>(s));
-  const double jx = rng.next(), jy = rng.next();
-  scene.camera_ray(x + jx, y + jy, settings.width, settings.height, o, d);
-  return rng;
+  Vec3 o, d;
+  if (!sampling.stratified) {
+    for (int s = 0; s < settings.spp; ++s) {
+      SampleStream rng(settings.seed, pixel, static_cast<std::uint64_t>(s));
+      const double jx = rng.next(), jy = rng.next();
+      scene.camera_ray(x + jx, y + jy, settings.width, settings.height, &o, &d);
+      body(o, d, independent_draw(settings.mixture, rng));
+    }
+    return;
+  }
+  const PixelSampler sampler(settings.seed, pixel);
+  const StrategyPlan& plan = sampling.plan;
+  Draw draw;
+  draw.ground_environment_probability = static_cast<double>(plan.counts[0]) / static_cast<double>(settings.spp);
+  for (std::size_t k = 0; k < plan.counts.size(); ++k) {
+    draw.environment = draw.ground_environment = k == 0;
+    draw.pick = plan.pick[k];
+    for (int j = 0; j < plan.counts[k]; ++j) {
+      double u[4];
+      sampler.point(static_cast<int>(k), j, u);
+      draw.u0 = u[2], draw.u1 = u[3];
+      scene.camera_ray(x + u[0], y + u[1], settings.width, settings.height, &o, &d);
+      body(o, d, draw);
+    }
+  }
 }
 
+/// Returns the sum over the pixel's samples of the material-independent radiance; tap(wi, wo,
+/// weight) is called for every BRDF evaluation on the object. Adds the number of taps to `taps`.
 template <class Tap>
-Rgb trace_pixel(const Scene& scene, const SamplingMixture& mix, const RenderSettings& settings, int x, int y, Tap&& tap,
-                std::uint64_t& taps) {
+Rgb trace_pixel(const Scene& scene, const Sampling& sampling, int x, int y, Tap&& tap, std::uint64_t& taps) {
   Rgb constant = Rgb::Zero();
-  for (int s = 0; s < settings.spp; ++s) {
-    Vec3 o, d;
-    SampleStream rng = camera_sample(scene, settings, x, y, s, &o, &d);
+  const SamplingMixture& density = sampling.density();
+  for_each_sample(scene, sampling, x, y, [&](const Vec3& o, const Vec3& d, const Draw& draw) {
     bool hit_object;
-    constant += trace_sample(scene, mix, rng, o, d, &hit_object, [&](const Vec3& wi, const Vec3& wo, const Rgb& w) {
+    constant += trace_sample(scene, density, draw, o, d, &hit_object, [&](const Vec3& wi, const Vec3& wo, const Rgb& w) {
       tap(wi, wo, w);
       ++taps;
     });
-  }
+  });
   return constant;
 }
 
@@ -166,14 +223,14 @@ Image render(const Scene& scene, const Material& material, const RenderSettings&
              ProgressSink& progress, RenderStats* stats) {
   settings.validate();
   const auto start = std::chrono::steady_clock::now();
-  const SamplingMixture& mix = settings.mixture;
+  const Sampling sampling(settings);
   Image image(settings.width, settings.height);
   std::atomic<std::uint64_t> taps{0};
   for_each_pixel(settings, progress, "render", [&](int x, int y) {
     std::uint64_t local_taps = 0;
     Rgb reflected = Rgb::Zero();
     const Rgb constant = trace_pixel(
-        scene, mix, settings, x, y,
+        scene, sampling, x, y,
         [&](const Vec3& wi, const Vec3& wo, const Rgb& w) { reflected += w * material.eval(wi, wo); }, local_taps);
     const Rgb sum = (constant + reflected) / static_cast<double>(settings.spp);
     float* out = image.pixel(x, y);
@@ -188,7 +245,7 @@ std::vector<Image> render_bank(const Scene& scene, const MaterialBank& bank, con
                                ProgressSink& progress, RenderStats* stats) {
   settings.validate();
   const auto start = std::chrono::steady_clock::now();
-  const SamplingMixture& mix = settings.mixture;
+  const Sampling sampling(settings);
   const int k_count = bank.count();
   if (k_count <= 0) throw Error("material bank is empty");
   std::vector<Image> images(static_cast<std::size_t>(k_count), Image(settings.width, settings.height));
@@ -199,7 +256,7 @@ std::vector<Image> render_bank(const Scene& scene, const MaterialBank& bank, con
     acc.assign(values, 0.0);
     f.resize(values);
     std::uint64_t local_taps = 0;
-    const Rgb constant = trace_pixel(scene, mix, settings, x, y,
+    const Rgb constant = trace_pixel(scene, sampling, x, y,
                                      [&](const Vec3& wi, const Vec3& wo, const Rgb& w) {
                                        bank.eval_all(wi, wo, f.data());
                                        for (std::size_t k = 0; k < values; k += 3) {
@@ -223,19 +280,18 @@ std::vector<Image> render_bank(const Scene& scene, const MaterialBank& bank, con
 
 std::vector<float> object_coverage(const Scene& scene, const RenderSettings& settings) {
   settings.validate();
+  const Sampling sampling(settings);
   std::vector<float> coverage(static_cast<std::size_t>(settings.width) * static_cast<std::size_t>(settings.height));
   parallel_for(0, static_cast<std::size_t>(settings.height), [&](std::size_t y0, std::size_t y1) {
     for (std::size_t y = y0; y < y1; ++y)
       for (int x = 0; x < settings.width; ++x) {
-        const std::uint64_t pixel = y * static_cast<std::uint64_t>(settings.width) + static_cast<std::uint64_t>(x);
         int hits = 0;
-        for (int s = 0; s < settings.spp; ++s) {
-          Vec3 o, d;
-          camera_sample(scene, settings, x, static_cast<int>(y), s, &o, &d);
+        for_each_sample(scene, sampling, x, static_cast<int>(y), [&](const Vec3& o, const Vec3& d, const Draw&) {
           const auto hit = scene.intersect(o, d);
           hits += hit && hit->object;
-        }
-        coverage[pixel] = static_cast<float>(hits) / static_cast<float>(settings.spp);
+        });
+        coverage[y * static_cast<std::size_t>(settings.width) + static_cast<std::size_t>(x)] =
+            static_cast<float>(hits) / static_cast<float>(settings.spp);
       }
   });
   return coverage;

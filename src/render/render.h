@@ -3,9 +3,11 @@
 // with shadows, for tabulated (or any) BRDFs.
 //
 // Estimator. Per pixel, `spp` primary rays (jittered in the pixel). At the object, one direction
-// wi is drawn from a FIXED one-sample mixture (render/sampling_mixture.h: environment importance
-// sampling, cosine lobe, and GGX lobes of given widths around the view's mirror direction) and
-// weighted by the balance-heuristic mixture density; every directional light adds one shadow ray. The pixel is
+// wi is drawn from one strategy of a FIXED mixture (render/sampling_mixture.h: environment importance
+// sampling, cosine lobe, GGX lobes of given widths around the view's mirror direction, a tabulated
+// half-vector lobe), the strategies sharing the pixel's samples in fixed counts with stratified
+// numbers (render/pixel_sampler.h; RenderSettings::sampler), and weighted by the balance-heuristic
+// mixture density; every directional light adds one shadow ray. The pixel is
 //
 //     I = C + sum_s W_s * f(wi_s, wo_s)           (W_s: RGB, independent of f)
 //
@@ -24,6 +26,16 @@
 
 namespace matlas::render {
 
+/// How a pixel's samples draw their random numbers (both material-independent).
+enum class Sampler {
+  /// Each sample draws its jitter, strategy and direction from its own hashed stream, the strategy
+  /// at random with the mixture's probabilities (one-sample mixture).
+  independent,
+  /// render/pixel_sampler.h: fixed sample counts per strategy (multi-sample balance heuristic),
+  /// each strategy's jitters and directions from Owen-scrambled Sobol points of the pixel.
+  stratified,
+};
+
 struct RenderSettings {
   int width = 512;
   int height = 512;
@@ -32,6 +44,7 @@ struct RenderSettings {
   /// The sampling strategies at the object: fixed, material-independent (a model's renders use
   /// the mixture fitted to its database, atlas/sampling_fit.h).
   SamplingMixture mixture = SamplingMixture::preview_default();
+  Sampler sampler = Sampler::stratified;
 
   /// Throws matlas::Error for non-positive sizes or spp, or an all-zero mixture.
   void validate() const;

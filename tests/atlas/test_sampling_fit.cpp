@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 
 #include "atlas/sampling_fit.h"
 #include "brdf/analytic.h"
@@ -86,18 +87,32 @@ TEST(SamplingFit, FurnaceWithTheFittedMixtureEqualsTheAlbedo) {
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(test::covered_mean(image, coverage, c), 1.0, 0.01);
 }
 
-TEST(SamplingFit, ChromeIsLessNoisyWithTheFittedMixtureAtEqualSamples) {
+TEST(SamplingFit, ChromeIsFarLessNoisyWithTheFittedMixtureAndTheStratifiedSampler) {
+  // A chrome-like conductor under a sky with a small bright sun, 32x32, 32 spp: the previews'
+  // former sampling (fixed mixture, independent numbers per sample), the former mixture with the
+  // default stratified sampler, and the default (the mixture fitted to the database, with its
+  // sharpest lobe, stratified). Measured: 0.87, 0.83 and 0.23; asserted: the fitted mixture at
+  // least 25 % below the former one with the same sampler, and 3x below the former sampling.
   const FunctionMaterial chrome = conductor(0.004), gold = conductor(0.03), p1 = plastic(0.1);
   const FunctionMaterial lambert([](const Vec3&, const Vec3&) -> Rgb { return Rgb::Constant(0.5 / kPi); });
   const render::MaterialList bank({&chrome, &gold, &p1, &lambert});
   const render::Scene scene(render::SceneDescription{}, std::nullopt, render::Environment(test::synthetic_environment()));
-  RenderSettings old_settings;
-  old_settings.width = old_settings.height = 32;
-  old_settings.spp = 32;
-  RenderSettings fitted = old_settings;
+  RenderSettings former_mixture;
+  former_mixture.width = former_mixture.height = 32;
+  former_mixture.spp = 32;
+  EXPECT_EQ(former_mixture.sampler, render::Sampler::stratified);  // the default
+  RenderSettings former = former_mixture, fitted = former_mixture;
+  former.sampler = render::Sampler::independent;
   fitted.mixture = fit_sampling_mixture(bank);
-  const double old_noise = seed_noise(scene, chrome, old_settings), new_noise = seed_noise(scene, chrome, fitted);
-  EXPECT_LT(new_noise, 0.75 * old_noise) << "old " << old_noise << ", fitted " << new_noise;
+  const double former_noise = seed_noise(scene, chrome, former);
+  const double mixture_noise = seed_noise(scene, chrome, former_mixture), new_noise = seed_noise(scene, chrome, fitted);
+  RecordProperty("former", std::to_string(former_noise));
+  RecordProperty("former_mixture_stratified", std::to_string(mixture_noise));
+  RecordProperty("fitted_stratified", std::to_string(new_noise));
+  EXPECT_LT(new_noise, 0.75 * mixture_noise) << "former mixture " << mixture_noise << ", fitted " << new_noise;
+  EXPECT_LT(new_noise, former_noise / 3.0) << "former " << former_noise << ", now " << new_noise;
+  // The sharpest lobe sits at the chrome's width.
+  EXPECT_NEAR(fitted.mixture.lobes.front().first / 0.004, 1.0, 0.25);
 }
 
 }  // namespace

@@ -1,0 +1,142 @@
+// The stratified sampler (render/pixel_sampler.h): Sobol points stratified after scrambling, the
+// split of a pixel's samples among the strategies, and random numbers that do not depend on the
+// material (what keeps the images linear in the BRDF table).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <mutex>
+#include <set>
+
+#include "brdf/analytic.h"
+#include "core/error.h"
+#include "render/material.h"
+#include "render/pixel_sampler.h"
+#include "render/render.h"
+#include "render/scene.h"
+#include "render_test_util.h"
+
+namespace matlas::render {
+namespace {
+
+TEST(PixelSampler, SobolSecondDimensionIsTheKnownSequence) {
+  const double expected[] = {0.0, 0.5, 0.75, 0.25, 0.625, 0.125, 0.375, 0.875};
+  for (std::uint32_t i = 0; i < 8; ++i) {
+    std::uint32_t x[4];
+    sobol_4d(i, x);
+    EXPECT_EQ(x[1] / 4294967296.0, expected[i]) << "index " << i;
+  }
+}
+
+TEST(PixelSampler, ScrambledPointsAreStratifiedInEveryDimensionAndTheJitterIsANet) {
+  for (const std::uint64_t pixel : {0ull, 17ull, 123457ull})
+    for (const int strategy : {0, 3}) {
+      const PixelSampler sampler(5, pixel);
+      constexpr int kCount = 64;  // 2^6
+      std::array<std::set<int>, 4> cells;
+      std::vector<std::array<double, 4>> points(kCount);
+      for (int j = 0; j < kCount; ++j) {
+        sampler.point(strategy, j, points[static_cast<std::size_t>(j)].data());
+        for (std::size_t d = 0; d < 4; ++d) {
+          const double u = points[static_cast<std::size_t>(j)][d];
+          ASSERT_GE(u, 0.0);
+          ASSERT_LT(u, 1.0);
+          cells[d].insert(static_cast<int>(u * kCount));
+        }
+      }
+      for (std::size_t d = 0; d < 4; ++d) EXPECT_EQ(cells[d].size(), std::size_t{kCount}) << "dimension " << d;
+      // The jitter: one point in every elementary box of 64 cells, all shapes 2^a x 2^(6-a).
+      for (int a = 0; a <= 6; ++a) {
+        std::set<int> boxes;
+        for (const auto& p : points)
+          boxes.insert(static_cast<int>(p[0] * (1 << a)) * 64 + static_cast<int>(p[1] * (1 << (6 - a))));
+        EXPECT_EQ(boxes.size(), std::size_t{kCount}) << "boxes 2^" << a << " x 2^" << 6 - a;
+      }
+    }
+}
+
+TEST(PixelSampler, PixelsAndStrategiesGetDifferentPoints) {
+  double a[4], b[4], c[4];
+  PixelSampler(1, 10).point(0, 0, a);
+  PixelSampler(1, 11).point(0, 0, b);
+  PixelSampler(1, 10).point(1, 0, c);
+  EXPECT_NE(a[0], b[0]);
+  EXPECT_NE(a[0], c[0]);
+  PixelSampler(2, 10).point(0, 0, b);
+  EXPECT_NE(a[2], b[2]);
+}
+
+TEST(PixelSampler, PlanSplitsTheSamplesInProportion) {
+  SamplingMixture m(0.5, 0.05, {{0.005, 0.2}, {0.02, 0.1}, {0.3, 0.0}});
+  m.set_profile({1.0, 2.0, 3.0}, 0.15);
+  for (const int spp : {1, 7, 32, 64, 100}) {
+    const StrategyPlan plan = plan_strategies(m, spp);
+    ASSERT_EQ(plan.counts.size(), 6u);  // environment, cosine, three lobes, tabulated
+    int sum = 0;
+    const double p[] = {0.5, 0.05, 0.2, 0.1, 0.0, 0.15};
+    for (std::size_t k = 0; k < 6; ++k) {
+      sum += plan.counts[k];
+      EXPECT_LT(std::abs(plan.counts[k] - p[k] * spp), 1.0) << "strategy " << k << ", spp " << spp;
+    }
+    EXPECT_EQ(sum, spp);
+    EXPECT_EQ(plan.counts[4], 0);  // probability 0: never drawn
+    // The density is the mixture with the counts as probabilities.
+    EXPECT_EQ(plan.density.environment, plan.counts[0]);
+    EXPECT_EQ(plan.density.tabulated, plan.counts[5]);
+  }
+  const StrategyPlan plan = plan_strategies(m, 64);
+  EXPECT_EQ(plan.counts, (std::vector<int>{32, 3, 13, 6, 0, 10}));
+  EXPECT_THROW(plan_strategies(m, 0), Error);
+}
+
+/// Records every direction pair it is evaluated at (a canonical order: sorted).
+class RecordingMaterial final : public Material {
+public:
+  explicit RecordingMaterial(BrdfFunction f) : f_(std::move(f)) {}
+  Rgb eval(const Vec3& wi, const Vec3& wo) const override {
+    std::lock_guard lock(mutex_);
+    taps_.push_back({wi.x(), wi.y(), wi.z(), wo.x(), wo.y(), wo.z()});
+    return f_(wi, wo);
+  }
+  std::vector<std::array<double, 6>> sorted() const {
+    std::vector<std::array<double, 6>> t = taps_;
+    std::sort(t.begin(), t.end());
+    return t;
+  }
+
+private:
+  BrdfFunction f_;
+  mutable std::mutex mutex_;
+  mutable std::vector<std::array<double, 6>> taps_;
+};
+
+TEST(PixelSampler, TheSamplesDoNotDependOnTheMaterial) {
+  const Scene scene(SceneDescription{}, std::nullopt, Environment(test::synthetic_environment()));
+  RenderSettings s;
+  s.width = s.height = 20;
+  s.spp = 16;
+  s.mixture = SamplingMixture(0.5, 0.05, {{0.005, 0.2}, {0.1, 0.1}});
+  s.mixture.set_profile({5.0, 1.0, 0.5, 0.1}, 0.15);
+  ASSERT_EQ(s.sampler, Sampler::stratified);  // the default
+  const GgxConductor chrome{Rgb(0.95, 0.93, 0.9), 0.004};
+  const Lambertian matte{Rgb(0.2, 0.5, 0.8)};
+  RecordingMaterial a([&](const Vec3& wi, const Vec3& wo) { return chrome(wi, wo); });
+  RecordingMaterial b([&](const Vec3& wi, const Vec3& wo) { return matte(wi, wo); });
+  const Image image_a = render(scene, a, s), image_b = render(scene, b, s);
+  const auto taps_a = a.sorted(), taps_b = b.sorted();
+  EXPECT_GT(taps_a.size(), 1000u);
+  EXPECT_EQ(taps_a, taps_b);  // exactly the same directions, whatever the BRDF
+  // And the weights: the image of a + b is the sum of the images (same samples, linear).
+  const FunctionMaterial sum([&](const Vec3& wi, const Vec3& wo) -> Rgb { return chrome(wi, wo) + matte(wi, wo); });
+  const Image iab = render(scene, sum, s);
+  const std::vector<float> coverage = object_coverage(scene, s);
+  for (std::size_t p = 0; p < coverage.size(); ++p) {
+    if (coverage[p] != 1.0f) continue;
+    for (std::size_t c = 0; c < 3; ++c)
+      EXPECT_NEAR(iab.rgb[3 * p + c], image_a.rgb[3 * p + c] + image_b.rgb[3 * p + c], 1e-5 * (1.0 + iab.rgb[3 * p + c]));
+  }
+}
+
+}  // namespace
+}  // namespace matlas::render
