@@ -31,8 +31,8 @@ struct GiServeArgs {
   std::vector<std::string> bases;     ///< --gi-basis FILE...
   std::string scenes = "floor,box";   ///< --gi-scenes: traced on demand; "none": only the given bases
   std::string object = "sphere";      ///< --gi-object
-  std::string size = "160x120";       ///< --gi-size WxH
-  int spp = 16;                       ///< --gi-spp
+  std::string size = "192x144";       ///< --gi-size WxH
+  int spp = 32;                       ///< --gi-spp
   std::string cache;                  ///< --gi-cache; empty: beside the model (MODEL.gi/)
 };
 void add_gi_serve_options(CLI::App& cmd, GiServeArgs& a);

@@ -31,9 +31,9 @@ std::string file_part(const std::string& name) {
 
 pathtrace::TraceSettings default_gi_trace() {
   pathtrace::TraceSettings s;
-  s.width = 160;
-  s.height = 120;
-  s.spp = 16;
+  s.width = 192;
+  s.height = 144;
+  s.spp = 32;
   s.max_depth = 8;
   return s;
 }

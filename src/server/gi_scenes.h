@@ -27,7 +27,7 @@ class GiBasis;
 namespace matlas::server {
 
 /// The default trace settings of scenes traced on demand: small enough to finish in about a
-/// minute on a few cores (160 x 120, 16 spp, max depth 8).
+/// minute on a few cores (192 x 144, 32 spp, max depth 8).
 pathtrace::TraceSettings default_gi_trace();
 
 struct GiSceneOptions {

@@ -6,12 +6,12 @@ import { join, resolve } from "node:path";
 export const webDir = resolve(import.meta.dirname, "..");
 export const bin = resolve(process.env.MATLAS_BIN ?? join(webDir, "..", "build", "matlas"));
 
-/** Resolves to { url, server } once the server prints its URL. */
-export function startDemo(work) {
+/** Resolves to { url, server } once the server prints its URL; `extra`: more flags of demo. */
+export function startDemo(work, extra = []) {
   return new Promise((resolvePromise, reject) => {
     const server = spawn(bin, [
       "demo", "--grid", "16,16,32", "--size", "128", "--spp", "8", "--port", "0",
-      "--cache", join(work, "cache"), "--web-root", join(webDir, "dist"),
+      "--cache", join(work, "cache"), "--web-root", join(webDir, "dist"), ...extra,
     ], { stdio: ["ignore", "pipe", "pipe"] });
     let out = "", err = "";
     const timer = setTimeout(() => reject(new Error(`matlas demo did not start:\n${out}\n${err}`)), 120_000);
