@@ -7,12 +7,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "brdf/catalog.h"
 #include "core/error.h"
 #include "formats/fast_png.h"
-#include "formats/synth_database.h"
-#include "manifold/build.h"
-#include "manifold/material_set.h"
 #include "manifold/model.h"
 #include "pathtrace/gi_basis.h"
 #include "pathtrace/scene_spec.h"
@@ -21,6 +17,7 @@
 #include "server/basis_previews.h"
 #include "server/gi_scenes.h"
 #include "support/temp_dir.h"
+#include "small_model.h"
 
 // Last: httplib.h defines a `_res` macro (from <resolv.h>) that breaks Eigen headers after it.
 #include <httplib.h>
@@ -34,19 +31,8 @@ class GiEndpointTest : public ::testing::Test {
 protected:
   static void SetUpTestSuite() {
     dir_ = new test::TempDir("matlas-gi-server");
-    write_database(dir_->path() / "db", random_catalog(5, 3), null_progress(), MerlDims{8, 8, 16});
-    BuildOptions options;
-    options.dim = 2;
-    build_model(MaterialSet::open({dir_->path() / "db"}), options, dir_->path() / "m.matlas");
-    model_ = new Model(Model::open(dir_->path() / "m.matlas"));
-
-    BasisPreviewOptions po;
-    po.environments = {"constant"};
-    po.objects = {"sphere"};
-    po.size = 16;
-    po.spp = 1;
-    previews_ = std::make_shared<BasisPreviews>(*model_, po);
-    previews_->prepare_default();
+    model_ = new Model(test::build_small_model(dir_->path(), 5, 3));
+    previews_ = test::sphere_previews(*model_, 16, 1);
 
     GiSceneOptions go;
     go.scenes = {"floor", "box"};
@@ -184,9 +170,7 @@ TEST_F(GiEndpointTest, AGivenBasisIsServedAtOnceAndOneOfAnotherModelIsRefused) {
   EXPECT_EQ(get("/api/gi?scene=box&x=" + point_text(2), server)->status, 400);  // not offered here
 
   // Another model (other materials): its basis is refused, naming the file.
-  write_database(dir_->path() / "db2", random_catalog(5, 99), null_progress(), MerlDims{8, 8, 16});
-  build_model(MaterialSet::open({dir_->path() / "db2"}), BuildOptions{}, dir_->path() / "other.matlas");
-  const Model other = Model::open(dir_->path() / "other.matlas");
+  const Model other = test::build_small_model(dir_->path(), 5, 99, "other.matlas", "db2");
   try {
     GiScenes refused(other, go);
     FAIL() << "a basis of another model was accepted";

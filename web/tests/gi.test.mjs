@@ -13,9 +13,8 @@ import { execFileSync } from "node:child_process";
 import { mkdirSync, mkdtempSync, readdirSync, readFileSync, rmSync } from "node:fs";
 import { tmpdir } from "node:os";
 import { join } from "node:path";
-import { chromium } from "playwright-core";
 
-import { bin, startDemo, webDir } from "./server.mjs";
+import { bin, openPage, startDemo, webDir } from "./server.mjs";
 
 const work = mkdtempSync(join(tmpdir(), "matlas-gi-"));
 const results = join(webDir, "test-results");
@@ -25,20 +24,12 @@ const giStatuses = [];
 
 before(async () => {
   ({ url, server } = await startDemo(work, ["--gi-size", "64x48", "--gi-spp", "2"]));
-  context = await chromium.launchPersistentContext(join(work, "profile"), {
-    executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium",
-    headless: true,
-    viewport: { width: 1440, height: 1000 },
-    // No WebGL: the real-time view (software-rendered here, a frame per pointer move) would
-    // compete with the scene view for the page's thread; it has its own test.
-    args: ["--no-sandbox", "--disable-gpu", "--disable-3d-apis", "--no-first-run", "--disable-background-networking",
-      "--disable-sync"],
-  });
-  page = context.pages()[0] ?? (await context.newPage());
-  page.on("pageerror", (e) => console.error("page error:", e));
-  page.on("response", (r) => { if (new URL(r.url()).pathname === "/api/gi") giStatuses.push(r.status()); });
-  await page.goto(url);
-  await page.waitForFunction(() => window.matlas && window.matlas.previews >= 1, null, { timeout: 30_000 });
+  // No WebGL: the real-time view (software-rendered here, a frame per pointer move) would
+  // compete with the scene view for the page's thread; it has its own test.
+  ({ context, page } = await openPage(work, url, {
+    args: ["--disable-3d-apis"],
+    onPage: (p) => p.on("response", (r) => { if (new URL(r.url()).pathname === "/api/gi") giStatuses.push(r.status()); }),
+  }));
 });
 
 after(async () => {
