@@ -3,13 +3,18 @@
 #include <cmath>
 #include <cstdio>
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <cpuid.h>
+#include <immintrin.h>
+#endif
+
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
 #include "core/parallel.h"
+#include "core/simd_clones.h"
 #include "formats/safetensors.h"
 #include "pathtrace/model_bank.h"
-#include "render/basis_kernels.h"
 #include "atlas/model_basis.h"
 
 namespace matlas::pathtrace {
@@ -19,6 +24,36 @@ namespace {
 constexpr std::size_t kTile = 2048;
 
 std::size_t tile_count(std::size_t values) { return (values + kTile - 1) / kTile; }
+
+MATLAS_SIMD_CLONES void add_scaled(float a, const float* x, float* y, std::size_t n) {
+  for (std::size_t j = 0; j < n; ++j) y[j] += a * x[j];
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+// y += a x for float16 x, 8 values per step (n is a multiple of 8: whole tiles).
+__attribute__((target("avx2,fma,f16c"))) void add_scaled_half_f16c(float a, const std::uint16_t* x, float* y,
+                                                                    std::size_t n) {
+  const __m256 va = _mm256_set1_ps(a);
+  for (std::size_t j = 0; j < n; j += 8) {
+    const __m256 v = _mm256_cvtph_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(x + j)));
+    _mm256_storeu_ps(y + j, _mm256_fmadd_ps(va, v, _mm256_loadu_ps(y + j)));
+  }
+}
+
+bool has_f16c() {
+  unsigned eax = 0, ebx = 0, ecx = 0, edx = 0;
+  if (!__get_cpuid(1, &eax, &ebx, &ecx, &edx)) return false;
+  return (ecx & (1u << 29)) != 0 && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+}
+#endif
+
+void add_scaled_half(float a, const std::uint16_t* x, float* y, std::size_t n) {
+#if defined(__x86_64__) && defined(__GNUC__)
+  static const bool fast = has_f16c();
+  if (fast) return add_scaled_half_f16c(a, x, y, n);
+#endif
+  for (std::size_t j = 0; j < n; ++j) y[j] += a * half_to_float(x[j]);
+}
 
 std::vector<float> tile_images(const std::vector<const float*>& images, std::size_t values) {
   const std::size_t k = images.size();
@@ -141,26 +176,18 @@ void GiBasis::compose_into(const Eigen::Ref<const Eigen::VectorXd>& w, Part part
   const std::vector<float>& data = tiles(part);
   const std::vector<std::uint16_t>* half =
       is_half() ? (part == Part::i1 ? &linear_half_ : &full_half_) : nullptr;
-  // Runs of consecutive non-zero coefficients (convex weights have a handful): each run is one
-  // call of the image bases' kernels (render/basis_kernels.h: AVX2, four images per pass over
-  // the accumulator, F16C for float16), its images kTile values apart within a tile.
-  const std::vector<float> af(a.data(), a.data() + a.size());
-  std::vector<std::pair<std::size_t, int>> runs;  // (first image, count)
-  for (std::size_t k = 0; k < k_count; ++k) {
-    if (af[k] == 0.0f) continue;
-    if (!runs.empty() && runs.back().first + static_cast<std::size_t>(runs.back().second) == k) ++runs.back().second;
-    else runs.emplace_back(k, 1);
-  }
   parallel_for(0, tile_count(values), [&](std::size_t t0, std::size_t t1) {
     alignas(64) float acc[kTile];
     for (std::size_t t = t0; t < t1; ++t) {
       const std::size_t begin = t * kTile, n = std::min(kTile, values - begin);
       std::copy_n(p_.rgb.data() + begin, n, acc);
       std::fill(acc + n, acc + kTile, 0.0f);
-      for (const auto& [first, count] : runs) {
-        const std::size_t at = (t * k_count + first) * kTile;
-        if (half) render::detail::accumulate_f16(half->data() + at, kTile, 0, kTile, af.data() + first, count, acc);
-        else render::detail::accumulate_f32(data.data() + at, kTile, 0, kTile, af.data() + first, count, acc);
+      for (std::size_t k = 0; k < k_count; ++k) {
+        const auto ak = static_cast<float>(a[static_cast<Eigen::Index>(k)]);
+        if (ak == 0) continue;
+        const std::size_t at = (t * k_count + k) * kTile;
+        if (half) add_scaled_half(ak, half->data() + at, acc, kTile);
+        else add_scaled(ak, data.data() + at, acc, kTile);
       }
       std::copy_n(acc, n, rgb + begin);
     }
