@@ -148,15 +148,15 @@ TEST_F(GiEndpointTest, AGivenBasisIsServedAtOnceAndOneOfAnotherModelIsRefused) {
   t.width = 16;
   t.height = 12;
   t.spp = 1;
-  const pathtrace::World world(pathtrace::load_scene("floor", "sphere"));
+  const pathtrace::World world(pathtrace::load_scene("box", "sphere"));  // no environment map: no assets needed
   const auto file = dir_->path() / "given.gi";
   pathtrace::open_or_build_gi_basis(*model_, world, t, file, 8);
   GiSceneOptions go;
   go.bases = {file};
   go.scenes.clear();
   auto gi = std::make_shared<GiScenes>(*model_, go);
-  EXPECT_EQ(gi->scenes(), std::vector<std::string>{"floor"});
-  EXPECT_EQ(gi->preloaded(), std::vector<std::string>{"floor"});
+  EXPECT_EQ(gi->scenes(), std::vector<std::string>{"box"});
+  EXPECT_EQ(gi->preloaded(), std::vector<std::string>{"box"});
   ServerOptions so;
   so.port = 0;
   so.gi_scenes = [gi](const Model&) { return gi; };
@@ -167,7 +167,7 @@ TEST_F(GiEndpointTest, AGivenBasisIsServedAtOnceAndOneOfAnotherModelIsRefused) {
   ASSERT_EQ(r->status, 200) << r->body;
   EXPECT_EQ(r->body, encode_png_fast(pathtrace::GiBasis::load(file).compose(model_->material_weights(2)),
                                      ToneMap{ToneMap::Curve::aces, 0.0}));
-  EXPECT_EQ(get("/api/gi?scene=box&x=" + point_text(2), server)->status, 400);  // not offered here
+  EXPECT_EQ(get("/api/gi?scene=floor&x=" + point_text(2), server)->status, 400);  // not offered here
 
   // Another model (other materials): its basis is refused, naming the file.
   const Model other = test::build_small_model(dir_->path(), 5, 99, "other.matlas", "db2");
