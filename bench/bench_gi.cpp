@@ -1,7 +1,8 @@
 // GI image composition: a 512x512 GI image from a basis of n = 100 materials (101 images with the
 // mean table's), float32 and float16, dense weights (every image read), against a plain parallel read of the
 // same number of bytes in the same run (BM_GiStreamSameBytes, registered first). The images are
-// synthetic: the composition's cost does not depend on their content.
+// synthetic: the composition's cost does not depend on their content. Last, the scene view's
+// composition (192 x 144, convex weights).
 #include <benchmark/benchmark.h>
 
 #include <cstdint>
@@ -84,6 +85,28 @@ void BM_GiCompose512n100Half(benchmark::State& state) {
   state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations()) * static_cast<std::int64_t>(kBytes / 2));
 }
 BENCHMARK(BM_GiCompose512n100Half)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+/// The browser's scene view: a 192 x 144 image (the server's default size for scenes traced on
+/// demand), n = 100, convex weights of 3 materials (what the default interpolation gives).
+void BM_GiComposeSceneView192x144Convex(benchmark::State& state) {
+  static const GiBasis b = [] {
+    Image p(192, 144);
+    std::vector<Image> images(kCount + 1, Image(192, 144));
+    for (std::size_t k = 0; k < images.size(); ++k)
+      for (std::size_t v = 0; v < images[k].rgb.size(); ++v) images[k].rgb[v] = static_cast<float>((k + v) % 7);
+    return GiBasis(p, images, images, std::vector<std::string>(kCount, "m"), {});
+  }();
+  Eigen::VectorXd w = Eigen::VectorXd::Zero(kCount);
+  w[10] = 0.5;
+  w[41] = 0.3;
+  w[77] = 0.2;
+  Image out(192, 144);
+  for (auto _ : state) {
+    b.compose_into(w, GiBasis::Part::all, out.rgb.data());
+    benchmark::DoNotOptimize(out.rgb.data());
+  }
+}
+BENCHMARK(BM_GiComposeSceneView192x144Convex)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 

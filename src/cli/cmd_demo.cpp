@@ -46,6 +46,7 @@ struct DemoArgs {
   int count = 0;     ///< > 0: a random catalogue of this many materials (benchmarks)
   std::uint64_t seed = 1;
   bool log = false;
+  GiServeArgs gi;
 };
 
 MerlDims parse_grid(const std::string& text) {
@@ -125,6 +126,7 @@ void run_demo(const DemoArgs& a, const Io& io) {
 
   server::ServerOptions so = server_options(a.host, a.port, a.web_root, a.log, io);
   so.reload = model_reloader(po, io);
+  so.gi_scenes = gi_scenes_factory(a.gi, io);
   server::AtlasServer srv(model, previews, so);
   note_missing_web_ui(srv, io);
   server::serve_until_signal(srv, [&](const std::string& url) {
@@ -151,6 +153,7 @@ void add_demo_command(CLI::App& app, const Io& io) {
       ->check(CLI::Range(2, 10000));
   cmd->add_option("--seed", a->seed, "Seed of the random catalogue")->capture_default_str();
   cmd->add_flag("--log", a->log, "Print one line per request on stderr");
+  add_gi_serve_options(*cmd, a->gi);
   cmd->callback([io, a] { run_demo(*a, io); });
 }
 

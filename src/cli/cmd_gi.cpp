@@ -11,7 +11,6 @@
 #include "manifold/model.h"
 #include "pathtrace/gi_basis.h"
 #include "pathtrace/model_bank.h"
-#include "atlas/model_basis.h"
 
 namespace matlas::cli {
 
@@ -96,9 +95,7 @@ void run_gi(const GiArgs& a, const Io& io) {
   if (a.part != "all" && a.part != "i1") throw Error("--part must be all or i1");
   const Model model = Model::open(a.model);
   const pathtrace::GiBasis basis = pathtrace::GiBasis::load(a.basis);
-  const auto fp = basis.metadata().find("model_fingerprint");
-  if (fp == basis.metadata().end() || fp->second != atlas::model_fingerprint(model))
-    throw Error(a.basis + ": the basis was traced for another model than " + a.model);
+  pathtrace::require_basis_of_model(basis, model, a.basis);
   const Eigen::VectorXd x = resolve_point(model, a.at, a.material);
   const Eigen::VectorXd w = model.weights(x);
   const auto start = std::chrono::steady_clock::now();

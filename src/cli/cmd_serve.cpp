@@ -29,6 +29,7 @@ struct ServeArgs {
   int threads = 256;
   bool log = false;
   std::string interpolation;  ///< empty: the model's own mode
+  GiServeArgs gi;
 };
 
 void run_serve(const ServeArgs& a, const Io& io) {
@@ -52,6 +53,7 @@ void run_serve(const ServeArgs& a, const Io& io) {
   server::ServerOptions so = server_options(a.host, a.port, a.web_root, a.log, io);
   so.threads = a.threads;
   so.reload = model_reloader(po, io);
+  so.gi_scenes = gi_scenes_factory(a.gi, io);
   server::AtlasServer srv(model, previews, so);
   note_missing_web_ui(srv, io);
   server::serve_until_signal(srv, [&](const std::string& url) {
@@ -78,6 +80,7 @@ void add_serve_command(CLI::App& app, const Io& io) {
   cmd->add_option("--spp", a->spp, "Samples per pixel of the preview bases")->check(CLI::Range(1, 4096))->capture_default_str();
   cmd->add_option("--threads", a->threads, "Connection threads (each open connection holds one)")->check(CLI::Range(2, 4096))->capture_default_str();
   cmd->add_flag("--log", a->log, "Print one line per request on stderr");
+  add_gi_serve_options(*cmd, a->gi);
   cmd->callback([io, a] { run_serve(*a, io); });
 }
 

@@ -1,5 +1,7 @@
 #include "cli/serve_options.h"
 
+#include <atomic>
+#include <cstdio>
 #include <memory>
 
 #include "core/error.h"
@@ -41,6 +43,77 @@ std::function<server::ServedModel(const std::filesystem::path&)> model_reloader(
 void note_missing_web_ui(const server::AtlasServer& srv, const Io& io) {
   if (!srv.web_root())
     print(io.err, "note: the web UI is not built (run `npm ci && npm run build` in web/); serving the API only\n");
+}
+
+namespace {
+
+bool parse_size(const std::string& text, int* width, int* height) {
+  int w = 0, h = 0;
+  char tail = 0;
+  if (std::sscanf(text.c_str(), "%dx%d%c", &w, &h, &tail) != 2 || w < 8 || h < 8 || w > 4096 || h > 4096) return false;
+  if (width) *width = w;
+  if (height) *height = h;
+  return true;
+}
+
+}  // namespace
+
+void add_gi_serve_options(CLI::App& cmd, GiServeArgs& a) {
+  cmd.add_option("--gi-basis", a.bases, "GI bases (from matlas gi-basis) for the scene view, served as they are")
+      ->check(CLI::ExistingFile);
+  cmd.add_option("--gi-scenes", a.scenes, "Scenes of the scene view traced on demand and kept beside the model "
+                                          "(floor, box or .json files, comma-separated; none: only --gi-basis)")
+      ->capture_default_str();
+  cmd.add_option("--gi-object", a.object, "The measured object of the scenes traced on demand")->capture_default_str();
+  cmd.add_option("--gi-size", a.size, "Image size of the scenes traced on demand, WIDTHxHEIGHT")
+      ->capture_default_str()
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            return parse_size(text, nullptr, nullptr) ? std::string()
+                                                      : "must be WIDTHxHEIGHT with sides in [8, 4096], got " + text;
+          },
+          "WIDTHxHEIGHT"));
+  cmd.add_option("--gi-spp", a.spp, "Paths per pixel of the scenes traced on demand")
+      ->check(CLI::Range(1, 1 << 16))
+      ->capture_default_str();
+  cmd.add_option("--gi-cache", a.cache, "Folder of the scenes traced on demand (default: MODEL.gi beside the model)");
+}
+
+std::function<std::shared_ptr<const server::GiScenes>(const Model&)> gi_scenes_factory(const GiServeArgs& a,
+                                                                                      const Io& io) {
+  server::GiSceneOptions o;
+  for (const auto& b : a.bases) o.bases.emplace_back(b);
+  o.scenes.clear();
+  if (a.scenes != "none") {
+    std::size_t begin = 0;
+    for (;;) {
+      const std::size_t comma = a.scenes.find(',', begin);
+      if (std::string s = a.scenes.substr(begin, comma - begin); !s.empty()) o.scenes.push_back(s);
+      if (comma == std::string::npos) break;
+      begin = comma + 1;
+    }
+  }
+  if (o.bases.empty() && o.scenes.empty()) return {};
+  o.object = a.object;
+  int w = 0, h = 0;
+  if (!parse_size(a.size, &w, &h)) throw Error("--gi-size must be WIDTHxHEIGHT, got " + a.size);
+  o.trace.width = w;
+  o.trace.height = h;
+  o.trace.spp = a.spp;
+  o.cache_dir = a.cache;
+  auto calls = std::make_shared<std::atomic<int>>(0);
+  return [o, io, calls](const Model& model) -> std::shared_ptr<const server::GiScenes> {
+    const bool first = calls->fetch_add(1) == 0;
+    try {
+      return std::make_shared<const server::GiScenes>(model, o);
+    } catch (const Error& e) {
+      if (first || o.bases.empty()) throw;  // at start-up a bad --gi-basis is an error
+      print(io.err, "matlas: scene view without --gi-basis: %s\n", e.what());
+      server::GiSceneOptions without = o;
+      without.bases.clear();
+      return std::make_shared<const server::GiScenes>(model, without);
+    }
+  };
 }
 
 }  // namespace matlas::cli

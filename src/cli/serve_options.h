@@ -3,11 +3,16 @@
 // notice printed when the web UI has not been built.
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
 
 #include "cli/print.h"
 #include "server/atlas_server.h"
 #include "server/basis_previews.h"
+#include "server/gi_scenes.h"
 
 namespace matlas::cli {
 
@@ -20,6 +25,23 @@ server::ServerOptions server_options(const std::string& host, int port, const st
 /// previews (bases cached as for the first), saying so on io.err.
 std::function<server::ServedModel(const std::filesystem::path&)> model_reloader(server::BasisPreviewOptions previews,
                                                                                 const Io& io);
+
+/// The scene view's flags (docs/GI.md): GI bases to serve and built-in scenes to trace on demand.
+struct GiServeArgs {
+  std::vector<std::string> bases;     ///< --gi-basis FILE...
+  std::string scenes = "floor,box";   ///< --gi-scenes: traced on demand; "none": only the given bases
+  std::string object = "sphere";      ///< --gi-object
+  std::string size = "192x144";       ///< --gi-size WxH
+  int spp = 32;                       ///< --gi-spp
+  std::string cache;                  ///< --gi-cache; empty: beside the model (MODEL.gi/)
+};
+void add_gi_serve_options(CLI::App& cmd, GiServeArgs& a);
+
+/// ServerOptions::gi_scenes from the flags: the given bases are checked when the server starts
+/// (matlas::Error naming a bad file); after a reload, bases of the old model are left out with a
+/// note on io.err. An empty function when there are neither bases nor scenes.
+std::function<std::shared_ptr<const server::GiScenes>(const Model&)> gi_scenes_factory(const GiServeArgs& a,
+                                                                                      const Io& io);
 
 /// Says on io.err that only the API is served when the server found no built web UI.
 void note_missing_web_ui(const server::AtlasServer& srv, const Io& io);

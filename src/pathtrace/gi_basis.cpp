@@ -321,4 +321,37 @@ GiBasis build_gi_basis(const Model& model, const World& world, const TraceSettin
   return GiBasis(std::move(p), linear, full, model.names(), std::move(meta));
 }
 
+void require_basis_of_model(const GiBasis& basis, const Model& model, const std::filesystem::path& path) {
+  const auto fp = basis.metadata().find("model_fingerprint");
+  if (fp == basis.metadata().end() || fp->second != atlas::model_fingerprint(model))
+    throw file_error(path, "the basis was traced for another model than " + model.path().string());
+}
+
+std::string gi_basis_scene_name(const GiBasis& basis) {
+  const auto it = basis.metadata().find("scene");
+  if (it == basis.metadata().end()) return {};
+  const nlohmann::json j = nlohmann::json::parse(it->second, nullptr, false);
+  return j.is_object() && j.contains("name") && j["name"].is_string() ? j["name"].get<std::string>() : std::string();
+}
+
+GiBasis open_or_build_gi_basis(const Model& model, const World& world, const TraceSettings& settings,
+                               const std::filesystem::path& path, int batch, ProgressSink& progress) {
+  const std::string key = gi_basis_key(model, world, settings);
+  if (std::filesystem::exists(path)) {
+    try {
+      GiBasis basis = GiBasis::load(path);
+      const auto it = basis.metadata().find("key");
+      if (it != basis.metadata().end() && it->second == key) return basis;
+    } catch (const Error&) {
+      // A damaged or foreign file: traced again and replaced.
+    }
+  }
+  GiBasisOptions options;
+  options.batch = batch;
+  options.cache = path.string() + ".cache";
+  GiBasis basis = build_gi_basis(model, world, settings, options, progress);
+  basis.save(path);
+  return basis;
+}
+
 }  // namespace matlas::pathtrace

@@ -84,6 +84,18 @@ std::string gi_basis_key(const Model& model, const World& world, const TraceSett
 GiBasis build_gi_basis(const Model& model, const World& world, const TraceSettings& settings,
                        const GiBasisOptions& options, ProgressSink& progress = null_progress());
 
+/// The basis at `path` when it exists with the key of these settings (gi_basis_key), else traced
+/// by build_gi_basis with its cache in PATH.cache/ (resumable) and saved at `path`. A file at
+/// `path` of other settings or another model is traced again and replaced.
+GiBasis open_or_build_gi_basis(const Model& model, const World& world, const TraceSettings& settings,
+                               const std::filesystem::path& path, int batch, ProgressSink& progress = null_progress());
+
+/// matlas::Error naming `path` unless the basis was traced for `model` (its fingerprint).
+void require_basis_of_model(const GiBasis& basis, const Model& model, const std::filesystem::path& path);
+
+/// The name of the scene a basis was traced in (its "scene" metadata), empty if it has none.
+std::string gi_basis_scene_name(const GiBasis& basis);
+
 /// The coefficients a of weights w: (1 - sum w, w).
 Eigen::VectorXd material_coefficients(const Eigen::Ref<const Eigen::VectorXd>& w);
 

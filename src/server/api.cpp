@@ -15,6 +15,8 @@
 #include "manifold/export.h"
 #include "manifold/model_metadata.h"
 #include "manifold/project.h"
+#include "pathtrace/gi_basis.h"
+#include "server/gi_scenes.h"
 #include "server/http_error.h"
 #include "server/preview_source.h"
 
@@ -66,7 +68,8 @@ Api::Api(const Model& model, std::shared_ptr<const PreviewSource> previews, cons
                                          : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))),
       heavy_(options.heavy_slots),
       cache_(options.cache_entries),
-      realtime_(std::make_unique<Realtime>(model, envs_, objects_)) {
+      realtime_(std::make_unique<Realtime>(model, envs_, objects_)),
+      gi_(options.gi_scenes ? options.gi_scenes(model) : nullptr) {
   nlohmann::json j;
   j["name"] = model_name(model);
   j["count"] = model.count();
@@ -98,6 +101,7 @@ Api::Api(const Model& model, std::shared_ptr<const PreviewSource> previews, cons
   j["interpolation"] = std::string(to_string(model.interpolation()));
   j["uncertainty"] = {{"fade_from", atlas::kFadeFrom}, {"fade_to", atlas::kFadeTo}};
   j["albedo_angles"] = kAlbedoAngles;
+  if (gi_) j["gi"] = {{"scenes", gi_->scenes()}, {"preloaded", gi_->preloaded()}};
   model_json_ = j.dump();
 }
 
@@ -340,6 +344,37 @@ Reply Api::reference_reply(const std::string& body, bool radiance) {
   Reply r = radiance ? Reply::bytes(realtime_->reference_radiance(model_.weights(x), env, rotation, exposure, size),
                                     "application/octet-stream")
                      : Reply::bytes(realtime_->reference_png(model_.weights(x), env, rotation, exposure, size), kPng);
+  r.headers.emplace_back("Cache-Control", "no-store");
+  return r;
+}
+
+Reply Api::gi(const std::string& scene_text, const std::string& x_text, const std::string& exposure_text) {
+  if (!gi_ || gi_->scenes().empty())
+    throw HttpError(404, "this server has no GI scenes: start it with --gi-basis FILE (from matlas gi-basis) "
+                         "or --gi-scenes floor,box");
+  const std::string scene = scene_text.empty() ? gi_->scenes().front() : scene_text;
+  const Eigen::VectorXd x = parse_latent_text(x_text, "x", domain_);
+  const double exposure = exposure_text.empty() ? 0.0 : parse_number_text(exposure_text, "exposure", -16.0, 16.0);
+  const GiSceneState state = gi_->state(scene);  // matlas::Error (400) naming the offered scenes
+  if (!state.error.empty()) throw HttpError(500, "the GI scene '" + scene + "' could not be traced: " + state.error);
+  if (!state.basis) {
+    char percent[16];
+    std::snprintf(percent, sizeof percent, "%.0f %%", 100.0 * state.progress);
+    Reply r = Reply::json({{"error", "the GI scene '" + scene + "' is being prepared (" + state.stage + ": " + percent +
+                                         "); try again in a few seconds"}});
+    r.status = 503;
+    r.headers.emplace_back("Retry-After", "2");
+    r.headers.emplace_back("X-Matlas-Progress", std::to_string(state.progress));
+    return r;
+  }
+  ToneMap tone = gi_->tone();
+  tone.exposure += exposure;
+  std::string png;
+  {
+    auto slot = acquire(compute_);
+    png = encode_png_fast(state.basis->compose(model_.weights(x)), tone);
+  }
+  Reply r = Reply::bytes(std::move(png), kPng);
   r.headers.emplace_back("Cache-Control", "no-store");
   return r;
 }

@@ -67,6 +67,9 @@ public:
   /// POST /api/realtime/reference/radiance (same body) -> float32 RGBA before tone mapping
   Reply realtime_reference_radiance(const std::string& body);
 
+  /// GET /api/gi?scene=&x=&exposure= -> PNG: the scene view (503 while the scene is traced)
+  Reply gi(const std::string& scene, const std::string& x, const std::string& exposure);
+
   const LatentDomain& domain() const { return domain_; }
   const ComputeGate& compute_gate() const { return compute_; }
 
@@ -89,6 +92,7 @@ private:
   ComputeGate heavy_;
   PngCache cache_;
   std::unique_ptr<Realtime> realtime_;
+  std::shared_ptr<const GiScenes> gi_;
 };
 
 }  // namespace matlas::server

@@ -290,6 +290,11 @@ struct AtlasServer::Impl {
         return api.project(req.body);
       });
     });
+    http.Get("/api/gi", [this](const httplib::Request& req, httplib::Response& res) {
+      serve_api(res, [&](Api& api) {
+        return api.gi(req.get_param_value("scene"), req.get_param_value("x"), req.get_param_value("exposure"));
+      });
+    });
     http.Get(R"(/api/thumbnail/(\d+))", [this](const httplib::Request& req, httplib::Response& res) {
       serve_api(res, [&](Api& api) {
         const int index = parse_int_text(req.matches[1], "material index", 0, 1 << 30);

@@ -28,6 +28,7 @@ class Model;
 namespace matlas::server {
 
 class PreviewSource;
+class GiScenes;
 
 /// A model and its previews, as a reload gives them (see ServerOptions::reload).
 struct ServedModel {
@@ -57,6 +58,9 @@ struct ServerOptions {
   /// Opens the model file again (and prepares its previews) after it changed on disk. Without it,
   /// a changed model file is reported (503) until the server is restarted.
   std::function<ServedModel(const std::filesystem::path&)> reload;
+  /// The scene view's GI bases of a model (server/gi_scenes.h), called for the served model and
+  /// after each reload. Without it, GET /api/gi answers 404.
+  std::function<std::shared_ptr<const GiScenes>(const Model&)> gi_scenes;
 };
 
 /// Counters of the connection layer (server/guarded_http.h) and of model reloads.

@@ -17,29 +17,12 @@
 #include "render/assets.h"
 #include "render/render.h"
 #include "render/scene.h"
+#include "server/cancellable_sink.h"
 #include "server/http_error.h"
 
 namespace matlas::server {
 
 namespace {
-
-struct Cancelled {};
-
-/// Forwards progress, and aborts the render (by throwing) once `stop` is set.
-class CancellableSink final : public ProgressSink {
-public:
-  CancellableSink(ProgressSink& inner, const std::atomic<bool>& stop) : inner_(inner), stop_(stop) {}
-  void update(const std::string& label, std::uint64_t done, std::uint64_t total) override {
-    if (stop_) throw Cancelled{};
-    inner_.update(label, done, total);
-  }
-  void message(const std::string& line) override { inner_.message(line); }
-  void finish(const std::string& label) override { inner_.finish(label); }
-
-private:
-  ProgressSink& inner_;
-  const std::atomic<bool>& stop_;
-};
 
 std::string safe_name(const std::string& s) {
   std::string out;

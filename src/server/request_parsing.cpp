@@ -163,4 +163,36 @@ int parse_int_text(const std::string& text, const std::string& what, int lo, int
   return v;
 }
 
+namespace {
+
+double number_from_text(const std::string& text, const std::string& what) {
+  double v = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (text.empty() || ec != std::errc() || end != text.data() + text.size() || !std::isfinite(v))
+    throw bad_request(what + " must be a finite number, got \"" + text.substr(0, 40) + "\"");
+  return v;
+}
+
+}  // namespace
+
+Eigen::VectorXd parse_latent_text(const std::string& text, const std::string& what, const LatentDomain& domain) {
+  if (text.empty())
+    throw bad_request("missing parameter " + what + " (the latent point, " + std::to_string(domain.dim()) +
+                      " comma-separated numbers)");
+  nlohmann::json values = nlohmann::json::array();
+  std::size_t begin = 0;
+  for (;;) {
+    const std::size_t comma = text.find(',', begin);
+    values.push_back(number_from_text(text.substr(begin, comma - begin),
+                                      what + "[" + std::to_string(values.size()) + "]"));
+    if (comma == std::string::npos || values.size() > 64) break;
+    begin = comma + 1;
+  }
+  return parse_latent(nlohmann::json{{what, values}}, what, domain);
+}
+
+double parse_number_text(const std::string& text, const std::string& what, double lo, double hi) {
+  return parse_number(nlohmann::json{{what, number_from_text(text, what)}}, what, lo, hi, 0.0);
+}
+
 }  // namespace matlas::server

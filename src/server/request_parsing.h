@@ -59,4 +59,11 @@ std::string parse_choice(const nlohmann::json& body, const std::string& key,
 /// Integer text (a query parameter or a path segment) in [lo, hi]; `what` names it in errors.
 int parse_int_text(const std::string& text, const std::string& what, int lo, int hi);
 
+/// A latent point given as text (a query parameter): domain.dim() comma-separated numbers inside
+/// the domain; `what` names it in errors.
+Eigen::VectorXd parse_latent_text(const std::string& text, const std::string& what, const LatentDomain& domain);
+
+/// A number given as text in [lo, hi]; `what` names it in errors.
+double parse_number_text(const std::string& text, const std::string& what, double lo, double hi);
+
 }  // namespace matlas::server

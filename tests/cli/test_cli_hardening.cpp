@@ -354,5 +354,21 @@ TEST_F(CliHardening, GiBasisResumesAndGiRefusesWhatIsNotABasis) {
   EXPECT_CONTAINS(scene.out, "scene 'nope.txt'");
 }
 
+TEST_F(CliHardening, ServeRefusesABadGiBasisOrSize) {
+  test::TempDir tmp("matlas-cli-gi-serve");
+  const std::vector<std::string> common = {"serve", model().string(), "--port", "0", "--size", "32", "--spp", "1",
+                                           "--cache", tmp.path().string()};
+  std::vector<std::string> args = common;
+  args.insert(args.end(), {"--gi-basis", model().string()});  // a model, not a GI basis
+  CommandResult r = run_process(args, 60);
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_CONTAINS(r.out, model().filename().string() + ": not a matlas GI basis");
+  args = common;
+  args.insert(args.end(), {"--gi-size", "3x3"});
+  r = run_process(args, 60);
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_CONTAINS(r.out, "--gi-size");
+}
+
 }  // namespace
 }  // namespace matlas

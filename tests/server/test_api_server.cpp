@@ -20,6 +20,7 @@
 #include "server/basis_previews.h"
 #include "formats/fast_png.h"
 #include "support/temp_dir.h"
+#include "small_model.h"
 
 // Last: httplib.h defines a `_res` macro (from <resolv.h>) that breaks Eigen headers after it.
 #include <httplib.h>
@@ -33,20 +34,8 @@ class ApiServerTest : public ::testing::Test {
 protected:
   static void SetUpTestSuite() {
     dir_ = new test::TempDir("matlas-server");
-    write_database(dir_->path() / "db", random_catalog(6, 11), null_progress(), MerlDims{8, 8, 16});
-    const MaterialSet set = MaterialSet::open({dir_->path() / "db"});
-    BuildOptions options;
-    options.dim = 2;
-    build_model(set, options, dir_->path() / "m.matlas");
-    model_ = new Model(Model::open(dir_->path() / "m.matlas"));
-
-    BasisPreviewOptions po;
-    po.environments = {"constant"};
-    po.objects = {"sphere"};
-    po.size = 32;
-    po.spp = 2;
-    previews_ = std::make_shared<BasisPreviews>(*model_, po);
-    previews_->prepare_default();
+    model_ = new Model(test::build_small_model(dir_->path(), 6, 11));
+    previews_ = test::sphere_previews(*model_, 32, 2);
 
     std::filesystem::create_directories(dir_->path() / "www");
     write_file_atomic(dir_->path() / "www" / "index.html", std::string("<p>matlas test page</p>"));

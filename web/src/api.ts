@@ -42,6 +42,8 @@ export interface ModelInfo {
   interpolation?: "gp" | "convex";
   /** Predictive variances over which the albedo layer fades into "no data here". */
   uncertainty?: { fade_from: number; fade_to: number };
+  /** The scene view's GI scenes (GET /api/gi), those ready from the start first; absent without any. */
+  gi?: { scenes: string[]; preloaded: string[] };
 }
 
 export interface PointRequest {
@@ -221,6 +223,8 @@ export const api = {
   realtimeMesh: (name: string): Promise<ArrayBuffer> =>
     fetch(`api/realtime/mesh/${encodeURIComponent(name)}`).then(check).then((r) => r.arrayBuffer()),
   realtimeReference: (body: ReferenceRequest): Promise<Blob> => post("api/realtime/reference", body).then((r) => r.blob()),
+  gi: (scene: string, x: Point, signal?: AbortSignal): Promise<Blob> =>
+    fetch(`api/gi?scene=${encodeURIComponent(scene)}&x=${x.map(String).join(",")}`, { signal }).then(check).then((r) => r.blob()),
   thumbnailUrl: (index: number, env: string, object: string): string =>
     `api/thumbnail/${index}?env=${encodeURIComponent(env)}&object=${encodeURIComponent(object)}`,
 };

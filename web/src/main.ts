@@ -1,9 +1,10 @@
 // The material browser page: loads the model, creates the typed store (state.ts) and the views
-// (map card, reference render (preview), real-time view, panels, point tools, path tool, scene pickers), which talk through it.
+// (map card, reference render (preview), scene view (gi-view), real-time view, panels, point tools, path tool, scene pickers), which talk through it.
 import "./style.css";
 import { api } from "./api";
 import { $ } from "./dom";
 import { createMapPanel } from "./map-panel";
+import { createGiView } from "./gi-view";
 import { createPanels } from "./panels";
 import { createPathTool } from "./path-tool";
 import { createPointTools } from "./point-tools";
@@ -28,6 +29,7 @@ async function main(): Promise<void> {
   store = createStore(model, map, env, object);
   createScenePickers(store);
   createPreview(store);
+  createGiView(store);
   createPanels(store);
   createSliders(store, panel);
   createPointTools(store, map);

@@ -30,6 +30,9 @@ export interface PageState {
   latencies: number[];
   /** While the server prepares the current scene: how long the page has been waiting for it. */
   preparing: { env: string; object: string; attempts: number; waitedMs: number } | null;
+  /** The image shown in the scene view (GET /api/gi), and how many it has shown. */
+  giShown: { x: number[]; scene: string } | null;
+  giImages: number;
   lastWeights: WeightsReply | null;
   projected: { x: number[]; residual: number } | null;
   map: LatentMap;
@@ -46,7 +49,7 @@ declare global {
 export function createStore(model: ModelInfo, map: LatentMap, env: string, object: string): PageStore {
   const store = new Store<PageState>({
     model, x: map.point.slice(), dragging: false, movedAt: 0, env, object, shown: null, shownScenes: [],
-    previews: 0, latencies: [], preparing: null, lastWeights: null, projected: null, map,
+    previews: 0, latencies: [], preparing: null, giShown: null, giImages: 0, lastWeights: null, projected: null, map,
   });
   window.matlas = store.state;
   return store;

@@ -149,4 +149,15 @@ test("errors are the schema's error object", async () => {
   const body = await res.json();
   assert.deepEqual(validate(body, schema.errors.schema), []);
   assert.match(body.error, /x\[0\]/);
+  // The scene view: an unknown scene (400) and a scene being traced (503) answer the error object.
+  const model = await (await fetch(new URL("api/model", url))).json();
+  const x = model.latent[0].join(",");
+  const { res: unknown } = await call("GET", `api/gi?scene=attic&x=${x}`);
+  assert.equal(unknown.status, 400);
+  assert.deepEqual(validate(await unknown.json(), schema.errors.schema), []);
+  const { res: tracing } = await call("GET", `api/gi?scene=${model.gi.scenes[0]}&x=${x}`);
+  assert.equal(tracing.status, 503);
+  const body503 = await tracing.json();
+  assert.deepEqual(validate(body503, schema.errors.schema), []);
+  assert.match(body503.error, /being prepared/);
 });

@@ -19,11 +19,9 @@ import assert from "node:assert/strict";
 import { mkdtempSync, readFileSync, mkdirSync, rmSync, readdirSync } from "node:fs";
 import { tmpdir } from "node:os";
 import { join } from "node:path";
-import { chromium } from "playwright-core";
 
-import { startDemo, webDir as here } from "./server.mjs";
+import { openPage, startDemo, webDir as here } from "./server.mjs";
 
-const chromiumPath = process.env.CHROMIUM ?? "/usr/bin/chromium";
 const work = mkdtempSync(join(tmpdir(), "matlas-browser-"));
 const results = join(here, "test-results");
 mkdirSync(results, { recursive: true });
@@ -60,18 +58,7 @@ async function settled() {
 
 before(async () => {
   ({ url, server } = await startDemo(work));
-  context = await chromium.launchPersistentContext(join(work, "profile"), {
-    executablePath: chromiumPath,
-    headless: true,
-    acceptDownloads: true,
-    viewport: { width: 1440, height: 1000 },
-    args: ["--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run", "--disable-background-networking",
-      "--disable-component-update", "--disable-sync"],
-  });
-  page = context.pages()[0] ?? (await context.newPage());
-  page.on("pageerror", (e) => console.error("page error:", e));
-  await page.goto(url);
-  await page.waitForFunction(() => window.matlas && window.matlas.previews >= 1, null, { timeout: 30_000 });
+  ({ context, page } = await openPage(work, url, { acceptDownloads: true }));
 });
 
 after(async () => {

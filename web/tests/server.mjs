@@ -1,17 +1,19 @@
 // Starts `matlas demo` on a small synthetic database (16x16x32 grid, 128 px previews, 8 spp) on
-// an ephemeral port in a temporary cache, for the node tests of this folder.
+// an ephemeral port in a temporary cache, for the node tests of this folder; opens the page in
+// Debian's headless Chromium.
 import { spawn } from "node:child_process";
 import { join, resolve } from "node:path";
+import { chromium } from "playwright-core";
 
 export const webDir = resolve(import.meta.dirname, "..");
 export const bin = resolve(process.env.MATLAS_BIN ?? join(webDir, "..", "build", "matlas"));
 
-/** Resolves to { url, server } once the server prints its URL. */
-export function startDemo(work) {
+/** Resolves to { url, server } once the server prints its URL; `extra`: more flags of demo. */
+export function startDemo(work, extra = []) {
   return new Promise((resolvePromise, reject) => {
     const server = spawn(bin, [
       "demo", "--grid", "16,16,32", "--size", "128", "--spp", "8", "--port", "0",
-      "--cache", join(work, "cache"), "--web-root", join(webDir, "dist"),
+      "--cache", join(work, "cache"), "--web-root", join(webDir, "dist"), ...extra,
     ], { stdio: ["ignore", "pipe", "pipe"] });
     let out = "", err = "";
     const timer = setTimeout(() => reject(new Error(`matlas demo did not start:\n${out}\n${err}`)), 120_000);
@@ -26,4 +28,26 @@ export function startDemo(work) {
     server.stderr.on("data", (d) => (err += d));
     server.on("exit", (code) => reject(new Error(`matlas demo exited (${code}):\n${out}\n${err}`)));
   });
+}
+
+/**
+ * Debian's Chromium (headless, through playwright-core; $CHROMIUM overrides the path) on `url`,
+ * once the page shows its first preview. `args`: more browser flags; `onPage(page)` runs before
+ * the page loads; other options go to launchPersistentContext. Resolves to { context, page }.
+ */
+export async function openPage(work, url, { args = [], onPage = () => {}, ...options } = {}) {
+  const context = await chromium.launchPersistentContext(join(work, "profile"), {
+    executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium",
+    headless: true,
+    viewport: { width: 1440, height: 1000 },
+    args: ["--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run", "--disable-background-networking",
+      "--disable-component-update", "--disable-sync", ...args],
+    ...options,
+  });
+  const page = context.pages()[0] ?? (await context.newPage());
+  page.on("pageerror", (e) => console.error("page error:", e));
+  onPage(page);
+  await page.goto(url);
+  await page.waitForFunction(() => window.matlas && window.matlas.previews >= 1, null, { timeout: 30_000 });
+  return { context, page };
 }

@@ -1,0 +1,193 @@
+#include "server/gi_scenes.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <condition_variable>
+#include <deque>
+#include <map>
+#include <mutex>
+#include <thread>
+
+#include "core/error.h"
+#include "manifold/model.h"
+#include "pathtrace/gi_basis.h"
+#include "pathtrace/scene_spec.h"
+#include "pathtrace/world.h"
+#include "server/cancellable_sink.h"
+
+namespace matlas::server {
+
+namespace {
+
+/// A file-name-safe form of a scene or object name (a path gives its stem).
+std::string file_part(const std::string& name) {
+  std::string s = name.find_first_of("/.") == std::string::npos ? name : std::filesystem::path(name).stem().string();
+  std::replace_if(s.begin(), s.end(), [](unsigned char c) { return !std::isalnum(c) && c != '-' && c != '_'; }, '_');
+  return s;
+}
+
+}  // namespace
+
+pathtrace::TraceSettings default_gi_trace() {
+  pathtrace::TraceSettings s;
+  s.width = 192;
+  s.height = 144;
+  s.spp = 32;
+  s.max_depth = 8;
+  return s;
+}
+
+struct GiScenes::Impl {
+  const Model& model;
+  GiSceneOptions options;
+  std::vector<std::string> names;     // offered scenes
+  std::vector<std::string> given;     // of them, those loaded from options.bases
+  int passes = 1;                     // tracing passes of a scene (progress)
+
+  mutable std::mutex mutex;
+  mutable std::condition_variable changed;
+  mutable std::map<std::string, GiSceneState> states;  // scenes loaded, queued or being traced
+  mutable std::deque<std::string> queue;
+  std::atomic<bool> stop{false};
+  std::thread worker;
+
+  /// Records a scene's progress in its state: the passes of build_gi_basis, each reported as
+  /// "tracing materials a..b" then per row.
+  class Recorder final : public ProgressSink {
+  public:
+    Recorder(const Impl& impl, std::string scene) : impl_(impl), scene_(std::move(scene)) {}
+    void update(const std::string&, std::uint64_t done, std::uint64_t total) override {
+      const double pass = total > 0 ? static_cast<double>(done) / static_cast<double>(total) : 0.0;
+      set((std::max(0, started_ - 1) + std::min(1.0, pass)) / impl_.passes);
+    }
+    void message(const std::string& line) override {
+      ++started_;
+      std::lock_guard lock(impl_.mutex);
+      impl_.states[scene_].stage = line;
+    }
+    void finish(const std::string&) override {}
+
+  private:
+    void set(double fraction) {
+      std::lock_guard lock(impl_.mutex);
+      auto& s = impl_.states[scene_];
+      s.progress = std::clamp(std::max(s.progress, fraction), 0.0, 1.0);
+    }
+    const Impl& impl_;
+    std::string scene_;
+    int started_ = 0;
+  };
+
+  Impl(const Model& m, GiSceneOptions o) : model(m), options(std::move(o)) {
+    options.trace.validate();
+    if (options.batch <= 0) throw Error("GI scenes: the batch must be positive");
+    passes = (model.count() + 1 + options.batch - 1) / options.batch;
+    for (const auto& path : options.bases) {
+      auto basis = std::make_shared<const pathtrace::GiBasis>(pathtrace::GiBasis::load(path));
+      pathtrace::require_basis_of_model(*basis, model, path);
+      std::string name = pathtrace::gi_basis_scene_name(*basis);
+      if (name.empty()) name = path.stem().string();
+      if (std::find(given.begin(), given.end(), name) != given.end())
+        throw Error(path.string() + ": a second basis of the scene '" + name + "'");
+      given.push_back(name);
+      states[name] = GiSceneState{std::move(basis), 1.0, "ready", ""};
+    }
+    names = given;
+    for (const auto& s : options.scenes)
+      if (std::find(names.begin(), names.end(), s) == names.end()) names.push_back(s);
+    if (options.cache_dir.empty()) options.cache_dir = model.path().string() + ".gi";
+    worker = std::thread([this] { work(); });
+  }
+
+  ~Impl() {
+    {
+      std::lock_guard lock(mutex);
+      stop = true;
+    }
+    changed.notify_all();
+    worker.join();
+  }
+
+  std::filesystem::path basis_path(const std::string& scene) const {
+    const auto& t = options.trace;
+    return options.cache_dir / (file_part(scene) + "-" + file_part(options.object) + "-" + std::to_string(t.width) + "x" +
+                                std::to_string(t.height) + "-" + std::to_string(t.spp) + "spp-s" +
+                                std::to_string(t.seed) + ".safetensors");
+  }
+
+  void work() {
+    for (;;) {
+      std::string scene;
+      {
+        std::unique_lock lock(mutex);
+        changed.wait(lock, [&] { return stop || !queue.empty(); });
+        if (stop) return;
+        scene = queue.front();
+        queue.pop_front();
+      }
+      try {
+        const pathtrace::World world(pathtrace::load_scene(scene, options.object));
+        Recorder recorder(*this, scene);
+        CancellableSink sink(recorder, stop);
+        std::filesystem::create_directories(options.cache_dir);
+        auto basis = std::make_shared<const pathtrace::GiBasis>(
+            pathtrace::open_or_build_gi_basis(model, world, options.trace, basis_path(scene), options.batch, sink));
+        std::lock_guard lock(mutex);
+        states[scene] = GiSceneState{std::move(basis), 1.0, "ready", ""};
+      } catch (const Cancelled&) {
+        return;
+      } catch (const std::exception& e) {
+        std::lock_guard lock(mutex);
+        states[scene].error = e.what();
+      }
+      changed.notify_all();
+    }
+  }
+
+  void require_offered(const std::string& scene) const {
+    if (std::find(names.begin(), names.end(), scene) != names.end()) return;
+    std::string list;
+    for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+    throw Error("unknown GI scene '" + scene + "'; offered: " + (list.empty() ? "none" : list));
+  }
+
+  /// The state, queueing the scene when it is new. Caller holds the mutex.
+  GiSceneState locked_state(const std::string& scene) const {
+    require_offered(scene);
+    if (const auto it = states.find(scene); it != states.end()) return it->second;
+    states[scene] = GiSceneState{nullptr, 0.0, "queued", ""};
+    queue.push_back(scene);
+    changed.notify_all();
+    return states[scene];
+  }
+};
+
+GiScenes::GiScenes(const Model& model, GiSceneOptions options)
+    : impl_(std::make_unique<Impl>(model, std::move(options))) {}
+
+GiScenes::~GiScenes() = default;
+
+const std::vector<std::string>& GiScenes::scenes() const { return impl_->names; }
+std::vector<std::string> GiScenes::preloaded() const { return impl_->given; }
+ToneMap GiScenes::tone() const { return impl_->options.tone; }
+std::filesystem::path GiScenes::basis_path(const std::string& scene) const { return impl_->basis_path(scene); }
+
+GiSceneState GiScenes::state(const std::string& scene) const {
+  std::lock_guard lock(impl_->mutex);
+  return impl_->locked_state(scene);
+}
+
+std::shared_ptr<const pathtrace::GiBasis> GiScenes::wait(const std::string& scene) const {
+  std::unique_lock lock(impl_->mutex);
+  impl_->locked_state(scene);
+  impl_->changed.wait(lock, [&] {
+    const auto& s = impl_->states[scene];
+    return s.basis || !s.error.empty() || impl_->stop;
+  });
+  const auto& s = impl_->states[scene];
+  if (!s.basis) throw Error("the GI scene '" + scene + "' failed: " + s.error);
+  return s.basis;
+}
+
+}  // namespace matlas::server

@@ -1,0 +1,80 @@
+#pragma once
+// GiScenes: the scene view of the material browser (docs/GI.md, docs/WEB.md): per scene a GI
+// image basis (pathtrace/gi_basis.h), composed at a map point's weights exactly as `matlas gi`
+// composes it. A scene's basis is either a file made by `matlas gi-basis` (given at start-up,
+// checked against the model) or traced in the background on the scene's first request (the
+// built-in scenes, at a small default size), saved beside the model (MODEL.gi/) with its
+// per-material cache, so that an interrupted build resumes and a restart loads it in a moment.
+// While a scene is being traced its state says how far it got.
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "formats/image_io.h"
+#include "pathtrace/tracer.h"
+
+namespace matlas {
+class Model;
+}
+namespace matlas::pathtrace {
+class GiBasis;
+}
+
+namespace matlas::server {
+
+/// The default trace settings of scenes traced on demand: small enough to finish in about a
+/// minute on a few cores (192 x 144, 32 spp, max depth 8).
+pathtrace::TraceSettings default_gi_trace();
+
+struct GiSceneOptions {
+  std::vector<std::filesystem::path> bases;           ///< from `matlas gi-basis`: served as they are
+  std::vector<std::string> scenes = {"floor", "box"};  ///< traced on demand (built-in names or .json files)
+  std::string object = "sphere";                       ///< the measured object of the built-in scenes
+  pathtrace::TraceSettings trace = default_gi_trace();
+  int batch = 32;                                      ///< materials per tracing pass
+  std::filesystem::path cache_dir;                     ///< empty: MODEL.gi/ beside the model
+  ToneMap tone{ToneMap::Curve::aces, 0.0};             ///< as `matlas gi` writes PNGs
+};
+
+/// Where a scene stands: its basis once ready; before that, how far its tracing got (or why it
+/// failed).
+struct GiSceneState {
+  std::shared_ptr<const pathtrace::GiBasis> basis;
+  double progress = 0.0;  ///< [0, 1]
+  std::string stage;      ///< what is being done, for people
+  std::string error;      ///< non-empty: the tracing failed
+};
+
+class GiScenes {
+public:
+  /// Loads options.bases; matlas::Error naming a file that is not a GI basis or was traced for
+  /// another model. A given basis replaces the on-demand scene of the same name.
+  GiScenes(const Model& model, GiSceneOptions options);
+  ~GiScenes();
+  GiScenes(const GiScenes&) = delete;
+  GiScenes& operator=(const GiScenes&) = delete;
+
+  /// The offered scenes: the given bases' first, then those traced on demand.
+  const std::vector<std::string>& scenes() const;
+  /// The scenes whose basis was given (ready from the start).
+  std::vector<std::string> preloaded() const;
+  ToneMap tone() const;
+  /// The file of a scene traced on demand (whether or not it exists yet).
+  std::filesystem::path basis_path(const std::string& scene) const;
+
+  /// The state of an offered scene; the first call for a scene not yet traced starts tracing it
+  /// in the background. matlas::Error for a scene not offered (the message lists them).
+  GiSceneState state(const std::string& scene) const;
+  /// Blocks until the scene is ready and returns its basis (matlas::Error if tracing failed).
+  std::shared_ptr<const pathtrace::GiBasis> wait(const std::string& scene) const;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace matlas::server

@@ -1,0 +1,124 @@
+// Browser test of the scene view (issue 13, docs/WEB.md): Debian's Chromium (headless) driven by
+// playwright-core against `matlas demo` with tiny GI scenes traced on demand (64 x 48, 2 spp).
+//
+//   MATLAS_BIN=../build/matlas node --test tests/gi.test.mjs
+//
+// Picking a scene gets 503 while the server traces it, then shows an image; dragging on the map
+// changes it during the drag; the shown image has exactly the pixels of `matlas gi` run on the
+// same model, point and basis file; another scene shows another image. Screenshots:
+// test-results/gi-*.png.
+import { test, before, after } from "node:test";
+import assert from "node:assert/strict";
+import { execFileSync } from "node:child_process";
+import { mkdirSync, mkdtempSync, readdirSync, readFileSync, rmSync } from "node:fs";
+import { tmpdir } from "node:os";
+import { join } from "node:path";
+
+import { bin, openPage, startDemo, webDir } from "./server.mjs";
+
+const work = mkdtempSync(join(tmpdir(), "matlas-gi-"));
+const results = join(webDir, "test-results");
+mkdirSync(results, { recursive: true });
+let server, url, context, page;
+const giStatuses = [];
+
+before(async () => {
+  ({ url, server } = await startDemo(work, ["--gi-size", "64x48", "--gi-spp", "2"]));
+  // No WebGL: the real-time view (software-rendered here, a frame per pointer move) would
+  // compete with the scene view for the page's thread; it has its own test.
+  ({ context, page } = await openPage(work, url, {
+    args: ["--disable-3d-apis"],
+    onPage: (p) => p.on("response", (r) => { if (new URL(r.url()).pathname === "/api/gi") giStatuses.push(r.status()); }),
+  }));
+});
+
+after(async () => {
+  await context?.close();
+  server?.kill("SIGTERM");
+  rmSync(work, { recursive: true, force: true });
+});
+
+/** Waits until the scene view shows `scene` at the current point. */
+async function giSettled(scene) {
+  await page.waitForFunction((s) => {
+    const m = window.matlas;
+    return m.giShown && m.giShown.scene === s && JSON.stringify(m.giShown.x) === JSON.stringify(m.x) && !m.dragging;
+  }, scene, { timeout: 120_000 });
+}
+
+/** RGBA pixels of PNG bytes (base64) or of the scene view's image, decoded in the page. */
+async function pixels(pngBase64) {
+  return page.evaluate(async (b64) => {
+    const blob = b64 === null
+      ? await (await fetch(document.getElementById("gi").src)).blob()
+      : new Blob([Uint8Array.from(atob(b64), (c) => c.charCodeAt(0))], { type: "image/png" });
+    const bitmap = await createImageBitmap(blob);
+    const canvas = new OffscreenCanvas(bitmap.width, bitmap.height);
+    const ctx = canvas.getContext("2d");
+    ctx.drawImage(bitmap, 0, 0);
+    return { width: bitmap.width, height: bitmap.height, data: Array.from(ctx.getImageData(0, 0, bitmap.width, bitmap.height).data) };
+  }, pngBase64);
+}
+
+test("the scene view is off until a scene is picked, then shows the traced scene", async () => {
+  assert.equal(await page.locator("#gi-view").isVisible(), true);
+  assert.equal(await page.inputValue("#gi-scene"), "");
+  assert.equal(giStatuses.length, 0, "nothing asked while off");
+  await page.selectOption("#gi-scene", "floor");
+  await giSettled("floor");
+  assert.equal(giStatuses[0], 503, "the first request finds the scene being traced");
+  assert.equal(giStatuses[giStatuses.length - 1], 200);
+  const img = await pixels(null);
+  assert.deepEqual([img.width, img.height], [64, 48]);
+  await page.locator("#gi-view").screenshot({ path: join(results, "gi-floor.png") });
+});
+
+test("dragging on the map changes the scene view during the drag", async () => {
+  await giSettled("floor");
+  const before = await pixels(null);
+  const n0 = await page.evaluate(() => window.matlas.giImages);
+  const box = await page.locator("#map").boundingBox();
+  await page.mouse.move(box.x + box.width * 0.25, box.y + box.height * 0.6);
+  await page.mouse.down();
+  let during = 0;
+  for (let k = 0; k <= 30; k++) {
+    await page.mouse.move(box.x + box.width * (0.25 + 0.015 * k), box.y + box.height * (0.6 - 0.01 * k));
+    await page.waitForTimeout(20);
+    if (k === 20) during = (await page.evaluate(() => window.matlas.giImages)) - n0;
+  }
+  await page.mouse.up();
+  await giSettled("floor");
+  assert.ok(during >= 2, `scene images shown during the drag: ${during}`);
+  const after = await pixels(null);
+  assert.notDeepEqual(after.data, before.data, "the image changed");
+  await page.locator("#gi-view").screenshot({ path: join(results, "gi-dragged.png") });
+});
+
+test("the scene view shows the pixels of matlas gi at the same point", async () => {
+  await giSettled("floor");
+  const x = await page.evaluate(() => window.matlas.giShown.x);
+  const models = join(work, "cache", "models");
+  const model = join(models, readdirSync(models).find((f) => f.endsWith(".matlas")));
+  const basisDir = `${model}.gi`;
+  const basis = join(basisDir, readdirSync(basisDir).find((f) => f.startsWith("floor-") && f.endsWith(".safetensors")));
+  const out = join(work, "gi-cli.png");
+  execFileSync(bin, ["gi", model, `--at=${x.join(",")}`, "--basis", basis, "-o", out], { stdio: "pipe" });
+  const cli = await pixels(readFileSync(out).toString("base64"));
+  const shown = await pixels(null);
+  assert.deepEqual([shown.width, shown.height], [cli.width, cli.height]);
+  let differing = 0;
+  for (let i = 0; i < cli.data.length; i++) if (cli.data[i] !== shown.data[i]) differing++;
+  assert.equal(differing, 0, `${differing} of ${cli.data.length} values differ from matlas gi's image`);
+  const mean = cli.data.reduce((a, v) => a + v, 0) / cli.data.length;
+  assert.ok(mean > 5, `the image is not black (mean ${mean.toFixed(1)})`);
+  await page.locator("#gi-view").screenshot({ path: join(results, "gi-cli.png") });
+});
+
+test("another scene shows another image", async () => {
+  const floor = await pixels(null);
+  await page.selectOption("#gi-scene", "box");
+  await giSettled("box");
+  const box = await pixels(null);
+  assert.notDeepEqual(box.data, floor.data);
+  await page.locator("#gi-view").screenshot({ path: join(results, "gi-box.png") });
+});
