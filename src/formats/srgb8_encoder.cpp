@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <vector>
-#include <cmath>
+
+#include "core/error.h"
 
 namespace matlas {
 
@@ -38,6 +40,10 @@ struct Steps {
     bucket_code.resize((one >> kShift) + 1);
     for (std::size_t b = 0; b < bucket_code.size(); ++b)
       bucket_code[b] = srgb8_code(std::bit_cast<float>(static_cast<std::uint32_t>(b << kShift)));
+    // No bucket holds two steps (the steepest part, near 1, has 67 steps per octave of 256
+    // buckets), so one comparison after the table finds the code.
+    for (std::size_t b = 0; b + 1 < bucket_code.size(); ++b)
+      if (bucket_code[b + 1] - bucket_code[b] > 1) throw Error("srgb8: two steps of the sRGB code in one bucket");
   }
 };
 
@@ -53,18 +59,23 @@ Srgb8Encoder::Srgb8Encoder(const ToneMap& tone)
   steps();
 }
 
-unsigned char Srgb8Encoder::operator()(float linear) const {
-  const float x = tone_curve(linear, scale_, curve_);
+unsigned char Srgb8Encoder::code(float x) const {
   if (!(x > 0.0f)) return 0;    // also -0 (from a -0 input)
   if (!(x < 1.0f)) return 255;  // also +inf from a huge exposure
   const Steps& s = steps();
-  unsigned k = s.bucket_code[std::bit_cast<std::uint32_t>(x) >> kShift];
-  while (x >= s.thresholds[k + 1]) ++k;
-  return static_cast<unsigned char>(k);
+  const unsigned k = s.bucket_code[std::bit_cast<std::uint32_t>(x) >> kShift];
+  return static_cast<unsigned char>(k + (x >= s.thresholds[k + 1] ? 1u : 0u));
 }
 
+unsigned char Srgb8Encoder::operator()(float linear) const { return code(tone_curve(linear, scale_, curve_)); }
+
 void Srgb8Encoder::encode(const float* in, unsigned char* out, std::size_t count) const {
-  for (std::size_t i = 0; i < count; ++i) out[i] = (*this)(in[i]);
+  if (curve_ != ToneMap::Curve::clamp) {
+    for (std::size_t i = 0; i < count; ++i) out[i] = (*this)(in[i]);
+    return;
+  }
+  // The clamp curve (the previews'): tone_curve's first two steps inline, the same arithmetic.
+  for (std::size_t i = 0; i < count; ++i) out[i] = code((std::isfinite(in[i]) ? std::max(in[i], 0.0f) : 0.0f) * scale_);
 }
 
 }  // namespace matlas
