@@ -7,6 +7,7 @@
 #include <zlib.h>
 
 #include "core/error.h"
+#include "formats/srgb8_encoder.h"
 
 namespace matlas {
 
@@ -64,7 +65,7 @@ std::string encode_png_fast_srgb8(const unsigned char* pixels, int width, int he
 
 std::string encode_png_fast(const Image& image, const ToneMap& tone) {
   std::vector<unsigned char> pixels(image.rgb.size());
-  for (std::size_t i = 0; i < pixels.size(); ++i) pixels[i] = tone_map_to_srgb8(image.rgb[i], tone);
+  Srgb8Encoder(tone).encode(image.rgb.data(), pixels.data(), pixels.size());
   return encode_png_fast_srgb8(pixels.data(), image.width, image.height);
 }
 

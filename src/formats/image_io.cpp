@@ -82,15 +82,21 @@ float srgb_decode(float encoded) {
   return x <= 0.04045f ? x / 12.92f : std::pow((x + 0.055f) / 1.055f, 2.4f);
 }
 
-unsigned char tone_map_to_srgb8(float linear, const ToneMap& tone) {
+float tone_curve(float linear, float scale, ToneMap::Curve curve) {
   float x = std::isfinite(linear) ? std::max(linear, 0.0f) : 0.0f;
-  x *= static_cast<float>(std::exp2(tone.exposure));
-  switch (tone.curve) {
+  x *= scale;
+  switch (curve) {
     case ToneMap::Curve::clamp: break;
     case ToneMap::Curve::reinhard: x = x / (1.0f + x); break;
     case ToneMap::Curve::aces: x = aces(x); break;
   }
-  return static_cast<unsigned char>(std::lround(srgb_encode(x) * 255.0f));
+  return x;
+}
+
+unsigned char srgb8_code(float x) { return static_cast<unsigned char>(std::lround(srgb_encode(x) * 255.0f)); }
+
+unsigned char tone_map_to_srgb8(float linear, const ToneMap& tone) {
+  return srgb8_code(tone_curve(linear, static_cast<float>(std::exp2(tone.exposure)), tone.curve));
 }
 
 Image read_exr_memory(const void* data, std::size_t bytes, const std::string& name) {

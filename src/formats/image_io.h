@@ -49,6 +49,11 @@ float srgb_decode(float encoded);
 
 /// Applies the tone map to one linear value and returns the 8-bit sRGB code.
 unsigned char tone_map_to_srgb8(float linear, const ToneMap& tone);
+/// Its two parts: the tone curve after the exposure factor `scale` = 2^exposure (negative and
+/// non-finite values count as 0; the clamp curve may return values above 1), and the 8-bit code
+/// of the sRGB curve of a value (clamped to [0, 1]). Srgb8Encoder does both for many values.
+float tone_curve(float linear, float scale, ToneMap::Curve curve);
+unsigned char srgb8_code(float x);
 
 /// Reads an image by extension (.exr, .hdr, .png, .jpg). Throws matlas::Error naming the file.
 Image read_image(const std::filesystem::path& path);

@@ -1,9 +1,14 @@
 #include "gp/optimize.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <exception>
+#include <optional>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "core/error.h"
 #include "gp/optimize_methods.h"
@@ -31,6 +36,59 @@ OptimizeResult optimize_one(const LikelihoodProblem& p, const Eigen::MatrixXd& X
   throw Error("optimize_latent: unknown optimizer");
 }
 
+/// Keeps a start's progress lines, to be replayed in the order of the starts.
+class RecordedProgress final : public ProgressSink {
+public:
+  void update(const std::string&, std::uint64_t, std::uint64_t) override {}
+  void message(const std::string& line) override { lines.push_back(line); }
+  void finish(const std::string&) override {}
+  std::vector<std::string> lines;
+};
+
+std::string start_message(int k, int starts, double scale) {
+  return "start " + std::to_string(k + 1) + "/" + std::to_string(starts) + " (X0 scaled by " + std::to_string(scale) +
+         ")";
+}
+
+Eigen::MatrixXd scaled_start(const Eigen::MatrixXd& X0, const Eigen::RowVectorXd& centroid, int k) {
+  return (start_scale(k) * (X0.rowwise() - centroid)).rowwise() + centroid;
+}
+
+/// All starts at once, on up to `threads` threads. Each start is independent and deterministic,
+/// so the results are those of running them one after the other; only used when no start can
+/// end the others early (no time limit, no target), so the same starts run as serially.
+std::vector<OptimizeResult> run_starts_concurrently(const LikelihoodProblem& p, const Eigen::MatrixXd& X0,
+                                                    const OptimizeOptions& o, ProgressSink& sink, int threads) {
+  const Eigen::RowVectorXd centroid = X0.colwise().mean();
+  const auto starts = static_cast<std::size_t>(o.starts);
+  std::vector<std::optional<OptimizeResult>> results(starts);
+  std::vector<RecordedProgress> progress(starts);
+  std::vector<std::exception_ptr> errors(starts);
+  std::atomic<std::size_t> next{0};
+  const auto work = [&] {
+    for (std::size_t k; (k = next.fetch_add(1)) < starts;) {
+      try {
+        results[k] = optimize_one(p, scaled_start(X0, centroid, static_cast<int>(k)), o, progress[k]);
+      } catch (...) {
+        errors[k] = std::current_exception();
+      }
+    }
+  };
+  {
+    std::vector<std::jthread> pool;
+    for (int t = 1; t < std::min(threads, o.starts); ++t) pool.emplace_back(work);
+    work();
+  }
+  std::vector<OptimizeResult> out;
+  for (std::size_t k = 0; k < starts; ++k) {
+    sink.message(start_message(static_cast<int>(k), o.starts, start_scale(static_cast<int>(k))));
+    for (const std::string& line : progress[k].lines) sink.message(line);
+    if (errors[k]) std::rethrow_exception(errors[k]);  // the error a serial run would have met first
+    out.push_back(std::move(*results[k]));
+  }
+  return out;
+}
+
 }  // namespace
 
 OptimizeResult optimize_latent(const LikelihoodProblem& p, Eigen::MatrixXd X0, const OptimizeOptions& o,
@@ -40,21 +98,31 @@ OptimizeResult optimize_latent(const LikelihoodProblem& p, Eigen::MatrixXd X0, c
   if (o.starts == 1) return optimize_one(p, X0, o, sink);
 
   const auto begin = std::chrono::steady_clock::now();
+  // Starts in parallel when none can stop the others (a time limit or target is checked serially):
+  // one thread per start (up to 16), so that 3 starts on 2 cores take 1.5 starts' time, not 2.
+  const int threads = std::min(o.starts, 16);
+  const bool concurrent =
+      std::thread::hardware_concurrency() > 1 && o.time_limit_seconds == 0 && std::isinf(o.target_value);
+  std::vector<OptimizeResult> done_starts;
+  if (concurrent) done_starts = run_starts_concurrently(p, X0, o, sink, threads);
+
   const Eigen::RowVectorXd centroid = X0.colwise().mean();
   OptimizeResult best;
   int iterations = 0, evaluations = 0;
   for (int k = 0; k < o.starts; ++k) {
-    OptimizeOptions one = o;
-    if (o.time_limit_seconds > 0) {
-      const double used = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
-      if (k > 0 && used >= o.time_limit_seconds) break;
-      one.time_limit_seconds = std::max(o.time_limit_seconds - used, 1e-9);
+    OptimizeResult r;
+    if (concurrent) {
+      r = std::move(done_starts[static_cast<std::size_t>(k)]);
+    } else {
+      OptimizeOptions one = o;
+      if (o.time_limit_seconds > 0) {
+        const double used = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+        if (k > 0 && used >= o.time_limit_seconds) break;
+        one.time_limit_seconds = std::max(o.time_limit_seconds - used, 1e-9);
+      }
+      sink.message(start_message(k, o.starts, start_scale(k)));
+      r = optimize_one(p, scaled_start(X0, centroid, k), one, sink);
     }
-    const double scale = start_scale(k);
-    sink.message("start " + std::to_string(k + 1) + "/" + std::to_string(o.starts) + " (X0 scaled by " +
-                 std::to_string(scale) + ")");
-    const Eigen::MatrixXd start = (scale * (X0.rowwise() - centroid)).rowwise() + centroid;
-    OptimizeResult r = optimize_one(p, start, one, sink);
     iterations += r.iterations;
     evaluations += r.evaluations;
     const bool done = r.stop_reason == "target value reached" || r.stop_reason == "time limit reached";
