@@ -70,8 +70,9 @@ std::vector<fs::path> model_sources(const Model& model) {
 void print_summary(const eval::StudyResult* study, const eval::ModelChecks* checks,
                    const eval::ManifoldQuality* quality, const Io& io) {
   if (quality) {
-    print(io.out, "  layout readability    %.1f%% of materials crowded (neighbour < 1%% of extent %.3g); trustworthiness(5) %.3f\n",
-                100 * quality->layout.crowded_share, quality->layout.extent, quality->layout.trustworthiness);
+    print(io.out, "  layout readability    %.1f%% of materials crowded (neighbour < 1%% of extent %.3g); trustworthiness(%d) %.3f\n",
+                100 * quality->layout.crowded_share, quality->layout.extent, quality->layout.neighbours,
+                quality->layout.trustworthiness);
     for (const auto& p : quality->plausibility)
       print(io.out, "  plausibility %-6s %-9s %d of %d points with negative values (worst %.3f%%), albedo / inputs' max %.3f\n",
                   p.mode.c_str(), p.where.c_str(), p.with_negative, p.points, 100 * p.worst_negative_share,

@@ -123,7 +123,9 @@ ManifoldQuality assess_manifold(Model& model, const ManifoldQualityOptions& opti
   const Eigen::MatrixXd& X = model.latent();
   const int n = model.count(), q = model.dim();
   out.layout = layout_readability(X);
-  if (2 * out.layout.neighbours < n - 1) {
+  // Trustworthiness needs 2k < n - 1: small databases (the 8 Nielsen materials) use a smaller k.
+  out.layout.neighbours = std::min(out.layout.neighbours, (n - 2) / 2);
+  if (out.layout.neighbours >= 1) {
     progress.message("manifold quality: perceptual distances between the inputs");
     out.layout.trustworthiness =
         trustworthiness(perceptual_squared_distances(model, std::max(1, options.value_stride)), X, out.layout.neighbours);

@@ -9,6 +9,7 @@
 //     (convex combinations of three latent points): the share of points whose table has a negative
 //     value, the largest share of negative values, and the largest directional albedo over the
 //     inputs' largest.
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -23,8 +24,10 @@ struct LayoutReadability {
   double extent = 0;              ///< diagonal of the latent bounding box
   double crowded_share = 0;       ///< nearest neighbour closer than 1 % of the extent
   int crowded = 0;
-  double trustworthiness = 0;     ///< k = 5, against the cube-root distance
-  int neighbours = 5;
+  /// Of the `neighbours` nearest latent neighbours, against the cube-root distance; NaN where it is
+  /// undefined (fewer than 4 materials).
+  double trustworthiness = std::numeric_limits<double>::quiet_NaN();
+  int neighbours = 5;             ///< k: 5, or (n - 2) / 2 for fewer than 12 materials
 };
 
 struct ModePlausibility {
