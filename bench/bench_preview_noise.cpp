@@ -100,26 +100,32 @@ int main(int argc, char** argv) {
                 describe(fitted.mixture).c_str());
     // The former sampling: one-sample mixtures with independent numbers per sample.
     settings.sampler = fitted.sampler = render::Sampler::independent;
-    render::RenderSettings old_stratified = settings, stratified = fitted;
+    render::RenderSettings old_stratified = settings, stratified = fitted, both = fitted;
     old_stratified.sampler = stratified.sampler = render::Sampler::stratified;
+    both.sampler = render::Sampler::light_and_lobe;
+    // MATLAS_BENCH_POWER=1: the power heuristic in the stratified columns.
+    if (std::getenv("MATLAS_BENCH_POWER")) old_stratified.power_heuristic = stratified.power_heuristic = both.power_heuristic = true;
     const std::vector<float> coverage = render::object_coverage(scene, settings);
     const std::vector<double> widths = atlas::specular_lobe_widths(atlas::ModelBank(model));
     std::printf("relative RMS between seeds; independent numbers (former) and stratified (new)\n");
-    std::printf("%-28s %10s %10s %10s %10s %10s %8s\n", "material", "lobe alpha", "old", "fitted", "old strat",
-                "fit strat", "ratio");
+    std::printf("%-28s %10s %10s %10s %10s %10s %8s %10s %8s\n", "material", "lobe alpha", "old", "fitted",
+                "old strat", "fit strat", "ratio", "light+lobe", "ratio");
     for (int k = 7; k < argc; ++k) {
       const int i = model.index_of(argv[k]);
       const atlas::ModelMaterial m(model, model.material_weights(i));
-      const bool quick = std::getenv("MATLAS_BENCH_NEW_ONLY");  // only the last column (ratio meaningless)
+      const bool quick = std::getenv("MATLAS_BENCH_NEW_ONLY");  // only the last two columns (ratios meaningless)
       const double old_noise = quick ? 1 : seed_noise(scene, m, settings, coverage);
       const double fitted_noise = quick ? 1 : seed_noise(scene, m, fitted, coverage);
       const double old_strat_noise = quick ? 1 : seed_noise(scene, m, old_stratified, coverage);
       const double new_noise = seed_noise(scene, m, stratified, coverage);
-      std::printf("%-28s %10.4f %10.4f %10.4f %10.4f %10.4f %8.2f\n", argv[k], widths[static_cast<std::size_t>(i) + 1],
-                  old_noise, fitted_noise, old_strat_noise, new_noise, old_noise / new_noise);
+      const double both_noise = seed_noise(scene, m, both, coverage);
+      std::printf("%-28s %10.4f %10.4f %10.4f %10.4f %10.4f %8.2f %10.4f %8.2f\n", argv[k],
+                  widths[static_cast<std::size_t>(i) + 1], old_noise, fitted_noise, old_strat_noise, new_noise,
+                  old_noise / new_noise, both_noise, old_noise / both_noise);
       std::fflush(stdout);
     }
-    for (const render::Sampler sampler : {render::Sampler::independent, render::Sampler::stratified}) {
+    for (const render::Sampler sampler :
+         {render::Sampler::independent, render::Sampler::stratified, render::Sampler::light_and_lobe}) {
       render::RenderSettings timing = stratified;
       timing.sampler = sampler;
       const auto t0 = std::chrono::steady_clock::now();
@@ -130,7 +136,10 @@ int main(int argc, char** argv) {
       const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
       std::printf("%s sampler: one render %.2f s wall, %.2f s CPU (%.2f M camera samples per CPU second)\n",
-                  sampler == render::Sampler::stratified ? "stratified" : "independent", sec, cpu,
+                  sampler == render::Sampler::stratified       ? "stratified"
+                  : sampler == render::Sampler::light_and_lobe ? "light and lobe"
+                                                               : "independent",
+                  sec, cpu,
                   static_cast<double>(stats.camera_samples) / cpu * 1e-6);
     }
     render::RenderSettings basis_settings;

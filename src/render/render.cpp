@@ -31,7 +31,19 @@ struct Draw {
   bool ground_environment = false;
   double ground_environment_probability = 0;
   double u0 = 0, u1 = 0;
+  /// Sampler::light_and_lobe: an environment sample (e0, e1) besides the lobe sample (u0, u1),
+  /// each tap weighted by half (two taps per camera sample; the density counts both).
+  bool both = false;
+  double e0 = 0, e1 = 0;
+  bool power = false;  ///< RenderSettings::power_heuristic
 };
+
+/// The weight of a tap divided by f L cos: the environment technique's density share a and the
+/// lobes' b (the density's two parts), `own` the one that drew it. Balance: 1 / (a + b); power:
+/// own / (a^2 + b^2) (Veach's multi-sample power heuristic, each technique's count folded in).
+double mis_weight(bool power, double a, double b, double own) {
+  return power ? own / (a * a + b * b) : 1.0 / (a + b);
+}
 
 /// The independent sampler's draw: three numbers of the sample's stream.
 Draw independent_draw(const SamplingMixture& mix, SampleStream& rng) {
@@ -67,21 +79,23 @@ Rgb trace_sample(const Scene& scene, const SamplingMixture& mix, const Draw& dra
   if (hit->object) {
     *hit_object = true;
     if (wo.z() <= 0) return Rgb::Zero();
-    Vec3 wi_world, wi;
-    if (draw.environment) {
-      double pdf;
-      wi_world = env.sample(u0, u1, &pdf);
-      wi = f.to_local(wi_world);
-    } else {
-      wi = mix.sample_local(wo, draw.pick, u0, u1);
-      wi_world = f.to_world(wi);
-    }
-    if (wi.z() > 0 && wi_world.dot(ng) > 0) {
-      const double pdf = mix.environment_probability() * env.pdf(wi_world) + mix.local_pdf(wo, wi);
-      if (pdf > 0 && !scene.occluded(p, wi_world, 0.0)) {
-        const Rgb w = env.eval(wi_world) * (wi.z() / pdf);
+    const double share = draw.both ? 0.5 : 1.0;
+    const auto tap_direction = [&](const Vec3& wi_world, const Vec3& wi, bool environment) {
+      if (wi.z() <= 0 || wi_world.dot(ng) <= 0) return;
+      const double a = mix.environment_probability() * env.pdf(wi_world), b = mix.local_pdf(wo, wi);
+      if (a + b > 0 && !scene.occluded(p, wi_world, 0.0)) {
+        const Rgb w = env.eval(wi_world) * (share * wi.z() * mis_weight(draw.power, a, b, environment ? a : b));
         if ((w > 0).any()) tap(wi.normalized(), wo, w);
       }
+    };
+    if (draw.environment || draw.both) {
+      double pdf;
+      const Vec3 wi_world = draw.both ? env.sample(draw.e0, draw.e1, &pdf) : env.sample(u0, u1, &pdf);
+      tap_direction(wi_world, f.to_local(wi_world), true);
+    }
+    if (!draw.environment) {
+      const Vec3 wi = mix.sample_local(wo, draw.pick, u0, u1);
+      tap_direction(f.to_world(wi), wi, false);
     }
     for (const DirectionalLight& light : desc.lights) {
       const Vec3 l = light.direction.normalized();
@@ -94,19 +108,22 @@ Rgb trace_sample(const Scene& scene, const SamplingMixture& mix, const Draw& dra
   // Ground: Lambertian, sampled with the environment and cosine strategies only.
   const Rgb f_ground = desc.ground_albedo / kPi;
   const double pe = draw.ground_environment_probability, pc = 1.0 - pe;
-  Vec3 wi_world, wi;
-  if (draw.ground_environment) {
-    double pdf;
-    wi_world = env.sample(u0, u1, &pdf);
-    wi = f.to_local(wi_world);
-  } else {
-    wi = sample_cosine(u0, u1);
-    wi_world = f.to_world(wi);
-  }
   Rgb radiance = Rgb::Zero();
-  if (wi.z() > 0) {
-    const double pdf = pe * env.pdf(wi_world) + pc * cosine_pdf(wi);
-    if (pdf > 0 && !scene.occluded(p, wi_world, 0.0)) radiance += f_ground * env.eval(wi_world) * (wi.z() / pdf);
+  const double share = draw.both ? 0.5 : 1.0;
+  const auto ground_direction = [&](const Vec3& wi_world, const Vec3& wi, bool environment) {
+    if (wi.z() <= 0) return;
+    const double a = pe * env.pdf(wi_world), b = pc * cosine_pdf(wi);
+    if (a + b > 0 && !scene.occluded(p, wi_world, 0.0))
+      radiance += f_ground * env.eval(wi_world) * (share * wi.z() * mis_weight(draw.power, a, b, environment ? a : b));
+  };
+  if (draw.ground_environment || draw.both) {
+    double pdf;
+    const Vec3 wi_world = draw.both ? env.sample(draw.e0, draw.e1, &pdf) : env.sample(u0, u1, &pdf);
+    ground_direction(wi_world, f.to_local(wi_world), true);
+  }
+  if (!draw.ground_environment) {
+    const Vec3 wi = sample_cosine(u0, u1);
+    ground_direction(f.to_world(wi), wi, false);
   }
   for (const DirectionalLight& light : desc.lights) {
     const Vec3 l = light.direction.normalized();
@@ -137,13 +154,21 @@ void for_each_pixel(const RenderSettings& settings, ProgressSink& progress, cons
 /// among the strategies.
 struct Sampling {
   explicit Sampling(const RenderSettings& s)
-      : settings(s), stratified(s.sampler == Sampler::stratified),
-        plan(stratified ? plan_strategies(s.mixture, s.spp) : StrategyPlan{}) {}
+      : settings(s), stratified(s.sampler != Sampler::independent), both(s.sampler == Sampler::light_and_lobe),
+        plan(stratified ? plan_strategies(both ? without_environment(s.mixture) : s.mixture, s.spp) : StrategyPlan{}) {
+    // Light and lobe: spp environment samples besides the plan's spp lobe samples.
+    if (both) plan.density.environment = static_cast<double>(s.spp);
+  }
+  static SamplingMixture without_environment(SamplingMixture m) {
+    m.environment = 0;
+    return m;
+  }
   /// The density of the samples at the object (what trace_sample divides by).
   const SamplingMixture& density() const { return stratified ? plan.density : settings.mixture; }
 
   const RenderSettings& settings;
   bool stratified;
+  bool both;  ///< Sampler::light_and_lobe
   StrategyPlan plan;
 };
 
@@ -170,14 +195,24 @@ void for_each_sample(const Scene& scene, const Sampling& sampling, int x, int y,
   const PixelSampler sampler(settings.seed, pixel);
   const StrategyPlan& plan = sampling.plan;
   Draw draw;
-  draw.ground_environment_probability = static_cast<double>(plan.counts[0]) / static_cast<double>(settings.spp);
+  draw.both = sampling.both;
+  draw.power = settings.power_heuristic;
+  // Light and lobe: the ground's environment and cosine samples both count spp.
+  draw.ground_environment_probability =
+      sampling.both ? 0.5 : static_cast<double>(plan.counts[0]) / static_cast<double>(settings.spp);
+  int s = 0;
   for (std::size_t k = 0; k < plan.counts.size(); ++k) {
-    draw.environment = draw.ground_environment = k == 0;
-    draw.pick = plan.pick[k];
-    for (int j = 0; j < plan.counts[k]; ++j) {
+    draw.environment = draw.ground_environment = k == 0 && !sampling.both;
+    // The density's environment share (half the samples when both) comes first in its picks.
+    draw.pick = sampling.both ? 0.5 + 0.5 * plan.pick[k] : plan.pick[k];
+    for (int j = 0; j < plan.counts[k]; ++j, ++s) {
       double u[4];
       sampler.point(static_cast<int>(k), j, u);
       draw.u0 = u[2], draw.u1 = u[3];
+      if (sampling.both) {  // jitter and environment direction: one stratified set over the pixel's spp
+        sampler.point(static_cast<int>(plan.counts.size()), s, u);
+        draw.e0 = u[2], draw.e1 = u[3];
+      }
       scene.camera_ray(x + u[0], y + u[1], settings.width, settings.height, &o, &d);
       body(o, d, draw);
     }

@@ -34,6 +34,11 @@ enum class Sampler {
   /// render/pixel_sampler.h: fixed sample counts per strategy (multi-sample balance heuristic),
   /// each strategy's jitters and directions from Owen-scrambled Sobol points of the pixel.
   stratified,
+  /// As stratified, and every camera sample ALSO takes one environment sample: the camera samples
+  /// share the lobe strategies (cosine, GGX, tabulated) in fixed counts, and each adds a light
+  /// sample, both taps weighted by the multi-sample balance heuristic over all strategies
+  /// (environment count = spp). Two taps and two shadow rays per camera sample.
+  light_and_lobe,
 };
 
 struct RenderSettings {
@@ -45,6 +50,10 @@ struct RenderSettings {
   /// the mixture fitted to its database, atlas/sampling_fit.h).
   SamplingMixture mixture = SamplingMixture::preview_default();
   Sampler sampler = Sampler::stratified;
+  /// Weighs the environment strategy against the lobe strategies (taken together as one mixture
+  /// technique) with the power heuristic (exponent 2) instead of the balance heuristic; both are
+  /// material-independent. Stratified samplers only.
+  bool power_heuristic = false;
 
   /// Throws matlas::Error for non-positive sizes or spp, or an all-zero mixture.
   void validate() const;
