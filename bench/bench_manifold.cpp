@@ -16,7 +16,7 @@
 #include <unistd.h>
 
 #include <benchmark/benchmark.h>
-#include <cblas.h>
+#include "core/blas.h"
 
 #include "core/parallel.h"
 #include "manifold/build.h"
@@ -150,7 +150,7 @@ void BM_GramVsGemm(benchmark::State& state) {
   for (auto _ : state) {
     double t0 = now();
     for (int r = 0; r < 3; ++r)
-      cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, g, g, g, 1.0, x.data(), g, y.data(), g, 0.0, z.data(), g);
+      matlas::blas::openblas().dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, g, g, g, 1.0, x.data(), g, y.data(), g, 0.0, z.data(), g);
     t_gemm += (now() - t0) / 3;
     pause();
     t0 = now();
@@ -177,14 +177,13 @@ void BM_GramSliceWidth(benchmark::State& state) {
   std::normal_distribution<double> d;
   BlockMatrix a(n, static_cast<Eigen::Index>(k));
   for (Eigen::Index i = 0; i < a.size(); ++i) a.data()[i] = d(rng);
-  const SingleThreadedBlas single;
   const auto seconds_per_flop = [&](std::size_t w) {
     Eigen::MatrixXd c = Eigen::MatrixXd::Zero(n, n);
     const std::size_t slices = k / w, reps = 64;
     const double t0 = now();
     for (std::size_t r = 0; r < reps; ++r)
       for (std::size_t s = 0; s < slices; ++s)
-        cblas_dsyrk(CblasColMajor, CblasUpper, CblasTrans, n, static_cast<int>(w), 1.0, a.data() + s * w,
+        matlas::blas::openblas().dsyrk(CblasColMajor, CblasUpper, CblasTrans, n, static_cast<int>(w), 1.0, a.data() + s * w,
                     static_cast<int>(k), 1.0, c.data(), n);
     return (now() - t0) / (static_cast<double>(reps) * n * (n + 1.0) * static_cast<double>(k));
   };

@@ -10,5 +10,7 @@ namespace matlas {
 bool cpu_has_avx2_fma();
 /// AVX2, FMA and F16C (half-precision conversions).
 bool cpu_has_avx2_fma_f16c();
+/// AVX-512 F, CD, BW, DQ and VL (the "Skylake-X" set).
+bool cpu_has_avx512_skx();
 
 }  // namespace matlas

@@ -42,8 +42,11 @@ Eigen::MatrixXd covariance_matrix(const Eigen::MatrixXd& X, const Kernel& k) {
 }
 
 bool is_positive_definite(const Eigen::LLT<Eigen::MatrixXd>& llt) {
-  if (llt.info() != Eigen::Success) return false;
-  const Eigen::ArrayXd pivots = llt.matrixLLT().diagonal().array().square();
+  return llt.info() == Eigen::Success && acceptable_cholesky_pivots(llt.matrixLLT().diagonal());
+}
+
+bool acceptable_cholesky_pivots(const Eigen::VectorXd& factor_diagonal) {
+  const Eigen::ArrayXd pivots = factor_diagonal.array().square();
   if (pivots.size() == 0) return true;
   const double n = static_cast<double>(pivots.size());
   return pivots.minCoeff() > n * std::numeric_limits<double>::epsilon() * pivots.maxCoeff();

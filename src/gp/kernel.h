@@ -35,5 +35,7 @@ Eigen::MatrixXd covariance_matrix(const Eigen::MatrixXd& X, const Kernel& k);
 /// n * epsilon * max_j L_jj^2. An exactly singular K (duplicate points with nugget 0) can pass
 /// Eigen's own check (pivot > 0) with pivots of ~1e-16; this rejects it.
 bool is_positive_definite(const Eigen::LLT<Eigen::MatrixXd>& llt);
+/// The same test on the diagonal of a Cholesky factor computed elsewhere (LAPACK's dpotrf).
+bool acceptable_cholesky_pivots(const Eigen::VectorXd& factor_diagonal);
 
 }  // namespace matlas::gp

@@ -92,8 +92,8 @@ private:
   double beta_ = 1;
   double repulsion_ = 0, radius_ = 0.1, precision_ = 0;
   // Workspaces, sized on first use.
-  Eigen::MatrixXd K_, Y_, Kinv_, G_;
-  Eigen::LLT<Eigen::MatrixXd> llt_;
+  Eigen::MatrixXd K_, L_, Y_, Kinv_, G_;  // L_: K's Cholesky factor in its lower triangle
+  Eigen::MatrixXd P_;                     // the repulsion's gradient
 };
 
 }  // namespace matlas::gp

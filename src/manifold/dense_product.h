@@ -1,7 +1,7 @@
 #pragma once
-// Large dense matrix products through the machine's BLAS (OpenBLAS: vectorised for the CPU it
-// runs on and multi-threaded), for the batched queries of map layers: Eigen's own product is
-// compiled for baseline x86-64 here and single-threaded.
+// Large dense matrix products through OpenBLAS (vectorised for the CPU it runs on, core/blas.h),
+// split over the workers, for the batched queries of map layers: Eigen's own product is compiled
+// for baseline x86-64 here and single-threaded.
 #include <Eigen/Core>
 
 namespace matlas {

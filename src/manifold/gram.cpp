@@ -74,7 +74,6 @@ public:
   }
 
   GramResult run(ProgressSink& progress) {
-    const SingleThreadedBlas single_threaded_blas;
     const std::size_t blocks = (total_ + step_ - 1) / step_;
     ProgressTask task(progress, "reading the inputs", blocks);
     for (std::size_t b = 0; b < blocks; ++b) {

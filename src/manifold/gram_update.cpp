@@ -2,15 +2,10 @@
 
 #include <algorithm>
 
-#include <cblas.h>
-
+#include "core/blas.h"
 #include "core/parallel.h"
 
 namespace matlas {
-
-SingleThreadedBlas::SingleThreadedBlas() : saved_(openblas_get_num_threads()) { openblas_set_num_threads(1); }
-
-SingleThreadedBlas::~SingleThreadedBlas() { openblas_set_num_threads(saved_); }
 
 GramAccumulator::GramAccumulator(Eigen::Index n, std::size_t max_columns)
     : n_(n), upper_(std::max<std::size_t>(1, slices(max_columns)), Eigen::MatrixXd::Zero(n, n)) {}
@@ -20,7 +15,7 @@ void GramAccumulator::add_slice(const double* a, std::size_t ld, std::size_t col
   if (first >= columns) return;
   const auto count = static_cast<int>(std::min(kSlice, columns - first));
   // Row-major n x k with leading dimension ld is column-major k x n: S += A^T' A' = A A^T.
-  cblas_dsyrk(CblasColMajor, CblasUpper, CblasTrans, static_cast<int>(n_), count, 1.0, a + first,
+  blas::openblas().dsyrk(CblasColMajor, CblasUpper, CblasTrans, static_cast<int>(n_), count, 1.0, a + first,
               static_cast<int>(ld), 1.0, upper_[s].data(), static_cast<int>(n_));
 }
 
@@ -35,10 +30,7 @@ void add_gram_upper(const BlockMatrix& a, Eigen::MatrixXd& upper) {
   if (a.cols() == 0) return;
   const auto k = static_cast<std::size_t>(a.cols());
   GramAccumulator gram(a.rows(), k);
-  {
-    const SingleThreadedBlas single;
-    parallel_for_each(0, GramAccumulator::slices(k), [&](std::size_t s) { gram.add_slice(a, s); });
-  }
+  parallel_for_each(0, GramAccumulator::slices(k), [&](std::size_t s) { gram.add_slice(a, s); });
   upper.triangularView<Eigen::Upper>() += gram.total();
 }
 

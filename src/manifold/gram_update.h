@@ -14,19 +14,6 @@
 
 namespace matlas {
 
-/// While alive, OpenBLAS runs every call on the calling thread alone (the callers split the
-/// work themselves); the previous setting is restored on destruction.
-class SingleThreadedBlas {
-public:
-  SingleThreadedBlas();
-  ~SingleThreadedBlas();
-  SingleThreadedBlas(const SingleThreadedBlas&) = delete;
-  SingleThreadedBlas& operator=(const SingleThreadedBlas&) = delete;
-
-private:
-  int saved_;
-};
-
 class GramAccumulator {
 public:
   /// Columns per slice (n x 1024 doubles: 800 KB for n = 100). dsyrk is as fast on 512 columns
@@ -40,8 +27,7 @@ public:
   /// For n materials and blocks of at most max_columns columns.
   GramAccumulator(Eigen::Index n, std::size_t max_columns);
 
-  /// Adds slice s of block a. Different slices may be added from different threads at once
-  /// (under a SingleThreadedBlas guard).
+  /// Adds slice s of block a. Different slices may be added from different threads at once.
   void add_slice(const BlockMatrix& a, std::size_t s) {
     add_slice(a.data(), static_cast<std::size_t>(a.cols()), static_cast<std::size_t>(a.cols()), s);
   }

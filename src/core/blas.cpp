@@ -1,0 +1,62 @@
+#include "core/blas.h"
+
+#include <cstdlib>
+#include <dlfcn.h>
+
+#include "core/cpu_features.h"
+#include "core/error.h"
+
+namespace matlas::blas {
+
+namespace {
+
+constexpr const char* kSoname = "libopenblas.so.0";
+constexpr const char* kCoreVariable = "OPENBLAS_CORETYPE";
+
+template <typename F>
+void bind(void* handle, const char* name, F& f) {
+  f = reinterpret_cast<F>(::dlsym(handle, name));
+  if (f == nullptr)
+    throw Error(std::string("OpenBLAS (") + kSoname + ") has no routine " + name + "; matlas needs Debian's libopenblas0");
+}
+
+Library load() {
+  // OPENBLAS_CORETYPE is read once, by the library's initialiser during dlopen.
+  const std::string kernel = std::getenv(kCoreVariable) ? "" : kernel_for(cpu_has_avx512_skx(), cpu_has_avx2_fma());
+  if (!kernel.empty()) ::setenv(kCoreVariable, kernel.c_str(), 0);
+  void* handle = ::dlopen(kSoname, RTLD_NOW | RTLD_LOCAL);
+  const char* error = handle ? nullptr : ::dlerror();
+  if (!kernel.empty()) ::unsetenv(kCoreVariable);
+  if (handle == nullptr)
+    throw Error(std::string("cannot load OpenBLAS (") + kSoname + "): " + (error ? error : "unknown error") +
+                "; install Debian's libopenblas0");
+  Library lib{};
+  bind(handle, "cblas_dgemm", lib.dgemm);
+  bind(handle, "cblas_dsyrk", lib.dsyrk);
+  bind(handle, "cblas_dtrsm", lib.dtrsm);
+  bind(handle, "dpotrf_", lib.dpotrf);
+  bind(handle, "dpotri_", lib.dpotri);
+  bind(handle, "openblas_get_corename", lib.corename);
+  bind(handle, "openblas_get_config", lib.config);
+  decltype(&openblas_set_num_threads) set_num_threads = nullptr;
+  bind(handle, "openblas_set_num_threads", set_num_threads);
+  set_num_threads(1);
+  return lib;  // the handle stays open for the life of the process
+}
+
+}  // namespace
+
+const Library& openblas() {
+  static const Library lib = load();
+  return lib;
+}
+
+std::string kernel_for(bool avx512, bool avx2_fma) {
+  if (avx512) return "SkylakeX";
+  if (avx2_fma) return "Haswell";
+  return "";
+}
+
+std::string description() { return openblas().config(); }
+
+}  // namespace matlas::blas

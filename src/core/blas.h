@@ -1,0 +1,53 @@
+#pragma once
+// OpenBLAS, loaded on first use (dlopen of libopenblas.so.0) so that matlas can choose its
+// kernels before the library initialises.
+//
+// Why: Debian 12's OpenBLAS 0.3.21 (a DYNAMIC_ARCH build) picks its kernels by processor model
+// and falls back to its slowest, SSE3 kernels ("Prescott") on models newer than itself. On a
+// 2023 Xeon (Emerald Rapids, family 6 model 207) dsyrk of the build's Gram slices ran at
+// 6.4 GFlop/s with those and at 39 GFlop/s with the SkylakeX kernels (docs/BENCHMARKS.md).
+// Unless the user set OPENBLAS_CORETYPE (OpenBLAS's own switch, which always wins), matlas sets
+// it for the load from the processor's features (`kernel_for`) and removes it again afterwards,
+// so child processes see the environment unchanged.
+//
+// OpenBLAS runs single-threaded: matlas splits its work over its own workers (core/parallel.h)
+// and calls OpenBLAS from several of them at once (Gram slices, concurrent placement starts).
+// With OpenBLAS's own threads, concurrent calls wait on its locks: the latent placement of 100
+// materials took 161 s instead of 4 s.
+//
+// Only the routines matlas calls are bound. If the process had loaded OpenBLAS already (numpy in
+// the same Python process, say), that library and its kernels are used as they are, and it too
+// runs single-threaded from then on.
+#include <string>
+
+#include <cblas.h>  // the CBLAS enums and declarations (nothing is linked against them)
+
+namespace matlas::blas {
+
+/// The routines of the loaded library.
+struct Library {
+  decltype(&cblas_dgemm) dgemm;
+  decltype(&cblas_dsyrk) dsyrk;
+  decltype(&cblas_dtrsm) dtrsm;
+  /// LAPACK's Cholesky factorisation (Fortran interface): uplo "L" or "U", n, a, lda, info.
+  void (*dpotrf)(const char* uplo, const int* n, double* a, const int* lda, int* info);
+  /// LAPACK's inverse from that factor (Fortran interface), into the same triangle.
+  void (*dpotri)(const char* uplo, const int* n, double* a, const int* lda, int* info);
+  decltype(&openblas_get_corename) corename;
+  decltype(&openblas_get_config) config;
+};
+
+/// The library, loaded on the first call (thread-safe). Throws matlas::Error naming the library
+/// and the loader's message when it cannot be loaded or lacks a routine.
+const Library& openblas();
+
+/// The OpenBLAS kernel set ("SkylakeX", "Haswell") that matlas asks for on a processor with these
+/// features, or "" to leave the choice to OpenBLAS. AVX-512 here means F, CD, BW, DQ and VL,
+/// which the SkylakeX kernels use.
+std::string kernel_for(bool avx512, bool avx2_fma);
+
+/// What runs, for reports: OpenBLAS's configuration string, e.g.
+/// "OpenBLAS 0.3.21 NO_LAPACKE DYNAMIC_ARCH NO_AFFINITY SkylakeX MAX_THREADS=64".
+std::string description();
+
+}  // namespace matlas::blas
