@@ -7,6 +7,7 @@
 #include "cli/commands.h"
 #include "cli/print.h"
 #include "cli/latent_point.h"
+#include "core/blas.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "manifold/build.h"
@@ -102,6 +103,8 @@ void run_build(const BuildArgs& a, const Io& io) {
               r.pass_seconds, r.optimize_seconds, r.finish_seconds);
   print(io.out, "  reading          files %.2f s, centring and data %.2f s, Gram and albedo %.2f s\n",
               r.pass_steps.read, r.pass_steps.sweep, r.pass_steps.products);
+  // Which kernels the Gram matrices and the placement ran on (OPENBLAS_CORETYPE overrides).
+  print(io.out, "  blas             %s\n", blas::description().c_str());
 }
 
 void add_build_command(CLI::App& app, const Io& io) {

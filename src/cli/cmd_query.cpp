@@ -27,7 +27,10 @@ json vector_json(const Eigen::VectorXd& v) { return std::vector<double>(v.data()
 
 std::string point_text(const Eigen::VectorXd& x) {
   std::string s;
-  for (Eigen::Index i = 0; i < x.size(); ++i) s += (i ? "," : "") + std::to_string(x[i]);
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    if (i > 0) s += ',';
+    s += std::to_string(x[i]);
+  }
   return s;
 }
 

@@ -15,12 +15,14 @@
 
 namespace matlas {
 
-namespace {
-
-struct AlignedFree {
+// Outside the anonymous namespace: DirectAppender::State holds these (a member whose type has
+// internal linkage draws -Wsubobject-linkage when files are compiled together as a unity build).
+struct DirectBufferFree {
   void operator()(std::byte* p) const { std::free(p); }
 };
-using AlignedBuffer = std::unique_ptr<std::byte, AlignedFree>;
+using AlignedBuffer = std::unique_ptr<std::byte, DirectBufferFree>;
+
+namespace {
 
 AlignedBuffer aligned_buffer() {
   void* p = std::aligned_alloc(DirectAppender::kAlignment, DirectAppender::kBufferBytes);

@@ -13,15 +13,17 @@
 
 namespace matlas::pathtrace {
 
-namespace {
-
-struct Triangles {
+// Outside the anonymous namespace: World::Impl holds these (a member whose type has internal
+// linkage draws -Wsubobject-linkage when files are compiled together as a unity build).
+struct ObjectTriangles {
   std::vector<Vec3> positions, normals;
   std::vector<std::array<std::uint32_t, 3>> indices;
 };
 
-Triangles quad_triangles(const ObjectSpec& o) {
-  Triangles t;
+namespace {
+
+ObjectTriangles quad_triangles(const ObjectSpec& o) {
+  ObjectTriangles t;
   t.positions = {o.corner, o.corner + o.edge1, o.corner + o.edge1 + o.edge2, o.corner + o.edge2};
   const Vec3 n = o.edge1.cross(o.edge2).normalized();
   t.normals.assign(4, n);
@@ -39,7 +41,7 @@ std::filesystem::path object_mesh_path(const std::string& name) {
   return resolve_mesh(name);
 }
 
-Triangles mesh_triangles(const ObjectSpec& o) {
+ObjectTriangles mesh_triangles(const ObjectSpec& o) {
   TriangleMesh mesh = read_mesh(object_mesh_path(o.mesh));
   render::normalize_mesh(mesh);
   if (mesh.normals.size() != mesh.positions.size()) mesh.compute_normals();
@@ -48,7 +50,7 @@ Triangles mesh_triangles(const ObjectSpec& o) {
     const Vec3 d = v.cast<double>();
     return Vec3(c * d.x() + s * d.z(), d.y(), -s * d.x() + c * d.z());
   };
-  Triangles t;
+  ObjectTriangles t;
   for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
     t.positions.push_back(o.center + o.radius * turn(mesh.positions[i]));
     t.normals.push_back(turn(mesh.normals[i]).normalized());
@@ -74,7 +76,7 @@ RTCRay embree_ray(const Vec3& origin, const Vec3& dir, double tmin, double tmax)
 struct World::Impl {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
-  std::vector<Triangles> triangles;            // per object (empty for spheres)
+  std::vector<ObjectTriangles> triangles;            // per object (empty for spheres)
   // Emitting triangles: object, triangle and the cumulative area up to and including it.
   std::vector<std::pair<int, std::uint32_t>> lights;
   std::vector<double> light_cdf;
@@ -110,7 +112,7 @@ World::World(SceneSpec spec) : spec_(std::move(spec)), impl_(std::make_unique<Im
       for (int c = 0; c < 3; ++c) v[c] = static_cast<float>(o.center[c]);
       v[3] = static_cast<float>(o.radius);
     } else {
-      Triangles t = o.shape == "quad" ? quad_triangles(o) : mesh_triangles(o);
+      ObjectTriangles t = o.shape == "quad" ? quad_triangles(o) : mesh_triangles(o);
       g = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_TRIANGLE);
       auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                             3 * sizeof(float), t.positions.size()));
@@ -168,7 +170,7 @@ std::optional<SurfaceHit> World::intersect(const Vec3& origin, const Vec3& dir, 
     hit.geometric_normal = hit.normal = (hit.position - o.center).normalized();
   } else {
     hit.position = origin + t * dir;
-    const Triangles& tr = impl_->triangles[static_cast<std::size_t>(hit.object)];
+    const ObjectTriangles& tr = impl_->triangles[static_cast<std::size_t>(hit.object)];
     const auto& tri = tr.indices[rh.hit.primID];
     hit.geometric_normal = (tr.positions[tri[1]] - tr.positions[tri[0]]).cross(tr.positions[tri[2]] - tr.positions[tri[0]]).normalized();
     const double u = rh.hit.u, v = rh.hit.v;
@@ -195,7 +197,7 @@ LightSample World::sample_light(double u0, double u1, double u2) const {
   std::size_t k = static_cast<std::size_t>(std::upper_bound(s.light_cdf.begin(), s.light_cdf.end(), target) - s.light_cdf.begin());
   if (k >= s.lights.size()) k = s.lights.size() - 1;
   const auto [obj, tri_index] = s.lights[k];
-  const Triangles& tr = s.triangles[static_cast<std::size_t>(obj)];
+  const ObjectTriangles& tr = s.triangles[static_cast<std::size_t>(obj)];
   const auto& tri = tr.indices[tri_index];
   const double su = std::sqrt(u1);
   const double b0 = 1.0 - su, b1 = u2 * su;
