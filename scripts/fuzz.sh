@@ -10,7 +10,7 @@ cd "$repo"
 seconds="${1:-45}"
 cxx="$(command -v clang++-14 || command -v clang++ || true)"
 [[ -n "$cxx" ]] || { echo "fuzz: clang is missing: run scripts/setup.sh" >&2; exit 1; }
-# MATLAS_FUZZ_TARGETS narrows the list (CI leaves out api: it needs the whole library built again).
+# MATLAS_FUZZ_TARGETS narrows the list (api needs the whole library built again with clang).
 read -r -a targets <<< "${MATLAS_FUZZ_TARGETS:-merl model request api}"
 # MATLAS_CMAKE_ARGS: as in setup.sh (CI: a unity build).
 # shellcheck disable=SC2086
