@@ -5,7 +5,7 @@
 // Why: Debian 12's OpenBLAS 0.3.21 (a DYNAMIC_ARCH build) picks its kernels by processor model
 // and falls back to its slowest, SSE3 kernels ("Prescott") on models newer than itself. On a
 // 2023 Xeon (Emerald Rapids, family 6 model 207) dsyrk of the build's Gram slices ran at
-// 6.4 GFlop/s with those and at 39 GFlop/s with the SkylakeX kernels (docs/BENCHMARKS.md).
+// 9.5 GFLOP/s with those and at 31-38 GFLOP/s with the SkylakeX kernels (docs/BENCHMARKS.md).
 // Unless the user set OPENBLAS_CORETYPE (OpenBLAS's own switch, which always wins), matlas sets
 // it for the load from the processor's features (`kernel_for`) and removes it again afterwards,
 // so child processes see the environment unchanged.
@@ -13,7 +13,7 @@
 // OpenBLAS runs single-threaded: matlas splits its work over its own workers (core/parallel.h)
 // and calls OpenBLAS from several of them at once (Gram slices, concurrent placement starts).
 // With OpenBLAS's own threads, concurrent calls wait on its locks: the latent placement of 100
-// materials took 161 s instead of 4 s.
+// materials took 161 s instead of 2.4 s.
 //
 // Only the routines matlas calls are bound. If the process had loaded OpenBLAS already (numpy in
 // the same Python process, say), that library and its kernels are used as they are, and it too

@@ -75,9 +75,9 @@ double LikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, Eigen::MatrixXd
     for (Eigen::Index i = j + 1; i < n; ++i) K_(i, j) = K_(j, i);
   K_.diagonal().array() += kernel_.nugget;
 
-  // The dense algebra (about 3 n^3 flops per evaluation) goes through OpenBLAS, whose kernels
-  // are vectorised for this processor (Eigen's are compiled for baseline x86-64 here): 2x faster
-  // at n = 100 (docs/BENCHMARKS.md).
+  // The dense algebra (about 4 n^3 flops per evaluation) goes through OpenBLAS, whose kernels
+  // are vectorised for this processor (Eigen's are compiled for baseline x86-64 here): 2-3x
+  // faster at n = 100 (docs/BENCHMARKS.md).
   const blas::Library& blas = blas::openblas();
   const int nn = static_cast<int>(n), r = static_cast<int>(R_.cols());
   L_ = K_;
