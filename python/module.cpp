@@ -17,6 +17,7 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include "core/blas.h"
 #include "core/error.h"
 #include "eval/brdf_distance.h"
 #include "formats/merl_file.h"
@@ -151,7 +152,7 @@ Model build(const py::object& inputs, const std::optional<fs::path>& output_arg,
   o.layout = LayoutTransform::parse(layout);
   o.optimize.method = gp::optimizer_from_string(optimizer);
   o.optimize.max_iterations = max_iterations;
-  o.optimize.starts = starts > 0 ? starts : (dim <= 2 ? 3 : 1);
+  o.optimize.starts = starts > 0 ? starts : BuildOptions::default_starts(dim);
   if (storage == "f16") o.storage = Storage::f16;
   else if (storage != "f32") throw py::value_error("storage must be 'f32' or 'f16', got '" + storage + "'");
   const std::vector<fs::path> paths = input_paths(inputs);
@@ -333,14 +334,22 @@ truncated, corrupted or not a model.)doc")
            },
            "x"_a, "repeats"_a = 5, "Benchmark helper: seconds per weights() + table() call timed inside C++.");
 
-  m.def("build", &build, "inputs"_a, "output"_a = py::none(), py::kw_only(), "dim"_a = 2, "nugget"_a = 1e-4, "optimizer"_a = "lbfgs",
-        "layout"_a = "cosine-linear", "storage"_a = "f32", "starts"_a = 0, "max_iterations"_a = 1000,
+  // The defaults are the library's (BuildOptions), as `matlas build` uses them.
+  const BuildOptions defaults;
+  m.def("build", &build, "inputs"_a, "output"_a = py::none(), py::kw_only(), "dim"_a = defaults.dim,
+        "nugget"_a = defaults.nugget, "optimizer"_a = gp::to_string(defaults.optimize.method),
+        "layout"_a = defaults.layout.to_string(), "storage"_a = "f32", "starts"_a = 0,
+        "max_iterations"_a = defaults.optimize.max_iterations,
         "progress"_a = py::none(),
         "Builds a map from a folder (every MERL .binary and RGL .bsdf file in it) or a list of files and/or\n"
         "folders, writes it atomically to `output` (or, when None, to a temporary file removed once the model\n"
         "is open) and returns the opened Model. progress(label, done, total)\n"
         "is called as the work advances (any thread, with the GIL held); an exception it raises stops the\n"
         "reporting and is raised again when the build returns.");
+  m.def("blas_kernels", [] { return std::string(blas::openblas().corename()); },
+        "The OpenBLAS kernels that builds and queries run on (\"SkylakeX\", \"Haswell\", \"Prescott\", ...).\n"
+        "numpy usually loads OpenBLAS first, before matlas can choose: set OPENBLAS_CORETYPE before\n"
+        "starting Python if this names older kernels than the processor has (docs/PYTHON.md).");
   m.def("read_merl",
         [](const fs::path& path, bool physical) {
           BrdfTable t;

@@ -17,9 +17,9 @@ from __future__ import annotations
 
 import json as _json
 
-from ._matlas import Error, Model, RglBsdf, brdf_distance, build, read_merl, write_merl
+from ._matlas import Error, Model, RglBsdf, blas_kernels, brdf_distance, build, read_merl, write_merl
 
-__all__ = ["Error", "Model", "RglBsdf", "brdf_distance", "build", "read_merl", "write_merl", "read_brdf"]
+__all__ = ["Error", "Model", "RglBsdf", "blas_kernels", "brdf_distance", "build", "read_merl", "write_merl", "read_brdf"]
 
 #: read_merl reads RGL .bsdf files too (resampled onto the MERL grid); this name says so.
 read_brdf = read_merl

@@ -88,12 +88,15 @@ def build(
     dim: int = 2,
     nugget: float = 1e-4,
     optimizer: str = "lbfgs",
-    layout: str = "cosine-linear",
+    layout: str = "cosine-cbrt",
     storage: str = "f32",
     starts: int = 0,
-    max_iterations: int = 1000,
+    max_iterations: int = 5000,
     progress: Optional[Callable[[str, int, int], Any]] = None,
 ) -> Model: ...
+def blas_kernels() -> str:
+    """The OpenBLAS kernels builds and queries run on ("SkylakeX", "Haswell", "Prescott", ...)."""
+    ...
 def read_merl(path: _Path, physical: bool = True) -> _Table: ...
 def read_brdf(path: _Path, physical: bool = True) -> _Table: ...
 def write_merl(path: _Path, table: npt.ArrayLike, physical: bool = True, allow_nonstandard_dims: bool = False) -> None: ...

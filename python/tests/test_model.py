@@ -1,5 +1,7 @@
 """A model built from Python: exactness at the data points, batch queries, projection, progress."""
+import os
 import pathlib
+import subprocess
 
 import numpy as np
 import pytest
@@ -96,3 +98,24 @@ def test_build_reports_progress_and_errors(database, tmp_path):
         matlas.build([folder / "mat00.binary"], tmp_path / "r.matlas")
     with pytest.raises(matlas.Error, match="nope"):
         matlas.Model(tmp_path / "nope.matlas")
+
+
+@pytest.mark.skipif(not os.environ.get("MATLAS_COMMAND"), reason="the matlas command's path is not given")
+@pytest.mark.parametrize("dim", [2, 5])
+def test_default_build_is_the_commands(database, tmp_path, dim):
+    """matlas.build with no options places the latent points exactly as `matlas build` does."""
+    folder, _ = database
+    from_python = matlas.build(folder, tmp_path / "py.matlas", dim=dim)
+    # The same OpenBLAS kernels as this process (numpy loaded the library before matlas could
+    # choose them): other kernels round differently and the optimiser takes another path.
+    env = dict(os.environ, OPENBLAS_CORETYPE=matlas.blas_kernels())
+    subprocess.run([os.environ["MATLAS_COMMAND"], "build", str(folder), "-o", str(tmp_path / "cli.matlas"),
+                    "--dim", str(dim), "--quiet"], check=True, capture_output=True, env=env)
+    from_command = matlas.Model(tmp_path / "cli.matlas")
+    assert np.array_equal(from_python.latent, from_command.latent)
+    py, cli = from_python.metadata, from_command.metadata
+    for key in ("layout_transform", "kernel", "latent_prior", "interpolation"):
+        assert py[key] == cli[key], key
+    assert py["layout_transform"] == "cosine-cbrt"
+    for key in ("method", "iterations", "converged"):
+        assert py["optimizer"][key] == cli["optimizer"][key], key

@@ -16,21 +16,23 @@ namespace matlas::cli {
 
 namespace {
 
+/// The flags' values; their defaults are the library's (BuildOptions), which Python's build uses too.
 struct BuildArgs {
+  inline static const BuildOptions kDefaults{};
   std::vector<std::string> inputs;
   std::string output;
-  int dim = 2;
-  double nugget = 1e-4;
-  std::string optimizer = "lbfgs";
-  std::string layout = "cosine-cbrt";  // docs/EVALUATION.md
+  int dim = kDefaults.dim;
+  double nugget = kDefaults.nugget;
+  std::string optimizer = gp::to_string(kDefaults.optimize.method);
+  std::string layout = kDefaults.layout.to_string();  // docs/EVALUATION.md
   std::string storage = "f32";
-  int max_iterations = 5000;
-  gp::LatentPrior prior = gp::LatentPrior::spread();
-  int starts = 0;  ///< 0: 3 for q <= 2 (the likelihood is multimodal there), else 1
-  double tolerance = 1e-7;
-  std::size_t block_columns = 4096;
-  std::string interpolation = "convex";
-  double convex_ridge = 1e-2;
+  int max_iterations = kDefaults.optimize.max_iterations;
+  gp::LatentPrior prior = kDefaults.prior;
+  int starts = 0;  ///< 0: BuildOptions::default_starts (3 for q <= 2, where the likelihood is multimodal, else 1)
+  double tolerance = kDefaults.optimize.tolerance;
+  std::size_t block_columns = kDefaults.block_columns;
+  std::string interpolation = to_string(kDefaults.interpolation);
+  double convex_ridge = kDefaults.convex_ridge;
   std::string preset;
   bool quiet = false;
 };
@@ -65,7 +67,7 @@ void run_build(const BuildArgs& a, const Io& io) {
   o.optimize.method = gp::optimizer_from_string(a.optimizer);
   o.optimize.max_iterations = a.max_iterations;
   o.optimize.tolerance = a.tolerance;
-  o.optimize.starts = a.starts > 0 ? a.starts : (a.dim <= 2 ? 3 : 1);
+  o.optimize.starts = a.starts > 0 ? a.starts : BuildOptions::default_starts(a.dim);
   if (a.storage == "f16") o.storage = Storage::f16;
   else if (a.storage != "f32") throw Error("--storage must be f32 or f16, got '" + a.storage + "'");
   o.block_columns = a.block_columns;

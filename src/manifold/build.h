@@ -42,6 +42,9 @@ struct BuildOptions {
   /// (no latent priors) of the linear data with nugget 1e-4 and l = 1, Hooke-Jeeves from one
   /// start, GP interpolation.
   static BuildOptions paper_preset();
+  /// Optimiser starts when the user names none: 3 for q <= 2, where the likelihood has several
+  /// maxima, else 1 (the command line and Python share this rule).
+  static int default_starts(int dim) { return dim <= 2 ? 3 : 1; }
 };
 
 struct BuildReport {
