@@ -152,7 +152,7 @@ Model build(const py::object& inputs, const std::optional<fs::path>& output_arg,
   o.layout = LayoutTransform::parse(layout);
   o.optimize.method = gp::optimizer_from_string(optimizer);
   o.optimize.max_iterations = max_iterations;
-  o.optimize.starts = starts > 0 ? starts : BuildOptions::default_starts(dim);
+  o.optimize.starts = starts;  // 0: BuildOptions::default_starts
   if (storage == "f16") o.storage = Storage::f16;
   else if (storage != "f32") throw py::value_error("storage must be 'f32' or 'f16', got '" + storage + "'");
   const std::vector<fs::path> paths = input_paths(inputs);

@@ -67,7 +67,7 @@ void run_build(const BuildArgs& a, const Io& io) {
   o.optimize.method = gp::optimizer_from_string(a.optimizer);
   o.optimize.max_iterations = a.max_iterations;
   o.optimize.tolerance = a.tolerance;
-  o.optimize.starts = a.starts > 0 ? a.starts : BuildOptions::default_starts(a.dim);
+  o.optimize.starts = a.starts;  // 0: BuildOptions::default_starts
   if (a.storage == "f16") o.storage = Storage::f16;
   else if (a.storage != "f32") throw Error("--storage must be f32 or f16, got '" + a.storage + "'");
   o.block_columns = a.block_columns;

@@ -81,8 +81,9 @@ fs::path demo_database(const fs::path& cache, const MerlDims& dims, int count, s
 
 /// Key of a build: the input files' names, sizes and modification times, and the options.
 std::string inputs_key(const MaterialSet& set, int dim) {
-  // v2: default builds with the convex interpolation, the cube-root layout and the latent priors.
-  std::string text = "v2 q=" + std::to_string(dim) + "\n";
+  // v2: default builds with the convex interpolation, the cube-root layout and the latent priors;
+  // v3: with the default starts (3 for q <= 2; v2 models had 1) and the OpenBLAS arithmetic.
+  std::string text = "v3 q=" + std::to_string(dim) + "\n";
   for (std::size_t i = 0; i < set.size(); ++i) {
     const auto& p = set.file(i).path();
     text += set.name(i) + " " + std::to_string(fs::file_size(p)) + " " +

@@ -16,7 +16,12 @@ namespace matlas::eval {
 
 struct FitOptions {
   double nugget = 1e-4;           ///< as BuildOptions::nugget
-  gp::OptimizeOptions optimize{}; ///< as BuildOptions::optimize
+  /// As BuildOptions::optimize: starts 0 (the default) means BuildOptions::default_starts(q).
+  gp::OptimizeOptions optimize = [] {
+    gp::OptimizeOptions o;
+    o.starts = 0;
+    return o;
+  }();
   gp::LatentPrior prior = gp::LatentPrior::spread();  ///< as BuildOptions::prior
   /// Convex interpolation (BuildOptions::interpolation == convex) with this ridge; 0 = GP weights.
   double convex_ridge = 1e-2;

@@ -30,7 +30,12 @@ struct BuildOptions {
   /// Priors on the latent points (repulsion between points, bounded extent): the layout spreads
   /// materials the likelihood alone would merge (docs/GP.md, "Spreading the layout").
   gp::LatentPrior prior = gp::LatentPrior::spread();
-  gp::OptimizeOptions optimize{};    ///< optimiser and its limits
+  /// Optimiser and its limits; starts 0 (the default) means default_starts(dim).
+  gp::OptimizeOptions optimize = [] {
+    gp::OptimizeOptions o;
+    o.starts = 0;
+    return o;
+  }();
   /// Interpolation mode stored in the model (queries may override it).
   Interpolation interpolation = Interpolation::convex;
   /// Relative ridge of the convex mode's metric (gp/convex_weights.h).
@@ -42,8 +47,8 @@ struct BuildOptions {
   /// (no latent priors) of the linear data with nugget 1e-4 and l = 1, Hooke-Jeeves from one
   /// start, GP interpolation.
   static BuildOptions paper_preset();
-  /// Optimiser starts when the user names none: 3 for q <= 2, where the likelihood has several
-  /// maxima, else 1 (the command line and Python share this rule).
+  /// Optimiser starts when none are named (optimize.starts 0): 3 for q <= 2, where the
+  /// likelihood has several maxima, else 1.
   static int default_starts(int dim) { return dim <= 2 ? 3 : 1; }
 };
 
