@@ -9,7 +9,6 @@
 #include "core/error.h"
 #include "eval/gram_space.h"
 #include "gp/initialize.h"
-#include "manifold/build.h"
 #include "manifold/project.h"
 
 namespace matlas::eval {
@@ -22,9 +21,8 @@ LatentFit fit_latent(const Eigen::MatrixXd& centred_gram, double columns, int q,
   problem.kernel.nugget = options.nugget;
   problem.prior = options.prior;
   const Eigen::MatrixXd X0 = gp::pca_initialization(problem, q);
-  gp::OptimizeOptions optimize = options.optimize;
-  if (optimize.starts == 0) optimize.starts = BuildOptions::default_starts(q);
-  const gp::OptimizeResult result = gp::optimize_latent(problem, X0, optimize, null_progress());
+  const gp::OptimizeResult result =
+      gp::optimize_latent(problem, X0, BuildOptions::resolved(options.optimize, q), null_progress());
   LatentFit fit;
   fit.posterior = std::make_shared<const gp::GpPosterior>(result.latent, problem.kernel);
   fit.log_likelihood = result.value;

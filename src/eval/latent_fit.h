@@ -11,17 +11,14 @@
 #include "gp/convex_weights.h"
 #include "gp/optimize.h"
 #include "gp/posterior.h"
+#include "manifold/build.h"
 
 namespace matlas::eval {
 
 struct FitOptions {
   double nugget = 1e-4;           ///< as BuildOptions::nugget
   /// As BuildOptions::optimize: starts 0 (the default) means BuildOptions::default_starts(q).
-  gp::OptimizeOptions optimize = [] {
-    gp::OptimizeOptions o;
-    o.starts = 0;
-    return o;
-  }();
+  gp::OptimizeOptions optimize = BuildOptions::default_optimize();
   gp::LatentPrior prior = gp::LatentPrior::spread();  ///< as BuildOptions::prior
   /// Convex interpolation (BuildOptions::interpolation == convex) with this ridge; 0 = GP weights.
   double convex_ridge = 1e-2;

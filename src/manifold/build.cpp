@@ -197,9 +197,7 @@ BuildReport build_model(const MaterialSet& set, const BuildOptions& options, con
   problem.kernel = gp::Kernel{1.0, options.nugget};
   problem.prior = options.prior;
   const Eigen::MatrixXd x0 = gp::pca_initialization(problem, q);
-  gp::OptimizeOptions optimize = options.optimize;
-  if (optimize.starts == 0) optimize.starts = BuildOptions::default_starts(q);
-  report.optimization = gp::optimize_latent(problem, x0, optimize, progress);
+  report.optimization = gp::optimize_latent(problem, x0, BuildOptions::resolved(options.optimize, q), progress);
   report.log_likelihood = report.optimization.value;
   report.optimize_seconds = seconds_since(t0);
   const gp::GpPosterior posterior(report.optimization.latent, problem.kernel);  // checks K is PD

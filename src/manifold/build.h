@@ -31,11 +31,7 @@ struct BuildOptions {
   /// materials the likelihood alone would merge (docs/GP.md, "Spreading the layout").
   gp::LatentPrior prior = gp::LatentPrior::spread();
   /// Optimiser and its limits; starts 0 (the default) means default_starts(dim).
-  gp::OptimizeOptions optimize = [] {
-    gp::OptimizeOptions o;
-    o.starts = 0;
-    return o;
-  }();
+  gp::OptimizeOptions optimize = default_optimize();
   /// Interpolation mode stored in the model (queries may override it).
   Interpolation interpolation = Interpolation::convex;
   /// Relative ridge of the convex mode's metric (gp/convex_weights.h).
@@ -50,6 +46,17 @@ struct BuildOptions {
   /// Optimiser starts when none are named (optimize.starts 0): 3 for q <= 2, where the
   /// likelihood has several maxima, else 1.
   static int default_starts(int dim) { return dim <= 2 ? 3 : 1; }
+  /// gp::OptimizeOptions' defaults with starts 0 (default_starts of the dimension).
+  static gp::OptimizeOptions default_optimize() {
+    gp::OptimizeOptions o;
+    o.starts = 0;
+    return o;
+  }
+  /// `o` with starts 0 resolved for latent dimension `dim`.
+  static gp::OptimizeOptions resolved(gp::OptimizeOptions o, int dim) {
+    if (o.starts == 0) o.starts = default_starts(dim);
+    return o;
+  }
 };
 
 struct BuildReport {

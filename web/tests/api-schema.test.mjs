@@ -10,7 +10,7 @@ import { mkdtempSync, readdirSync, readFileSync, rmSync } from "node:fs";
 import { tmpdir } from "node:os";
 import { join } from "node:path";
 import { documentedEndpoints, normalSchema, normalTs, schema, validate } from "./schema.mjs";
-import { startDemo, webDir } from "./server.mjs";
+import { startDemo, webDir, stopServer } from "./server.mjs";
 
 const def = (name) => ({ $ref: `#/$defs/${name}` });
 
@@ -68,8 +68,8 @@ before(async () => {
   work = mkdtempSync(join(tmpdir(), "matlas-api-"));
   ({ url, server } = await startDemo(work));
 });
-after(() => {
-  server?.kill("SIGTERM");
+after(async () => {
+  await stopServer(server);
   rmSync(work, { recursive: true, force: true });
 });
 

@@ -20,7 +20,7 @@ import { mkdtempSync, readFileSync, mkdirSync, rmSync, readdirSync } from "node:
 import { tmpdir } from "node:os";
 import { join } from "node:path";
 
-import { openPage, startDemo, webDir as here } from "./server.mjs";
+import { openPage, startDemo, webDir as here, stopServer } from "./server.mjs";
 
 const work = mkdtempSync(join(tmpdir(), "matlas-browser-"));
 const results = join(here, "test-results");
@@ -63,7 +63,7 @@ before(async () => {
 
 after(async () => {
   await context?.close();
-  server?.kill("SIGTERM");
+  await stopServer(server);
   rmSync(work, { recursive: true, force: true });
 });
 

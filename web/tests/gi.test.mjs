@@ -14,7 +14,7 @@ import { mkdirSync, mkdtempSync, readdirSync, readFileSync, rmSync } from "node:
 import { tmpdir } from "node:os";
 import { join } from "node:path";
 
-import { bin, openPage, startDemo, webDir } from "./server.mjs";
+import { bin, openPage, startDemo, webDir, stopServer } from "./server.mjs";
 
 const work = mkdtempSync(join(tmpdir(), "matlas-gi-"));
 const results = join(webDir, "test-results");
@@ -34,7 +34,7 @@ before(async () => {
 
 after(async () => {
   await context?.close();
-  server?.kill("SIGTERM");
+  await stopServer(server);
   rmSync(work, { recursive: true, force: true });
 });
 

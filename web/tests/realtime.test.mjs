@@ -11,7 +11,7 @@ import { tmpdir } from "node:os";
 import { join } from "node:path";
 import { chromium } from "playwright-core";
 
-import { startDemo, webDir as here } from "./server.mjs";
+import { startDemo, webDir as here, stopServer } from "./server.mjs";
 
 const chromiumPath = process.env.CHROMIUM ?? "/usr/bin/chromium";
 const work = mkdtempSync(join(tmpdir(), "matlas-realtime-"));
@@ -37,7 +37,7 @@ before(async () => {
 
 after(async () => {
   await context?.close();
-  server?.kill("SIGTERM");
+  await stopServer(server);
   rmSync(work, { recursive: true, force: true });
 });
 

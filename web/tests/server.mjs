@@ -31,6 +31,23 @@ export function startDemo(work, extra = []) {
 }
 
 /**
+ * Stops a server started by startDemo and resolves once it has exited, so that its folder can be
+ * removed: a server still writing a cache file (or removing its temporary on SIGTERM) while the
+ * folder is removed made the removal fail with ENOTEMPTY.
+ */
+export function stopServer(server) {
+  if (!server || server.exitCode !== null || server.signalCode !== null) return Promise.resolve();
+  return new Promise((resolvePromise) => {
+    const force = setTimeout(() => server.kill("SIGKILL"), 15_000);  // a server that does not stop
+    server.once("exit", () => {
+      clearTimeout(force);
+      resolvePromise();
+    });
+    server.kill("SIGTERM");
+  });
+}
+
+/**
  * Debian's Chromium (headless, through playwright-core; $CHROMIUM overrides the path) on `url`,
  * once the page shows its first preview. `args`: more browser flags; `onPage(page)` runs before
  * the page loads; other options go to launchPersistentContext. Resolves to { context, page }.
