@@ -31,13 +31,13 @@ const char* channel_name(std::size_t c) {
   return c < 3 ? names[c] : "?";
 }
 
-/// NaN, infinities and absurd magnitudes (beyond kMaxMerlMagnitude): compare-and-or, which
-/// vectorises (a NaN fails both comparisons).
+/// NaN, infinities and absurd magnitudes (beyond kMaxMerlMagnitude): one compare of |x| per
+/// value, or-ed without a branch, so that the loop vectorises (a NaN fails the compare). With
+/// `a <= M && a >= -M` GCC kept a scalar loop with a branch per value: 8 % of a build's reading.
 MATLAS_SIMD_CLONES bool any_unusable(const double* values, std::size_t n) {
-  bool bad = false;
-  for (std::size_t i = 0; i < n; ++i)
-    bad |= !(values[i] <= kMaxMerlMagnitude && values[i] >= -kMaxMerlMagnitude);
-  return bad;
+  unsigned bad = 0;
+  for (std::size_t i = 0; i < n; ++i) bad |= static_cast<unsigned>(!(std::fabs(values[i]) <= kMaxMerlMagnitude));
+  return bad != 0;
 }
 
 /// Throws unless a file of `size` bytes can hold the header.
