@@ -15,7 +15,9 @@
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <vector>
 #include <random>
 
 #include "gp/initialize.h"
@@ -82,6 +84,45 @@ void BM_Evaluation(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(evaluator.normalized(X, gradient ? &G : nullptr));
 }
 BENCHMARK(BM_Evaluation)->ArgsProduct({{2, 5}, {0, 1}})->Unit(benchmark::kMicrosecond);
+
+/// A real build's problem: MATLAS_BENCH_GRAM names a file of n x n doubles (a model's
+/// layout_gram tensor), MATLAS_BENCH_LATENT one of n x q doubles (its latent points, row-major);
+/// evaluated with the default priors of `matlas build` (LatentPrior::spread) at those points.
+/// Skipped when the variables are not set.
+Eigen::MatrixXd read_doubles(const char* path, Eigen::Index rows) {
+  std::FILE* f = std::fopen(path, "rb");
+  if (!f) return {};
+  std::vector<double> v;
+  for (double x; std::fread(&x, sizeof x, 1, f) == 1;) v.push_back(x);
+  std::fclose(f);
+  const Eigen::Index n = rows > 0 ? rows : static_cast<Eigen::Index>(std::lround(std::sqrt(v.size())));
+  if (n == 0 || v.size() % static_cast<std::size_t>(n) != 0) return {};
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  return Eigen::Map<const RowMajor>(v.data(), n, static_cast<Eigen::Index>(v.size()) / n);
+}
+
+void BM_EvaluationOfABuild(benchmark::State& state) {
+  const char* gram_path = std::getenv("MATLAS_BENCH_GRAM");
+  const char* latent_path = std::getenv("MATLAS_BENCH_LATENT");
+  if (!gram_path || !latent_path) {
+    state.SkipWithError("set MATLAS_BENCH_GRAM and MATLAS_BENCH_LATENT");
+    return;
+  }
+  LikelihoodProblem p;
+  p.gram = read_doubles(gram_path, 0);
+  p.columns = kMerlColumns;
+  p.prior = LatentPrior::spread();
+  const Eigen::MatrixXd X = read_doubles(latent_path, p.gram.rows());
+  if (p.gram.size() == 0 || X.size() == 0) {
+    state.SkipWithError("cannot read MATLAS_BENCH_GRAM / MATLAS_BENCH_LATENT");
+    return;
+  }
+  LikelihoodEvaluator evaluator(p);
+  Eigen::MatrixXd G;
+  for (auto _ : state) benchmark::DoNotOptimize(evaluator.normalized(X, &G));
+  state.SetLabel("n = " + std::to_string(X.rows()) + ", q = " + std::to_string(X.cols()));
+}
+BENCHMARK(BM_EvaluationOfABuild)->Unit(benchmark::kMicrosecond);
 
 void BM_Optimizers(benchmark::State& state) {
   const int q = static_cast<int>(state.range(0));

@@ -33,6 +33,8 @@ Library load() {
   Library lib{};
   bind(handle, "cblas_dgemm", lib.dgemm);
   bind(handle, "cblas_dsyrk", lib.dsyrk);
+  bind(handle, "cblas_ssyrk", lib.ssyrk);
+  bind(handle, "cblas_dsymm", lib.dsymm);
   bind(handle, "cblas_dtrsm", lib.dtrsm);
   bind(handle, "dpotrf_", lib.dpotrf);
   bind(handle, "dpotri_", lib.dpotri);

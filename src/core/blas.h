@@ -28,6 +28,8 @@ namespace matlas::blas {
 struct Library {
   decltype(&cblas_dgemm) dgemm;
   decltype(&cblas_dsyrk) dsyrk;
+  decltype(&cblas_ssyrk) ssyrk;
+  decltype(&cblas_dsymm) dsymm;
   decltype(&cblas_dtrsm) dtrsm;
   /// LAPACK's Cholesky factorisation (Fortran interface): uplo "L" or "U", n, a, lda, info.
   void (*dpotrf)(const char* uplo, const int* n, double* a, const int* lda, int* info);

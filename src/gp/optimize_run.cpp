@@ -17,12 +17,6 @@ OptimizationRun::OptimizationRun(const LikelihoodProblem& p, const Eigen::Matrix
   if (!(o.tolerance >= 0)) throw Error("optimize_latent: tolerance must be >= 0");
   if (o.max_iterations < 0) throw Error("optimize_latent: max_iterations must be >= 0");
   if (!(o.time_limit_seconds >= 0)) throw Error("optimize_latent: time_limit_seconds must be >= 0");
-  // L = D' (l - n log(sigma / D')), so L >= target <=> l >= target / D' + n log(sigma / D').
-  const double n = static_cast<double>(X0.rows());
-  target_normalized_ = std::isinf(o.target_value)
-                           ? o.target_value
-                           : o.target_value / evaluator_.columns() +
-                                 n * std::log(evaluator_.scale() / evaluator_.columns());
   best_value_ = evaluator_.normalized(X0);  // throws if K(X0) is not positive definite
   ++evaluations_;
   initial_value_ = best_value_;
@@ -42,7 +36,7 @@ double OptimizationRun::evaluate(const Eigen::MatrixXd& X, Eigen::MatrixXd* grad
   if (value > best_value_) {
     best_value_ = value;
     best_ = X;
-    if (best_value_ >= target_normalized_) {
+    if (target_reached()) {
       history_normalized_.push_back(best_value_);
       throw StopRequested{"target value reached"};
     }

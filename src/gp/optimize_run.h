@@ -27,7 +27,9 @@ public:
   double initial_value() const { return initial_value_; }
   int iterations() const { return iterations_; }
   const LikelihoodEvaluator& evaluator() const { return evaluator_; }
-  bool target_reached() const { return best_value_ >= target_normalized_; }
+  /// Compared as log-likelihoods, the unit of the target: converting the target to the
+  /// normalised scale instead rounds, and a target equal to L(X0) could then read as missed.
+  bool target_reached() const { return evaluator_.to_log_likelihood(best_value_) >= options_.target_value; }
 
   /// Normalised l(X) (and dl/dX when gradient != nullptr); tracks the best point. Throws
   /// StopRequested when the time limit or the target value is reached, matlas::Error if K is not
@@ -52,7 +54,6 @@ private:
   Eigen::MatrixXd best_;
   double best_value_;
   double initial_value_;
-  double target_normalized_;
   int iterations_ = 0;
   int evaluations_ = 0;
   std::vector<double> history_normalized_;
