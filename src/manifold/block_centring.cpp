@@ -21,7 +21,7 @@ MATLAS_SIMD_CLONES void column_means_from_sums(const double* sums, std::size_t s
 }
 
 MATLAS_SIMD_CLONES void centre_kept(const BlockMatrix& values, std::span<const KeptRun> runs, const double* mean,
-                                    double* centred, const double* weight, double* weighted, std::size_t ld) {
+                                    double* centred, const float* weight, float* weighted, std::size_t ld) {
   for (Eigen::Index i = 0; i < values.rows(); ++i) {
     const double* row = values.row(i).data();
     const auto offset = static_cast<std::size_t>(i) * ld;
@@ -30,12 +30,12 @@ MATLAS_SIMD_CLONES void centre_kept(const BlockMatrix& values, std::span<const K
       const double* __restrict m = mean + run.first;
       double* __restrict c = centred + offset + run.out;
       if (weighted) {
-        const double* __restrict w = weight + run.first;
-        double* __restrict out = weighted + offset + run.out;
+        const float* __restrict w = weight + run.first;
+        float* __restrict out = weighted + offset + run.out;
         for (std::size_t j = 0; j < run.count; ++j) {
           const double x = in[j] - m[j];
           c[j] = x;
-          out[j] = x * w[j];
+          out[j] = static_cast<float>(x * w[j]);
         }
       } else {
         for (std::size_t j = 0; j < run.count; ++j) c[j] = in[j] - m[j];
@@ -44,20 +44,21 @@ MATLAS_SIMD_CLONES void centre_kept(const BlockMatrix& values, std::span<const K
   }
 }
 
-MATLAS_SIMD_CLONES void subtract_own_means(double* a, std::size_t rows, std::size_t ld, std::size_t first,
+MATLAS_SIMD_CLONES void subtract_own_means(float* a, std::size_t rows, std::size_t ld, std::size_t first,
                                            std::size_t last) {
   constexpr std::size_t kChunk = 512;
   for (std::size_t j0 = first; j0 < last; j0 += kChunk) {
     const std::size_t len = std::min(kChunk, last - j0);
-    double mean[kChunk] = {};
+    double sum[kChunk] = {};
     for (std::size_t i = 0; i < rows; ++i) {
-      const double* __restrict row = a + i * ld + j0;
-      for (std::size_t j = 0; j < len; ++j) mean[j] += row[j];
+      const float* __restrict row = a + i * ld + j0;
+      for (std::size_t j = 0; j < len; ++j) sum[j] += row[j];
     }
+    float mean[kChunk];
     const double inv = 1.0 / static_cast<double>(rows);
-    for (std::size_t j = 0; j < len; ++j) mean[j] *= inv;
+    for (std::size_t j = 0; j < len; ++j) mean[j] = static_cast<float>(sum[j] * inv);
     for (std::size_t i = 0; i < rows; ++i) {
-      double* __restrict row = a + i * ld + j0;
+      float* __restrict row = a + i * ld + j0;
       for (std::size_t j = 0; j < len; ++j) row[j] -= mean[j];
     }
   }

@@ -19,12 +19,13 @@ void column_means_from_sums(const double* sums, std::size_t stride, std::size_t 
                             double* mean);
 
 /// For the kept columns of `runs`: centred[i, out] = values[i, j] - mean[j] and, when weighted is
-/// not null, weighted[i, out] = centred[i, out] * weight[j] (a per-column factor commutes with
-/// centring).
+/// not null, weighted[i, out] = float(centred[i, out] * weight[j]) (a per-column factor commutes
+/// with centring; the weighted copy feeds the layout's single-precision Gram, manifold/gram.h).
 void centre_kept(const BlockMatrix& values, std::span<const KeptRun> runs, const double* mean,
-                 double* centred, const double* weight, double* weighted, std::size_t ld);
+                 double* centred, const float* weight, float* weighted, std::size_t ld);
 
-/// Subtracts from columns [first, last) of a (rows x ld, row-major) their means over the rows.
-void subtract_own_means(double* a, std::size_t rows, std::size_t ld, std::size_t first, std::size_t last);
+/// Subtracts from columns [first, last) of a (rows x ld, row-major) their means over the rows
+/// (the means summed in double).
+void subtract_own_means(float* a, std::size_t rows, std::size_t ld, std::size_t first, std::size_t last);
 
 }  // namespace matlas

@@ -121,7 +121,7 @@ private:
     }
     if (layout_.cosine_weighted)
       for (std::size_t j = 0, bin = first % bins_; j < count; ++j, bin = bin + 1 == bins_ ? 0 : bin + 1)
-        block_cos_[j] = cosine_[bin];
+        block_cos_[j] = static_cast<float>(cosine_[bin]);
   }
 
   /// 2. One sweep over cache-sized column ranges: the means, the raw visitor, then the kept
@@ -203,9 +203,9 @@ private:
   std::vector<std::uint8_t> group_kept_;  ///< per group, the columns all its materials measure
   std::vector<std::uint8_t> kept_;        ///< the columns every material measures
   std::vector<double> centred_;           ///< kept columns, centred, compacted (row stride step_)
-  std::vector<double> transformed_;       ///< the same through the layout transform
+  std::vector<float> transformed_;        ///< the same through the layout transform, single precision
   std::vector<double> block_mean_;        ///< per block column (0 where dropped)
-  std::vector<double> block_cos_;         ///< per block column, when cosine-weighted
+  std::vector<float> block_cos_;          ///< per block column, when cosine-weighted
   GramAccumulator linear_gram_, layout_gram_;
   RowMajor albedo_centred_;
   Eigen::RowVectorXd albedo_of_mean_;

@@ -19,6 +19,23 @@ void GramAccumulator::add_slice(const double* a, std::size_t ld, std::size_t col
               static_cast<int>(ld), 1.0, upper_[s].data(), static_cast<int>(n_));
 }
 
+void GramAccumulator::add_slice(const float* a, std::size_t ld, std::size_t columns, std::size_t s) {
+  const std::size_t first = s * kSlice;
+  if (first >= columns) return;
+  const auto count = static_cast<int>(std::min(kSlice, columns - first));
+  const auto n = static_cast<int>(n_);
+  thread_local std::vector<float> product;
+  product.resize(static_cast<std::size_t>(n_ * n_));
+  blas::openblas().ssyrk(CblasColMajor, CblasUpper, CblasTrans, n, count, 1.0f, a + first, static_cast<int>(ld),
+                         0.0f, product.data(), n);
+  Eigen::MatrixXd& upper = upper_[s];
+  for (Eigen::Index j = 0; j < n_; ++j) {
+    const float* column = product.data() + j * n_;
+    double* sum = upper.col(j).data();
+    for (Eigen::Index i = 0; i <= j; ++i) sum[i] += column[i];
+  }
+}
+
 Eigen::MatrixXd GramAccumulator::total() const {
   Eigen::MatrixXd s = Eigen::MatrixXd::Zero(n_, n_);
   for (const Eigen::MatrixXd& u : upper_) s.triangularView<Eigen::Upper>() += u;

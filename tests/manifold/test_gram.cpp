@@ -104,7 +104,9 @@ TEST(GramPass, MatchesTheDefinitionsForEveryLayout) {
       ASSERT_EQ(got.kept_columns, static_cast<std::size_t>(want.mean.size()));
       EXPECT_LT((got.mean - want.mean).norm(), 1e-14 * want.mean.norm());
       EXPECT_LT((got.gram - want.gram).norm(), 1e-12 * want.gram.norm());
-      EXPECT_LT((got.layout_gram - want.layout_gram).norm(), 1e-9 * want.layout_gram.norm());
+      // The layout's data and slice products are single precision (manifold/gram_update.h):
+      // about 1e-7 relative (up to 4e-7 here; 1.2e-7 on the 83 realistic materials).
+      EXPECT_LT((got.layout_gram - want.layout_gram).norm(), 1e-6 * want.layout_gram.norm());
       EXPECT_LT((got.albedo - want.albedo).norm(), 1e-12 * want.albedo.norm());
     }
   }
