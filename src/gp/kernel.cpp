@@ -5,6 +5,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "core/vector_math.h"
 
 namespace matlas::gp {
 
@@ -32,8 +33,9 @@ void squared_distances(const Eigen::MatrixXd& X, Eigen::MatrixXd& D) {
 Eigen::MatrixXd covariance_matrix(const Eigen::MatrixXd& X, const Kernel& k) {
   Eigen::MatrixXd K;
   squared_distances(X, K);
-  K = (K.array() * (-1.0 / (k.lengthscale * k.lengthscale))).exp().matrix();
-  // The vectorised exp may round the tail of the array differently: mirror the upper triangle so
+  K *= -1.0 / (k.lengthscale * k.lengthscale);
+  exp_in_place(K.data(), static_cast<std::size_t>(K.size()));
+  // A vectorised exp may round the tail of the array differently: mirror the upper triangle so
   // that K is exactly symmetric.
   for (Eigen::Index j = 0; j < K.cols(); ++j)
     for (Eigen::Index i = j + 1; i < K.rows(); ++i) K(i, j) = K(j, i);

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "core/vector_math.h"
 
 namespace matlas::gp {
 
@@ -41,7 +42,8 @@ Eigen::VectorXd GpPosterior::cross(const Eigen::Ref<const Eigen::VectorXd>& x, d
   const Eigen::Index n = X_.rows();
   Eigen::VectorXd d2 = Eigen::VectorXd::Zero(n);
   for (Eigen::Index d = 0; d < X_.cols(); ++d) d2.array() += (X_.col(d).array() - x[d]).square();
-  Eigen::VectorXd kx = (d2.array() * (-1.0 / (kernel_.lengthscale * kernel_.lengthscale))).exp().matrix();
+  Eigen::VectorXd kx = d2 * (-1.0 / (kernel_.lengthscale * kernel_.lengthscale));
+  exp_in_place(kx.data(), static_cast<std::size_t>(n));
   double s = 0;
   for (Eigen::Index i = 0; i < n; ++i) {
     if (!(d2[i] < taper_radius_[i] * taper_radius_[i]) && d2[i] != 0.0) continue;
