@@ -103,8 +103,9 @@ void run_build(const BuildArgs& a, const Io& io) {
               o.storage == Storage::f16 ? "float16" : "float32", r.storage_relative_error);
   print(io.out, "  time             reading %.2f s, latent placement %.2f s, finishing the file %.2f s\n",
               r.pass_seconds, r.optimize_seconds, r.finish_seconds);
-  print(io.out, "  reading          files %.2f s, centring and data %.2f s, Gram and albedo %.2f s\n",
-              r.pass_steps.read, r.pass_steps.sweep, r.pass_steps.products);
+  print(io.out, "  reading          centring and data %.2f s, Gram and albedo with the next files %.2f s, "
+                "first files and masks %.2f s\n",
+              r.pass_steps.sweep, r.pass_steps.products, r.pass_steps.read);
   // Which kernels the Gram matrices and the placement ran on (OPENBLAS_CORETYPE overrides).
   print(io.out, "  blas             %s\n", blas::description().c_str());
 }

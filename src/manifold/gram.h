@@ -16,9 +16,11 @@ namespace matlas {
 /// Wall-clock seconds of a pass's steps, which run one after the other per block (each on all
 /// workers), so they add up to the pass.
 struct PassSteps {
-  double read = 0;      ///< reading the files: copy, hash, check, scale, column sums
+  double read = 0;      ///< reading the first block, and each block's mask (the rest of the reading
+                        ///< runs beside the previous block's products, counted there)
   double sweep = 0;     ///< means, the raw visitor (a build's data), centring, layout transform
-  double products = 0;  ///< Gram matrices, albedo curves, the raw visitor's output
+  double products = 0;  ///< Gram matrices, albedo curves, the raw visitor's output, with the next
+                        ///< block's files read alongside
 };
 
 struct GramResult {
@@ -38,7 +40,8 @@ struct ColumnBlock;
 /// once per block, then visit() from several threads at once on disjoint column ranges that
 /// together cover the block (each range while it is in cache; range bounds are multiples of
 /// kSweepColumns), then finish() (on a worker, alongside the block's Gram slices and albedo
-/// curves; block.values is not modified meanwhile). A build writes the model's data this way, in
+/// curves, while the next block is read into block.values: finish must not read block.values;
+/// visit copies what it needs). A build writes the model's data this way, in
 /// the same pass.
 struct RawBlockVisitor {
   static constexpr std::size_t kSweepColumns = 512;
