@@ -104,12 +104,11 @@ double LikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, Eigen::MatrixXd
   double value = -beta_ * log_det - nd * std::log(t / nd) - nd;
   // The repulsive prior: lambda sum_{i<j} log(1 - e^{-u} + floor), u = |x_i - x_j|^2 / rho^2, and
   // (when asked) its gradient, d/dx_i = sum_j F_ij (x_i - x_j) with F_ij = lambda e^{-u} /
-  // (1 - e^{-u} + floor) 2 / rho^2, kept in P_ and added at the end. Over the whole matrix at
+  // (1 - e^{-u} + floor) 2 / rho^2, F kept for the gradient below. Over the whole matrix at
   // once, with one expm1 per pair for both, so that libmvec's vector functions do the work;
   // pairs with u >= 40 (e^-40) and the diagonal contribute exactly nothing.
   const double inv_r2 = 1.0 / (radius_ * radius_);
   const Eigen::Index q = X.cols();
-  if (gradient != nullptr) P_.setZero(n, q);
   if (repulsion_ > 0) {
     E_ = D2_ * -inv_r2;
     expm1_in_place(E_.data(), static_cast<std::size_t>(E_.size()));  // e^{-u} - 1
@@ -124,8 +123,6 @@ double LikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, Eigen::MatrixXd
       const double scale = repulsion_ * 2.0 * inv_r2;
       F_ = (D2_.array() < cutoff).select(scale * (1.0 + E_.array()) / (kBarrierFloor - E_.array()), 0.0);
       F_.diagonal().setZero();
-      P_ = F_.rowwise().sum().asDiagonal() * X;
-      P_.noalias() -= F_ * X;
     }
   }
   value -= 0.5 * precision_ * X.squaredNorm();
@@ -137,14 +134,16 @@ double LikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, Eigen::MatrixXd
   G_.triangularView<Eigen::Lower>() -= beta_ * Kinv_;
   G_.triangularView<Eigen::StrictlyUpper>() = G_.transpose();
   // dl/dx_i = sum_j (G_ij + G_ji) dK_ij/dx_i with dK_ij/dx_i = -2 (x_i - x_j) K_ij / l^2 (i != j),
-  // i.e. with W = G o K: dl/dx_i = (4/l^2) (sum_j W_ij x_j - x_i sum_j W_ij). The diagonal of W
-  // cancels in the difference, so it need not be removed.
-  G_.array() *= K_.array();
-  gradient->noalias() = G_ * X;
+  // i.e. dl/dx_i = sum_j M_ij (x_j - x_i) with M = (4/l^2) G o K; the prior's forces add -F to M
+  // (d/dx_i = sum_j F_ij (x_i - x_j)). So dl/dX = M X - diag(M 1) X - gamma X, one product (the
+  // diagonal of M cancels in the difference, so it need not be removed).
+  G_.array() *= K_.array() * (4.0 * inv_l2);
+  if (repulsion_ > 0) G_ -= F_;
+  gradient->resize(n, q);
+  blas.dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, nn, static_cast<int>(q), nn, 1.0, G_.data(), nn, X.data(), nn,
+             0.0, gradient->data(), nn);
   *gradient -= G_.rowwise().sum().asDiagonal() * X;
-  *gradient *= 4.0 * inv_l2;
   *gradient -= precision_ * X;
-  *gradient += P_;
   return value;
 }
 

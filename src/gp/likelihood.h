@@ -93,7 +93,6 @@ private:
   double repulsion_ = 0, radius_ = 0.1, precision_ = 0;
   // Workspaces, sized on first use.
   Eigen::MatrixXd K_, L_, B_, Kinv_, G_;  // L_: K's Cholesky factor in its lower triangle; B_ = K^-1 R
-  Eigen::MatrixXd P_;                     // the repulsion's gradient
   Eigen::MatrixXd D2_, E_, Logs_, F_;     // squared distances; the repulsion's expm1, log and forces
 };
 
