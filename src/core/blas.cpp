@@ -1,5 +1,6 @@
 #include "core/blas.h"
 
+#include <cstddef>
 #include <cstdlib>
 #include <dlfcn.h>
 
@@ -35,6 +36,9 @@ Library load() {
   bind(handle, "cblas_dsyrk", lib.dsyrk);
   bind(handle, "cblas_ssyrk", lib.ssyrk);
   bind(handle, "cblas_dsymm", lib.dsymm);
+  bind(handle, "cblas_dtrmm", lib.dtrmm);
+  bind(handle, "dtrtri_", lib.dtrtri);
+  bind(handle, "dlauum_", lib.dlauum);
   bind(handle, "cblas_dtrsm", lib.dtrsm);
   bind(handle, "dpotrf_", lib.dpotrf);
   bind(handle, "dpotri_", lib.dpotri);
@@ -51,6 +55,37 @@ Library load() {
 const Library& openblas() {
   static const Library lib = load();
   return lib;
+}
+
+namespace {
+
+/// The lower triangle of `a` (n x n) replaced by its inverse: [A 0; C D]^-1 = [A^-1 0; -D^-1 C A^-1 D^-1].
+int invert_lower(const Library& lib, int n, double* a, int lda) {
+  constexpr int kLeaf = 16;
+  int info = 0;
+  if (n <= kLeaf) {
+    lib.dtrtri("L", "N", &n, a, &lda, &info);
+    return info;
+  }
+  const int h = n / 2, m = n - h;
+  double* c = a + h;                                    // m x h below A
+  double* d = a + h + static_cast<std::ptrdiff_t>(h) * lda;  // m x m
+  if ((info = invert_lower(lib, h, a, lda)) != 0) return info;
+  if ((info = invert_lower(lib, m, d, lda)) != 0) return info + h;
+  lib.dtrmm(CblasColMajor, CblasRight, CblasLower, CblasNoTrans, CblasNonUnit, m, h, 1.0, a, lda, c, lda);
+  lib.dtrmm(CblasColMajor, CblasLeft, CblasLower, CblasNoTrans, CblasNonUnit, m, h, -1.0, d, lda, c, lda);
+  return 0;
+}
+
+}  // namespace
+
+int inverse_from_cholesky(int n, double* a, int lda) {
+  const Library& lib = openblas();
+  const int info = invert_lower(lib, n, a, lda);
+  if (info != 0) return info;
+  int lauum_info = 0;
+  lib.dlauum("L", &n, a, &lda, &lauum_info);  // L^-T L^-1
+  return lauum_info;
 }
 
 std::string kernel_for(bool avx512, bool avx2_fma) {

@@ -30,11 +30,16 @@ struct Library {
   decltype(&cblas_dsyrk) dsyrk;
   decltype(&cblas_ssyrk) ssyrk;
   decltype(&cblas_dsymm) dsymm;
+  decltype(&cblas_dtrmm) dtrmm;
   decltype(&cblas_dtrsm) dtrsm;
   /// LAPACK's Cholesky factorisation (Fortran interface): uplo "L" or "U", n, a, lda, info.
   void (*dpotrf)(const char* uplo, const int* n, double* a, const int* lda, int* info);
   /// LAPACK's inverse from that factor (Fortran interface), into the same triangle.
   void (*dpotri)(const char* uplo, const int* n, double* a, const int* lda, int* info);
+  /// LAPACK's triangular inverse (uplo, diag "N" or "U", n, a, lda, info) and the product
+  /// L^T L (or U U^T) of a triangle, in place (Fortran interface): dpotri is the two in turn.
+  void (*dtrtri)(const char* uplo, const char* diag, const int* n, double* a, const int* lda, int* info);
+  void (*dlauum)(const char* uplo, const int* n, double* a, const int* lda, int* info);
   decltype(&openblas_get_corename) corename;
   decltype(&openblas_get_config) config;
 };
@@ -42,6 +47,14 @@ struct Library {
 /// The library, loaded on the first call (thread-safe). Throws matlas::Error naming the library
 /// and the loader's message when it cannot be loaded or lacks a routine.
 const Library& openblas();
+
+/// K^-1 from the lower Cholesky factor L of K (n x n, column-major, leading dimension lda): the
+/// lower triangle of `a` holds L on entry and the lower triangle of K^-1 on return (what LAPACK's
+/// dpotri computes). The triangular inverse is recursive, halves inverted in turn and joined by
+/// two triangular products (dtrmm), down to 16 columns: OpenBLAS's dtrtri inverts matrices of
+/// up to 128 columns column by column with matrix-vector products, and at n = 100 that took 3-5x
+/// longer. Returns LAPACK's info (0: success; i > 0: L_ii is zero).
+int inverse_from_cholesky(int n, double* a, int lda);
 
 /// The OpenBLAS kernel set ("SkylakeX", "Haswell") that matlas asks for on a processor with these
 /// features, or "" to leave the choice to OpenBLAS. AVX-512 here means F, CD, BW, DQ and VL,

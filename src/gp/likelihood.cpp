@@ -79,7 +79,7 @@ double LikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, Eigen::MatrixXd
 
   // The dense algebra goes through OpenBLAS, whose kernels are vectorised for this processor
   // (Eigen's are compiled for baseline x86-64 here). K^-1 comes from the Cholesky factor
-  // (dpotri), then B = K^-1 R in one dsymm: at n = 100 that is 30 % less time than the two
+  // (blas::inverse_from_cholesky, dpotri's result), then B = K^-1 R in one dsymm: at n = 100 that is 30 % less time than the two
   // triangular solves L^-1 R and L^-T (L^-1 R) it replaces (dtrsm runs at about 8 GFLOP/s on
   // such small matrices, dsymm at several times that; docs/BENCHMARKS.md).
   const blas::Library& blas = blas::openblas();
@@ -92,8 +92,8 @@ double LikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, Eigen::MatrixXd
                 "latent points with nugget " + std::to_string(kernel_.nugget) + "?); use a nugget > 0");
   const double log_det = 2.0 * L_.diagonal().array().log().sum();
   Kinv_ = L_;
-  blas.dpotri("L", &nn, Kinv_.data(), &nn, &info);  // lower triangle of K^-1
-  if (info != 0) throw Error("likelihood: inverting the covariance matrix failed (LAPACK dpotri info " + std::to_string(info) + ")");
+  info = blas::inverse_from_cholesky(nn, Kinv_.data(), nn);  // lower triangle of K^-1
+  if (info != 0) throw Error("likelihood: inverting the covariance matrix failed (LAPACK info " + std::to_string(info) + ")");
 
   // t = tr(K^-1 S~) = sum(R o B) with B = K^-1 R (dsymm reads the lower triangle of K^-1).
   B_.resize(n, r);

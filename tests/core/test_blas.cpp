@@ -71,10 +71,45 @@ TEST(BlasRoutines, ComputeWhatEigenComputes) {
   const Eigen::MatrixXd full = inv.selfadjointView<Eigen::Lower>();
   EXPECT_LT((full * K - Eigen::MatrixXd::Identity(n, n)).norm(), 1e-10);
 
+  // dsymm and dtrmm against Eigen.
+  Eigen::MatrixXd sb(n, k);
+  lib.dsymm(CblasColMajor, CblasLeft, CblasLower, n, k, 1.0, K.data(), n, y.data(), n, 0.0, sb.data(), n);
+  EXPECT_LT((sb - K * y).norm(), 1e-12 * (K * y).norm());
+  Eigen::MatrixXd ly = y;
+  lib.dtrmm(CblasColMajor, CblasLeft, CblasLower, CblasNoTrans, CblasNonUnit, n, k, 1.0, L.data(), n, ly.data(), n);
+  EXPECT_LT((ly - b.transpose()).norm(), 1e-10 * b.norm());
+
   // A matrix that is not positive definite is reported, not factored.
   Eigen::MatrixXd bad = -Eigen::MatrixXd::Identity(n, n);
   lib.dpotrf("L", &n, bad.data(), &n, &info);
   EXPECT_GT(info, 0);
+}
+
+/// The recursive inverse equals LAPACK's dpotri (the same K^-1 to rounding) at every size around
+/// the recursion's leaf and halving points, and leaves the strict upper triangle alone.
+TEST(Blas, InverseFromCholeskyMatchesDpotri) {
+  const blas::Library& lib = blas::openblas();
+  for (const int n : {1, 2, 15, 16, 17, 31, 33, 64, 100, 129}) {
+    SCOPED_TRACE(n);
+    const Eigen::MatrixXd a = Eigen::MatrixXd::Random(n, n);
+    const Eigen::MatrixXd K = a * a.transpose() + 0.1 * Eigen::MatrixXd::Identity(n, n);
+    Eigen::MatrixXd L = K;
+    int info = -1;
+    lib.dpotrf("L", &n, L.data(), &n, &info);
+    ASSERT_EQ(info, 0);
+    for (Eigen::Index j = 1; j < n; ++j)
+      for (Eigen::Index i = 0; i < j; ++i) L(i, j) = 7.0;  // must survive
+    Eigen::MatrixXd want = L, got = L;
+    lib.dpotri("L", &n, want.data(), &n, &info);
+    ASSERT_EQ(info, 0);
+    ASSERT_EQ(blas::inverse_from_cholesky(n, got.data(), n), 0);
+    const Eigen::MatrixXd w = want.triangularView<Eigen::Lower>(), g = got.triangularView<Eigen::Lower>();
+    EXPECT_LT((g - w).norm(), 1e-10 * w.norm());
+    const Eigen::MatrixXd full = got.selfadjointView<Eigen::Lower>();
+    EXPECT_LT((full * K - Eigen::MatrixXd::Identity(n, n)).norm(), 1e-8 * n);
+    for (Eigen::Index j = 1; j < n; ++j)
+      for (Eigen::Index i = 0; i < j; ++i) EXPECT_EQ(got(i, j), 7.0);
+  }
 }
 
 }  // namespace
