@@ -197,6 +197,37 @@ void BM_GramSliceWidth(benchmark::State& state) {
 }
 BENCHMARK(BM_GramSliceWidth)->Arg(512)->Arg(1024)->Arg(2048)->Arg(4096)->Iterations(3)->UseRealTime();
 
+/// GramAccumulator::add_slice on a row-major 100 x 4096 block in double (dsyrk) and in single
+/// precision (ssyrk into a scratch, added to the double accumulator: the layout Gram's path),
+/// same run: GFLOP/s of the n(n+1)k useful flops each and the single / double speed ratio.
+void BM_GramSliceSingleVsDouble(benchmark::State& state) {
+  const int n = 100;
+  const std::size_t k = 4096, slices = matlas::GramAccumulator::slices(k), reps = 32;
+  std::mt19937_64 rng(1);
+  std::normal_distribution<double> d;
+  BlockMatrix a(n, static_cast<Eigen::Index>(k));
+  for (Eigen::Index i = 0; i < a.size(); ++i) a.data()[i] = d(rng);
+  const std::vector<float> af(a.data(), a.data() + a.size());
+  double t_double = 0, t_single = 0;
+  for (auto _ : state) {
+    matlas::GramAccumulator g_double(n, k), g_single(n, k);
+    double t0 = now();
+    for (std::size_t r = 0; r < reps; ++r)
+      for (std::size_t s = 0; s < slices; ++s) g_double.add_slice(a.data(), k, k, s);
+    t_double += now() - t0;
+    t0 = now();
+    for (std::size_t r = 0; r < reps; ++r)
+      for (std::size_t s = 0; s < slices; ++s) g_single.add_slice(af.data(), k, k, s);
+    t_single += now() - t0;
+    benchmark::DoNotOptimize(g_single.total().data());
+  }
+  const double flops = static_cast<double>(state.iterations()) * reps * n * (n + 1.0) * static_cast<double>(k);
+  state.counters["double_GFLOPs"] = flops / t_double / 1e9;
+  state.counters["single_GFLOPs"] = flops / t_single / 1e9;
+  state.counters["single_over_double_speed"] = t_double / t_single;
+}
+BENCHMARK(BM_GramSliceSingleVsDouble)->Iterations(3)->UseRealTime();
+
 const Model* bench_model() {
   static std::unique_ptr<Model> model;
   if (!model) {

@@ -14,12 +14,14 @@
 //              MATLAS_BENCH_HJ_MAX_SECONDS (cap on its run time, default 0 = none).
 #include <benchmark/benchmark.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <vector>
 #include <random>
 
+#include "core/blas.h"
 #include "gp/initialize.h"
 #include "gp/optimize.h"
 
@@ -84,6 +86,41 @@ void BM_Evaluation(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(evaluator.normalized(X, gradient ? &G : nullptr));
 }
 BENCHMARK(BM_Evaluation)->ArgsProduct({{2, 5}, {0, 1}})->Unit(benchmark::kMicrosecond);
+
+/// K^-1 from the Cholesky factor at n = 100: blas::inverse_from_cholesky (recursive triangular
+/// inverse) against LAPACK's dtrtri + dlauum from OpenBLAS (what dpotri calls), same run; the
+/// counter is LAPACK's time over the recursive one.
+void BM_InverseFromCholesky(benchmark::State& state) {
+  const int n = 100, reps = 200;
+  const matlas::blas::Library& lib = matlas::blas::openblas();
+  const Eigen::MatrixXd a = Eigen::MatrixXd::Random(n, n);
+  Eigen::MatrixXd L = a * a.transpose() + 0.1 * Eigen::MatrixXd::Identity(n, n);
+  int info = 0;
+  lib.dpotrf("L", &n, L.data(), &n, &info);
+  Eigen::MatrixXd w;
+  double t_recursive = 0, t_lapack = 0;
+  for (auto _ : state) {
+    auto t0 = std::chrono::steady_clock::now();
+    for (int r = 0; r < reps; ++r) {
+      w = L;
+      matlas::blas::inverse_from_cholesky(n, w.data(), n);
+    }
+    auto t1 = std::chrono::steady_clock::now();
+    for (int r = 0; r < reps; ++r) {
+      w = L;
+      lib.dtrtri("L", "N", &n, w.data(), &n, &info);
+      lib.dlauum("L", &n, w.data(), &n, &info);
+    }
+    auto t2 = std::chrono::steady_clock::now();
+    t_recursive += std::chrono::duration<double>(t1 - t0).count();
+    t_lapack += std::chrono::duration<double>(t2 - t1).count();
+  }
+  const double calls = static_cast<double>(state.iterations()) * reps;
+  state.counters["recursive_us"] = t_recursive / calls * 1e6;
+  state.counters["lapack_us"] = t_lapack / calls * 1e6;
+  state.counters["lapack_over_recursive"] = t_lapack / t_recursive;
+}
+BENCHMARK(BM_InverseFromCholesky)->Iterations(5)->UseRealTime()->Unit(benchmark::kMillisecond);
 
 /// A real build's problem: MATLAS_BENCH_GRAM names a file of n x n doubles (a model's
 /// layout_gram tensor), MATLAS_BENCH_LATENT one of n x q doubles (its latent points, row-major);

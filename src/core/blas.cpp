@@ -39,9 +39,7 @@ Library load() {
   bind(handle, "cblas_dtrmm", lib.dtrmm);
   bind(handle, "dtrtri_", lib.dtrtri);
   bind(handle, "dlauum_", lib.dlauum);
-  bind(handle, "cblas_dtrsm", lib.dtrsm);
   bind(handle, "dpotrf_", lib.dpotrf);
-  bind(handle, "dpotri_", lib.dpotri);
   bind(handle, "openblas_get_corename", lib.corename);
   bind(handle, "openblas_get_config", lib.config);
   decltype(&openblas_set_num_threads) set_num_threads = nullptr;

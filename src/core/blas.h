@@ -31,13 +31,11 @@ struct Library {
   decltype(&cblas_ssyrk) ssyrk;
   decltype(&cblas_dsymm) dsymm;
   decltype(&cblas_dtrmm) dtrmm;
-  decltype(&cblas_dtrsm) dtrsm;
   /// LAPACK's Cholesky factorisation (Fortran interface): uplo "L" or "U", n, a, lda, info.
   void (*dpotrf)(const char* uplo, const int* n, double* a, const int* lda, int* info);
-  /// LAPACK's inverse from that factor (Fortran interface), into the same triangle.
-  void (*dpotri)(const char* uplo, const int* n, double* a, const int* lda, int* info);
   /// LAPACK's triangular inverse (uplo, diag "N" or "U", n, a, lda, info) and the product
-  /// L^T L (or U U^T) of a triangle, in place (Fortran interface): dpotri is the two in turn.
+  /// L^T L (or U U^T) of a triangle, in place (Fortran interface): LAPACK's dpotri is the two in
+  /// turn (inverse_from_cholesky below).
   void (*dtrtri)(const char* uplo, const char* diag, const int* n, double* a, const int* lda, int* info);
   void (*dlauum)(const char* uplo, const int* n, double* a, const int* lda, int* info);
   decltype(&openblas_get_corename) corename;
@@ -52,8 +50,8 @@ const Library& openblas();
 /// lower triangle of `a` holds L on entry and the lower triangle of K^-1 on return (what LAPACK's
 /// dpotri computes). The triangular inverse is recursive, halves inverted in turn and joined by
 /// two triangular products (dtrmm), down to 16 columns: OpenBLAS's dtrtri inverts matrices of
-/// up to 128 columns column by column with matrix-vector products, and at n = 100 that took 3-5x
-/// longer. Returns LAPACK's info (0: success; i > 0: L_ii is zero).
+/// up to 128 columns column by column with matrix-vector products, and at n = 100 that took 2.4x
+/// longer (bench_optimizers BM_InverseFromCholesky). Returns LAPACK's info (0: success; i > 0: L_ii is zero).
 int inverse_from_cholesky(int n, double* a, int lda);
 
 /// The OpenBLAS kernel set ("SkylakeX", "Haswell") that matlas asks for on a processor with these

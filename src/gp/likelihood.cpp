@@ -78,10 +78,8 @@ double LikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, Eigen::MatrixXd
   K_.diagonal().array() += kernel_.nugget;
 
   // The dense algebra goes through OpenBLAS, whose kernels are vectorised for this processor
-  // (Eigen's are compiled for baseline x86-64 here). K^-1 comes from the Cholesky factor
-  // (blas::inverse_from_cholesky, dpotri's result), then B = K^-1 R in one dsymm: at n = 100 that is 30 % less time than the two
-  // triangular solves L^-1 R and L^-T (L^-1 R) it replaces (dtrsm runs at about 8 GFLOP/s on
-  // such small matrices, dsymm at several times that; docs/BENCHMARKS.md).
+  // (Eigen's are compiled for baseline x86-64 here): K^-1 from the Cholesky factor, then
+  // B = K^-1 R in one dsymm (docs/GP.md, "Evaluation"; two triangular solves took twice as long).
   const blas::Library& blas = blas::openblas();
   const int nn = static_cast<int>(n), r = static_cast<int>(R_.cols());
   L_ = K_;

@@ -33,7 +33,7 @@ public:
   }
   /// The same for a row-major n x columns block whose rows start ld doubles apart.
   void add_slice(const double* a, std::size_t ld, std::size_t columns, std::size_t s);
-  /// The same for single-precision data: the slice's product in single precision (ssyrk, 1.7x
+  /// The same for single-precision data: the slice's product in single precision (ssyrk; 1.7x
   /// the rate of dsyrk on these shapes), added to the double accumulator. Each slice adds an
   /// error of about sqrt(1024) float roundings of its own entries; over a pass's thousands of
   /// slices the sum's relative error stays near 1e-7 (tests/manifold/test_gram.cpp measures it).
