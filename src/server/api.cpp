@@ -12,6 +12,7 @@
 #include "core/parallel.h"
 #include "formats/fast_png.h"
 #include "formats/merl_file.h"
+#include "gp/convex_weights.h"
 #include "manifold/export.h"
 #include "manifold/model_metadata.h"
 #include "manifold/project.h"
@@ -28,6 +29,32 @@ constexpr const char* kPng = "image/png";
 
 nlohmann::json to_json(const Eigen::VectorXd& v) {
   return nlohmann::json(std::vector<double>(v.data(), v.data() + v.size()));
+}
+
+/// A square matrix as one array, row-major.
+nlohmann::json row_major(const Eigen::MatrixXd& m) {
+  std::vector<double> v;
+  v.reserve(static_cast<std::size_t>(m.size()));
+  for (Eigen::Index r = 0; r < m.rows(); ++r)
+    for (Eigen::Index c = 0; c < m.cols(); ++c) v.push_back(m(r, c));
+  return v;
+}
+
+/// GET /api/interpolation: the GP's latent points, kernel, nugget taper and Cholesky factor, and
+/// the convex mode's metric, so that a client computes Model::weights itself (docs/API.md).
+std::string interpolation_json(const Model& model) {
+  const gp::GpPosterior& gp = model.posterior();
+  nlohmann::json latent = nlohmann::json::array();
+  for (int i = 0; i < model.count(); ++i) latent.push_back(to_json(model.latent().row(i).transpose()));
+  const Eigen::MatrixXd L = gp.cholesky().matrixL();
+  return nlohmann::json{{"mode", std::string(to_string(model.interpolation()))},
+                        {"lengthscale", gp.kernel().lengthscale},
+                        {"nugget", gp.kernel().nugget},
+                        {"latent", latent},
+                        {"taper_radius", to_json(gp.taper_radius())},
+                        {"cholesky", row_major(L)},
+                        {"metric", row_major(model.convex_projection().metric())}}
+      .dump();
 }
 
 std::string point_key(const Eigen::VectorXd& x) {
@@ -103,6 +130,7 @@ Api::Api(const Model& model, std::shared_ptr<const PreviewSource> previews, cons
   j["albedo_angles"] = kAlbedoAngles;
   if (gi_) j["gi"] = {{"scenes", gi_->scenes()}, {"preloaded", gi_->preloaded()}};
   model_json_ = j.dump();
+  interpolation_json_ = interpolation_json(model);
 }
 
 ComputeGate::Slot Api::acquire(ComputeGate& gate) {
@@ -112,6 +140,8 @@ ComputeGate::Slot Api::acquire(ComputeGate& gate) {
 }
 
 Reply Api::model_info() const { return Reply::bytes(model_json_, "application/json"); }
+
+Reply Api::interpolation() const { return Reply::bytes(interpolation_json_, "application/json"); }
 
 std::string Api::preview_png(const Eigen::VectorXd& w, const std::string& key, const std::string& env,
                              const std::string& object, int size) {

@@ -41,6 +41,8 @@ public:
   Reply thumbnail(int index, const std::string& env, const std::string& object, int size);
   /// POST /api/weights {"x", "top"}
   Reply weights(const std::string& body);
+  /// GET /api/interpolation: what a client needs to compute the weights itself (JSON)
+  Reply interpolation() const;
   /// POST /api/slice {"x", "phi_d"} -> PNG
   Reply slice(const std::string& body);
   /// POST /api/lobe {"x", "theta_i", "samples"}
@@ -88,6 +90,7 @@ private:
   LatentDomain domain_;
   std::vector<std::string> envs_, objects_;
   std::string model_json_;
+  std::string interpolation_json_;
   ComputeGate compute_;
   ComputeGate heavy_;
   PngCache cache_;

@@ -255,6 +255,9 @@ struct AtlasServer::Impl {
     http.Get("/api/model", [this](const httplib::Request&, httplib::Response& res) {
       serve_api(res, [&](Api& api) { return api.model_info(); });
     });
+    http.Get("/api/interpolation", [this](const httplib::Request&, httplib::Response& res) {
+      serve_api(res, [&](Api& api) { return api.interpolation(); });
+    });
     auto post = [this](const std::string& path, Reply (Api::*method)(const std::string&)) {
       http.Post(path, [this, method](const httplib::Request& req, httplib::Response& res) {
         serve_api(res, [&](Api& api) { return (api.*method)(req.body); });

@@ -13,6 +13,8 @@
 #include "core/atomic_file.h"
 #include "formats/merl_file.h"
 #include "formats/synth_database.h"
+#include "gp/convex_weights.h"
+#include "gp/kernel.h"
 #include "manifold/build.h"
 #include "manifold/material_set.h"
 #include "manifold/model.h"
@@ -157,6 +159,40 @@ TEST_F(ApiServerTest, WeightsAtAMaterialPointSelectThatMaterial) {
   double hi = 0;
   for (const Rgb& a : model_->albedo_curve(model_->material_weights(2))) hi = std::max(hi, a.maxCoeff());
   EXPECT_NEAR(p["max_albedo"].get<double>(), hi, 1e-12);
+}
+
+TEST_F(ApiServerTest, InterpolationDataRebuildTheModelsCovarianceAndMetric) {
+  auto r = client().Get("/api/interpolation");
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200) << r->body;
+  const json j = json::parse(r->body);
+  const int n = model_->count(), q = model_->dim();
+  EXPECT_EQ(j["mode"], std::string(to_string(model_->interpolation())));
+  ASSERT_EQ(j["latent"].size(), static_cast<std::size_t>(n));
+  Eigen::MatrixXd X(n, q);
+  for (int i = 0; i < n; ++i)
+    for (int d = 0; d < q; ++d) X(i, d) = j["latent"][i][d].get<double>();
+  EXPECT_EQ(X, model_->latent());  // printed with round-trip precision
+  const gp::Kernel k{j["lengthscale"].get<double>(), j["nugget"].get<double>()};
+  EXPECT_EQ(k.lengthscale, model_->posterior().kernel().lengthscale);
+  EXPECT_EQ(k.nugget, model_->posterior().kernel().nugget);
+  // The factor is lower triangular and L L^T is the covariance of the points, computed here anew.
+  const auto matrix = [&](const char* key) {
+    EXPECT_EQ(j[key].size(), static_cast<std::size_t>(n * n)) << key;
+    Eigen::MatrixXd m(n, n);
+    for (int a = 0; a < n; ++a)
+      for (int b = 0; b < n; ++b) m(a, b) = j[key][static_cast<std::size_t>(a * n + b)].get<double>();
+    return m;
+  };
+  const Eigen::MatrixXd L = matrix("cholesky");
+  EXPECT_EQ(L.triangularView<Eigen::StrictlyUpper>().toDenseMatrix().cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_LT((L * L.transpose() - gp::covariance_matrix(X, k)).cwiseAbs().maxCoeff(), 1e-12);
+  // The metric: the centred layout Gram over its mean diagonal, plus the ridge (gp/convex_weights.h).
+  const Eigen::MatrixXd A = matrix("metric");
+  EXPECT_EQ(A, model_->convex_projection().metric());
+  EXPECT_LT((A - A.transpose()).cwiseAbs().maxCoeff(), 1e-15);
+  for (int i = 0; i < n; ++i)
+    EXPECT_NEAR(j["taper_radius"][i].get<double>(), model_->posterior().taper_radius()[i], 0.0);
 }
 
 TEST_F(ApiServerTest, ExportIsAMerlTableOfThePoint) {

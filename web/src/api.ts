@@ -98,6 +98,20 @@ export interface WeightsReply {
   plausibility: Plausibility;
 }
 
+/** GET /api/interpolation: what the page needs to compute the weights itself (local-weights.ts). */
+export interface InterpolationData {
+  mode: "gp" | "convex";
+  lengthscale: number;
+  nugget: number;
+  /** n points of q coordinates. */
+  latent: number[][];
+  taper_radius: number[];
+  /** Lower Cholesky factor L of K = L L^T, n x n row-major. */
+  cholesky: number[];
+  /** The convex mode's metric A, n x n row-major. */
+  metric: number[];
+}
+
 export interface LobeReply {
   theta_i: number;
   theta_o: number[];
@@ -201,6 +215,7 @@ export const api = {
     post("api/preview", { x, env, object, size } satisfies PreviewRequest, signal).then((r) => r.blob()),
   weights: (x: Point, top = 8): Promise<WeightsReply> =>
     post("api/weights", { x, top } satisfies WeightsRequest).then((r) => r.json()),
+  interpolation: (): Promise<InterpolationData> => fetch("api/interpolation").then(check).then((r) => r.json()),
   slice: (x: Point, phi_d: number): Promise<Blob> =>
     post("api/slice", { x, phi_d } satisfies SliceRequest).then((r) => r.blob()),
   lobe: (x: Point, theta_i: number): Promise<LobeReply> =>

@@ -1,14 +1,16 @@
 // The real-time view (issue 12): the current map point shaded by the rotated-ZH shader under a
 // prefiltered environment, beside the path-traced preview (the "reference render"). The page
 // fetches every material's coefficients once (GET /api/realtime/coefficients) and an
-// environment's band maps once per environment; a map move asks only for the weights (one
-// request in flight, the latest point) and combines the coefficients in the page:
-// mean + sum_i w_i (lambda_i - mean). Camera (orbit), environment rotation, exposure, bands,
+// environment's band maps once per environment; a map move computes the weights in the page
+// (local-weights.ts, from GET /api/interpolation; a server without it is asked for them, one
+// request in flight, the latest point) and combines the coefficients there:
+// mean + sum_i w_i (lambda_i - mean), so that the frame follows the pointer without a round trip. Camera (orbit), environment rotation, exposure, bands,
 // environment and object change without the server (a new environment's maps, a served mesh
 // and the first coefficients are fetched once each, then kept).
 import { api, type EnvironmentAtlas, type RealtimeInfo } from "./api";
 import { $, fillSelect } from "./dom";
 import { LatestOnly } from "./latest";
+import { LocalWeights } from "./local-weights";
 import { RealtimeGl } from "./realtime-gl";
 import type { PageStore } from "./state";
 import { clearError, setStatus } from "./status";
@@ -25,6 +27,8 @@ export interface ViewerState {
   moveToFrameReduced: boolean[];
   env: string;
   object: string;
+  /** Whether the weights are computed in the page (else asked of the server per move). */
+  localWeights: boolean;
   loads: { coefficientsMs: number; environmentMs: Record<string, number> };
 }
 
@@ -35,8 +39,9 @@ declare global {
 }
 
 /** mean + sum_i w_i (lambda_i - mean) = (1 - sum w) mean + sum_i w_i lambda_i, into out. */
-export function combineCoefficients(all: Float32Array, w: number[], block: number, out: Float32Array): void {
-  const sum = w.reduce((a, b) => a + b, 0);
+export function combineCoefficients(all: Float32Array, w: ArrayLike<number>, block: number, out: Float32Array): void {
+  let sum = 0;
+  for (let i = 0; i < w.length; ++i) sum += w[i];
   for (let v = 0; v < block; ++v) out[v] = (1 - sum) * all[v];
   for (let i = 0; i < w.length; ++i) {
     const wi = w[i];
@@ -50,31 +55,42 @@ export async function createRealtimeView(store: PageStore): Promise<ViewerState>
   const canvas = $<HTMLCanvasElement>("rt-canvas");
   $("rt-info").textContent = "loading the coefficients (the server computes them from the model on first use)…";
   const t0 = performance.now();
-  const [info, all] = await Promise.all([api.realtime(), api.realtimeCoefficients()]);
+  const [info, all, interpolation] = await Promise.all([api.realtime(), api.realtimeCoefficients(),
+    api.interpolation().catch(() => null)]);
+  const local = interpolation ? new LocalWeights(interpolation) : null;
   const coefficientsMs = performance.now() - t0;
   const gl = new RealtimeGl(canvas, info);
   const block = info.theta_o_count * info.coefficients * 3;
   const point = new Float32Array(block);
   const state: ViewerState = {
-    info, gl, shownX: null, moveToFrame: [], moveToFrameReduced: [], env: "", object: "sphere",
+    info, gl, shownX: null, moveToFrame: [], moveToFrameReduced: [], env: "", object: "sphere", localWeights: !!local,
     loads: { coefficientsMs, environmentMs: {} },
   };
   window.matlasViewer = state;
   $("rt-info").textContent =
-    `L = ${info.bands} · ${info.coefficients} lookups/pixel · ${info.materials} materials (${info.seconds.toFixed(1)} s on the server, ${Math.round(coefficientsMs)} ms to load)${gl.floatLinear ? "" : " · half-float textures"}`;
+    `L = ${info.bands} · ${info.coefficients} lookups/pixel · ${info.materials} materials (${info.seconds.toFixed(1)} s on the server, ${Math.round(coefficientsMs)} ms to load)${local ? " · weights computed in the page" : ""}${gl.floatLinear ? "" : " · half-float textures"}`;
 
-  // Map moves: the weights of the latest point, then the coefficients and a frame.
+  // Map moves: the weights of the latest point, then the coefficients and a frame (drawn at once
+  // while dragging).
   let movedAt = 0;
+  const show = (w: ArrayLike<number>, x: number[], at: number) => {
+    combineCoefficients(all, w, block, point);
+    movedAt = at;
+    gl.setCoefficients(point, store.state.dragging);
+    state.shownX = x;
+  };
   const weights = new LatestOnly<number[], number[]>(
-    (x) => api.weights(x, 0).then((r) => r.weights),
-    (w, x, at) => {
-      combineCoefficients(all, w, block, point);
-      movedAt = at;
-      gl.setCoefficients(point, store.state.dragging);
-      state.shownX = x;
-    },
+    (x) => api.weights(x, 0).then((r) => r.weights), show,
     (e) => setStatus(`real-time view: ${(e as Error).message}`, true, "realtime"),
   );
+  const request = (x: number[], at: number) => {
+    if (!local) return weights.request(x, at);
+    try {
+      show(local.weights(x), x.slice(), at);
+    } catch (e) {
+      setStatus(`real-time view: ${(e as Error).message}`, true, "realtime");
+    }
+  };
   const median = (v: number[]) => {
     const s = v.slice(-30).sort((a, b) => a - b);
     return s.length ? `${s[s.length >> 1].toFixed(0)} ms` : "–";
@@ -91,7 +107,7 @@ export async function createRealtimeView(store: PageStore): Promise<ViewerState>
     }
     $("rt-fps").textContent = `${median(gl.frameTimes)} per frame · ${median(gl.fastFrameTimes)} while moving`;
   };
-  store.on(["x"], (s) => weights.request(s.x, s.movedAt));
+  store.on(["x"], (s) => request(s.x, s.movedAt));
 
   // Environment: each one's maps are fetched once.
   const envs = new Map<string, EnvironmentAtlas>();
@@ -164,6 +180,6 @@ export async function createRealtimeView(store: PageStore): Promise<ViewerState>
   }
 
   await setEnv(envSelect.value);
-  weights.request(store.state.x, performance.now());
+  request(store.state.x, performance.now());
   return state;
 }

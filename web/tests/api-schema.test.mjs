@@ -11,6 +11,7 @@ import { tmpdir } from "node:os";
 import { join } from "node:path";
 import { documentedEndpoints, normalSchema, normalTs, schema, validate } from "./schema.mjs";
 import { startDemo, webDir, stopServer } from "./server.mjs";
+import { importTs } from "./transpile.mjs";
 
 const def = (name) => ({ $ref: `#/$defs/${name}` });
 
@@ -141,6 +142,32 @@ test("a live server answers every endpoint as the schema says", async () => {
   assert.equal(radiance.length, 4 * 4 * 32 * 32);
   const values = new Float32Array(radiance.buffer, radiance.byteOffset, radiance.length / 4);
   assert.ok(values.some((v, i) => i % 4 === 3 && v === 1) && values.every((v) => Number.isFinite(v)));
+});
+
+test("the page's local weights (web/src/local-weights.ts) are the server's", async (t) => {
+  const { LocalWeights } = (await importTs(["local-weights"]))["local-weights"];
+  const model = await expectAnswer("GET", "api/model");
+  const data = await expectAnswer("GET", "api/interpolation");
+  assert.equal(data.mode, model.interpolation);
+  const local = new LocalWeights(data);
+  // The materials, midpoints of pairs of them, and points spread over the whole domain.
+  const points = [...model.latent];
+  for (let i = 0; i + 1 < model.count; ++i) points.push(model.latent[i].map((v, d) => 0.5 * (v + model.latent[i + 1][d])));
+  let state = 5;
+  const random = () => ((state = (state * 1103515245 + 12345) % 2147483648) / 2147483648);
+  for (let t = 0; t < 60; ++t) points.push(model.domain.min.map((lo, d) => lo + random() * (model.domain.max[d] - lo)));
+  let projected = 0, largest = 0;
+  for (const x of points) {
+    const server = (await expectAnswer("POST", "api/weights", { x, top: 1 })).weights;
+    const w = local.weights(x);
+    assert.equal(w.length, server.length);
+    const gp = local.gp(x), sum = gp.reduce((a, b) => a + b, 0);
+    if (gp.some((v) => v + (1 - sum) / gp.length < 0)) ++projected;
+    for (let i = 0; i < w.length; ++i) largest = Math.max(largest, Math.abs(w[i] - server[i]));
+  }
+  t.diagnostic(`${points.length} points, ${projected} projected onto the simplex; largest difference ${largest.toExponential(2)}`);
+  assert.ok(largest < 1e-9, `largest difference from the server's weights: ${largest}`);
+  if (data.mode === "convex") assert.ok(projected >= 10 && projected < points.length, `${projected} of ${points.length} projected`);
 });
 
 test("errors are the schema's error object", async () => {

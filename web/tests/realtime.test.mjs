@@ -182,6 +182,8 @@ test("dragging on the map changes the material shown", async () => {
   console.log(`drag: mean pixel change ${d.toFixed(2)}; move-to-frame ${latencies.map((l) => l.toFixed(0)).join(" ")} ms`);
   await page.locator("#rt-canvas").screenshot({ path: join(results, "realtime-dragged.png") });
   assert.ok(d > 0.5, `the canvas changed by ${d}`);
+  // The weights came from the page (GET /api/interpolation), not a request per move.
+  assert.ok(await page.evaluate(() => window.matlasViewer.localWeights), "the viewer computes the weights itself");
 });
 
 test("rotating the environment and orbiting the camera change the view", async () => {

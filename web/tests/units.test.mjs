@@ -1,26 +1,17 @@
 // Unit tests of the page's plumbing, without a browser or server: the typed store, LatestOnly
-// (latest input only, abort on supersede) and retryWhileBusy (503 backoff). The TypeScript
+// (latest input only, abort on supersede), retryWhileBusy (503 backoff) and the page's interpolation
+// weights (local-weights.ts) against their defining equations. The TypeScript
 // modules are transpiled with the TypeScript compiler into a temporary folder and imported.
-import { test, after } from "node:test";
+import { test } from "node:test";
 import assert from "node:assert/strict";
-import { mkdtempSync, readFileSync, rmSync, writeFileSync } from "node:fs";
-import { tmpdir } from "node:os";
-import { join } from "node:path";
-import ts from "typescript";
-import { webDir } from "./server.mjs";
+import { importTs } from "./transpile.mjs";
 
-const out = mkdtempSync(join(tmpdir(), "matlas-units-"));
-after(() => rmSync(out, { recursive: true, force: true }));
-for (const name of ["api", "store", "latest", "retry"]) {
-  const source = readFileSync(join(webDir, "src", `${name}.ts`), "utf8");
-  const js = ts.transpileModule(source, { compilerOptions: { module: ts.ModuleKind.ES2022, target: ts.ScriptTarget.ES2022 } })
-    .outputText.replace(/from "\.\/(\w+)"/g, 'from "./$1.js"');
-  writeFileSync(join(out, `${name}.js`), js);
-}
-const { Store } = await import(join(out, "store.js"));
-const { LatestOnly } = await import(join(out, "latest.js"));
-const { retryWhileBusy } = await import(join(out, "retry.js"));
-const { ApiError } = await import(join(out, "api.js"));
+const modules = await importTs(["api", "store", "latest", "retry", "local-weights"]);
+const { Store } = modules.store;
+const { LatestOnly } = modules.latest;
+const { retryWhileBusy } = modules.retry;
+const { ApiError } = modules.api;
+const { LocalWeights } = modules["local-weights"];
 
 test("Store.update calls each listener of the changed keys once", () => {
   const store = new Store({ env: "a", object: "b", x: [0] });
@@ -81,4 +72,75 @@ test("retryWhileBusy retries 503 with growing delays, and only 503", async () =>
     { signal: controller.signal, firstDelayMs: 10_000 });
   controller.abort(new DOMException("superseded", "AbortError"));
   await assert.rejects(pending, { name: "AbortError" });
+});
+
+/** A small interpolation problem: n points in q dimensions, K and its factor computed here. */
+function problem(n, q, seed, mode = "gp") {
+  let state = seed;
+  const random = () => ((state = (state * 1103515245 + 12345) % 2147483648) / 2147483648);
+  const latent = Array.from({ length: n }, () => Array.from({ length: q }, () => 2 * random() - 1));
+  const nugget = 1e-4, l = 1;
+  const K = latent.map((a, i) => latent.map((b, j) => Math.exp(-a.reduce((s, v, d) => s + (v - b[d]) ** 2, 0) / (l * l)) + (i === j ? nugget : 0)));
+  const L = K.map(() => new Array(n).fill(0));
+  for (let j = 0; j < n; ++j)
+    for (let i = j; i < n; ++i) {
+      let s = K[i][j];
+      for (let k = 0; k < j; ++k) s -= L[i][k] * L[j][k];
+      L[i][j] = i === j ? Math.sqrt(s) : s / L[j][j];
+    }
+  const taper = latent.map((a, i) => Math.min(0.1 * l, ...latent.filter((_, j) => j !== i).map((b) => 0.5 * Math.hypot(...a.map((v, d) => v - b[d])))));
+  // An SPD metric: B B^T / n + ridge.
+  const B = latent.map(() => Array.from({ length: n }, () => random() - 0.5));
+  const metric = B.flatMap((a, i) => B.map((b, j) => a.reduce((s, v, k) => s + v * b[k], 0) / n + (i === j ? 0.01 : 0)));
+  return { data: { mode, lengthscale: l, nugget, latent, taper_radius: taper, cholesky: L.flat(), metric }, K, random };
+}
+
+test("LocalWeights.gp solves K w = k(x) and reproduces the data points", () => {
+  const { data, K, random } = problem(12, 3, 7);
+  const lw = new LocalWeights(data);
+  for (let i = 0; i < 12; ++i) {
+    const w = lw.gp(data.latent[i]);
+    w.forEach((v, j) => assert.ok(Math.abs(v - (i === j ? 1 : 0)) < 1e-9, `w(x_${i})[${j}] = ${v}`));
+  }
+  for (let t = 0; t < 20; ++t) {
+    const x = [0, 0, 0].map(() => 3 * random() - 1.5);
+    const w = lw.gp(x);
+    // k(x) from the definition (x is never inside a taper here, so no nugget term).
+    for (let i = 0; i < 12; ++i) {
+      const k = Math.exp(-data.latent[i].reduce((s, v, d) => s + (v - x[d]) ** 2, 0));
+      const Kw = K[i].reduce((s, v, j) => s + v * w[j], 0);
+      assert.ok(Math.abs(Kw - k) < 1e-10, `(K w - k)_${i} = ${Kw - k}`);
+    }
+  }
+  assert.throws(() => lw.gp([0, 0]), /2 coordinates, the model has q = 3/);
+});
+
+test("LocalWeights.convex is the metric projection onto the simplex (its optimality conditions hold)", () => {
+  const n = 10;
+  const { data, random } = problem(n, 2, 11, "convex");
+  const lw = new LocalWeights(data);
+  const A = (i, j) => data.metric[i * n + j];
+  let projected = 0;
+  for (let t = 0; t < 200; ++t) {
+    const w = Float64Array.from({ length: n }, () => 3 * (random() - 0.5));
+    const c = lw.convex(w);
+    const sw = w.reduce((a, b) => a + b, 0);
+    const g = Array.from(w, (v) => v + (1 - sw) / n);
+    assert.ok(Math.abs(c.reduce((a, b) => a + b, 0) - 1) < 1e-12);
+    assert.ok(c.every((v) => v >= 0));
+    if (g.every((v) => v >= 0)) {
+      g.forEach((v, i) => assert.ok(Math.abs(c[i] - v) < 1e-12));
+      continue;
+    }
+    ++projected;
+    // KKT: the gradient A (c - g) equals nu on the support and is at least nu off it.
+    const grad = Array.from({ length: n }, (_, i) => c.reduce((s, v, j) => s + A(i, j) * (v - g[j]), 0));
+    const support = [...c.keys()].filter((i) => c[i] > 1e-14);
+    const nu = grad[support[0]];
+    for (const i of support) assert.ok(Math.abs(grad[i] - nu) < 1e-9, `gradient on the support: ${grad[i]} vs ${nu}`);
+    for (let i = 0; i < n; ++i) if (!support.includes(i)) assert.ok(grad[i] >= nu - 1e-9, `bound ${i}: ${grad[i]} < ${nu}`);
+  }
+  assert.ok(projected > 100, `only ${projected} of 200 points needed the projection`);
+  assert.deepEqual(Array.from(new LocalWeights({ ...data, mode: "gp" }).weights(data.latent[3])).map((v) => Math.round(v) + 0),
+    Array.from({ length: n }, (_, i) => (i === 3 ? 1 : 0)));
 });
