@@ -6,6 +6,7 @@
 // pointer move on the map to the frame showing the new material (drags at 60 events per second).
 //
 //   node bench/realtime_viewer.mjs http://127.0.0.1:8080/ [frames=40]
+//   (URL?weights=server: the page asks the server for the weights per move instead of computing them)
 //
 // The full frames take seconds with software WebGL; the viewer draws them in tiles between
 // pointer events, so the scripted drags below run while tiles are pending.

@@ -57,7 +57,9 @@ export async function createRealtimeView(store: PageStore): Promise<ViewerState>
   const t0 = performance.now();
   const [info, all, interpolation] = await Promise.all([api.realtime(), api.realtimeCoefficients(),
     api.interpolation().catch(() => null)]);
-  const local = interpolation ? new LocalWeights(interpolation) : null;
+  // ?weights=server asks the server per move, as without the endpoint (for comparisons).
+  const local = interpolation && new URLSearchParams(location.search).get("weights") !== "server"
+    ? new LocalWeights(interpolation) : null;
   const coefficientsMs = performance.now() - t0;
   const gl = new RealtimeGl(canvas, info);
   const block = info.theta_o_count * info.coefficients * 3;
