@@ -130,7 +130,6 @@ Api::Api(const Model& model, std::shared_ptr<const PreviewSource> previews, cons
   j["albedo_angles"] = kAlbedoAngles;
   if (gi_) j["gi"] = {{"scenes", gi_->scenes()}, {"preloaded", gi_->preloaded()}};
   model_json_ = j.dump();
-  interpolation_json_ = interpolation_json(model);
 }
 
 ComputeGate::Slot Api::acquire(ComputeGate& gate) {
@@ -141,7 +140,10 @@ ComputeGate::Slot Api::acquire(ComputeGate& gate) {
 
 Reply Api::model_info() const { return Reply::bytes(model_json_, "application/json"); }
 
-Reply Api::interpolation() const { return Reply::bytes(interpolation_json_, "application/json"); }
+Reply Api::interpolation() const {
+  std::call_once(interpolation_once_, [this] { interpolation_json_ = interpolation_json(model_); });
+  return Reply::bytes(interpolation_json_, "application/json");
+}
 
 std::string Api::preview_png(const Eigen::VectorXd& w, const std::string& key, const std::string& env,
                              const std::string& object, int size) {

@@ -3,6 +3,7 @@
 // endpoint takes the request body (and parameters) and returns a Reply. Invalid requests throw
 // HttpError with a 4xx status and a message; AtlasServer turns it into {"error": message}.
 #include <memory>
+#include <mutex>
 #include <string>
 #include <utility>
 #include <vector>
@@ -90,7 +91,9 @@ private:
   LatentDomain domain_;
   std::vector<std::string> envs_, objects_;
   std::string model_json_;
-  std::string interpolation_json_;
+  /// GET /api/interpolation's body: made on the first request (2 n^2 numbers), then kept.
+  mutable std::once_flag interpolation_once_;
+  mutable std::string interpolation_json_;
   ComputeGate compute_;
   ComputeGate heavy_;
   PngCache cache_;
