@@ -278,7 +278,7 @@ std::size_t Model::kept_columns() const { return impl_->kept; }
 const gp::GpPosterior& Model::posterior() const { return *impl_->posterior; }
 const nlohmann::json& Model::metadata() const { return impl_->meta; }
 const Eigen::MatrixXd& Model::gram() const { return impl_->gram; }
-const gp::ConvexProjection& Model::convex_projection() const { return *impl_->convex; }
+const Eigen::MatrixXd& Model::convex_metric() const { return impl_->convex->metric(); }
 const Eigen::MatrixXd& Model::material_albedo() const { return impl_->albedo; }
 const std::string& Model::storage() const { return impl_->storage; }
 

@@ -25,10 +25,6 @@
 
 namespace matlas {
 
-namespace gp {
-class ConvexProjection;
-}
-
 class Model {
 public:
   /// Opens and validates a model; throws matlas::Error naming the file if it is missing,
@@ -68,9 +64,9 @@ public:
   Interpolation interpolation() const;
   /// Overrides the mode for this process (e.g. `matlas serve --interpolation gp`).
   void set_interpolation(Interpolation mode);
-  /// The convex mode's projection (its metric; include gp/convex_weights.h to use it). Present
-  /// in either mode.
-  const gp::ConvexProjection& convex_projection() const;
+  /// The convex mode's metric A (gp/convex_weights.h: the layout Gram over its mean diagonal plus
+  /// the ridge), in either mode.
+  const Eigen::MatrixXd& convex_metric() const;
 
   // --- Queries ---
   /// The interpolation weights of x in the active mode (length n), for the tables

@@ -12,7 +12,6 @@
 #include "core/parallel.h"
 #include "formats/fast_png.h"
 #include "formats/merl_file.h"
-#include "gp/convex_weights.h"
 #include "manifold/export.h"
 #include "manifold/model_metadata.h"
 #include "manifold/project.h"
@@ -53,7 +52,7 @@ std::string interpolation_json(const Model& model) {
                         {"latent", latent},
                         {"taper_radius", to_json(gp.taper_radius())},
                         {"cholesky", row_major(L)},
-                        {"metric", row_major(model.convex_projection().metric())}}
+                        {"metric", row_major(model.convex_metric())}}
       .dump();
 }
 

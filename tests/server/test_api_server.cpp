@@ -13,7 +13,6 @@
 #include "core/atomic_file.h"
 #include "formats/merl_file.h"
 #include "formats/synth_database.h"
-#include "gp/convex_weights.h"
 #include "gp/kernel.h"
 #include "manifold/build.h"
 #include "manifold/material_set.h"
@@ -189,7 +188,7 @@ TEST_F(ApiServerTest, InterpolationDataRebuildTheModelsCovarianceAndMetric) {
   EXPECT_LT((L * L.transpose() - gp::covariance_matrix(X, k)).cwiseAbs().maxCoeff(), 1e-12);
   // The metric: the centred layout Gram over its mean diagonal, plus the ridge (gp/convex_weights.h).
   const Eigen::MatrixXd A = matrix("metric");
-  EXPECT_EQ(A, model_->convex_projection().metric());
+  EXPECT_EQ(A, model_->convex_metric());
   EXPECT_LT((A - A.transpose()).cwiseAbs().maxCoeff(), 1e-15);
   for (int i = 0; i < n; ++i)
     EXPECT_NEAR(j["taper_radius"][i].get<double>(), model_->posterior().taper_radius()[i], 0.0);
