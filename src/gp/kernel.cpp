@@ -30,16 +30,18 @@ void squared_distances(const Eigen::MatrixXd& X, Eigen::MatrixXd& D) {
     for (Eigen::Index j = 0; j < n; ++j) D.col(j).array() += (X.col(d).array() - X(j, d)).square();
 }
 
-Eigen::MatrixXd covariance_matrix(const Eigen::MatrixXd& X, const Kernel& k) {
-  Eigen::MatrixXd K;
-  squared_distances(X, K);
-  K *= -1.0 / (k.lengthscale * k.lengthscale);
+void covariance_from_squared_distances(const Eigen::MatrixXd& D2, const Kernel& k, Eigen::MatrixXd& K) {
+  K = D2 * (-1.0 / (k.lengthscale * k.lengthscale));
   exp_in_place(K.data(), static_cast<std::size_t>(K.size()));
-  // A vectorised exp may round the tail of the array differently: mirror the upper triangle so
-  // that K is exactly symmetric.
   for (Eigen::Index j = 0; j < K.cols(); ++j)
     for (Eigen::Index i = j + 1; i < K.rows(); ++i) K(i, j) = K(j, i);
   K.diagonal().array() += k.nugget;
+}
+
+Eigen::MatrixXd covariance_matrix(const Eigen::MatrixXd& X, const Kernel& k) {
+  Eigen::MatrixXd D2, K;
+  squared_distances(X, D2);
+  covariance_from_squared_distances(D2, k, K);
   return K;
 }
 

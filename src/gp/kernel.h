@@ -27,6 +27,10 @@ void validate(const Kernel& k);
 /// an exactly zero diagonal and exact zeros for duplicate rows.
 void squared_distances(const Eigen::MatrixXd& X, Eigen::MatrixXd& D);
 
+/// K = exp(-D2 / l^2) + nugget I from squared distances D2 (n x n, symmetric), into K; exactly
+/// symmetric (the upper triangle mirrored: a vectorised exp may round the array's tail differently).
+void covariance_from_squared_distances(const Eigen::MatrixXd& D2, const Kernel& k, Eigen::MatrixXd& K);
+
 /// n x n covariance of the rows of X (n x q), nugget on the diagonal. The nugget is added by index
 /// (i == j), so duplicate rows give a matrix that is singular only up to the nugget.
 Eigen::MatrixXd covariance_matrix(const Eigen::MatrixXd& X, const Kernel& k);

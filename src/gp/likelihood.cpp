@@ -71,11 +71,7 @@ double LikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, Eigen::MatrixXd
 
   // K = C + delta I, exactly symmetric (off-diagonal entries of K are those of C).
   squared_distances(X, D2_);
-  K_ = D2_ * -inv_l2;
-  exp_in_place(K_.data(), static_cast<std::size_t>(K_.size()));
-  for (Eigen::Index j = 0; j < n; ++j)
-    for (Eigen::Index i = j + 1; i < n; ++i) K_(i, j) = K_(j, i);
-  K_.diagonal().array() += kernel_.nugget;
+  covariance_from_squared_distances(D2_, kernel_, K_);
 
   // The dense algebra goes through OpenBLAS, whose kernels are vectorised for this processor
   // (Eigen's are compiled for baseline x86-64 here): K^-1 from the Cholesky factor, then
