@@ -2,13 +2,16 @@
 // difference between two renders that differ only in their seed, with the previews' former fixed
 // mixture (render/sampling_mixture.h's defaults) and with the mixture fitted to the model
 // (atlas/sampling_fit.h), each with the former independent numbers per sample and with the
-// stratified sampler (render/pixel_sampler.h); then the time of one render with either sampler
-// and of the model's preview basis (fitted mixture, stratified: the default).
+// stratified sampler (render/pixel_sampler.h), then the default: the light-and-lobe sampler with
+// the mixture fitted for it and the samples of each pixel following its view angle
+// (RenderSettings::grazing_samples); then the time of one render with each sampler and of the
+// model's preview basis (the defaults).
 //
 //   bench_preview_noise MODEL ENV SIZE SPP BASIS_SIZE BASIS_SPP MATERIAL...
 //
 // Relative RMS: sqrt(sum (a - b)^2 / sum ((a + b) / 2)^2) over the pixels fully covered by the
-// sphere, all channels; seeds 1 and 2, or pooled over MATLAS_BENCH_PAIRS pairs of seeds. Both renders of a pair use the same mixture, so the number is the
+// sphere, all channels; seeds 1 and 2, or pooled over MATLAS_BENCH_PAIRS pairs of seeds (from the
+// pair MATLAS_BENCH_FIRST_PAIR, 0 by default). Both renders of a pair use the same mixture, so the number is the
 // estimator's noise (sqrt 2 times one image's), independent of any reference.
 #include <algorithm>
 #include <chrono>
@@ -18,6 +21,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "atlas/model_basis.h"
@@ -50,8 +54,11 @@ double seed_noise(const render::Scene& scene, const render::Material& m, render:
                   const std::vector<float>& coverage) {
   const char* pairs_env = std::getenv("MATLAS_BENCH_PAIRS");
   const int pairs = pairs_env ? std::max(1, std::atoi(pairs_env)) : 1;
+  // MATLAS_BENCH_FIRST_PAIR=k: start at the pair (2k+1, 2k+2): seeds that did not choose the shares.
+  const char* first_env = std::getenv("MATLAS_BENCH_FIRST_PAIR");
+  const int first = first_env ? std::max(0, std::atoi(first_env)) : 0;
   double d = 0, sum = 0;
-  for (int p = 0; p < pairs; ++p) {
+  for (int p = first; p < first + pairs; ++p) {
     s.seed = static_cast<std::uint64_t>(2 * p + 1);
     const Image a = render::render(scene, m, s);
     s.seed = static_cast<std::uint64_t>(2 * p + 2);
@@ -83,8 +90,17 @@ int main(int argc, char** argv) {
     render::RenderSettings settings;
     settings.width = settings.height = std::stoi(argv[3]);
     settings.spp = std::stoi(argv[4]);
-    render::RenderSettings fitted = atlas::model_render_settings(model, settings);
-    if (const char* mix = std::getenv("MATLAS_BENCH_MIXTURE")) {  // "env,cosine,alpha:p,alpha:p..."
+    // The former sampling: one-sample mixtures with independent numbers per sample, spp in every
+    // pixel; the stratified columns also keep spp in every pixel (the default before light and lobe).
+    settings.sampler = render::Sampler::independent;
+    settings.grazing_samples = 1.0;
+    render::RenderSettings fitted = settings, both = settings;
+    both.grazing_samples = render::RenderSettings{}.grazing_samples;
+    fitted.sampler = render::Sampler::stratified;
+    fitted = atlas::model_render_settings(model, fitted);  // the mixture fitted for the stratified sampler
+    both.sampler = render::Sampler::light_and_lobe;
+    both = atlas::model_render_settings(model, both);  // the default: the mixture fitted for light and lobe
+    if (const char* mix = std::getenv("MATLAS_BENCH_MIXTURE")) {  // "env,cosine,alpha:p,alpha:p..." for both
       render::SamplingMixture m = fitted.mixture;
       m.lobes.clear();
       std::sscanf(mix, "%lf,%lf", &m.environment, &m.cosine);
@@ -94,15 +110,18 @@ int main(int argc, char** argv) {
         if (a > 1) m.set_profile(m.profile(), p);  // "2:p": the tabulated lobe's probability
         else m.lobes.emplace_back(a, p);
       }
-      fitted.mixture = m;
+      fitted.mixture = both.mixture = m;
     }
-    std::printf("old mixture:    %s\nfitted mixture: %s\n", describe(settings.mixture).c_str(),
-                describe(fitted.mixture).c_str());
-    // The former sampling: one-sample mixtures with independent numbers per sample.
-    settings.sampler = fitted.sampler = render::Sampler::independent;
-    render::RenderSettings old_stratified = settings, stratified = fitted, both = fitted;
-    old_stratified.sampler = stratified.sampler = render::Sampler::stratified;
-    both.sampler = render::Sampler::light_and_lobe;
+    std::printf("old mixture:    %s\nfitted mixture (stratified): %s\nfitted mixture (light and lobe): %s\n",
+                describe(settings.mixture).c_str(), describe(fitted.mixture).c_str(), describe(both.mixture).c_str());
+    render::RenderSettings old_stratified = settings, stratified = fitted;
+    // MATLAS_BENCH_STRATIFIED_GRAZING=F: grazing_samples of the "fit strat" column (1 by default).
+    if (const char* g = std::getenv("MATLAS_BENCH_STRATIFIED_GRAZING")) stratified.grazing_samples = std::atof(g);
+    old_stratified.sampler = render::Sampler::stratified;
+    fitted.sampler = render::Sampler::independent;
+    // MATLAS_BENCH_GRAZING=F: RenderSettings::grazing_samples of the default (light and lobe)
+    // column instead of the default's.
+    if (const char* g = std::getenv("MATLAS_BENCH_GRAZING")) both.grazing_samples = std::atof(g);
     // MATLAS_BENCH_POWER=1: the power heuristic in the stratified columns.
     if (std::getenv("MATLAS_BENCH_POWER")) old_stratified.power_heuristic = stratified.power_heuristic = both.power_heuristic = true;
     const std::vector<float> coverage = render::object_coverage(scene, settings);
@@ -124,25 +143,27 @@ int main(int argc, char** argv) {
                   old_noise / new_noise, both_noise, old_noise / both_noise);
       std::fflush(stdout);
     }
-    for (const render::Sampler sampler :
-         {render::Sampler::independent, render::Sampler::stratified, render::Sampler::light_and_lobe}) {
-      render::RenderSettings timing = stratified;
-      timing.sampler = sampler;
+    render::RenderSettings uniform_both = both;
+    uniform_both.grazing_samples = 1.0;
+    render::RenderSettings independent = stratified;
+    independent.sampler = render::Sampler::independent;
+    const std::pair<const char*, const render::RenderSettings*> timings[] = {
+        {"independent", &independent},
+        {"stratified", &stratified},
+        {"light and lobe, spp in every pixel", &uniform_both},
+        {"light and lobe, grazing samples (the default)", &both}};
+    for (const auto& [label, timing] : timings) {
       const auto t0 = std::chrono::steady_clock::now();
       const std::clock_t c0 = std::clock();  // CPU time of all threads: less sensitive to the load
       render::RenderStats stats;
-      (void)render::render(scene, atlas::ModelMaterial(model, model.material_weights(model.index_of(argv[7]))), timing,
+      (void)render::render(scene, atlas::ModelMaterial(model, model.material_weights(model.index_of(argv[7]))), *timing,
                            null_progress(), &stats);
       const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
-      std::printf("%s sampler: one render %.2f s wall, %.2f s CPU (%.2f M camera samples per CPU second)\n",
-                  sampler == render::Sampler::stratified       ? "stratified"
-                  : sampler == render::Sampler::light_and_lobe ? "light and lobe"
-                                                               : "independent",
-                  sec, cpu,
+      std::printf("%s: one render %.2f s wall, %.2f s CPU (%.2f M camera samples per CPU second)\n", label, sec, cpu,
                   static_cast<double>(stats.camera_samples) / cpu * 1e-6);
     }
-    render::RenderSettings basis_settings;
+    render::RenderSettings basis_settings;  // the defaults (light and lobe, grazing samples)
     basis_settings.width = basis_settings.height = std::stoi(argv[5]);
     basis_settings.spp = std::stoi(argv[6]);
     const auto t0 = std::chrono::steady_clock::now();

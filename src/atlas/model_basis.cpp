@@ -20,6 +20,26 @@ std::string model_fingerprint(const Model& model) {
   return hex64(h.digest());
 }
 
+std::string sampling_record(const render::RenderSettings& settings) {
+  const render::SamplingMixture& m = settings.mixture;
+  nlohmann::json lobes = nlohmann::json::array();
+  for (const auto& [alpha, weight] : m.lobes) lobes.push_back({alpha, weight});
+  const std::vector<double>& profile = m.profile();
+  Xxh3Hasher h;
+  h.update(profile.data(), profile.size() * sizeof(double));
+  const char* sampler = settings.sampler == render::Sampler::light_and_lobe ? "light_and_lobe"
+                        : settings.sampler == render::Sampler::stratified   ? "stratified"
+                                                                             : "independent";
+  return nlohmann::json{{"sampler", sampler},
+                        {"power_heuristic", settings.power_heuristic},
+                        {"environment", m.environment},
+                        {"cosine", m.cosine},
+                        {"lobes", lobes},
+                        {"tabulated", m.tabulated},
+                        {"profile_hash", hex64(h.digest())}}
+      .dump();
+}
+
 render::ImageBasis render_basis(const Model& model, const render::Scene& scene,
                                 const render::RenderSettings& requested, ProgressSink& progress) {
   const ModelBank bank(model);
@@ -42,11 +62,7 @@ render::ImageBasis render_basis(const Model& model, const render::Scene& scene,
   meta["lights"] = std::to_string(d.lights.size());
   meta["spp"] = std::to_string(settings.spp);
   meta["seed"] = std::to_string(settings.seed);
-  nlohmann::json lobes = nlohmann::json::array();
-  for (const auto& [alpha, weight] : settings.mixture.lobes) lobes.push_back({alpha, weight});
-  meta["sampling_mixture"] =
-      nlohmann::json{{"environment", settings.mixture.environment}, {"cosine", settings.mixture.cosine}, {"lobes", lobes}}
-          .dump();
+  meta["sampling_mixture"] = sampling_record(settings);
   meta["model"] = model.path().filename().string();
   meta["model_fingerprint"] = model_fingerprint(model);
   return render::ImageBasis(std::move(mean), images, model.names(), std::move(meta));

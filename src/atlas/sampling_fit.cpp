@@ -131,8 +131,18 @@ render::SamplingMixture fit_sampling_mixture(const Model& model, const SamplingF
   return mixture_from_fit(lobe_widths(ModelBank(model), 1), options);
 }
 
+SamplingFitOptions SamplingFitOptions::for_sampler(render::Sampler sampler) {
+  SamplingFitOptions o;
+  if (sampler == render::Sampler::light_and_lobe) {
+    o.cosine = 0.1;
+    o.sharpest_share = 0.45;
+    o.tabulated = 0.1;
+  }
+  return o;
+}
+
 render::RenderSettings model_render_settings(const Model& model, render::RenderSettings settings) {
-  settings.mixture = fit_sampling_mixture(model);
+  settings.mixture = fit_sampling_mixture(model, SamplingFitOptions::for_sampler(settings.sampler));
   return settings;
 }
 

@@ -17,8 +17,10 @@
 //    at the 10th, 50th and 90th percentiles of the pooled log-widths (merged when within a
 //    factor 1.5), sharing `lobe_share`, and one at the sharpest material's width
 //    (`sharpest_share`).
-// Environment and cosine keep their probabilities. The shares were chosen with the stratified
-// sampler on 83 measured materials (docs/RENDERING.md "Noise").
+// Environment and cosine keep their probabilities. The shares were chosen per sampler on 83
+// measured materials (docs/RENDERING.md "Noise"): the default light-and-lobe sampler takes an
+// environment sample besides every lobe sample, so its lobes can favour the sharp end
+// (SamplingFitOptions::for_sampler).
 #include <vector>
 
 #include "manifold/model.h"
@@ -39,6 +41,12 @@ struct SamplingFitOptions {
   double tabulated = 0.15;  ///< the database's lobes per theta_h bin (set_profile)
   std::vector<double> quantiles = {0.1, 0.5, 0.9};
   double min_alpha = 0.001, max_alpha = 0.5;
+
+  /// The shares chosen for a sampler: the defaults above for the stratified (and independent)
+  /// sampler; for light_and_lobe, whose environment samples serve the wide lobes, cosine 0.1,
+  /// the sharpest lobe 0.45 and the tabulated lobe 0.1 (of the lobe strategies' total 0.75: the
+  /// environment's probability is not used by that sampler).
+  static SamplingFitOptions for_sampler(render::Sampler sampler);
 };
 
 /// Width (GGX alpha) of each material's specular lobe, 0 for materials without one.
@@ -49,8 +57,8 @@ render::SamplingMixture fit_sampling_mixture(const render::MaterialBank& bank, c
 /// The mixture fitted to a model's database materials (its ModelBank without the mean).
 render::SamplingMixture fit_sampling_mixture(const Model& model, const SamplingFitOptions& options = {});
 
-/// `settings` with the mixture fitted to the model: what render_basis uses, and what a direct
-/// render of a map point must use to equal the composition of the basis.
+/// `settings` with the mixture fitted to the model for its sampler: what render_basis uses, and
+/// what a direct render of a map point must use to equal the composition of the basis.
 render::RenderSettings model_render_settings(const Model& model, render::RenderSettings settings);
 
 }  // namespace matlas::atlas

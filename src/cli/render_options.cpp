@@ -35,6 +35,11 @@ render::RenderSettings RenderOptions::settings() const {
   s.height = height;
   s.spp = spp;
   s.seed = seed;
+  if (sampler == "light-and-lobe") s.sampler = render::Sampler::light_and_lobe;
+  else if (sampler == "stratified") s.sampler = render::Sampler::stratified;
+  else if (sampler == "independent") s.sampler = render::Sampler::independent;
+  else throw Error("--sampler '" + sampler + "': expected light-and-lobe, stratified or independent");
+  s.grazing_samples = grazing_samples;
   s.validate();
   return s;
 }
@@ -65,6 +70,15 @@ void add_render_options(CLI::App& cmd, RenderOptions& o, bool image) {
   cmd.add_option("--height", o.height, "Image height")->capture_default_str();
   cmd.add_option("--spp", o.spp, "Samples per pixel")->capture_default_str();
   cmd.add_option("--seed", o.seed, "Random seed (same seed: same samples for every material)");
+  cmd.add_option("--sampler", o.sampler,
+                 "light-and-lobe (an environment and a material-lobe sample per camera sample), stratified "
+                 "(one of them, about 0.55x the time, noisier on glossy materials) or independent")
+      ->capture_default_str();
+  cmd.add_option("--grazing-samples", o.grazing_samples,
+                 "Pixels that see the object at grazing angles take up to this many times a frontal pixel's "
+                 "samples, the mean staying --spp (1: --spp everywhere)")
+      ->check(CLI::Range(1.0, 64.0))
+      ->capture_default_str();
   cmd.add_option("--exposure", o.exposure, "Exposure in stops (PNG output)")->check(finite_number());
   cmd.add_option("--tonemap", o.tonemap, "PNG tone curve: clamp, reinhard or aces")->capture_default_str();
 }

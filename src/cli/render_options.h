@@ -21,6 +21,8 @@ struct RenderOptions {
   std::vector<std::string> lights;  ///< "dx,dy,dz[,irradiance]"
   int width = 512, height = 512, spp = 64;
   std::uint64_t seed = 1;
+  std::string sampler = "light-and-lobe";  ///< light-and-lobe, stratified or independent
+  double grazing_samples = render::RenderSettings{}.grazing_samples;
   double exposure = 0.0;
   std::string tonemap = "aces";
 
@@ -30,7 +32,8 @@ struct RenderOptions {
   ToneMap tone() const;
 };
 
-/// Adds the options to a command; `image` adds --size/--spp/--seed/--exposure/--tonemap too.
+/// Adds the options to a command; `image` adds --size/--spp/--seed/--sampler/--grazing-samples/
+/// --exposure/--tonemap too.
 void add_render_options(CLI::App& cmd, RenderOptions& o, bool image = true);
 
 }  // namespace matlas::cli

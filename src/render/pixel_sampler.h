@@ -27,8 +27,11 @@ std::uint32_t owen_scramble(std::uint32_t v, std::uint32_t seed);
 
 /// Point `index` of the first four dimensions of the Sobol sequence (van der Corput, then Joe &
 /// Kuo's direction numbers) as 32-bit fractions, without scrambling. Dimensions 0 and 1 form a
-/// (0,2)-sequence.
+/// (0,2)-sequence. Table-driven (a byte of the index per lookup).
 void sobol_4d(std::uint32_t index, std::uint32_t out[4]);
+/// Coordinate `dimension` (0..3) of the same point, from the generator matrix a bit at a time:
+/// the definition, for tests.
+std::uint32_t sobol_dimension(int dimension, std::uint32_t index);
 
 /// The strategies of a mixture in a fixed order: environment, cosine, the GGX lobes, the
 /// tabulated lobe, with the number of samples each takes per pixel.

@@ -1,8 +1,10 @@
 #include "render/render.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <mutex>
 
 #include "core/error.h"
@@ -15,6 +17,9 @@ namespace matlas::render {
 namespace {
 
 constexpr double kRayOffset = 1e-4;
+/// RenderSettings::grazing_samples: pixels whose centre sees the object at cos(theta_o) below
+/// this take more camera samples, in proportion to 1 / cos(theta_o).
+constexpr double kGrazingCosine = 0.5;
 
 struct Frame {
   Vec3 t, b, n;
@@ -150,26 +155,77 @@ void for_each_pixel(const RenderSettings& settings, ProgressSink& progress, cons
   progress.finish(label);
 }
 
-/// The samples of one render: which sampler, and the stratified sampler's split of the samples
-/// among the strategies.
+/// Camera samples per pixel (RenderSettings::grazing_samples): in proportion to 1 / cos(theta_o)
+/// at the pixel centre's hit on the object, between 1 and the cap, the image's mean scaled back to
+/// spp; empty when every pixel takes spp. Depends on the scene and the settings only.
+std::vector<int> grazing_sample_counts(const Scene& scene, const RenderSettings& s) {
+  if (!(s.grazing_samples > 1.0)) return {};
+  const std::size_t w = static_cast<std::size_t>(s.width), pixels = w * static_cast<std::size_t>(s.height);
+  std::vector<double> boost(pixels, 1.0);
+  parallel_for(0, static_cast<std::size_t>(s.height), [&](std::size_t y0, std::size_t y1) {
+    Vec3 o, d;
+    for (std::size_t y = y0; y < y1; ++y)
+      for (std::size_t x = 0; x < w; ++x) {
+        scene.camera_ray(static_cast<double>(x) + 0.5, static_cast<double>(y) + 0.5, s.width, s.height, &o, &d);
+        const std::optional<Hit> hit = scene.intersect(o, d);
+        if (!hit || !hit->object) continue;
+        const double cos_o = std::max(1e-6, -hit->normal.dot(d));
+        boost[y * w + x] = std::clamp(kGrazingCosine / cos_o, 1.0, s.grazing_samples);
+      }
+  });
+  double mean = 0;
+  for (const double b : boost) mean += b;
+  mean /= static_cast<double>(pixels);
+  std::vector<int> counts(pixels);
+  for (std::size_t p = 0; p < pixels; ++p)
+    counts[p] = std::max(1, static_cast<int>(std::lround(s.spp * boost[p] / mean)));
+  return counts;
+}
+
+/// The samples of one render: which sampler, the camera samples of each pixel, and the stratified
+/// sampler's split of a pixel's samples among the strategies (one plan per count).
 struct Sampling {
-  explicit Sampling(const RenderSettings& s)
+  Sampling(const Scene& scene, const RenderSettings& s)
       : settings(s), stratified(s.sampler != Sampler::independent), both(s.sampler == Sampler::light_and_lobe),
-        plan(stratified ? plan_strategies(both ? without_environment(s.mixture) : s.mixture, s.spp) : StrategyPlan{}) {
-    // Light and lobe: spp environment samples besides the plan's spp lobe samples.
-    if (both) plan.density.environment = static_cast<double>(s.spp);
+        counts(grazing_sample_counts(scene, s)) {
+    if (!stratified) return;
+    const auto add = [&](int n) {
+      if (plans.count(n)) return;
+      StrategyPlan& plan = plans[n];
+      plan = plan_strategies(both ? without_environment(s.mixture) : s.mixture, n);
+      // Light and lobe: n environment samples besides the plan's n lobe samples.
+      if (both) plan.density.environment = static_cast<double>(n);
+    };
+    add(s.spp);
+    for (const int n : counts) add(n);
   }
   static SamplingMixture without_environment(SamplingMixture m) {
     m.environment = 0;
     return m;
   }
-  /// The density of the samples at the object (what trace_sample divides by).
-  const SamplingMixture& density() const { return stratified ? plan.density : settings.mixture; }
+  /// Camera samples of pixel (x, y).
+  int count(int x, int y) const {
+    return counts.empty() ? settings.spp
+                          : counts[static_cast<std::size_t>(y) * static_cast<std::size_t>(settings.width) +
+                                   static_cast<std::size_t>(x)];
+  }
+  const StrategyPlan& plan(int n) const { return plans.at(n); }
+  /// The density of a pixel's samples at the object (what trace_sample divides by).
+  const SamplingMixture& density(int n) const { return stratified ? plan(n).density : settings.mixture; }
+  std::uint64_t camera_samples() const {
+    if (counts.empty())
+      return static_cast<std::uint64_t>(settings.width) * static_cast<std::uint64_t>(settings.height) *
+             static_cast<std::uint64_t>(settings.spp);
+    std::uint64_t total = 0;
+    for (const int n : counts) total += static_cast<std::uint64_t>(n);
+    return total;
+  }
 
   const RenderSettings& settings;
   bool stratified;
   bool both;  ///< Sampler::light_and_lobe
-  StrategyPlan plan;
+  std::vector<int> counts;
+  std::map<int, StrategyPlan> plans;  ///< by sample count (stratified samplers)
 };
 
 /// Runs body(origin, dir, draw) for every camera sample of pixel (x, y). The numbers depend on
@@ -183,8 +239,9 @@ void for_each_sample(const Scene& scene, const Sampling& sampling, int x, int y,
   const std::uint64_t pixel =
       static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(settings.width) + static_cast<std::uint64_t>(x);
   Vec3 o, d;
+  const int n = sampling.count(x, y);
   if (!sampling.stratified) {
-    for (int s = 0; s < settings.spp; ++s) {
+    for (int s = 0; s < n; ++s) {
       SampleStream rng(settings.seed, pixel, static_cast<std::uint64_t>(s));
       const double jx = rng.next(), jy = rng.next();
       scene.camera_ray(x + jx, y + jy, settings.width, settings.height, &o, &d);
@@ -193,13 +250,13 @@ void for_each_sample(const Scene& scene, const Sampling& sampling, int x, int y,
     return;
   }
   const PixelSampler sampler(settings.seed, pixel);
-  const StrategyPlan& plan = sampling.plan;
+  const StrategyPlan& plan = sampling.plan(n);
   Draw draw;
   draw.both = sampling.both;
   draw.power = settings.power_heuristic;
   // Light and lobe: the ground's environment and cosine samples both count spp.
   draw.ground_environment_probability =
-      sampling.both ? 0.5 : static_cast<double>(plan.counts[0]) / static_cast<double>(settings.spp);
+      sampling.both ? 0.5 : static_cast<double>(plan.counts[0]) / static_cast<double>(n);
   int s = 0;
   for (std::size_t k = 0; k < plan.counts.size(); ++k) {
     draw.environment = draw.ground_environment = k == 0 && !sampling.both;
@@ -224,7 +281,7 @@ void for_each_sample(const Scene& scene, const Sampling& sampling, int x, int y,
 template <class Tap>
 Rgb trace_pixel(const Scene& scene, const Sampling& sampling, int x, int y, Tap&& tap, std::uint64_t& taps) {
   Rgb constant = Rgb::Zero();
-  const SamplingMixture& density = sampling.density();
+  const SamplingMixture& density = sampling.density(sampling.count(x, y));
   for_each_sample(scene, sampling, x, y, [&](const Vec3& o, const Vec3& d, const Draw& draw) {
     bool hit_object;
     constant += trace_sample(scene, density, draw, o, d, &hit_object, [&](const Vec3& wi, const Vec3& wo, const Rgb& w) {
@@ -235,11 +292,10 @@ Rgb trace_pixel(const Scene& scene, const Sampling& sampling, int x, int y, Tap&
   return constant;
 }
 
-void record_stats(RenderStats* stats, const RenderSettings& settings, std::uint64_t taps,
+void record_stats(RenderStats* stats, const Sampling& sampling, std::uint64_t taps,
                   std::chrono::steady_clock::time_point start) {
   if (!stats) return;
-  stats->camera_samples = static_cast<std::uint64_t>(settings.width) * static_cast<std::uint64_t>(settings.height) *
-                          static_cast<std::uint64_t>(settings.spp);
+  stats->camera_samples = sampling.camera_samples();
   stats->object_samples = taps;
   stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -252,13 +308,17 @@ void RenderSettings::validate() const {
                 std::to_string(height));
   if (spp <= 0) throw Error("samples per pixel must be positive, got " + std::to_string(spp));
   mixture.validate();
+  if (!(grazing_samples >= 1.0 && grazing_samples <= 64.0))
+    throw Error("grazing_samples must be between 1 and 64, got " + std::to_string(grazing_samples));
+  if (sampler == Sampler::light_and_lobe && !(mixture.total() - mixture.environment > 0))
+    throw Error("the light-and-lobe sampler needs a lobe strategy (cosine, GGX or tabulated) besides the environment");
 }
 
 Image render(const Scene& scene, const Material& material, const RenderSettings& settings,
              ProgressSink& progress, RenderStats* stats) {
   settings.validate();
   const auto start = std::chrono::steady_clock::now();
-  const Sampling sampling(settings);
+  const Sampling sampling(scene, settings);
   Image image(settings.width, settings.height);
   std::atomic<std::uint64_t> taps{0};
   for_each_pixel(settings, progress, "render", [&](int x, int y) {
@@ -267,12 +327,12 @@ Image render(const Scene& scene, const Material& material, const RenderSettings&
     const Rgb constant = trace_pixel(
         scene, sampling, x, y,
         [&](const Vec3& wi, const Vec3& wo, const Rgb& w) { reflected += w * material.eval(wi, wo); }, local_taps);
-    const Rgb sum = (constant + reflected) / static_cast<double>(settings.spp);
+    const Rgb sum = (constant + reflected) / static_cast<double>(sampling.count(x, y));
     float* out = image.pixel(x, y);
     for (int c = 0; c < 3; ++c) out[c] = static_cast<float>(sum[c]);
     taps += local_taps;
   });
-  record_stats(stats, settings, taps.load(), start);
+  record_stats(stats, sampling, taps.load(), start);
   return image;
 }
 
@@ -280,7 +340,7 @@ std::vector<Image> render_bank(const Scene& scene, const MaterialBank& bank, con
                                ProgressSink& progress, RenderStats* stats) {
   settings.validate();
   const auto start = std::chrono::steady_clock::now();
-  const Sampling sampling(settings);
+  const Sampling sampling(scene, settings);
   const int k_count = bank.count();
   if (k_count <= 0) throw Error("material bank is empty");
   std::vector<Image> images(static_cast<std::size_t>(k_count), Image(settings.width, settings.height));
@@ -301,7 +361,7 @@ std::vector<Image> render_bank(const Scene& scene, const MaterialBank& bank, con
                                        }
                                      },
                                      local_taps);
-    const double inv = 1.0 / static_cast<double>(settings.spp);
+    const double inv = 1.0 / static_cast<double>(sampling.count(x, y));
     for (int k = 0; k < k_count; ++k) {
       float* out = images[static_cast<std::size_t>(k)].pixel(x, y);
       for (int c = 0; c < 3; ++c)
@@ -309,13 +369,13 @@ std::vector<Image> render_bank(const Scene& scene, const MaterialBank& bank, con
     }
     taps += local_taps;
   });
-  record_stats(stats, settings, taps.load(), start);
+  record_stats(stats, sampling, taps.load(), start);
   return images;
 }
 
 std::vector<float> object_coverage(const Scene& scene, const RenderSettings& settings) {
   settings.validate();
-  const Sampling sampling(settings);
+  const Sampling sampling(scene, settings);
   std::vector<float> coverage(static_cast<std::size_t>(settings.width) * static_cast<std::size_t>(settings.height));
   parallel_for(0, static_cast<std::size_t>(settings.height), [&](std::size_t y0, std::size_t y1) {
     for (std::size_t y = y0; y < y1; ++y)
@@ -326,10 +386,18 @@ std::vector<float> object_coverage(const Scene& scene, const RenderSettings& set
           hits += hit && hit->object;
         });
         coverage[y * static_cast<std::size_t>(settings.width) + static_cast<std::size_t>(x)] =
-            static_cast<float>(hits) / static_cast<float>(settings.spp);
+            static_cast<float>(hits) / static_cast<float>(sampling.count(x, static_cast<int>(y)));
       }
   });
   return coverage;
+}
+
+std::vector<int> sample_counts(const Scene& scene, const RenderSettings& settings) {
+  settings.validate();
+  std::vector<int> counts = grazing_sample_counts(scene, settings);
+  if (counts.empty())
+    counts.assign(static_cast<std::size_t>(settings.width) * static_cast<std::size_t>(settings.height), settings.spp);
+  return counts;
 }
 
 }  // namespace matlas::render

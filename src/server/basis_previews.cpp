@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "atlas/model_basis.h"
+#include "atlas/sampling_fit.h"
 #include "core/error.h"
 #include "formats/image_resize.h"
 #include "manifold/model.h"
@@ -93,6 +94,15 @@ struct BasisPreviews::Impl {
                                 std::to_string(options.seed) + ".safetensors");
   }
 
+  /// The preview bases' render settings (render_basis fits the mixture to the model).
+  render::RenderSettings settings() const {
+    render::RenderSettings s;
+    s.width = s.height = options.size;
+    s.spp = options.spp;
+    s.seed = options.seed;
+    return s;
+  }
+
   Entry build(const std::string& env, const std::string& object, ProgressSink& progress) const {
     const auto path = cache_path(env, object);
     std::shared_ptr<render::ImageBasis> full;
@@ -101,8 +111,10 @@ struct BasisPreviews::Impl {
         auto b = std::make_shared<render::ImageBasis>(render::ImageBasis::open(path));
         const auto& meta = b->metadata();
         const auto fp = meta.find("model_fingerprint");
-        if (b->count() == model.count() && b->width() == options.size && fp != meta.end() && fp->second == fingerprint)
-          full = std::move(b);
+        const auto sampling = meta.find("sampling_mixture");
+        if (b->count() == model.count() && b->width() == options.size && fp != meta.end() && fp->second == fingerprint &&
+            sampling != meta.end() && sampling->second == atlas::sampling_record(atlas::model_render_settings(model, settings())))
+          full = std::move(b);  // else rendered with another sampler or mixture (an older matlas): render again
       } catch (const Error&) {
         // A damaged or foreign cache file: render again and replace it.
       }
@@ -112,12 +124,8 @@ struct BasisPreviews::Impl {
       desc.environment = env;
       desc.object = object;
       const render::Scene scene(desc);
-      render::RenderSettings settings;
-      settings.width = settings.height = options.size;
-      settings.spp = options.spp;
-      settings.seed = options.seed;
       CancellableSink sink(progress, stop);
-      full = std::make_shared<render::ImageBasis>(atlas::render_basis(model, scene, settings, sink));
+      full = std::make_shared<render::ImageBasis>(atlas::render_basis(model, scene, settings(), sink));
       full->convert_to_half();
       if (!path.empty()) {
         std::filesystem::create_directories(path.parent_path());

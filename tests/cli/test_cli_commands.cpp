@@ -2,17 +2,24 @@
 // and the files they produce, against the library's own answers.
 #include <algorithm>
 #include <filesystem>
+#include <cmath>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "atlas/model_material.h"
+#include "atlas/sampling_fit.h"
 #include "brdf/catalog.h"
 #include "cli/in_process.h"
+#include "formats/image_io.h"
 #include "formats/merl_file.h"
 #include "formats/synth_database.h"
 #include "manifold/model.h"
+#include "render/render.h"
+#include "render/scene.h"
 #include "support/temp_dir.h"
 
 namespace matlas {
@@ -112,6 +119,37 @@ TEST_F(CliCommands, WeightsAtAMaterialSelectItAndSumToOne) {
   EXPECT_LT(j.at("variance").get<double>(), 1e-3);
   for (const auto& w : j.at("weights"))
     EXPECT_NEAR(w.at("w").get<double>(), w.at("name") == name ? 1.0 : 0.0, 1e-3) << w.dump();
+}
+
+TEST_F(CliCommands, RenderTakesTheSamplerAndGrazingSamplesOptions) {
+  // A database material rendered as the command does and as the library does with the same
+  // settings: the options reach the renderer (each choice gives another image, equal to its own).
+  const std::string name = material(2).stem().string();
+  const Model m = Model::open(model());
+  const atlas::ModelMaterial table(m, m.material_weights(m.index_of(name)));
+  for (const auto& [sampler, enumerated, grazing] :
+       {std::tuple{"light-and-lobe", render::Sampler::light_and_lobe, 4.0},
+        std::tuple{"stratified", render::Sampler::stratified, 1.0},
+        std::tuple{"independent", render::Sampler::independent, 2.0}}) {
+    const fs::path out = dir_->path() / (std::string("r-") + sampler + ".exr");
+    const Output r = call({"render", model().string(), "--material", name, "-o", out.string(), "--width", "16",
+                           "--height", "16", "--spp", "4", "--env", "constant", "--sampler", sampler,
+                           "--grazing-samples", std::to_string(grazing)});
+    ASSERT_EQ(r.code, 0) << r.err;
+    render::RenderSettings s;
+    s.width = s.height = 16;
+    s.spp = 4;
+    s.sampler = enumerated;
+    s.grazing_samples = grazing;
+    render::SceneDescription d;
+    d.environment = "constant";
+    const Image expected = render::render(render::Scene(d), table, atlas::model_render_settings(m, s));
+    const Image written = read_image(out);
+    ASSERT_EQ(written.rgb.size(), expected.rgb.size());
+    for (std::size_t i = 0; i < expected.rgb.size(); ++i)
+      ASSERT_NEAR(written.rgb[i], expected.rgb[i], 1e-6 * (1.0 + std::abs(expected.rgb[i]))) << sampler << " value " << i;
+  }
+  EXPECT_NE(read_image(dir_->path() / "r-light-and-lobe.exr").rgb, read_image(dir_->path() / "r-stratified.exr").rgb);
 }
 
 TEST_F(CliCommands, ProjectFindsAnInputAndErrorsGoToTheErrorStream) {

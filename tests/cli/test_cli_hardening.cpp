@@ -283,6 +283,15 @@ TEST_F(CliHardening, MessagesNameTheProblem) {
                "--height", "8", "--spp", "1", "--env", "constant"});
   EXPECT_EQ(r.code, 1) << r.out;
   EXPECT_CONTAINS(r.out, "--light 'nan,1,1'");
+  r = run({"render", m, "--material", name, "-o", "/tmp/never.png", "--sampler", "sobol", "--width", "8", "--height", "8",
+           "--spp", "1", "--env", "constant"});
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_CONTAINS(r.out, "--sampler 'sobol': expected light-and-lobe, stratified or independent");
+  r = run({"render", m, "--material", name, "-o", "/tmp/never.png", "--grazing-samples", "0.5", "--width", "8",
+           "--height", "8", "--spp", "1", "--env", "constant"});
+  EXPECT_NE(r.code, 0) << r.out;
+  EXPECT_CONTAINS(r.out, "--grazing-samples");
+  EXPECT_FALSE(fs::exists("/tmp/never.png"));
   r = run({"export", m, "--material", name, "-o", ""});
   EXPECT_EQ(r.code, 1) << r.out;
   EXPECT_CONTAINS(r.out, "output file name is empty");

@@ -29,6 +29,21 @@ TEST(PixelSampler, SobolSecondDimensionIsTheKnownSequence) {
   }
 }
 
+TEST(PixelSampler, TableDrivenSobolEqualsTheGeneratorMatrixProduct) {
+  // Scrambled indices are arbitrary 32-bit words: every byte position and the top bit matter.
+  std::vector<std::uint32_t> indices = {0u, 1u, 255u, 256u, 0x80000000u, 0xFFFFFFFFu, 0x01020304u};
+  std::uint64_t z = 12345;
+  for (int i = 0; i < 2000; ++i) {
+    z = z * 6364136223846793005ull + 1442695040888963407ull;
+    indices.push_back(static_cast<std::uint32_t>(z >> 32));
+  }
+  for (const std::uint32_t index : indices) {
+    std::uint32_t x[4];
+    sobol_4d(index, x);
+    for (int d = 0; d < 4; ++d) ASSERT_EQ(x[d], sobol_dimension(d, index)) << "index " << index << " dimension " << d;
+  }
+}
+
 TEST(PixelSampler, ScrambledPointsAreStratifiedInEveryDimensionAndTheJitterIsANet) {
   for (const std::uint64_t pixel : {0ull, 17ull, 123457ull})
     for (const int strategy : {0, 3}) {
@@ -144,46 +159,130 @@ void expect_material_independent_samples(const RenderSettings& s) {
 }
 
 TEST(PixelSampler, TheSamplesDoNotDependOnTheMaterial) {
-  ASSERT_EQ(RenderSettings{}.sampler, Sampler::stratified);  // the default
+  ASSERT_EQ(RenderSettings{}.sampler, Sampler::light_and_lobe);  // the default
+  expect_material_independent_samples(small_settings(Sampler::light_and_lobe, false));
   expect_material_independent_samples(small_settings(Sampler::stratified, false));
 }
 
-TEST(PixelSampler, LightAndLobeSamplesAndThePowerHeuristicDoNotDependOnTheMaterial) {
-  expect_material_independent_samples(small_settings(Sampler::light_and_lobe, false));
+TEST(PixelSampler, ThePowerHeuristicSamplesDoNotDependOnTheMaterial) {
   expect_material_independent_samples(small_settings(Sampler::light_and_lobe, true));
   expect_material_independent_samples(small_settings(Sampler::stratified, true));
 }
 
-TEST(PixelSampler, LightAndLobeAndThePowerHeuristicAreUnbiased) {
-  // Furnace: a white Lambertian in a uniform environment of radiance 1 reflects exactly 1; the
-  // MIS weights vary over the directions (the lobes' density does), so wrong weights show.
-  SceneDescription d;
-  d.constant_radiance = Rgb::Constant(1.0);
-  const Scene furnace(d);
-  const FunctionMaterial white([](const Vec3&, const Vec3&) -> Rgb { return Rgb::Constant(1.0 / kPi); });
-  // A glossy conductor under the synthetic sky with its small bright sun: the same mean as the
-  // stratified balance-heuristic render (itself tested against closed forms elsewhere).
-  const Scene sky(SceneDescription{}, std::nullopt, Environment(test::synthetic_environment()));
-  const GgxConductor glossy{Rgb(0.95, 0.64, 0.54), 0.15};
-  const FunctionMaterial gold([&](const Vec3& wi, const Vec3& wo) { return glossy(wi, wo); });
-  RenderSettings reference = small_settings(Sampler::stratified, false);
-  reference.width = reference.height = 24;
-  reference.spp = 256;
-  const std::vector<float> coverage = object_coverage(furnace, reference);
-  const Image sky_reference = render(sky, gold, reference);
-  for (const auto& [sampler, power] : {std::pair{Sampler::light_and_lobe, false}, std::pair{Sampler::light_and_lobe, true},
-                                       std::pair{Sampler::stratified, true}}) {
-    RenderSettings s = reference;
-    s.sampler = sampler;
-    s.power_heuristic = power;
-    const Image image = render(furnace, white, s);
-    const Image glossy_image = render(sky, gold, s);
+TEST(PixelSampler, LightAndLobeRefusesAMixtureWithoutLobes) {
+  RenderSettings s = small_settings(Sampler::light_and_lobe, false);
+  s.mixture = SamplingMixture(1.0, 0.0, {});
+  EXPECT_THROW(
+      {
+        try {
+          s.validate();
+        } catch (const Error& e) {
+          EXPECT_NE(std::string(e.what()).find("lobe strategy"), std::string::npos) << e.what();
+          throw;
+        }
+      },
+      Error);
+  s.sampler = Sampler::stratified;  // the environment alone is a valid stratified mixture
+  EXPECT_NO_THROW(s.validate());
+}
+
+/// A furnace (uniform radiance 1) with a white Lambertian, and the synthetic sky with a glossy
+/// conductor: the unbiasedness checks of the samplers.
+struct UnbiasednessScenes {
+  static SceneDescription furnace_description() {
+    SceneDescription d;
+    d.constant_radiance = Rgb::Constant(1.0);
+    return d;
+  }
+  Scene furnace{furnace_description()};
+  Scene sky{SceneDescription{}, std::nullopt, Environment(test::synthetic_environment())};
+  FunctionMaterial white{[](const Vec3&, const Vec3&) -> Rgb { return Rgb::Constant(1.0 / kPi); }};
+  FunctionMaterial gold{[g = GgxConductor{Rgb(0.95, 0.64, 0.54), 0.15}](const Vec3& wi, const Vec3& wo) {
+    return g(wi, wo);
+  }};
+
+  /// Furnace: a white Lambertian in a uniform environment of radiance 1 reflects exactly 1; the
+  /// MIS weights vary over the directions (the lobes' density does), so wrong weights show. The
+  /// glossy conductor under the sky with its small bright sun: the same mean as `reference`
+  /// (itself tested against closed forms elsewhere).
+  void expect_unbiased(const RenderSettings& reference, const RenderSettings& s) const {
+    const std::vector<float> coverage = object_coverage(furnace, reference);
+    const Image sky_reference = render(sky, gold, reference);
+    const Image image = render(furnace, white, s), glossy_image = render(sky, gold, s);
     for (int c = 0; c < 3; ++c) {
       EXPECT_NEAR(test::covered_mean(image, coverage, c), 1.0, 0.01);
       const double expected = test::covered_mean(sky_reference, coverage, c);
       EXPECT_NEAR(test::covered_mean(glossy_image, coverage, c), expected, 0.02 * expected);
     }
   }
+};
+
+TEST(PixelSampler, LightAndLobeAndThePowerHeuristicAreUnbiased) {
+  RenderSettings reference = small_settings(Sampler::stratified, false);
+  reference.width = reference.height = 24;
+  reference.spp = 256;
+  reference.grazing_samples = 1.0;
+  const UnbiasednessScenes t;
+  for (const auto& [sampler, power] : {std::pair{Sampler::light_and_lobe, false}, std::pair{Sampler::light_and_lobe, true},
+                                       std::pair{Sampler::stratified, true}}) {
+    RenderSettings s = reference;
+    s.sampler = sampler;
+    s.power_heuristic = power;
+    t.expect_unbiased(reference, s);
+  }
+}
+
+TEST(GrazingSamples, CountsFollowTheViewAngleAndKeepTheMeanSpp) {
+  const Scene scene(SceneDescription{}, std::nullopt, Environment(test::synthetic_environment()));
+  RenderSettings s;
+  s.width = s.height = 64;
+  s.spp = 32;
+  s.grazing_samples = 4.0;
+  const std::vector<int> counts = sample_counts(scene, s);
+  ASSERT_EQ(counts.size(), 64u * 64u);
+  double total = 0;
+  for (const int n : counts) total += n;
+  EXPECT_NEAR(total / static_cast<double>(counts.size()), 32.0, 0.5);  // the same samples in all (rounding)
+  // The sphere's centre and the background take the frontal count; the rim up to 4x that.
+  const int centre = counts[32 * 64 + 32], corner = counts[0];
+  const int most = *std::max_element(counts.begin(), counts.end()), least = *std::min_element(counts.begin(), counts.end());
+  EXPECT_EQ(centre, corner);
+  EXPECT_EQ(least, centre);
+  EXPECT_GE(most, 3 * centre);
+  EXPECT_LE(most, 4 * centre + 2);  // both rounded
+  // Along the row through the centre, the counts grow from the centre to the rim.
+  const std::vector<float> coverage = object_coverage(scene, s);
+  int previous = centre;
+  for (int x = 33; x < 64 && coverage[32 * 64 + static_cast<std::size_t>(x)] == 1.0f; ++x) {
+    EXPECT_GE(counts[32 * 64 + static_cast<std::size_t>(x)], previous) << "x " << x;
+    previous = counts[32 * 64 + static_cast<std::size_t>(x)];
+  }
+  EXPECT_GT(previous, centre);
+  // Off: spp everywhere.
+  s.grazing_samples = 1.0;
+  for (const int n : sample_counts(scene, s)) ASSERT_EQ(n, 32);
+  s.grazing_samples = 0.5;
+  EXPECT_THROW(s.validate(), Error);
+}
+
+TEST(GrazingSamples, TheSamplesDoNotDependOnTheMaterialAndStayUnbiased) {
+  for (const Sampler sampler : {Sampler::light_and_lobe, Sampler::stratified, Sampler::independent}) {
+    RenderSettings s = small_settings(sampler, false);
+    s.grazing_samples = 4.0;
+    expect_material_independent_samples(s);
+  }
+  // Furnace and the glossy conductor under the sky, as for the samplers above.
+  RenderSettings uniform = small_settings(Sampler::light_and_lobe, false);
+  uniform.width = uniform.height = 24;
+  uniform.spp = 256;
+  uniform.grazing_samples = 1.0;
+  RenderSettings grazing = uniform;
+  grazing.grazing_samples = 4.0;
+  const UnbiasednessScenes t;
+  t.expect_unbiased(uniform, grazing);
+  RenderStats stats;
+  (void)render(t.furnace, t.white, grazing, null_progress(), &stats);
+  EXPECT_NEAR(static_cast<double>(stats.camera_samples) / (24.0 * 24.0 * 256.0), 1.0, 0.01);
 }
 
 }  // namespace

@@ -25,6 +25,7 @@ RenderSettings small(int size, int spp) {
 
 RenderSettings cosine_only(RenderSettings s) {
   s.mixture = {0.0, 1.0, {}};
+  s.sampler = Sampler::stratified;  // the default light-and-lobe sampler always adds an environment sample
   return s;
 }
 
