@@ -249,7 +249,7 @@ Image render_gallery(const Model& model, const std::vector<GalleryEntry>& entrie
     if (basis) {
       cell = basis->compose(weights);
     } else {
-      cell = render::render(*scene, ModelMaterial(model, weights), fitted);
+      cell = render::render(*scene, ModelTableMaterial(model, weights), fitted);  // table built once per cell
     }
     const int ox = gap + (k % cols) * (w + gap), oy = gap + (k / cols) * (h + gap);
     for (int y = 0; y < h; ++y)

@@ -20,6 +20,19 @@ private:
   Eigen::VectorXd w_;
 };
 
+/// The model's material at weights w as a table, built once (Model::table: one pass over the
+/// stored data, in parallel), for renders with many lookups: a lookup then reads one value per
+/// channel instead of a dot product of length n. The same values as ModelMaterial (to rounding).
+class ModelTableMaterial final : public render::Material {
+public:
+  ModelTableMaterial(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& weights) : table_(model.table(weights)) {}
+  Rgb eval(const Vec3& wi, const Vec3& wo) const override { return table_.lookup(wi, wo); }
+  const BrdfTable& table() const { return table_; }
+
+private:
+  BrdfTable table_;
+};
+
 /// The model's mean material (w = 0) followed by every database material i (w = e_i =
 /// Model::material_weights(i), so dropped columns read 0 exactly as in ModelMaterial): count() is
 /// n + 1. One bin index and one contiguous run of n stored values per channel serve all of them:

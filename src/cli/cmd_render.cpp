@@ -45,9 +45,10 @@ void run_render(const RenderArgs& a, const Io& io) {
     const Model model = Model::open(a.input);
     const Eigen::VectorXd x = resolve_point(model, a.at, a.material);
     const Eigen::VectorXd w = a.material ? model.material_weights(model.index_of(*a.material)) : model.weights(x);
-    // The model's fitted mixture: the same samples as its bases.
-    image = render::render(scene, atlas::ModelMaterial(model, w), atlas::model_render_settings(model, settings), progress,
-                           &stats);
+    // The model's fitted mixture: the same samples as its bases. The table of m(w) is built once:
+    // a render's millions of lookups then read one value per channel, not a dot product of n.
+    const atlas::ModelTableMaterial material(model, w);
+    image = render::render(scene, material, atlas::model_render_settings(model, settings), progress, &stats);
   }
   write_image(a.output, image, tone);
   print(io.out, "wrote %s (%dx%d, %d spp, %.2f s, %.3g camera samples/s)\n", a.output.c_str(), settings.width,

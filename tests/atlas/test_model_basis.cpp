@@ -101,6 +101,39 @@ TEST_F(ImageBasisTest, ComposedImageEqualsTheDirectRenderOfTheManifoldPoint) {
   EXPECT_THROW(basis.compose(Eigen::VectorXd::Zero(5)), Error);
 }
 
+TEST_F(ImageBasisTest, TheTableOfAModelPointRendersLikeItsLookups) {
+  // ModelTableMaterial (the table built once) and ModelMaterial (a dot product per lookup) are
+  // the same material: equal values at every direction, equal renders, and the composition of
+  // the basis, at a point between materials and one outside the data.
+  const Scene s = scene();
+  const ImageBasis basis = render_basis(*model_, s, settings());
+  const RenderSettings fitted = model_render_settings(*model_, settings());
+  const Eigen::MatrixXd& X = model_->latent();
+  for (const Eigen::VectorXd& x : {Eigen::VectorXd(0.5 * (X.row(1) + X.row(4)).transpose()),
+                                  Eigen::VectorXd(1.4 * X.row(0).transpose() - 0.3 * X.row(5).transpose())}) {
+    const Eigen::VectorXd w = model_->weights(x);
+    const ModelMaterial lookups(*model_, w);
+    const ModelTableMaterial table(*model_, w);
+    std::uint64_t z = 99;
+    const auto next = [&] {
+      z = z * 6364136223846793005ull + 1442695040888963407ull;
+      return static_cast<double>(z >> 11) * 0x1.0p-53;
+    };
+    for (int k = 0; k < 2000; ++k) {
+      const auto direction = [&] {
+        const double ct = next(), phi = 2 * kPi * next(), st = std::sqrt(1 - ct * ct);
+        return Vec3(st * std::cos(phi), st * std::sin(phi), ct);
+      };
+      const Vec3 wi = direction(), wo = direction();
+      const Rgb a = lookups.eval(wi, wo), b = table.eval(wi, wo);
+      for (int c = 0; c < 3; ++c) ASSERT_NEAR(b[c], a[c], 1e-12 * (1 + std::abs(a[c]))) << "direction " << k;
+    }
+    const Image from_table = render::render(s, table, fitted);
+    EXPECT_LT(max_relative(from_table, render::render(s, lookups, fitted)), 1e-6);
+    EXPECT_LT(max_relative(basis.compose(w), from_table), 2e-6);
+  }
+}
+
 TEST_F(ImageBasisTest, FilesRoundTripInFloat32AndFloat16) {
   ImageBasis basis = render_basis(*model_, scene(), settings());
   basis.metadata()["note"] = "test";
