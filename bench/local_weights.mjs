@@ -4,6 +4,7 @@
 // projection, and the time per point in node (three passes over all points).
 //
 //   node bench/local_weights.mjs http://127.0.0.1:8080/
+import { probePoints } from "../web/tests/probe-points.mjs";
 import { importTs } from "../web/tests/transpile.mjs";
 
 const { LocalWeights } = (await importTs(["local-weights"]))["local-weights"];
@@ -12,11 +13,7 @@ const model = await (await fetch(new URL("api/model", url))).json();
 const data = await (await fetch(new URL("api/interpolation", url))).json();
 const local = new LocalWeights(data);
 
-const points = [...model.latent];
-for (let i = 0; i + 1 < model.count; ++i) points.push(model.latent[i].map((v, d) => 0.5 * (v + model.latent[i + 1][d])));
-let state = 9;
-const random = () => ((state = (state * 1103515245 + 12345) % 2147483648) / 2147483648);
-for (let t = 0; t < 300; ++t) points.push(model.domain.min.map((lo, d) => lo + random() * (model.domain.max[d] - lo)));
+const points = probePoints(model, 300, 9);
 
 let largest = 0, projected = 0;
 for (const x of points) {

@@ -65,25 +65,6 @@ const std::array<std::array<std::uint32_t, 32>, 3>& sobol_matrices() {
   return matrices;
 }
 
-/// The matrix-vector product over GF(2) a byte at a time: for dimension d and byte position k,
-/// entry v is the xor of the columns 8k + b for the set bits b of v. The pixels' indices are
-/// scrambled (any 32-bit word), so a bit-by-bit product costs up to 32 steps per dimension; this
-/// is four lookups (12 KB, in L1).
-struct SobolByteTables {
-  std::array<std::array<std::array<std::uint32_t, 256>, 4>, 3> t{};
-  SobolByteTables() {
-    const auto& matrices = sobol_matrices();
-    for (std::size_t d = 0; d < 3; ++d)
-      for (std::size_t k = 0; k < 4; ++k)
-        for (std::uint32_t v = 0; v < 256; ++v) {
-          std::uint32_t r = 0;
-          for (std::uint32_t b = 0; b < 8; ++b)
-            if ((v >> b) & 1u) r ^= matrices[d][8 * k + b];
-          t[d][k][v] = r;
-        }
-  }
-};
-
 }  // namespace
 
 std::uint32_t sobol_dimension(int dimension, std::uint32_t index) {
@@ -94,6 +75,23 @@ std::uint32_t sobol_dimension(int dimension, std::uint32_t index) {
     if (i & 1u) r ^= m[b];
   return r;
 }
+
+namespace {
+
+/// The matrix-vector product over GF(2) a byte at a time: for dimension d and byte position k,
+/// entry v is the product with v's bits placed at byte k (the xor of columns 8k + b for the set
+/// bits b of v). The pixels' indices are scrambled (any 32-bit word), so a bit-by-bit product
+/// costs up to 32 steps per dimension; this is four lookups (12 KB, in L1).
+struct SobolByteTables {
+  std::array<std::array<std::array<std::uint32_t, 256>, 4>, 3> t{};
+  SobolByteTables() {
+    for (std::size_t d = 0; d < 3; ++d)
+      for (std::size_t k = 0; k < 4; ++k)
+        for (std::uint32_t v = 0; v < 256; ++v) t[d][k][v] = sobol_dimension(static_cast<int>(d) + 1, v << (8 * k));
+  }
+};
+
+}  // namespace
 
 void sobol_4d(std::uint32_t index, std::uint32_t out[4]) {
   static const SobolByteTables tables;

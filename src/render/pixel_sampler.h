@@ -30,7 +30,7 @@ std::uint32_t owen_scramble(std::uint32_t v, std::uint32_t seed);
 /// (0,2)-sequence. Table-driven (a byte of the index per lookup).
 void sobol_4d(std::uint32_t index, std::uint32_t out[4]);
 /// Coordinate `dimension` (0..3) of the same point, from the generator matrix a bit at a time:
-/// the definition, for tests.
+/// the definition (sobol_4d's tables are built from it; tests compare the two).
 std::uint32_t sobol_dimension(int dimension, std::uint32_t index);
 
 /// The strategies of a mixture in a fixed order: environment, cosine, the GGX lobes, the

@@ -9,6 +9,7 @@ import assert from "node:assert/strict";
 import { mkdtempSync, readdirSync, readFileSync, rmSync } from "node:fs";
 import { tmpdir } from "node:os";
 import { join } from "node:path";
+import { probePoints } from "./probe-points.mjs";
 import { documentedEndpoints, normalSchema, normalTs, schema, validate } from "./schema.mjs";
 import { startDemo, webDir, stopServer } from "./server.mjs";
 import { importTs } from "./transpile.mjs";
@@ -151,11 +152,7 @@ test("the page's local weights (web/src/local-weights.ts) are the server's", asy
   assert.equal(data.mode, model.interpolation);
   const local = new LocalWeights(data);
   // The materials, midpoints of pairs of them, and points spread over the whole domain.
-  const points = [...model.latent];
-  for (let i = 0; i + 1 < model.count; ++i) points.push(model.latent[i].map((v, d) => 0.5 * (v + model.latent[i + 1][d])));
-  let state = 5;
-  const random = () => ((state = (state * 1103515245 + 12345) % 2147483648) / 2147483648);
-  for (let t = 0; t < 60; ++t) points.push(model.domain.min.map((lo, d) => lo + random() * (model.domain.max[d] - lo)));
+  const points = probePoints(model, 60, 5);
   let projected = 0, largest = 0;
   for (const x of points) {
     const server = (await expectAnswer("POST", "api/weights", { x, top: 1 })).weights;
