@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "formats/mesh_io.h"
 #include "render/assets.h"
+#include "render/embree_device.h"
 #include "render/scene.h"
 
 namespace matlas::pathtrace {
@@ -83,7 +84,6 @@ struct World::Impl {
 
   ~Impl() {
     if (scene) rtcReleaseScene(scene);
-    if (device) rtcReleaseDevice(device);
   }
 };
 
@@ -95,8 +95,7 @@ World::World(SceneSpec spec) : spec_(std::move(spec)), impl_(std::make_unique<Im
     environment_ = render::Environment::constant(e.constant * e.intensity);
 
   Impl& s = *impl_;
-  s.device = rtcNewDevice("threads=1");
-  if (!s.device) throw Error("cannot create the Embree device");
+  s.device = render::embree_device();
   s.scene = rtcNewScene(s.device);
   rtcSetSceneBuildQuality(s.scene, RTC_BUILD_QUALITY_HIGH);
   s.triangles.resize(spec_.objects.size());

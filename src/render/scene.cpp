@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "render/assets.h"
+#include "render/embree_device.h"
 
 namespace matlas::render {
 
@@ -16,12 +17,6 @@ namespace {
 constexpr unsigned kObjectGeometry = 0;
 constexpr unsigned kGroundGeometry = 1;
 constexpr float kGroundHalfSize = 50.0f;
-
-void embree_error(void*, RTCError code, const char* message) {
-  // Reported through the return values below; keep the message for the exception.
-  (void)code;
-  (void)message;
-}
 
 Environment load_environment(const SceneDescription& d) {
   if (d.environment == "constant") return Environment::constant(d.constant_radiance * d.environment_intensity);
@@ -54,7 +49,6 @@ struct Scene::Impl {
 
   ~Impl() {
     if (scene) rtcReleaseScene(scene);
-    if (device) rtcReleaseDevice(device);
   }
 };
 
@@ -72,9 +66,7 @@ Scene::~Scene() = default;
 
 void Scene::build(std::optional<TriangleMesh> mesh) {
   Impl& s = *impl_;
-  s.device = rtcNewDevice("threads=1");  // queries only: no build threads needed
-  if (!s.device) throw Error("cannot create the Embree device");
-  rtcSetDeviceErrorFunction(s.device, embree_error, nullptr);
+  s.device = embree_device();
   s.scene = rtcNewScene(s.device);
   rtcSetSceneBuildQuality(s.scene, RTC_BUILD_QUALITY_HIGH);
 

@@ -70,7 +70,7 @@ std::string point_key(const Eigen::VectorXd& x) {
 
 Reply Reply::json(const nlohmann::json& j) {
   Reply r;
-  r.body = j.dump();
+  r.body = j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   return r;
 }
 
@@ -90,9 +90,11 @@ Api::Api(const Model& model, std::shared_ptr<const PreviewSource> previews, cons
       domain_(LatentDomain::around(model.latent_min(), model.latent_max(), options.domain_margin)),
       envs_(previews_->environments()),
       objects_(previews_->objects()),
-      compute_(options.compute_slots > 0 ? options.compute_slots
-                                         : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))),
-      heavy_(options.heavy_slots),
+      compute_(ComputeGate::Options{options.compute_slots > 0
+                                        ? options.compute_slots
+                                        : static_cast<int>(std::max(1u, std::thread::hardware_concurrency())),
+                                    4 * options.waiting_per_client}),  // light work: a page sends several at once
+      heavy_(ComputeGate::Options{options.heavy_slots, options.waiting_per_client}),
       cache_(options.cache_entries),
       realtime_(std::make_unique<Realtime>(model, envs_, objects_)),
       gi_(options.gi_scenes ? options.gi_scenes(model) : nullptr) {
@@ -132,7 +134,11 @@ Api::Api(const Model& model, std::shared_ptr<const PreviewSource> previews, cons
 }
 
 ComputeGate::Slot Api::acquire(ComputeGate& gate) {
-  ComputeGate::Slot slot = gate.acquire(options_.queue_timeout);
+  ComputeGate::Refusal why = ComputeGate::Refusal::kNone;
+  ComputeGate::Slot slot = gate.acquire(options_.queue_timeout, request_client(), &why);
+  if (why == ComputeGate::Refusal::kRefused)
+    throw HttpError(503, "this client has " + std::to_string(options_.waiting_per_client) +
+                             " requests of this kind waiting already; try again when one is answered");
   if (!slot) throw HttpError(503, "the server is busy; try again");
   return slot;
 }

@@ -28,9 +28,13 @@ const char* kNoUiPage = R"(<!doctype html><meta charset="utf-8"><title>matlas</t
 <code>web/</code>, or point <code>--web-root</code> / <code>MATLAS_WEB_ROOT</code> at a built
 <code>web/dist</code>. The JSON API is available under <code>/api/</code> (docs/API.md).</p></body>)";
 
+/// Never throws for the message's content: bytes that are not UTF-8 (from a model's names, a
+/// file's path) are replaced rather than thrown on (the JSON library's default), because this
+/// runs in the error handlers too, outside the HTTP library's try/catch.
 void send_error(httplib::Response& res, int status, const std::string& message) {
   res.status = status;
-  res.set_content(nlohmann::json{{"error", message}}.dump(), "application/json");
+  res.set_content(nlohmann::json{{"error", message}}.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace),
+                  "application/json");
 }
 
 void send(httplib::Response& res, const Reply& reply) {
@@ -193,9 +197,9 @@ struct AtlasServer::Impl {
     long long length = -1;
     if (req.has_header("Content-Length")) {
       const std::string text = req.get_header_value("Content-Length");
-      char* end = nullptr;
-      const unsigned long long v = std::strtoull(text.c_str(), &end, 10);
-      length = (end == text.c_str() || *end) ? -2 : static_cast<long long>(std::min<unsigned long long>(v, 1ull << 62));
+      // Digits only: strtoull alone would read "-1" as 2^64 - 1 (a 413 instead of a 400).
+      const bool digits = !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
+      length = !digits ? -2 : text.size() > 18 ? (1ll << 62) : std::stoll(text);
     }
     if (length == -2) {
       send_error(res, 400, "invalid Content-Length header");
@@ -321,31 +325,41 @@ struct AtlasServer::Impl {
       });
     }
 
+    // The error and exception handlers run outside httplib's try/catch: nothing here may throw
+    // (an exception would end the process), whatever the request's path holds (GET /%FF).
     http.set_error_handler(httplib::Server::HandlerWithResponse(
-        [](const httplib::Request& req, httplib::Response& res) {
+        [](const httplib::Request& req, httplib::Response& res) noexcept {
       if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
-      if (res.status == 413)
-        send_error(res, 413, "the request body is too large");
-      else if (res.status == 404)
-        send_error(res, 404, "no such endpoint or file: " + req.path);
-      else
-        send_error(res, res.status, "request failed with status " + std::to_string(res.status));
+      try {
+        if (res.status == 413)
+          send_error(res, 413, "the request body is too large");
+        else if (res.status == 404)
+          send_error(res, 404, "no such endpoint or file: " + quoted_excerpt(req.path, 200));
+        else
+          send_error(res, res.status, "request failed with status " + std::to_string(res.status));
+      } catch (...) {
+        res.set_content(R"({"error":"request failed"})", "application/json");
+      }
       return httplib::Server::HandlerResponse::Handled;
     }));
-    http.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr ep) {
+    http.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr ep) noexcept {
       try {
-        if (ep) std::rethrow_exception(ep);
-        send_error(res, 500, "internal error");
-      } catch (const std::exception& e) {
-        send_error(res, 500, std::string("internal error: ") + e.what());
+        try {
+          if (ep) std::rethrow_exception(ep);
+          send_error(res, 500, "internal error");
+        } catch (const std::exception& e) {
+          send_error(res, 500, std::string("internal error: ") + e.what());
+        }
       } catch (...) {
-        send_error(res, 500, "internal error");
+        res.status = 500;
+        res.set_content(R"({"error":"internal error"})", "application/json");
       }
     });
     // The logger runs on the thread that handled the request, right after it.
     static thread_local std::chrono::steady_clock::time_point started;
     http.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
       started = std::chrono::steady_clock::now();
+      set_request_client(req.remote_addr);
       return admit(req, res) ? httplib::Server::HandlerResponse::Unhandled
                              : httplib::Server::HandlerResponse::Handled;
     });

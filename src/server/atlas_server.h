@@ -50,6 +50,9 @@ struct ServerOptions {
   int compute_slots = 0;                    ///< concurrent preview/panel computations; 0: cores
   int heavy_slots = 1;                      ///< concurrent exports, projections, map layers
   std::chrono::milliseconds queue_timeout{15000};  ///< longest wait for a slot before 503
+  /// Requests of one client (address) waiting for the same kind of slot; one more gets 503 at
+  /// once. The slots go to the waiting client that used them least lately (server/compute_gate.h).
+  int waiting_per_client = 4;
   std::size_t max_upload_bytes = 64u << 20;        ///< larger uploads get 413 (other requests: 64 KiB)
   double domain_margin = 1.0;               ///< allowed x: data box enlarged by this x extent
   std::size_t cache_entries = 512;          ///< LRU of encoded previews

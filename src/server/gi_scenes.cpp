@@ -15,6 +15,7 @@
 #include "pathtrace/scene_spec.h"
 #include "pathtrace/world.h"
 #include "server/cancellable_sink.h"
+#include "server/http_error.h"
 
 namespace matlas::server {
 
@@ -149,7 +150,7 @@ struct GiScenes::Impl {
     if (std::find(names.begin(), names.end(), scene) != names.end()) return;
     std::string list;
     for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
-    throw Error("unknown GI scene '" + scene + "'; offered: " + (list.empty() ? "none" : list));
+    throw Error("unknown GI scene " + quoted_excerpt(scene) + "; offered: " + (list.empty() ? "none" : list));
   }
 
   /// The state, queueing the scene when it is new. Caller holds the mutex.

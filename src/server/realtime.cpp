@@ -96,7 +96,7 @@ const std::string& Realtime::coefficients() {
 
 const Realtime::Prefiltered& Realtime::prefiltered(const std::string& name) {
   if (std::find(envs_.begin(), envs_.end(), name) == envs_.end())
-    throw HttpError(404, "no environment \"" + name + "\" (the installed ones are listed by /api/realtime)");
+    throw HttpError(404, "no environment " + quoted_excerpt(name) + " (the installed ones are listed by /api/realtime)");
   std::lock_guard lock(env_mutex_);
   auto it = envs_cache_.find(name);
   if (it == envs_cache_.end()) {
@@ -122,7 +122,7 @@ std::pair<nlohmann::json, std::shared_ptr<const std::string>> Realtime::environm
 
 std::string Realtime::mesh(const std::string& name) const {
   if (name == "sphere" || std::find(objects_.begin(), objects_.end(), name) == objects_.end())
-    throw HttpError(404, "no mesh \"" + name + "\" (the sphere is built by the page)");
+    throw HttpError(404, "no mesh " + quoted_excerpt(name) + " (the sphere is built by the page)");
   TriangleMesh mesh = read_mesh(resolve_mesh(name));
   render::normalize_mesh(mesh);
   if (mesh.normals.size() != mesh.positions.size()) mesh.compute_normals();

@@ -1,5 +1,6 @@
 #include "server/request_parsing.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cstdint>
 #include <cmath>
@@ -31,6 +32,24 @@ double finite_number(const nlohmann::json& value, const std::string& what) {
 }
 
 }  // namespace
+
+std::string quoted_excerpt(std::string_view value, std::size_t max_bytes) {
+  static constexpr char kHex[] = "0123456789ABCDEF";
+  std::string out = "\"";
+  const std::size_t shown = std::min(value.size(), max_bytes);
+  for (std::size_t i = 0; i < shown; ++i) {
+    const auto c = static_cast<unsigned char>(value[i]);
+    if (c >= 0x20 && c < 0x7f && c != '"' && c != '\\') {
+      out += static_cast<char>(c);
+    } else {
+      out += "\\x";
+      out += kHex[c >> 4];
+      out += kHex[c & 15];
+    }
+  }
+  out += shown < value.size() ? "...\" (" + std::to_string(value.size()) + " bytes)" : "\"";
+  return out;
+}
 
 LatentDomain LatentDomain::around(const Eigen::VectorXd& data_min, const Eigen::VectorXd& data_max,
                                   double margin) {
@@ -77,6 +96,10 @@ nlohmann::json parse_json_object(const std::string& body) {
   if (json_nesting_depth(body, kMaxJsonDepth) > kMaxJsonDepth)
     throw bad_request("the request body nests arrays or objects deeper than " + std::to_string(kMaxJsonDepth) +
                       " levels");
+  // nlohmann's lexer reads a NUL byte as the end of the input: "{}\0garbage" would parse as {}.
+  if (body.find('\0') != std::string::npos)
+    throw bad_request("the request body contains a NUL byte (at offset " + std::to_string(body.find('\0')) +
+                      "); send JSON text");
   // nlohmann's parser rejects NaN/Infinity literals, so every number that gets through is finite
   // unless it overflows (1e999 parses as inf), which finite_number() catches.
   nlohmann::json j = nlohmann::json::parse(body, nullptr, /*allow_exceptions=*/false);
@@ -92,7 +115,10 @@ int parse_int_value(const nlohmann::json& value, const std::string& what, int lo
   // Compared as 64-bit (signed or unsigned as stored): 2^32 or 2^64 - 1 must not wrap into range.
   const bool too_big = value.is_number_unsigned() ? value.get<std::uint64_t>() > static_cast<std::uint64_t>(hi)
                                                   : value.get<std::int64_t>() > hi;
-  const bool too_small = !value.is_number_unsigned() && value.get<std::int64_t>() < lo;
+  // nlohmann stores every non-negative integer as unsigned: the lower bound applies to those too.
+  const bool too_small = value.is_number_unsigned()
+                             ? lo > 0 && value.get<std::uint64_t>() < static_cast<std::uint64_t>(lo)
+                             : value.get<std::int64_t>() < lo;
   if (too_big || too_small)
     throw bad_request(what + " = " +
                       (value.is_number_unsigned() ? std::to_string(value.get<std::uint64_t>())
@@ -149,14 +175,14 @@ std::string parse_choice(const nlohmann::json& body, const std::string& key,
     if (a == s) return s;
   std::string list;
   for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-  throw bad_request("unknown " + key + " \"" + s + "\" (choose one of: " + list + ")");
+  throw bad_request("unknown " + key + " " + quoted_excerpt(s) + " (choose one of: " + list + ")");
 }
 
 int parse_int_text(const std::string& text, const std::string& what, int lo, int hi) {
   int v = 0;
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
   if (ec != std::errc() || end != text.data() + text.size())
-    throw bad_request(what + " must be an integer, got \"" + text + "\"");
+    throw bad_request(what + " must be an integer, got " + quoted_excerpt(text));
   if (v < lo || v > hi)
     throw bad_request(what + " = " + std::to_string(v) + " is outside [" + std::to_string(lo) + ", " +
                       std::to_string(hi) + "]");
@@ -169,7 +195,7 @@ double number_from_text(const std::string& text, const std::string& what) {
   double v = 0;
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
   if (text.empty() || ec != std::errc() || end != text.data() + text.size() || !std::isfinite(v))
-    throw bad_request(what + " must be a finite number, got \"" + text.substr(0, 40) + "\"");
+    throw bad_request(what + " must be a finite number, got " + quoted_excerpt(text));
   return v;
 }
 

@@ -92,7 +92,7 @@ TEST_F(GiEndpointTest, UnknownSceneIs400NamingTheOfferedOnes) {
   ASSERT_TRUE(r);
   EXPECT_EQ(r->status, 400);
   const std::string e = error_of(r);
-  EXPECT_NE(e.find("'attic'"), std::string::npos) << e;
+  EXPECT_NE(e.find("\"attic\""), std::string::npos) << e;
   EXPECT_NE(e.find("floor, box"), std::string::npos) << e;
 }
 
