@@ -2,7 +2,8 @@
 add_library(matlas_options INTERFACE)
 target_compile_options(matlas_options INTERFACE -Wall -Wextra -Wpedantic -Wshadow
                        -Wnon-virtual-dtor -Wcast-align)
-target_compile_definitions(matlas_options INTERFACE MATLAS_VERSION="${PROJECT_VERSION}")
+target_compile_definitions(matlas_options INTERFACE MATLAS_VERSION="${PROJECT_VERSION}"
+                           $<$<CONFIG:Debug>:MATLAS_DCHECKS>)
 if(MATLAS_NATIVE)
   target_compile_options(matlas_options INTERFACE -march=native)
 endif()
@@ -12,6 +13,10 @@ if(MATLAS_FUZZ)
   target_compile_options(matlas_options INTERFACE -fsanitize=fuzzer-no-link,address,undefined
                          -fno-sanitize-recover=undefined -fno-omit-frame-pointer)
   target_link_options(matlas_options INTERFACE -fsanitize=address,undefined)
+endif()
+if(MATLAS_SANITIZE OR MATLAS_FUZZ)
+  # The full invariant checks (core/check.h) where the sanitizers run.
+  target_compile_definitions(matlas_options INTERFACE MATLAS_DCHECKS)
 endif()
 if(MATLAS_SANITIZE)
   target_compile_options(matlas_options INTERFACE -fsanitize=address,undefined

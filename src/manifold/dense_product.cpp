@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "core/blas.h"
+#include "core/check.h"
 #include "core/error.h"
 #include "core/parallel.h"
 
@@ -25,7 +26,7 @@ void gemm(Eigen::Index m, Eigen::Index p, Eigen::Index k, const double* a, Eigen
 }  // namespace
 
 Eigen::MatrixXd blas_product(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
-  if (a.cols() != b.rows()) throw Error("blas_product: inner dimensions differ (internal error)");
+  MATLAS_CHECK_EQ(a.cols(), b.rows());
   const Eigen::Index m = a.rows(), k = a.cols(), p = b.cols();
   Eigen::MatrixXd c(m, p);
   if (c.size() == 0) return c;

@@ -8,6 +8,7 @@
 #include <Eigen/Eigenvalues>
 #include <nlohmann/json.hpp>
 
+#include "core/check.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "formats/safetensors.h"
@@ -126,7 +127,7 @@ Image ImageBasis::mean_image() const {
 }
 
 Image ImageBasis::material_image(int i) const {
-  if (i < 0 || i >= n_) throw Error("image basis: material index out of range: " + std::to_string(i));
+  MATLAS_CHECK(i >= 0 && i < n_, "material index in range");
   Image im(width_, height_);
   unpack_into(i, im.rgb.data());
   return im;
@@ -155,9 +156,7 @@ void ImageBasis::compose_tiles(const float* w, std::size_t rows, float mean_weig
 }
 
 void ImageBasis::compose(const Eigen::Ref<const Eigen::VectorXd>& w, float* rgb) const {
-  if (w.size() != n_)
-    throw Error("image basis: weight vector has " + std::to_string(w.size()) + " entries, expected " +
-                std::to_string(n_));
+  MATLAS_CHECK_EQ(w.size(), n_);
   // I(w) = (1 - sum w) I_mean + sum_i w_i I_i.
   std::vector<float> wf(static_cast<std::size_t>(n_));
   for (int i = 0; i < n_; ++i) wf[static_cast<std::size_t>(i)] = static_cast<float>(w[i]);
@@ -174,7 +173,7 @@ Image ImageBasis::compose(const Eigen::Ref<const Eigen::VectorXd>& w) const {
 
 void ImageBasis::compose_low_rank(const Eigen::Ref<const Eigen::VectorXd>& w, float* rgb) const {
   if (rank_ == 0) return compose(w, rgb);
-  if (w.size() != n_) throw Error("image basis: weight vector has the wrong length");
+  MATLAS_CHECK_EQ(w.size(), n_);
   // I(w) ~ I_mean + sum_k c_k F_k with c = C^T w.
   const Eigen::VectorXd c = coefficients_.transpose() * w;
   std::vector<float> cf(static_cast<std::size_t>(rank_));

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/check.h"
 #include "core/error.h"
 
 namespace matlas::zonal {
@@ -29,15 +30,14 @@ void ZonalCoefficients::interpolate(double theta, std::vector<double>& out) cons
 }
 
 ZonalCoefficients combine(const std::vector<const ZonalCoefficients*>& materials, const std::vector<double>& w) {
-  if (materials.empty() || materials.size() != w.size())
-    throw Error("zonal combination: " + std::to_string(materials.size()) + " materials but " +
-                std::to_string(w.size()) + " weights");
+  MATLAS_CHECK(!materials.empty());
+  MATLAS_CHECK_EQ(materials.size(), w.size());
   ZonalCoefficients out = *materials[0];
   std::fill(out.values.begin(), out.values.end(), 0.0);
   for (std::size_t i = 0; i < materials.size(); ++i) {
     const ZonalCoefficients& m = *materials[i];
-    if (m.bands != out.bands || m.theta_o_count != out.theta_o_count || m.values.size() != out.values.size())
-      throw Error("zonal combination: material " + std::to_string(i) + " has another layout");
+    MATLAS_CHECK(m.bands == out.bands && m.theta_o_count == out.theta_o_count && m.values.size() == out.values.size(),
+                 "every material of a combination has one layout");
     for (std::size_t v = 0; v < out.values.size(); ++v) out.values[v] += w[i] * m.values[v];
   }
   return out;
