@@ -22,6 +22,11 @@ public:
 /// The sink that drops everything (the default for library calls).
 ProgressSink& null_progress();
 
+/// One line of the terminal bar: "label [#####.....]  45.0%  12.3 s, about 15 s left". The time
+/// is the task's own (since its first update); the time left is extrapolated from the rate so far,
+/// once at least 2 % is done and a second has passed.
+std::string progress_line(const std::string& label, std::uint64_t done, std::uint64_t total, double seconds);
+
 /// A text bar on stderr, redrawn at most 10 times a second; prints nothing unless stderr is a
 /// terminal (or `force` is set). Messages go to stderr when `verbose`.
 class TerminalProgress final : public ProgressSink {
@@ -37,7 +42,8 @@ private:
   bool line_open_ = false;
   std::mutex mutex_;
   std::chrono::steady_clock::time_point last_draw_{};
-  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  std::string task_;                                     ///< the label of the task being drawn
+  std::chrono::steady_clock::time_point task_start_{};  ///< its first update
 };
 
 /// Convenience: counts units of one task and forwards to a sink.
