@@ -10,6 +10,7 @@
 
 #include "brdf/albedo.h"
 #include "core/error.h"
+#include "core/file_io.h"
 #include "core/hash.h"
 #include "formats/safetensors.h"
 #include "gp/initialize.h"
@@ -52,17 +53,14 @@ void validate(const MaterialSet& set, const BuildOptions& o) {
 }
 
 /// The output must not be one of the inputs (writing the model would replace a material, or a
-/// symlink to it): compared by identity of the files, so any spelling or link is caught.
+/// symlink or hard link to it): core/file_io.h compares the files themselves.
 void reject_output_among_inputs(const MaterialSet& set, const fs::path& output) {
   std::error_code ec;
-  const fs::file_status status = fs::status(output, ec);
-  if (ec || !fs::exists(status)) return;  // a new file cannot be an input
-  if (fs::is_directory(status)) throw file_error(output, "the output is a folder; give a file name such as model.matlas");
-  for (std::size_t i = 0; i < set.size(); ++i) {
-    if (fs::equivalent(output, set.file(i).path(), ec) && !ec)
-      throw file_error(output, "the output is one of the inputs (" + set.file(i).path().string() +
-                                   "): refusing to overwrite it; choose another output name");
-  }
+  if (fs::is_directory(output, ec))
+    throw file_error(output, "the output is a folder; give a file name such as model.matlas");
+  std::vector<fs::path> inputs;
+  for (std::size_t i = 0; i < set.size(); ++i) inputs.push_back(set.file(i).path());
+  refuse_output_among_inputs(output, inputs);
 }
 
 /// Identical (or numerically identical) materials make K singular in the limit and the layout

@@ -69,6 +69,71 @@ protected:
   static inline test::TempDir* dir_ = nullptr;
 };
 
+// ---- An output that is one of the inputs: refused by every command that writes a file, whether
+// it is named as given, through a symlink or through a hard link; the input is left intact.
+TEST_F(CliOutputs, NoCommandWritesOverOneOfItsInputs) {
+  test::TempDir t;
+  const std::string m = model().string(), material = first_material().string(), gi = gi_basis().string();
+  const std::vector<std::string> tiny = {"--width", "4", "--height", "3", "--spp", "1"};
+  struct Case {
+    fs::path input;                 ///< the input the output names
+    std::vector<std::string> args;  ///< the command, "OUT" standing for the output
+  };
+  auto with = [](std::vector<std::string> a, const std::vector<std::string>& more) {
+    a.insert(a.end(), more.begin(), more.end());
+    return a;
+  };
+  const std::vector<Case> cases = {
+      {model(), {"export", m, "--at", "0,0", "-o", "OUT"}},
+      {model(), {"zonal", m, "--bands", "2", "--theta-o", "4", "-o", "OUT"}},
+      {first_material(), {"zonal", (dir_->path() / "db").string(), "--bands", "2", "--theta-o", "4", "-o", "OUT"}},
+      {model(), with({"gi-basis", m, "--scene", "box", "-o", "OUT"}, tiny)},
+      {scene(), with({"gi-basis", m, "--scene", scene().string(), "-o", "OUT"}, tiny)},
+      {model(), {"gi", m, "--at", "0,0", "--basis", gi, "-o", "OUT"}},
+      {gi_basis(), {"gi", m, "--at", "0,0", "--basis", gi, "-o", "OUT"}},
+      {model(), with({"gi-render", m, "--at", "0,0", "--scene", "box", "-o", "OUT"}, tiny)},
+      {scene(), with({"gi-render", m, "--at", "0,0", "--scene", scene().string(), "-o", "OUT"}, tiny)},
+      {model(), with({"basis", m, "--env", "constant", "-o", "OUT"}, tiny)},
+      {model(), with({"render", m, "--at", "0,0", "--env", "constant", "-o", "OUT"}, tiny)},
+      {first_material(), with({"render", material, "--env", "constant", "-o", "OUT"}, tiny)},
+      {model(), {"map", m, "--size", "16", "-o", "OUT"}},
+      {gi_basis(), {"map", m, "--size", "16", "--layer", "image", "--basis", gi, "-o", "OUT"}},
+      {model(), with({"gallery", m, "--env", "constant", "--random", "1", "--real", "1", "-o", "OUT"}, tiny)},
+      {model(), with({"gallery", m, "--env", "constant", "--random", "1", "--real", "1", "-o",
+                      (t.path() / "g.png").string(), "--key", "OUT"}, tiny)},
+      {model(), {"evaluate", m, "--no-study", "--quiet", "-o", "OUT"}},
+      {first_material(), {"build", (dir_->path() / "db").string(), "--quiet", "-o", "OUT"}},
+  };
+  for (const Case& c : cases) {
+    const std::string before = bytes_of(c.input);
+    const fs::path symlink = t.path() / ("link" + c.input.extension().string());
+    const fs::path hardlink = t.path() / ("hard" + c.input.extension().string());
+    fs::remove(symlink);
+    fs::remove(hardlink);
+    fs::create_symlink(c.input, symlink);
+    fs::create_hard_link(c.input, hardlink);
+    for (const fs::path& out : {c.input, symlink, hardlink}) {
+      std::vector<std::string> args = c.args;
+      std::replace(args.begin(), args.end(), std::string("OUT"), out.string());
+      const Result r = run(args);
+      EXPECT_EQ(r.code, 1) << args[0] << " -o " << out << ": " << r.out;
+      EXPECT_CONTAINS(r.out, "is one of the inputs");
+      EXPECT_EQ(bytes_of(c.input), before) << args[0] << " -o " << out << " changed " << c.input;
+    }
+  }
+  EXPECT_NO_THROW(Model::open(model()));
+}
+
+TEST_F(CliOutputs, GalleryRefusesAKeyThatIsItsPicture) {
+  test::TempDir t;
+  const std::string png = (t.path() / "g.png").string();
+  const Result r = run({"gallery", model().string(), "--env", "constant", "--random", "1", "--real", "1", "--width",
+                        "4", "--height", "3", "--spp", "1", "-o", png, "--key", png});
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_CONTAINS(r.out, "is the output picture");
+  EXPECT_FALSE(fs::exists(png));
+}
+
 // ---- The temporary output name is predictable (OUT.tmp-PID): a symlink planted there must not
 // make the command write through it.
 TEST_F(CliOutputs, ASymlinkPlantedAtTheTemporaryNameIsNotFollowed) {

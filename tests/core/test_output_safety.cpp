@@ -100,5 +100,27 @@ TEST(TemporaryFiles, DirectAppendsRefuseASymlinkOrAnotherFile) {
   ::close(fd);
 }
 
+TEST(OutputAmongInputs, TheSameFileIsRefusedThroughAnySpellingOrLink) {
+  test::TempDir dir;
+  fs::create_directories(dir / "sub");
+  const fs::path input = dir / "model.matlas", other = dir / "other.matlas";
+  std::ofstream(input) << "model";
+  std::ofstream(other) << "other";
+  fs::create_symlink(input, dir / "symlink.matlas");
+  fs::create_hard_link(input, dir / "hardlink.matlas");
+  for (const fs::path& output : {input, dir / "sub" / ".." / "model.matlas", dir / "symlink.matlas",
+                                 dir / "hardlink.matlas"}) {
+    const std::string e = error_of([&] { refuse_output_among_inputs(output, {other, input}); });
+    EXPECT_EQ(e, output.string() + ": the output is one of the inputs (" + input.string() +
+                     "): refusing to overwrite it; choose another output name");
+  }
+  // An input given through a link is the same file too.
+  EXPECT_NE(error_of([&] { refuse_output_among_inputs(input, {dir / "symlink.matlas"}); }), "");
+  // Other files, new files, inputs that are not files (an installed map's name): accepted.
+  EXPECT_EQ(error_of([&] { refuse_output_among_inputs(dir / "new.binary", {input, other}); }), "");
+  EXPECT_EQ(error_of([&] { refuse_output_among_inputs(other, {input, "studio", ""}); }), "");
+  EXPECT_EQ(read_file(input), "model");
+}
+
 }  // namespace
 }  // namespace matlas
