@@ -47,6 +47,11 @@ void validate(const MaterialSet& set, const BuildOptions& o) {
     throw Error("--nugget must be in (0, 1], got " + std::to_string(o.nugget));
   if (!(o.convex_ridge > 0.0) || !std::isfinite(o.convex_ridge))
     throw Error("--convex-ridge must be finite and > 0, got " + std::to_string(o.convex_ridge));
+  const MerlDims& g = set.dims();
+  if (!model_format::is_model_grid(g.theta_h, g.theta_d, g.phi_d))
+    throw file_error(set.file(0).path(), "grid " + g.to_string() +
+                                             ": a model needs phi_d = 2 theta_d (theta_d over [0, 90) and phi_d over "
+                                             "[0, 180) degrees in equal steps, as MERL's 90 90 180)");
   if (static_cast<std::size_t>(o.dim) >= set.size())
     throw Error("--dim " + std::to_string(o.dim) + " needs more than " + std::to_string(o.dim) +
                 " materials; the input has " + std::to_string(set.size()));

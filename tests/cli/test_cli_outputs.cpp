@@ -16,6 +16,7 @@
 
 #include "brdf/catalog.h"
 #include "cli/in_process.h"
+#include "cli/model_surgery.h"
 #include "core/error.h"
 #include "formats/synth_database.h"
 #include "manifold/model.h"
@@ -146,6 +147,61 @@ TEST_F(CliOutputs, ASymlinkPlantedAtTheTemporaryNameIsNotFollowed) {
   EXPECT_EQ(bytes_of(victim), "precious");
   EXPECT_TRUE(fs::is_regular_file(fs::symlink_status(out)));
   EXPECT_GT(fs::file_size(out), 0u);
+}
+
+// ---- Crafted metadata: refused on open, naming the file
+std::string nested_metadata(const fs::path& model, int depth) {
+  std::ifstream in(model, std::ios::binary);
+  std::uint64_t length = 0;
+  in.read(reinterpret_cast<char*>(&length), 8);
+  std::string header(length, ' ');
+  in.read(header.data(), static_cast<std::streamsize>(length));
+  std::string meta = nlohmann::json::parse(header)["__metadata__"]["matlas"].get<std::string>();
+  meta.pop_back();  // the closing brace
+  return meta + ",\"deep\":" + std::string(static_cast<std::size_t>(depth), '[') +
+         std::string(static_cast<std::size_t>(depth), ']') + "}";
+}
+
+TEST_F(CliOutputs, MetadataNestedTooDeepIsRefusedOnOpen) {
+  test::TempDir t;
+  const fs::path crafted = t.path() / "crafted.matlas";
+  fs::copy_file(model(), crafted);
+  // 63 arrays inside the top-level object: 64 levels, the limit, still opens.
+  test::replace_model_metadata_text(crafted, nested_metadata(model(), 63));
+  EXPECT_NO_THROW(Model::open(crafted));
+  // 100,000 levels used to load, then overflow the stack where the model is fingerprinted
+  // (gi-basis, serve).
+  test::replace_model_metadata_text(crafted, nested_metadata(model(), 100000));
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"latent", crafted.string()},
+        std::vector<std::string>{"gi-basis", crafted.string(), "--scene", "box", "--width", "4", "--height", "3",
+                                 "--spp", "1", "-o", (t.path() / "b.safetensors").string()}}) {
+    const Result r = run(args);
+    EXPECT_EQ(r.code, 1) << args[0] << ": " << r.out;
+    EXPECT_CONTAINS(r.out, crafted.string() + ": corrupted model metadata: JSON nested more than 64 levels deep");
+  }
+}
+
+TEST_F(CliOutputs, APermutedGridIsRefusedOnOpenAndNeverBuilt) {
+  test::TempDir t;
+  const fs::path crafted = t.path() / "crafted.matlas";
+  for (const auto& grid : {std::vector<int>{16, 8, 8}, std::vector<int>{8, 16, 8}}) {
+    fs::copy_file(model(), crafted, fs::copy_options::overwrite_existing);
+    test::edit_model_metadata(crafted, [&](nlohmann::json& meta) { meta["grid"] = grid; });
+    const Result r = run({"latent", crafted.string()});
+    EXPECT_EQ(r.code, 1) << r.out;
+    EXPECT_CONTAINS(r.out, "crafted.matlas: corrupted model metadata: 'grid' [" + std::to_string(grid[0]) + ", " +
+                               std::to_string(grid[1]) + ", " + std::to_string(grid[2]) +
+                               "] is not [theta_h, theta_d, phi_d] with phi_d = 2 theta_d");
+  }
+  // A database on a grid a model cannot state is refused by the build (never a file that no
+  // reader opens).
+  write_database(t.path() / "db", random_catalog(4, 7), null_progress(), MerlDims{8, 8, 12});
+  const fs::path out = t.path() / "m.matlas";
+  const Result r = run({"build", (t.path() / "db").string(), "-o", out.string(), "--quiet"});
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_CONTAINS(r.out, "a model needs phi_d = 2 theta_d");
+  EXPECT_FALSE(fs::exists(out));
 }
 
 }  // namespace

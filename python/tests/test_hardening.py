@@ -1,0 +1,43 @@
+"""Hostile input through the Python package (issue 28): crafted models refused on open, a model
+truncated while it is read, values the MERL reader refuses, NaN points in batches."""
+import json
+import shutil
+import struct
+
+import numpy as np
+import pytest
+
+import matlas
+
+
+def _rewrite_metadata(path, edit):
+    """Rewrites the matlas metadata of a model file: edit(text) -> new text, any length."""
+    data = path.read_bytes()
+    (n,) = struct.unpack("<Q", data[:8])
+    header = json.loads(data[8:8 + n])
+    header["__metadata__"]["matlas"] = edit(header["__metadata__"]["matlas"])
+    text = json.dumps(header).encode()
+    text += b" " * ((-(len(text) + 8)) % 64)
+    path.write_bytes(struct.pack("<Q", len(text)) + text + data[8 + n:])
+
+
+def test_metadata_nested_too_deep_is_refused_on_open(model, tmp_path):
+    crafted = tmp_path / "crafted.matlas"
+    shutil.copyfile(model.path, crafted)
+    _rewrite_metadata(crafted, lambda t: t[:-1] + ',"deep":' + "[" * 100000 + "]" * 100000 + "}")
+    with pytest.raises(matlas.Error, match="crafted.matlas: corrupted model metadata: JSON nested more than 64"):
+        matlas.Model(crafted)
+
+
+def test_a_permuted_grid_is_refused_on_open(model, tmp_path):
+    crafted = tmp_path / "crafted.matlas"
+    shutil.copyfile(model.path, crafted)
+
+    def permute(text):
+        meta = json.loads(text)
+        meta["grid"] = [meta["grid"][2], meta["grid"][1], meta["grid"][0]]
+        return json.dumps(meta)
+
+    _rewrite_metadata(crafted, permute)
+    with pytest.raises(matlas.Error, match=r"crafted.matlas: corrupted model metadata: 'grid' \[12, 6, 6\]"):
+        matlas.Model(crafted)
