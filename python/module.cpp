@@ -101,6 +101,17 @@ void check_points(const Model& m, const Eigen::MatrixXd& X) {
                           " columns for q = " + std::to_string(m.dim()));
 }
 
+/// `result`, unless the model's file was truncated while it was read (its mapping read vanished
+/// pages as zeros, formats/safetensors.h): then what was computed from it is wrong, and
+/// matlas.Error names the file instead. Every function reading the model returns through this.
+template <class T>
+T intact(const Model& m, T&& result) {
+  if (const std::uint64_t faults = m.mapping_faults(); faults > 0)
+    throw file_error(m.path(), "the model file changed or was truncated while it was read (" + std::to_string(faults) +
+                                   " pages read as zeros): open it again once it is complete");
+  return std::forward<T>(result);
+}
+
 /// Forwards build progress to a Python callable progress(label, done, total), from whichever
 /// thread reports, holding the GIL only for the call. The first exception it raises is kept and
 /// rethrown when the build returns; later updates are dropped.
@@ -228,7 +239,7 @@ truncated, corrupted or not a model.)doc")
       .def_property_readonly("metadata_json", [](const Model& s) { return s.metadata().dump(); },
                              "The header's metadata as JSON text (Model.metadata parses it).")
       .def("index_of", &Model::index_of, "name"_a, "Index of a material by name (matlas.Error if unknown).")
-      .def("weights", [](const Model& s, const Eigen::VectorXd& x) { return s.weights(point(s, x)); }, "x"_a,
+      .def("weights", [](const Model& s, const Eigen::VectorXd& x) { return intact(s, s.weights(point(s, x))); }, "x"_a,
            "Interpolation weights w(x) = K^-1 k(x), length n; exactly e_i at material i's latent point.")
       .def("weights_batch",
            [](const Model& s, const Eigen::MatrixXd& X) {
@@ -236,10 +247,10 @@ truncated, corrupted or not a model.)doc")
              Eigen::MatrixXd W(X.rows(), s.count());
              py::gil_scoped_release release;
              for (Eigen::Index r = 0; r < X.rows(); ++r) W.row(r) = s.weights(X.row(r).transpose()).transpose();
-             return W;
+             return intact(s, std::move(W));
            },
            "X"_a, "weights() of every row of an (m, q) array: an (m, n) array.")
-      .def("variance", [](const Model& s, const Eigen::VectorXd& x) { return s.variance(point(s, x)); }, "x"_a,
+      .def("variance", [](const Model& s, const Eigen::VectorXd& x) { return intact(s, s.variance(point(s, x))); }, "x"_a,
            "GP predictive variance at x in kernel units: 0 at the data, towards 1 far from it.")
       .def("variance_batch",
            [](const Model& s, const Eigen::MatrixXd& X) {
@@ -247,7 +258,7 @@ truncated, corrupted or not a model.)doc")
              Eigen::VectorXd v(X.rows());
              py::gil_scoped_release release;
              for (Eigen::Index r = 0; r < X.rows(); ++r) v[r] = s.variance(X.row(r).transpose());
-             return v;
+             return intact(s, std::move(v));
            },
            "X"_a, "variance() of every row of an (m, q) array: an (m,) array.")
       .def("table",
@@ -258,7 +269,7 @@ truncated, corrupted or not a model.)doc")
                py::gil_scoped_release release;
                t = s.table(w);
              }
-             return table_to_array(std::move(t), physical);
+             return intact(s, table_to_array(std::move(t), physical));
            },
            "x"_a, "physical"_a = true,
            "The BRDF table m(x), a (3, theta_h, theta_d, phi_d) float64 array owning its memory (no copy): "
@@ -283,7 +294,7 @@ truncated, corrupted or not a model.)doc")
                    oc[b] = physical ? (in[b] < 0.0 ? std::nan("") : in[b] * scale) : in[b];
                }
              }
-             return out;
+             return intact(s, std::move(out));
            },
            "X"_a, "physical"_a = true, "table() of every row of an (m, q) array: an (m, 3, theta_h, theta_d, phi_d) array.")
       .def("material_table",
@@ -295,7 +306,7 @@ truncated, corrupted or not a model.)doc")
                py::gil_scoped_release release;
                t = s.table(s.material_weights(i));
              }
-             return table_to_array(std::move(t), physical);
+             return intact(s, table_to_array(std::move(t), physical));
            },
            "material"_a, "physical"_a = true, "The stored table of one input material (by name or index).")
       .def("albedo_curve",
@@ -303,7 +314,7 @@ truncated, corrupted or not a model.)doc")
              const std::vector<Rgb> curve = s.albedo_curve(s.weights(point(s, x)));
              Eigen::MatrixXd out(static_cast<Eigen::Index>(curve.size()), 3);
              for (std::size_t k = 0; k < curve.size(); ++k) out.row(static_cast<Eigen::Index>(k)) = curve[k].transpose();
-             return out;
+             return intact(s, std::move(out));
            },
            "x"_a, "Directional albedo at 90 view angles (bin centres of [0, 90) degrees): a (90, 3) array.")
       .def("project",
@@ -314,7 +325,7 @@ truncated, corrupted or not a model.)doc")
                py::gil_scoped_release release;
                p = project_material(s, t, starts);
              }
-             return projection_dict(s, p);
+             return intact(s, projection_dict(s, p));
            },
            "table"_a, "physical"_a = true, "starts"_a = 5,
            "Where a material falls on the map: the latent x whose m(x) is closest in L2 over the kept columns.\n"

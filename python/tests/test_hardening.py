@@ -41,3 +41,17 @@ def test_a_permuted_grid_is_refused_on_open(model, tmp_path):
     _rewrite_metadata(crafted, permute)
     with pytest.raises(matlas.Error, match=r"crafted.matlas: corrupted model metadata: 'grid' \[12, 6, 6\]"):
         matlas.Model(crafted)
+
+
+def test_a_model_truncated_while_it_is_read_raises_instead_of_answering(model, tmp_path):
+    victim = tmp_path / "victim.matlas"
+    shutil.copyfile(model.path, victim)
+    m = matlas.Model(victim)
+    x = m.latent[0]
+    good = m.table(x)
+    with open(victim, "r+b") as f:
+        f.truncate(victim.stat().st_size // 2)
+    for call in (lambda: m.table(x), lambda: m.material_table(0), lambda: m.table_batch(m.latent[:2]),
+                 lambda: m.project(good), lambda: m.weights(x), lambda: m.variance_batch(m.latent[:2])):
+        with pytest.raises(matlas.Error, match="victim.matlas: the model file changed or was truncated while it was read"):
+            call()

@@ -6,6 +6,8 @@
 #include <cerrno>
 #include <cstring>
 #include <fcntl.h>
+#include <functional>
+#include <map>
 #include <mutex>
 #include <set>
 #include <signal.h>
@@ -97,6 +99,11 @@ int create_temporary(const fs::path& temp) {
   return -1;
 }
 
+// The checks every commit runs (CommitCheck), by registration number.
+std::mutex g_checks_mutex;
+std::map<std::uint64_t, std::function<void()>> g_commit_checks;
+std::uint64_t g_next_check = 0;
+
 /// PID or PID-K (an AtomicFile's temporary suffix): the pid, or -1 for any other text.
 long temporary_pid(const std::string& suffix) {
   const std::size_t dash = suffix.find('-');
@@ -110,6 +117,22 @@ long temporary_pid(const std::string& suffix) {
 }
 
 }  // namespace
+
+CommitCheck::CommitCheck(std::function<void()> check) {
+  const std::lock_guard lock(g_checks_mutex);
+  id_ = g_next_check++;
+  g_commit_checks.emplace(id_, std::move(check));
+}
+
+CommitCheck::~CommitCheck() {
+  const std::lock_guard lock(g_checks_mutex);
+  g_commit_checks.erase(id_);
+}
+
+void run_commit_checks() {
+  const std::lock_guard lock(g_checks_mutex);
+  for (const auto& [id, check] : g_commit_checks) check();
+}
 
 int remove_stale_temporaries(const fs::path& target) {
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
@@ -200,6 +223,7 @@ void AtomicFile::skip(std::uint64_t bytes) {
 }
 
 void AtomicFile::commit() {
+  run_commit_checks();  // before anything is flushed or renamed: a refused output leaves nothing
   if (direct_) {
     const auto tail = direct_->finish();
     write_all_at(fd_, target_, tail.data(), tail.size(), direct_->tail_offset());

@@ -9,6 +9,11 @@
 #include <string>
 #include <vector>
 
+#include <chrono>
+#include <thread>
+
+#include <fcntl.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <gtest/gtest.h>
@@ -18,6 +23,7 @@
 #include "cli/in_process.h"
 #include "cli/model_surgery.h"
 #include "core/error.h"
+#include "formats/mapping_watch.h"
 #include "formats/synth_database.h"
 #include "manifold/model.h"
 #include "pathtrace/scene_spec.h"
@@ -147,6 +153,95 @@ TEST_F(CliOutputs, ASymlinkPlantedAtTheTemporaryNameIsNotFollowed) {
   EXPECT_EQ(bytes_of(victim), "precious");
   EXPECT_TRUE(fs::is_regular_file(fs::symlink_status(out)));
   EXPECT_GT(fs::file_size(out), 0u);
+}
+
+// ---- A model truncated while it is read reads as zeros where its pages vanished: whatever was
+// computed from it is wrong. No command commits an output (nor exits 0) once that happened.
+TEST_F(CliOutputs, NoOutputIsCommittedFromAModelTruncatedWhileItWasRead) {
+  test::TempDir t;
+  const fs::path victim = t.path() / "victim.matlas";
+  fs::copy_file(model(), victim);
+  {
+    // The model of a command, truncated after it was opened (as `cp` over it does) and then read.
+    const Model opened = Model::open(victim);
+    fs::resize_file(victim, fs::file_size(victim) / 2);
+    (void)opened.table(opened.material_weights(0));
+    ASSERT_GT(opened.mapping_faults(), 0u) << "the truncation was not seen";
+    const MappingFaultWatch watch;
+    try {
+      watch.check();
+      ADD_FAILURE() << "the watch did not see the truncated mapping";
+    } catch (const Error& e) {
+      EXPECT_CONTAINS(std::string(e.what()), victim.string() + ": the file changed or was truncated while it was read");
+    }
+    // Every command that writes refuses its output, and those that print fail.
+    const std::vector<std::string> tiny = {"--width", "4", "--height", "3", "--spp", "1"};
+    const fs::path out = t.path() / "out";
+    for (std::vector<std::string> args : std::vector<std::vector<std::string>>{
+             {"zonal", model().string(), "--bands", "2", "--theta-o", "4", "-o", out.string() + ".safetensors"},
+             {"render", model().string(), "--at", "0,0", "--env", "constant", "-o", out.string() + ".png", "--width",
+              "4", "--height", "3", "--spp", "1"},
+             {"map", model().string(), "--size", "16", "-o", out.string() + ".png"},
+             {"gi", model().string(), "--at", "0,0", "--basis", gi_basis().string(), "-o", out.string() + ".exr"},
+             {"weights", model().string(), "--at", "0,0"}}) {
+      const Result r = run(args);
+      EXPECT_EQ(r.code, 1) << args[0] << ": " << r.out;
+      EXPECT_CONTAINS(r.out, victim.string() + ": the file changed or was truncated while it was read");
+      for (const char* ext : {".safetensors", ".png", ".exr"})
+        EXPECT_FALSE(fs::exists(out.string() + ext)) << args[0];
+    }
+  }
+  // Once the damaged mapping is closed before a command starts, nothing of it remains.
+  const Result r = run({"weights", model().string(), "--at", "0,0"});
+  EXPECT_EQ(r.code, 0) << r.out;
+}
+
+/// Whether process `pid` has `path` memory-mapped.
+bool maps_file(pid_t pid, const fs::path& path) {
+  std::ifstream maps("/proc/" + std::to_string(pid) + "/maps");
+  const std::string text((std::istreambuf_iterator<char>(maps)), std::istreambuf_iterator<char>());
+  return text.find(path.string()) != std::string::npos;
+}
+
+// The same as a user meets it: `matlas zonal` on a full-size model that is truncated (as `cp` over
+// it would) while the command reads it. Without the check it wrote coefficients from zeros and
+// exited 0.
+TEST(CliTruncation, AModelTruncatedDuringACommandGivesNoOutput) {
+  test::TempDir t;
+  write_database(t.path() / "db", random_catalog(3, 5), null_progress(), MerlDims{90, 90, 180});
+  const fs::path built = t.path() / "built.matlas", model = t.path() / "m.matlas", out = t.path() / "z.safetensors",
+                 log = t.path() / "log.txt";
+  ASSERT_EQ(run({"build", (t.path() / "db").string(), "-o", built.string(), "--quiet", "--dim", "1"}).code, 0);
+  bool mid_command = false;
+  // The truncation must land after the model was opened (else the open refuses the file, which
+  // proves nothing here): waited for, then retried later if it came too early.
+  for (const int delay_ms : {50, 200, 800}) {
+    fs::copy_file(built, model, fs::copy_options::overwrite_existing);
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+      const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      ::dup2(fd, 1);
+      ::dup2(fd, 2);
+      ::execl(MATLAS_EXE, MATLAS_EXE, "zonal", model.c_str(), "-o", out.c_str(), static_cast<char*>(nullptr));
+      ::_exit(127);
+    }
+    const auto start = std::chrono::steady_clock::now();
+    while (!maps_file(pid, model) && std::chrono::steady_clock::now() - start < std::chrono::seconds(30))
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
+    fs::resize_file(model, fs::file_size(model) / 4);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    const std::string text = bytes_of(log);
+    ASSERT_TRUE(WIFEXITED(status)) << text;
+    EXPECT_NE(WEXITSTATUS(status), 0) << "a truncated model gave an answer: " << text;
+    EXPECT_FALSE(fs::exists(out)) << text;
+    if (text.find(model.string() + ": the file changed or was truncated while it was read") != std::string::npos) {
+      mid_command = true;
+      break;
+    }
+  }
+  EXPECT_TRUE(mid_command) << "every truncation came before the model was opened, or after the command ended";
 }
 
 // ---- Crafted metadata: refused on open, naming the file

@@ -100,6 +100,24 @@ TEST(TemporaryFiles, DirectAppendsRefuseASymlinkOrAnotherFile) {
   ::close(fd);
 }
 
+TEST(CommitChecks, AFailingCheckLeavesNoOutputAndNoTemporary) {
+  test::TempDir dir;
+  const fs::path target = dir / "out.bin";
+  std::ofstream(target) << "before";
+  fs::path temporary;
+  {
+    const CommitCheck refuse([] { throw Error("input.matlas: changed while it was read"); });
+    AtomicFile f(target);
+    temporary = f.temporary();
+    f.write(std::string("wrong answer"));
+    EXPECT_EQ(error_of([&] { f.commit(); }), "input.matlas: changed while it was read");
+  }
+  EXPECT_EQ(read_file(target), "before");
+  EXPECT_FALSE(fs::exists(temporary));
+  write_file_atomic(target, std::string("after"));  // the check is gone with its object
+  EXPECT_EQ(read_file(target), "after");
+}
+
 TEST(OutputAmongInputs, TheSameFileIsRefusedThroughAnySpellingOrLink) {
   test::TempDir dir;
   fs::create_directories(dir / "sub");
