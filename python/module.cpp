@@ -4,6 +4,7 @@
 // (default), or MERL's stored units with -1 (physical=False), bit-exact with the files.
 // python/matlas/__init__.pyi documents the API.
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <exception>
 #include <mutex>
@@ -56,7 +57,9 @@ py::array table_to_array(BrdfTable&& source, bool physical) {
 }
 
 /// A (3, theta_h, theta_d, phi_d) array (or its flat 3 * bins form for the standard grid) as a
-/// table. Physical values: NaN or negative means missing.
+/// table. Physical values: NaN or negative means missing. Infinite values, and values beyond what
+/// the MERL reader accepts (kMaxMerlMagnitude in stored units), are a ValueError naming the
+/// channel and bin: write_merl must not write a file that read_merl refuses.
 BrdfTable array_to_table(const Array& a, bool physical) {
   MerlDims dims;
   if (a.ndim() == 4 && a.shape(0) == 3) {
@@ -81,7 +84,15 @@ BrdfTable array_to_table(const Array& a, bool physical) {
     for (std::size_t b = 0; b < bins; ++b) {
       const double v = in[static_cast<std::size_t>(c) * bins + b];
       if (std::isinf(v)) throw py::value_error("infinite value in the table (channel " + std::to_string(c) + ")");
-      out[static_cast<std::size_t>(c) * bins + b] = (std::isnan(v) || v < 0.0) ? -1.0 : v / scale;
+      const double stored = (std::isnan(v) || v < 0.0) ? -1.0 : v / scale;
+      if (!(stored <= kMaxMerlMagnitude)) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%.6g", v);
+        throw py::value_error(std::string("absurd value ") + text + " in the table (channel " + std::to_string(c) +
+                              ", bin " + std::to_string(b) + "): beyond the magnitude read_merl accepts, 1e15 in "
+                              "MERL's stored units (" + (physical ? "about 6.7e11 physical" : "physical=False") + ")");
+      }
+      out[static_cast<std::size_t>(c) * bins + b] = stored;
     }
   }
   return t;
@@ -99,6 +110,9 @@ void check_points(const Model& m, const Eigen::MatrixXd& X) {
   if (X.cols() != m.dim())
     throw py::value_error("points are rows of an (m, q) array; got " + std::to_string(X.cols()) +
                           " columns for q = " + std::to_string(m.dim()));
+  for (Eigen::Index r = 0; r < X.rows(); ++r)
+    if (!X.row(r).allFinite())
+      throw py::value_error("the point of row " + std::to_string(r) + " has a NaN or infinite coordinate");
 }
 
 /// `result`, unless the model's file was truncated while it was read (its mapping read vanished

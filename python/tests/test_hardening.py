@@ -9,6 +9,8 @@ import pytest
 
 import matlas
 
+from conftest import smooth_table
+
 
 def _rewrite_metadata(path, edit):
     """Rewrites the matlas metadata of a model file: edit(text) -> new text, any length."""
@@ -55,3 +57,26 @@ def test_a_model_truncated_while_it_is_read_raises_instead_of_answering(model, t
                  lambda: m.project(good), lambda: m.weights(x), lambda: m.variance_batch(m.latent[:2])):
         with pytest.raises(matlas.Error, match="victim.matlas: the model file changed or was truncated while it was read"):
             call()
+
+
+def test_write_merl_refuses_values_the_reader_refuses(tmp_path):
+    for value, physical in ((3e38, True), (1e300, True), (2e15, False)):
+        bad = smooth_table(0.1, 0.1)
+        bad[1, 2, 3, 4] = value
+        with pytest.raises(ValueError, match=r"absurd value .* \(channel 1, bin"):
+            matlas.write_merl(tmp_path / "x.binary", bad, physical=physical, allow_nonstandard_dims=True)
+        assert not (tmp_path / "x.binary").exists()
+    # The largest value the reader accepts is written and read back.
+    ok = smooth_table(0.1, 0.1)
+    ok[0, 0, 0, 0] = 1e15
+    matlas.write_merl(tmp_path / "ok.binary", ok, physical=False, allow_nonstandard_dims=True)
+    assert matlas.read_merl(tmp_path / "ok.binary", physical=False)[0, 0, 0, 0] == 1e15
+
+
+def test_batches_refuse_a_nan_point_as_single_queries_do(model):
+    X = np.array([model.latent[0], [np.nan, 0.0]])
+    for batch in (model.variance_batch, model.weights_batch, model.table_batch):
+        with pytest.raises(ValueError, match="NaN or infinite coordinate"):
+            batch(X)
+    with pytest.raises(ValueError, match="NaN or infinite coordinate"):
+        model.variance(X[1])

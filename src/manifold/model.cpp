@@ -368,6 +368,7 @@ Eigen::VectorXd Model::material_weights(int i) const {
 
 double Model::variance(const Eigen::Ref<const Eigen::VectorXd>& x) const {
   if (x.size() != dim()) throw Error("latent point has the wrong number of coordinates");
+  if (!x.allFinite()) throw Error("latent point has a NaN or infinite coordinate");
   return impl_->posterior->variance(x);
 }
 
