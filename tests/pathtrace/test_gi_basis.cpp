@@ -13,6 +13,7 @@
 #include "formats/synth_database.h"
 #include "manifold/build.h"
 #include "manifold/material_set.h"
+#include "formats/merl_file.h"
 #include "formats/safetensors.h"
 #include "pathtrace/gi_basis.h"
 #include "pathtrace/model_bank.h"
@@ -202,6 +203,39 @@ TEST_F(GiBasisTest, AModelWhoseLightOverflowsFloat32IsRefusedBeforeAnythingIsWri
         << e.what();
   }
   EXPECT_FALSE(std::filesystem::exists(options.cache / "material-0001.safetensors"));
+}
+
+TEST(GiBasisHardening, MeasuredValuesTheReaderAcceptsCanOverflowAndAreRefusedNamingTheMaterial) {
+  // Every value below the MERL reader's limit (1e15 stored): a build accepts them, but light that
+  // bounces on the object several times multiplies them past float32. gi-basis wrote such a basis
+  // (and gi refused it); now the build stops, naming the model.
+  test::TempDir dir;
+  const auto files = write_database(dir / "db", random_catalog(5, 3), null_progress(), MerlDims{8, 8, 16});
+  for (const auto& file : files) {
+    BrdfTable t = read_merl(file);
+    double peak = 0;
+    for (const double v : t.stored()) peak = std::max(peak, v);
+    for (double& v : t.stored())
+      if (v > 0) v *= 9e14 / peak;
+    write_merl(file, t, /*allow_nonstandard_dims=*/true);
+  }
+  BuildOptions options;
+  options.dim = 2;
+  build_model(MaterialSet::open({dir / "db"}), options, dir / "huge.matlas");
+  const Model model = Model::open(dir / "huge.matlas");
+  const World world(load_scene("box", "sphere"));
+  TraceSettings s;
+  s.width = 32;
+  s.height = 24;
+  s.spp = 16;
+  try {
+    (void)build_gi_basis(model, world, s, {});
+    ADD_FAILURE() << "built";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("huge.matlas: "), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("gives NaN or infinite pixels in the GI basis"), std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace
