@@ -4,6 +4,7 @@
 // (default), or MERL's stored units with -1 (physical=False), bit-exact with the files.
 // python/matlas/__init__.pyi documents the API.
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <exception>
 #include <mutex>
@@ -56,7 +57,9 @@ py::array table_to_array(BrdfTable&& source, bool physical) {
 }
 
 /// A (3, theta_h, theta_d, phi_d) array (or its flat 3 * bins form for the standard grid) as a
-/// table. Physical values: NaN or negative means missing.
+/// table. Physical values: NaN or negative means missing. Infinite values, and values beyond what
+/// the MERL reader accepts (kMaxMerlMagnitude in stored units), are a ValueError naming the
+/// channel and bin: write_merl must not write a file that read_merl refuses.
 BrdfTable array_to_table(const Array& a, bool physical) {
   MerlDims dims;
   if (a.ndim() == 4 && a.shape(0) == 3) {
@@ -81,7 +84,15 @@ BrdfTable array_to_table(const Array& a, bool physical) {
     for (std::size_t b = 0; b < bins; ++b) {
       const double v = in[static_cast<std::size_t>(c) * bins + b];
       if (std::isinf(v)) throw py::value_error("infinite value in the table (channel " + std::to_string(c) + ")");
-      out[static_cast<std::size_t>(c) * bins + b] = (std::isnan(v) || v < 0.0) ? -1.0 : v / scale;
+      const double stored = (std::isnan(v) || v < 0.0) ? -1.0 : v / scale;
+      if (!(stored <= kMaxMerlMagnitude)) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%.6g", v);
+        throw py::value_error(std::string("absurd value ") + text + " in the table (channel " + std::to_string(c) +
+                              ", bin " + std::to_string(b) + "): beyond the magnitude read_merl accepts, 1e15 in "
+                              "MERL's stored units (" + (physical ? "about 6.7e11 physical" : "physical=False") + ")");
+      }
+      out[static_cast<std::size_t>(c) * bins + b] = stored;
     }
   }
   return t;
@@ -99,6 +110,20 @@ void check_points(const Model& m, const Eigen::MatrixXd& X) {
   if (X.cols() != m.dim())
     throw py::value_error("points are rows of an (m, q) array; got " + std::to_string(X.cols()) +
                           " columns for q = " + std::to_string(m.dim()));
+  for (Eigen::Index r = 0; r < X.rows(); ++r)
+    if (!X.row(r).allFinite())
+      throw py::value_error("the point of row " + std::to_string(r) + " has a NaN or infinite coordinate");
+}
+
+/// `result`, unless the model's file was truncated while it was read (its mapping read vanished
+/// pages as zeros, formats/safetensors.h): then what was computed from it is wrong, and
+/// matlas.Error names the file instead. Every function reading the model returns through this.
+template <class T>
+T intact(const Model& m, T&& result) {
+  if (const std::uint64_t faults = m.mapping_faults(); faults > 0)
+    throw file_error(m.path(), "the model file changed or was truncated while it was read (" + std::to_string(faults) +
+                                   " pages read as zeros): open it again once it is complete");
+  return std::forward<T>(result);
 }
 
 /// Forwards build progress to a Python callable progress(label, done, total), from whichever
@@ -228,7 +253,7 @@ truncated, corrupted or not a model.)doc")
       .def_property_readonly("metadata_json", [](const Model& s) { return s.metadata().dump(); },
                              "The header's metadata as JSON text (Model.metadata parses it).")
       .def("index_of", &Model::index_of, "name"_a, "Index of a material by name (matlas.Error if unknown).")
-      .def("weights", [](const Model& s, const Eigen::VectorXd& x) { return s.weights(point(s, x)); }, "x"_a,
+      .def("weights", [](const Model& s, const Eigen::VectorXd& x) { return intact(s, s.weights(point(s, x))); }, "x"_a,
            "Interpolation weights w(x) = K^-1 k(x), length n; exactly e_i at material i's latent point.")
       .def("weights_batch",
            [](const Model& s, const Eigen::MatrixXd& X) {
@@ -236,10 +261,10 @@ truncated, corrupted or not a model.)doc")
              Eigen::MatrixXd W(X.rows(), s.count());
              py::gil_scoped_release release;
              for (Eigen::Index r = 0; r < X.rows(); ++r) W.row(r) = s.weights(X.row(r).transpose()).transpose();
-             return W;
+             return intact(s, std::move(W));
            },
            "X"_a, "weights() of every row of an (m, q) array: an (m, n) array.")
-      .def("variance", [](const Model& s, const Eigen::VectorXd& x) { return s.variance(point(s, x)); }, "x"_a,
+      .def("variance", [](const Model& s, const Eigen::VectorXd& x) { return intact(s, s.variance(point(s, x))); }, "x"_a,
            "GP predictive variance at x in kernel units: 0 at the data, towards 1 far from it.")
       .def("variance_batch",
            [](const Model& s, const Eigen::MatrixXd& X) {
@@ -247,7 +272,7 @@ truncated, corrupted or not a model.)doc")
              Eigen::VectorXd v(X.rows());
              py::gil_scoped_release release;
              for (Eigen::Index r = 0; r < X.rows(); ++r) v[r] = s.variance(X.row(r).transpose());
-             return v;
+             return intact(s, std::move(v));
            },
            "X"_a, "variance() of every row of an (m, q) array: an (m,) array.")
       .def("table",
@@ -258,7 +283,7 @@ truncated, corrupted or not a model.)doc")
                py::gil_scoped_release release;
                t = s.table(w);
              }
-             return table_to_array(std::move(t), physical);
+             return intact(s, table_to_array(std::move(t), physical));
            },
            "x"_a, "physical"_a = true,
            "The BRDF table m(x), a (3, theta_h, theta_d, phi_d) float64 array owning its memory (no copy): "
@@ -283,7 +308,7 @@ truncated, corrupted or not a model.)doc")
                    oc[b] = physical ? (in[b] < 0.0 ? std::nan("") : in[b] * scale) : in[b];
                }
              }
-             return out;
+             return intact(s, std::move(out));
            },
            "X"_a, "physical"_a = true, "table() of every row of an (m, q) array: an (m, 3, theta_h, theta_d, phi_d) array.")
       .def("material_table",
@@ -295,7 +320,7 @@ truncated, corrupted or not a model.)doc")
                py::gil_scoped_release release;
                t = s.table(s.material_weights(i));
              }
-             return table_to_array(std::move(t), physical);
+             return intact(s, table_to_array(std::move(t), physical));
            },
            "material"_a, "physical"_a = true, "The stored table of one input material (by name or index).")
       .def("albedo_curve",
@@ -303,7 +328,7 @@ truncated, corrupted or not a model.)doc")
              const std::vector<Rgb> curve = s.albedo_curve(s.weights(point(s, x)));
              Eigen::MatrixXd out(static_cast<Eigen::Index>(curve.size()), 3);
              for (std::size_t k = 0; k < curve.size(); ++k) out.row(static_cast<Eigen::Index>(k)) = curve[k].transpose();
-             return out;
+             return intact(s, std::move(out));
            },
            "x"_a, "Directional albedo at 90 view angles (bin centres of [0, 90) degrees): a (90, 3) array.")
       .def("project",
@@ -314,7 +339,7 @@ truncated, corrupted or not a model.)doc")
                py::gil_scoped_release release;
                p = project_material(s, t, starts);
              }
-             return projection_dict(s, p);
+             return intact(s, projection_dict(s, p));
            },
            "table"_a, "physical"_a = true, "starts"_a = 5,
            "Where a material falls on the map: the latent x whose m(x) is closest in L2 over the kept columns.\n"

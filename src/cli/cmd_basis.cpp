@@ -8,6 +8,7 @@
 #include "cli/print.h"
 #include "cli/render_options.h"
 #include "core/error.h"
+#include "core/file_io.h"
 #include "manifold/model.h"
 
 namespace matlas::cli {
@@ -24,6 +25,7 @@ struct BasisArgs {
 
 void run_basis(BasisArgs a, const Io& io) {
   if (a.precision != "f16" && a.precision != "f32") throw Error("--precision must be f16 or f32");
+  refuse_output_among_inputs(a.output, a.options.input_files({a.model}));
   const Model model = Model::open(a.model);
   const render::Scene scene(a.options.scene_description());
   TerminalProgress progress;

@@ -12,6 +12,7 @@
 #include "cli/commands.h"
 #include "cli/print.h"
 #include "core/error.h"
+#include "core/file_io.h"
 #include "core/progress.h"
 #include "eval/layout_study.h"
 #include "eval/manifold_quality.h"
@@ -104,6 +105,7 @@ void run_evaluate(const EvaluateArgs& a, const Io& io) {
   const fs::path input = a.input, out = a.output;
   std::error_code ec;
   if (!fs::exists(input, ec)) throw file_error(input, "no such model or folder");
+  refuse_output_among_inputs(out, {input});  // the report folder: not the model, nor the database
 
   eval::StudyOptions so;
   so.dims = a.dims;

@@ -10,6 +10,7 @@
 #include "cli/render_options.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/file_io.h"
 #include "manifold/model.h"
 #include "render/image_basis.h"
 
@@ -25,6 +26,14 @@ struct GalleryArgs {
 };
 
 void run_gallery(GalleryArgs a, const Io& io) {
+  const std::filesystem::path key =
+      a.key ? std::filesystem::path(*a.key) : std::filesystem::path(a.output).replace_extension(".json");
+  std::vector<std::filesystem::path> inputs = a.options.input_files({a.model, a.basis.value_or("")});
+  refuse_output_among_inputs(a.output, inputs);
+  refuse_output_among_inputs(key, inputs);
+  std::error_code ec1, ec2;  // the key must not replace the picture either (neither exists yet, maybe)
+  if (std::filesystem::weakly_canonical(key, ec1) == std::filesystem::weakly_canonical(a.output, ec2) && !ec1 && !ec2)
+    throw Error("--key " + key.string() + " is the output picture: give the answer key another name");
   const Model model = Model::open(a.model);
   atlas::GalleryStats stats;
   const std::vector<atlas::GalleryEntry> entries = atlas::pick_gallery(model, a.gallery, &stats);
@@ -39,7 +48,6 @@ void run_gallery(GalleryArgs a, const Io& io) {
     image = atlas::render_gallery(model, entries, &scene, &settings, nullptr, progress);
   }
   write_image(a.output, image, a.options.tone());
-  std::filesystem::path key = a.key ? std::filesystem::path(*a.key) : std::filesystem::path(a.output).replace_extension(".json");
   write_file_atomic(key, atlas::gallery_key(model, entries, stats).dump(2) + "\n");
   print(io.out, "wrote %s and its answer key %s (%d generated, %d real; interpolation %s)\n", a.output.c_str(),
               key.string().c_str(), a.gallery.random, a.gallery.real,

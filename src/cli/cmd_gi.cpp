@@ -3,11 +3,13 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "cli/commands.h"
 #include "cli/latent_point.h"
 #include "cli/render_options.h"
 #include "core/error.h"
+#include "core/file_io.h"
 #include "manifold/model.h"
 #include "pathtrace/gi_basis.h"
 #include "pathtrace/model_bank.h"
@@ -45,6 +47,17 @@ void add_image_options(CLI::App& cmd, ImageOptions& o) {
   cmd.add_option("--tonemap", o.tone.tonemap, "PNG tone curve: clamp, reinhard or aces")->capture_default_str();
 }
 
+/// The files a trace reads besides the model: the scene file, the object's mesh, and the meshes
+/// and environment map the scene names (installed names are not files and never match).
+std::vector<std::filesystem::path> scene_inputs(const TraceOptions& t, const pathtrace::World& world,
+                                                std::vector<std::filesystem::path> others) {
+  others.emplace_back(t.scene);
+  others.emplace_back(t.object);
+  others.emplace_back(world.spec().environment.map);
+  for (const auto& object : world.spec().objects) others.emplace_back(object.mesh);
+  return others;
+}
+
 double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
@@ -60,6 +73,7 @@ struct GiBasisArgs {
 void run_gi_basis(const GiBasisArgs& a, const Io& io) {
   const Model model = Model::open(a.model);
   const pathtrace::World world(pathtrace::load_scene(a.trace.scene, a.trace.object));
+  refuse_output_among_inputs(a.output, scene_inputs(a.trace, world, {a.model}));
   pathtrace::GiBasisOptions options;
   options.batch = a.batch;
   options.cache = a.cache.empty() ? std::filesystem::path(a.output + ".cache") : std::filesystem::path(a.cache);
@@ -93,6 +107,7 @@ struct GiArgs {
 
 void run_gi(const GiArgs& a, const Io& io) {
   if (a.part != "all" && a.part != "i1") throw Error("--part must be all or i1");
+  refuse_output_among_inputs(a.image.output, {a.model, a.basis});
   const Model model = Model::open(a.model);
   const pathtrace::GiBasis basis = pathtrace::GiBasis::load(a.basis);
   pathtrace::require_basis_of_model(basis, model, a.basis);
@@ -131,6 +146,7 @@ void run_gi_render(const RenderArgs& a, const Io& io) {
     throw Error("--part must be all, i1, i2 or p");
   const Model model = Model::open(a.model);
   const pathtrace::World world(pathtrace::load_scene(a.trace.scene, a.trace.object));
+  refuse_output_among_inputs(a.image.output, scene_inputs(a.trace, world, {a.model}));
   const pathtrace::ModelPointBank bank(model, model.weights(resolve_point(model, a.at, a.material)));
   TerminalProgress progress;
   const auto start = std::chrono::steady_clock::now();

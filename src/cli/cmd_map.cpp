@@ -11,6 +11,7 @@
 #include "cli/print.h"
 #include "cli/latent_point.h"
 #include "core/error.h"
+#include "core/file_io.h"
 #include "manifold/model.h"
 #include "render/text.h"
 
@@ -28,6 +29,7 @@ struct MapArgs {
 };
 
 void run_map(const MapArgs& a, const Io& io) {
+  refuse_output_among_inputs(a.output, {a.model, a.basis.value_or("")});
   const Model model = Model::open(a.model);
   atlas::MapOptions o;
   o.size = a.size;

@@ -12,6 +12,7 @@
 #include "cli/print.h"
 #include "cli/latent_point.h"
 #include "core/error.h"
+#include "core/file_io.h"
 #include "formats/merl_file.h"
 #include "manifold/export.h"
 #include "formats/rgl_bsdf.h"
@@ -42,6 +43,7 @@ struct ExportArgs {
 
 void run_export(const ExportArgs& a, const Io& io) {
   if (a.output.empty()) throw Error("-o: the output file name is empty");
+  refuse_output_among_inputs(a.output, {a.model});
   const Model model = Model::open(a.model);
   const Eigen::VectorXd x = resolve_point(model, a.at, a.material);
   const Eigen::VectorXd w = a.material ? model.material_weights(model.index_of(*a.material)) : model.weights(x);

@@ -11,6 +11,7 @@
 #include "cli/latent_point.h"
 #include "cli/render_options.h"
 #include "core/error.h"
+#include "core/file_io.h"
 #include "formats/merl_file.h"
 #include "manifold/model.h"
 #include "render/material.h"
@@ -31,6 +32,7 @@ bool is_merl(const std::string& path) {
 }
 
 void run_render(const RenderArgs& a, const Io& io) {
+  refuse_output_among_inputs(a.output, a.options.input_files({a.input}));
   const render::RenderSettings settings = a.options.settings();
   const ToneMap tone = a.options.tone();
   const render::Scene scene(a.options.scene_description());

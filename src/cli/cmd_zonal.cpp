@@ -10,6 +10,7 @@
 #include "cli/commands.h"
 #include "cli/print.h"
 #include "core/error.h"
+#include "core/file_io.h"
 #include "core/parallel.h"
 #include "manifold/material_set.h"
 #include "manifold/model.h"
@@ -35,12 +36,16 @@ void run_zonal(const ZonalArgs& a, const Io& io) {
   const zonal::ZonalProjector projector(a.settings);
   zonal::CoefficientSet set;
   set.settings = a.settings;
+  std::vector<std::filesystem::path> paths(a.inputs.begin(), a.inputs.end());
+  refuse_output_among_inputs(a.output, paths);
   if (is_model(a.inputs)) {
     set = atlas::model_coefficients(Model::open(a.inputs[0]), a.settings);
   } else {
-    std::vector<std::filesystem::path> paths(a.inputs.begin(), a.inputs.end());
     TerminalProgress progress;
     const MaterialSet materials = MaterialSet::open(paths, progress);
+    std::vector<std::filesystem::path> files;  // the files of the folders given
+    for (std::size_t i = 0; i < materials.size(); ++i) files.push_back(materials.file(i).path());
+    refuse_output_among_inputs(a.output, files);
     set.names = materials.names();
     set.materials.resize(materials.size());
     for (std::size_t i = 0; i < materials.size(); ++i) {

@@ -24,6 +24,12 @@ bool register_command(int order, CommandFactory add);
 /// Every registered command, sorted by order.
 std::vector<RegisteredCommand> registered_commands();
 
+/// cli::run refuses a command's outputs (files before they are committed, and the exit status
+/// after) once a memory-mapped input read vanished pages (formats/mapping_watch.h). A command that
+/// serves calls this first: the server checks its model itself (503, then a reload) and keeps
+/// writing its caches.
+void leave_mapped_inputs_to_the_server();
+
 }  // namespace matlas::cli
 
 // The variable is named after the factory so that several commands may share a translation unit

@@ -29,6 +29,12 @@ render::SceneDescription RenderOptions::scene_description() const {
   return d;
 }
 
+std::vector<std::filesystem::path> RenderOptions::input_files(std::vector<std::filesystem::path> others) const {
+  others.emplace_back(scene);
+  others.emplace_back(env);
+  return others;
+}
+
 render::RenderSettings RenderOptions::settings() const {
   render::RenderSettings s;
   s.width = width;

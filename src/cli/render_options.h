@@ -1,6 +1,7 @@
 #pragma once
 // Command-line options shared by the rendering commands (render, basis, map, gallery): scene,
 // lighting, camera, image size, samples and tone mapping.
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,9 @@ struct RenderOptions {
 
   /// The scene description (lights parsed; throws matlas::Error on malformed values).
   render::SceneDescription scene_description() const;
+  /// `others` and the files these options read (--scene, --env; names of installed assets are
+  /// not files and never match): what an output must not be (core/file_io.h).
+  std::vector<std::filesystem::path> input_files(std::vector<std::filesystem::path> others) const;
   render::RenderSettings settings() const;
   ToneMap tone() const;
 };

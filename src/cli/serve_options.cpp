@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "cli/commands.h"
 #include "core/error.h"
 #include "manifold/model.h"
 
@@ -11,6 +12,9 @@ namespace matlas::cli {
 
 server::ServerOptions server_options(const std::string& host, int port, const std::string& web_root, bool log,
                                      const Io& io) {
+  // From here on the server watches its model (503 and a reload when it is truncated) and keeps
+  // writing its caches: the command's own check of its mapped inputs would refuse them.
+  leave_mapped_inputs_to_the_server();
   server::ServerOptions so;
   so.host = host;
   so.port = port;

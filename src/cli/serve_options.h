@@ -17,7 +17,8 @@
 namespace matlas::cli {
 
 /// Options for host, port and web root; with `log`, one line per request on io.err (`io` must
-/// outlive the server).
+/// outlive the server). Calls leave_mapped_inputs_to_the_server() (cli/commands.h): the
+/// command serves from then on.
 server::ServerOptions server_options(const std::string& host, int port, const std::string& web_root, bool log,
                                      const Io& io);
 

@@ -6,6 +6,10 @@
 #include <cerrno>
 #include <cstring>
 #include <fcntl.h>
+#include <functional>
+#include <map>
+#include <mutex>
+#include <set>
 #include <signal.h>
 #include <unistd.h>
 
@@ -59,7 +63,76 @@ bool process_exists(long pid) {
   return ::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH;
 }
 
+// The temporary names in use by the live AtomicFiles of this process: two outputs of one target
+// at once get distinct names (TARGET.tmp-PID, TARGET.tmp-PID-2, ...), and a name found on disk
+// that is not among these is not ours to keep.
+std::mutex g_live_mutex;
+std::set<std::string> g_live_temporaries;
+
+fs::path claim_temporary_name(const fs::path& target) {
+  const std::string base = target.native() + ".tmp-" + std::to_string(::getpid());
+  const std::lock_guard lock(g_live_mutex);
+  std::string name = base;
+  for (int k = 2; g_live_temporaries.count(name); ++k) name = base + "-" + std::to_string(k);
+  g_live_temporaries.insert(name);
+  return name;
+}
+
+void release_temporary_name(const fs::path& temp) {
+  const std::lock_guard lock(g_live_mutex);
+  g_live_temporaries.erase(temp.native());
+}
+
+/// Creates `temp` as a new file, never opening what is already there: O_EXCL fails on any
+/// existing name and O_NOFOLLOW on a symlink, so a link planted under the predictable name cannot
+/// redirect the output onto another file. The name is not used by a live output of this process
+/// (claim_temporary_name), so what holds it is a stale temporary of a killed process that had our
+/// pid, or something planted: the name is removed (unlink removes a link, never what it points
+/// to) and the creation retried. Returns the descriptor, or -1 with errno set.
+int create_temporary(const fs::path& temp) {
+  for (int attempt = 0; attempt < 16; ++attempt) {
+    const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+    if (fd >= 0 || errno != EEXIST) return fd;
+    if (::unlink(temp.c_str()) != 0 && errno != ENOENT) return -1;
+  }
+  errno = EEXIST;  // something keeps recreating the name
+  return -1;
+}
+
+// The checks every commit runs (CommitCheck), by registration number.
+std::mutex g_checks_mutex;
+std::map<std::uint64_t, std::function<void()>> g_commit_checks;
+std::uint64_t g_next_check = 0;
+
+/// PID or PID-K (an AtomicFile's temporary suffix): the pid, or -1 for any other text.
+long temporary_pid(const std::string& suffix) {
+  const std::size_t dash = suffix.find('-');
+  const std::string digits = suffix.substr(0, dash);
+  if (digits.empty() || digits.size() > 10 || digits.find_first_not_of("0123456789") != std::string::npos) return -1;
+  if (dash != std::string::npos) {
+    const std::string k = suffix.substr(dash + 1);
+    if (k.empty() || k.size() > 10 || k.find_first_not_of("0123456789") != std::string::npos) return -1;
+  }
+  return std::stol(digits);
+}
+
 }  // namespace
+
+CommitCheck::CommitCheck(std::function<void()> check) {
+  const std::lock_guard lock(g_checks_mutex);
+  id_ = g_next_check++;
+  g_commit_checks.emplace(id_, std::move(check));
+}
+
+CommitCheck::~CommitCheck() {
+  const std::lock_guard lock(g_checks_mutex);
+  g_commit_checks.erase(id_);
+}
+
+void run_commit_checks() {
+  const std::lock_guard lock(g_checks_mutex);
+  for (const auto& [id, check] : g_commit_checks) check();
+}
 
 int remove_stale_temporaries(const fs::path& target) {
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
@@ -72,10 +145,8 @@ int remove_stale_temporaries(const fs::path& target) {
     if (ec) break;
     const std::string name = it->path().filename().string();
     if (name.size() <= prefix.size() || name.compare(0, prefix.size(), prefix) != 0) continue;
-    const std::string digits = name.substr(prefix.size());
-    if (digits.size() > 10 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
-    const long pid = std::stol(digits);
-    if (pid == static_cast<long>(::getpid()) || process_exists(pid)) continue;
+    const long pid = temporary_pid(name.substr(prefix.size()));
+    if (pid < 0 || pid == static_cast<long>(::getpid()) || process_exists(pid)) continue;
     std::error_code rm;
     if (fs::remove(it->path(), rm)) ++removed;
   }
@@ -96,15 +167,15 @@ AtomicFile::AtomicFile(fs::path target) : target_(std::move(target)) {
   if (fs::is_directory(target_, ec))
     throw file_error(target_, "is a folder; give the output a file name");
   remove_stale_temporaries(target_);
-  temp_ = target_;
-  temp_ += ".tmp-" + std::to_string(::getpid());
+  temp_ = claim_temporary_name(target_);
   // Registered before it exists: a signal between creating the file and registering it would
   // leave it behind (the handler removing a name not yet created is harmless).
   slot_ = register_temporary(temp_);
-  fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  fd_ = create_temporary(temp_);
   if (fd_ < 0) {
     const int error = errno;
     unregister_temporary(slot_);
+    release_temporary_name(temp_);
     throw file_error(target_, std::string("cannot create output file: ") + std::strerror(error));
   }
 }
@@ -117,6 +188,7 @@ AtomicFile::~AtomicFile() {
     fs::remove(temp_, ec);
   }
   unregister_temporary(slot_);
+  release_temporary_name(temp_);
 }
 
 void AtomicFile::stream_appends_to_disk() { direct_wanted_ = true; }
@@ -133,7 +205,7 @@ void AtomicFile::write(const void* data, std::size_t bytes) {
     p += head;
     bytes -= head;
     if (bytes == 0) return;
-    direct_ = DirectAppender::open(temp_, position_);
+    direct_ = DirectAppender::open(temp_, position_, fd_);
     direct_wanted_ = static_cast<bool>(direct_);
   }
   if (direct_) direct_->append(p, bytes);
@@ -151,6 +223,7 @@ void AtomicFile::skip(std::uint64_t bytes) {
 }
 
 void AtomicFile::commit() {
+  run_commit_checks();  // before anything is flushed or renamed: a refused output leaves nothing
   if (direct_) {
     const auto tail = direct_->finish();
     write_all_at(fd_, target_, tail.data(), tail.size(), direct_->tail_offset());

@@ -7,6 +7,7 @@
 #include <exception>
 #include <fcntl.h>
 #include <mutex>
+#include <sys/stat.h>
 #include <thread>
 #include <unistd.h>
 
@@ -90,10 +91,21 @@ struct DirectAppender::State {
   }
 };
 
-std::unique_ptr<DirectAppender> DirectAppender::open(const std::filesystem::path& path, std::uint64_t offset) {
+std::unique_ptr<DirectAppender> DirectAppender::open(const std::filesystem::path& path, std::uint64_t offset,
+                                                     int same_file_as) {
   if (offset % kAlignment != 0) throw Error("DirectAppender: unaligned start offset (internal error)");
-  const int fd = ::open(path.c_str(), O_WRONLY | O_DIRECT | O_CLOEXEC);
+  // Reopened by name: never through a symlink (O_NOFOLLOW), and only if the name still holds the
+  // caller's file (a name swapped for another file since would be written instead).
+  const int fd = ::open(path.c_str(), O_WRONLY | O_DIRECT | O_NOFOLLOW | O_CLOEXEC);
   if (fd < 0) return nullptr;  // e.g. tmpfs: EINVAL
+  if (same_file_as >= 0) {
+    struct stat mine {}, theirs {};
+    if (::fstat(fd, &theirs) != 0 || ::fstat(same_file_as, &mine) != 0 || mine.st_dev != theirs.st_dev ||
+        mine.st_ino != theirs.st_ino) {
+      ::close(fd);
+      return nullptr;  // ordinary writes through the caller's descriptor
+    }
+  }
   auto state = std::make_unique<State>();
   state->path = path;
   state->fd = fd;

@@ -23,8 +23,11 @@ public:
   static constexpr std::size_t kBufferBytes = 16u << 20;
 
   /// Opens `path` (an existing file) for direct writes starting at `offset` (a multiple of
-  /// kAlignment). Returns null where the file system does not support direct I/O.
-  static std::unique_ptr<DirectAppender> open(const std::filesystem::path& path, std::uint64_t offset);
+  /// kAlignment). Returns null where the file system does not support direct I/O, where `path` is
+  /// a symlink, and, when `same_file_as` is an open descriptor, where `path` no longer names its
+  /// file (the caller then writes through its own descriptor).
+  static std::unique_ptr<DirectAppender> open(const std::filesystem::path& path, std::uint64_t offset,
+                                              int same_file_as = -1);
   ~DirectAppender();
   DirectAppender(const DirectAppender&) = delete;
   DirectAppender& operator=(const DirectAppender&) = delete;

@@ -11,6 +11,30 @@
 
 namespace matlas {
 
+void refuse_output_among_inputs(const std::filesystem::path& output,
+                                const std::vector<std::filesystem::path>& inputs) {
+  if (output.empty()) return;  // AtomicFile names that problem
+  struct stat out {};
+  const bool out_exists = ::stat(output.c_str(), &out) == 0;
+  std::error_code ec;
+  const std::filesystem::path out_canonical = std::filesystem::weakly_canonical(output, ec);
+  const bool have_canonical = !ec;
+  for (const auto& input : inputs) {
+    if (input.empty()) continue;
+    struct stat in {};
+    if (::stat(input.c_str(), &in) != 0) continue;
+    bool same = out_exists && in.st_dev == out.st_dev && in.st_ino == out.st_ino;
+    if (!same && have_canonical) {
+      std::error_code ec_in;
+      const std::filesystem::path in_canonical = std::filesystem::weakly_canonical(input, ec_in);
+      same = !ec_in && in_canonical == out_canonical;
+    }
+    if (same)
+      throw file_error(output, "the output is one of the inputs (" + input.string() +
+                                   "): refusing to overwrite it; choose another output name");
+  }
+}
+
 std::string file_kind(unsigned mode) {
   switch (mode & S_IFMT) {
     case S_IFREG: return "a regular file";

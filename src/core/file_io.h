@@ -5,8 +5,16 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace matlas {
+
+/// Refuses to write `output` when it is one of `inputs` (writing it would replace an input): the
+/// same file by device and inode (through any symlink or hard link), or the same canonical path.
+/// Inputs that do not exist (names such as "studio" for an installed map) never match. Throws
+/// matlas::Error naming the output and the input. Every command that writes a file calls it with
+/// all the files it reads.
+void refuse_output_among_inputs(const std::filesystem::path& output, const std::vector<std::filesystem::path>& inputs);
 
 /// Opens an existing file read-only, refusing anything that is not a regular file (a FIFO would
 /// block the reader forever, a device never ends): the check is made on the opened descriptor

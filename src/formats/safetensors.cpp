@@ -16,6 +16,7 @@
 
 #include "core/error.h"
 #include "core/file_io.h"
+#include "formats/mapping_watch.h"
 
 namespace matlas {
 
@@ -313,9 +314,11 @@ MappedFile::MappedFile(const fs::path& path) : path_(path) {
     slot_ = guard_mapping(data_, size_);
   }
   ::close(fd);
+  detail::track_mapping(this);
 }
 
 MappedFile::~MappedFile() {
+  detail::untrack_mapping(this);
   unguard_mapping(slot_);
   if (data_) ::munmap(const_cast<std::byte*>(data_), size_);
 }

@@ -10,6 +10,7 @@
 
 #include "brdf/albedo.h"
 #include "core/error.h"
+#include "core/file_io.h"
 #include "core/hash.h"
 #include "formats/safetensors.h"
 #include "gp/initialize.h"
@@ -46,23 +47,25 @@ void validate(const MaterialSet& set, const BuildOptions& o) {
     throw Error("--nugget must be in (0, 1], got " + std::to_string(o.nugget));
   if (!(o.convex_ridge > 0.0) || !std::isfinite(o.convex_ridge))
     throw Error("--convex-ridge must be finite and > 0, got " + std::to_string(o.convex_ridge));
+  const MerlDims& g = set.dims();
+  if (!model_format::is_model_grid(g.theta_h, g.theta_d, g.phi_d))
+    throw file_error(set.file(0).path(), "grid " + g.to_string() +
+                                             ": a model needs phi_d = 2 theta_d (theta_d over [0, 90) and phi_d over "
+                                             "[0, 180) degrees in equal steps, as MERL's 90 90 180)");
   if (static_cast<std::size_t>(o.dim) >= set.size())
     throw Error("--dim " + std::to_string(o.dim) + " needs more than " + std::to_string(o.dim) +
                 " materials; the input has " + std::to_string(set.size()));
 }
 
 /// The output must not be one of the inputs (writing the model would replace a material, or a
-/// symlink to it): compared by identity of the files, so any spelling or link is caught.
+/// symlink or hard link to it): core/file_io.h compares the files themselves.
 void reject_output_among_inputs(const MaterialSet& set, const fs::path& output) {
   std::error_code ec;
-  const fs::file_status status = fs::status(output, ec);
-  if (ec || !fs::exists(status)) return;  // a new file cannot be an input
-  if (fs::is_directory(status)) throw file_error(output, "the output is a folder; give a file name such as model.matlas");
-  for (std::size_t i = 0; i < set.size(); ++i) {
-    if (fs::equivalent(output, set.file(i).path(), ec) && !ec)
-      throw file_error(output, "the output is one of the inputs (" + set.file(i).path().string() +
-                                   "): refusing to overwrite it; choose another output name");
-  }
+  if (fs::is_directory(output, ec))
+    throw file_error(output, "the output is a folder; give a file name such as model.matlas");
+  std::vector<fs::path> inputs;
+  for (std::size_t i = 0; i < set.size(); ++i) inputs.push_back(set.file(i).path());
+  refuse_output_among_inputs(output, inputs);
 }
 
 /// Identical (or numerically identical) materials make K singular in the limit and the layout

@@ -128,7 +128,16 @@ Model Model::open(const fs::path& path) {
   // below: a crafted or damaged file is refused naming what is wrong, never used.
   double nugget = 0, lengthscale = 0;
   try {
-    m->meta = json::parse(meta_it->second);
+    // Parsing is iterative, but dump() and other recursive code would overflow the stack on a
+    // crafted file nested 100,000 deep: refused here, before anything uses it.
+    const json::parser_callback_t limit_depth = [&path](int depth, json::parse_event_t event, json&) {
+      if ((event == json::parse_event_t::object_start || event == json::parse_event_t::array_start) &&
+          depth >= model_format::kMaxMetadataDepth)
+        throw file_error(path, "corrupted model metadata: JSON nested more than " +
+                                   std::to_string(model_format::kMaxMetadataDepth) + " levels deep");
+      return true;
+    };
+    m->meta = json::parse(meta_it->second, limit_depth);
     if (!m->meta.is_object()) throw file_error(path, "corrupted model metadata: not a JSON object");
     const auto format = m->meta.find("format");
     if (format == m->meta.end() || !format->is_string() || format->get<std::string>() != model_format::kFormatName)
@@ -158,6 +167,10 @@ Model Model::open(const fs::path& path) {
                                    std::to_string(kMaxMerlDim) + "]");
       dims[k] = static_cast<int>(d.get<std::int64_t>());
     }
+    if (!model_format::is_model_grid(dims[0], dims[1], dims[2]))
+      throw file_error(path, "corrupted model metadata: 'grid' [" + std::to_string(dims[0]) + ", " +
+                                 std::to_string(dims[1]) + ", " + std::to_string(dims[2]) +
+                                 "] is not [theta_h, theta_d, phi_d] with phi_d = 2 theta_d");
     m->dims = {dims[0], dims[1], dims[2]};
     const auto storage = m->meta.find("storage");
     if (storage == m->meta.end() || !storage->is_string())
@@ -355,6 +368,7 @@ Eigen::VectorXd Model::material_weights(int i) const {
 
 double Model::variance(const Eigen::Ref<const Eigen::VectorXd>& x) const {
   if (x.size() != dim()) throw Error("latent point has the wrong number of coordinates");
+  if (!x.allFinite()) throw Error("latent point has a NaN or infinite coordinate");
   return impl_->posterior->variance(x);
 }
 

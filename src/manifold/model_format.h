@@ -14,6 +14,17 @@ inline constexpr const char* kFormatName = "matlas-model";
 inline constexpr int kVersion = 2;
 /// Key of the JSON metadata string in the safetensors "__metadata__" map.
 inline constexpr const char* kMetadataKey = "matlas";
+/// Deepest nesting of arrays and objects accepted in the metadata JSON (a model's own is 3 deep):
+/// deeper is a crafted file, refused on open, since recursive JSON code (dump(), a fingerprint)
+/// would overflow the stack on it.
+inline constexpr int kMaxMetadataDepth = 64;
+
+/// Whether [theta_h, theta_d, phi_d] bin counts are a MERL grid as models store it: phi_d twice
+/// theta_d (theta_d over [0, 90) and phi_d over [0, 180) degrees in equal steps), so that a grid
+/// given in another order is refused.
+inline constexpr bool is_model_grid(int theta_h, int theta_d, int phi_d) {
+  return theta_h >= 1 && theta_d >= 1 && phi_d == 2 * theta_d;
+}
 
 // Tensors, in file order (largest element type first so every tensor is aligned).
 inline constexpr const char* kLatent = "latent";            ///< F64 [n, q]

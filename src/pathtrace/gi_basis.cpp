@@ -77,6 +77,24 @@ Error file_error(const std::filesystem::path& path, const std::string& what) {
   return Error(path.string() + ": " + what);
 }
 
+bool all_finite(const float* v, std::size_t n) {
+  bool ok = true;
+  for (std::size_t i = 0; i < n; ++i) ok &= std::isfinite(v[i]);
+  return ok;
+}
+
+/// A material's images must be finite: GiBasis::load refuses NaN and infinite pixels, so a basis
+/// holding them must never be written (nor cached). They come from BRDF values so large that
+/// products along paths touching the object several times overflow float32 (3.4e38).
+void require_finite_images(const Model& model, int k, const Image& linear, const Image& full) {
+  if (all_finite(linear.rgb.data(), linear.rgb.size()) && all_finite(full.rgb.data(), full.rgb.size())) return;
+  const std::string what = k == 0 ? std::string("the mean table")
+                                  : "material '" + model.names()[static_cast<std::size_t>(k - 1)] + "'";
+  throw file_error(model.path(), what + " gives NaN or infinite pixels in the GI basis (its values are so large that "
+                                        "light bouncing on the object several times overflows float32): a basis "
+                                        "with them could not be read, none is written");
+}
+
 std::filesystem::path material_file(const std::filesystem::path& cache, int k) {
   char name[48];
   std::snprintf(name, sizeof name, "material-%04d.safetensors", k);
@@ -103,6 +121,7 @@ bool read_images(const std::filesystem::path& path, const std::string& key, int 
     if (it == f.metadata().end() || it->second != key) return false;
     for (const auto& [name, im] : images) {
       const auto v = f.view<float>(name, DType::F32, {height, width, 3});
+      if (!all_finite(v.data(), v.size())) return false;  // traced again (and refused there)
       *im = Image(width, height);
       std::copy(v.begin(), v.end(), im->rgb.begin());
     }
@@ -195,6 +214,10 @@ void GiBasis::compose_into(const Eigen::Ref<const Eigen::VectorXd>& w, Part part
 }
 
 void GiBasis::save(const std::filesystem::path& path) const {
+  // load() refuses NaN and infinite pixels: such a basis is not written.
+  if (!all_finite(p_.rgb.data(), p_.rgb.size()) || !all_finite(linear_.data(), linear_.size()) ||
+      !all_finite(full_.data(), full_.size()))
+    throw file_error(path, "the GI basis has NaN or infinite pixels: not written (it could not be read back)");
   const std::int64_t k = count() + 1, h = height(), wd = width();
   SafetensorsWriter w;
   for (const auto& [key, value] : metadata_) w.add_metadata(key, value);
@@ -294,6 +317,7 @@ GiBasis build_gi_basis(const Model& model, const World& world, const TraceSettin
       linear[static_cast<std::size_t>(k)] = r.once[j];
       full[static_cast<std::size_t>(k)] = r.once[j];
       for (std::size_t v = 0; v < r.more[j].rgb.size(); ++v) full[static_cast<std::size_t>(k)].rgb[v] += r.more[j].rgb[v];
+      require_finite_images(model, k, linear[static_cast<std::size_t>(k)], full[static_cast<std::size_t>(k)]);
       if (cached)
         write_images(material_file(options.cache, k), key,
                      {{"linear", &linear[static_cast<std::size_t>(k)]}, {"full", &full[static_cast<std::size_t>(k)]}});

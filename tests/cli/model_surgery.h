@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -27,6 +28,28 @@ inline void edit_model_metadata(const std::filesystem::path& path, const std::fu
   out.resize(length, ' ');
   f.seekp(8);
   f.write(out.data(), static_cast<std::streamsize>(out.size()));
+}
+
+/// Replaces the matlas metadata of a model file with `text` (any JSON text, of any length): the
+/// header is written again with its new length (padded so the data stays 64-byte aligned) and the
+/// tensors copied after it.
+inline void replace_model_metadata_text(const std::filesystem::path& path, const std::string& text) {
+  std::ifstream in(path, std::ios::binary);
+  std::uint64_t length = 0;
+  in.read(reinterpret_cast<char*>(&length), 8);
+  std::string header_text(length, ' ');
+  in.read(header_text.data(), static_cast<std::streamsize>(length));
+  const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  in.close();
+  nlohmann::json header = nlohmann::json::parse(header_text);
+  header["__metadata__"]["matlas"] = text;
+  std::string out = header.dump();
+  out.resize((out.size() + 8 + 63) / 64 * 64 - 8, ' ');
+  const std::uint64_t new_length = out.size();
+  std::ofstream f(path, std::ios::binary | std::ios::trunc);
+  f.write(reinterpret_cast<const char*>(&new_length), 8);
+  f.write(out.data(), static_cast<std::streamsize>(out.size()));
+  f.write(data.data(), static_cast<std::streamsize>(data.size()));
 }
 
 }  // namespace matlas::test

@@ -4,12 +4,16 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <fstream>
+#include <limits>
 
 #include "brdf/catalog.h"
 #include "core/error.h"
 #include "formats/synth_database.h"
 #include "manifold/build.h"
 #include "manifold/material_set.h"
+#include "formats/merl_file.h"
 #include "formats/safetensors.h"
 #include "pathtrace/gi_basis.h"
 #include "pathtrace/model_bank.h"
@@ -149,6 +153,89 @@ TEST_F(GiBasisTest, FilesRoundTripAndTheCacheResumes) {
   EXPECT_NE(fresh.image(GiBasis::Part::all, 2).rgb[0], resumed.image(GiBasis::Part::all, 2).rgb[0]);
 
   EXPECT_THROW(GiBasis::load(file(1)), Error);
+}
+
+// ---- Never a basis that GiBasis::load refuses (issue 28): NaN and infinite pixels
+TEST(GiBasisHardening, SaveRefusesNaNOrInfinitePixels) {
+  test::TempDir dir;
+  Image p(2, 2);
+  std::vector<Image> linear(3, Image(2, 2)), full(3, Image(2, 2));
+  full[1].rgb[4] = std::numeric_limits<float>::infinity();
+  const GiBasis basis(p, linear, full, {"a", "b"}, {});
+  try {
+    basis.save(dir / "b.safetensors");
+    ADD_FAILURE() << "saved";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("b.safetensors: the GI basis has NaN or infinite pixels"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "b.safetensors"));
+}
+
+TEST_F(GiBasisTest, AModelWhoseLightOverflowsFloat32IsRefusedBeforeAnythingIsWritten) {
+  // Values near the float32 maximum in the model's data (not covered by its checksum): their
+  // products along paths overflow the float32 images. The build names the material and writes
+  // neither a basis nor a cache entry that could not be read back.
+  test::TempDir dir;
+  const std::filesystem::path path = dir / "huge.matlas";
+  std::filesystem::copy_file(dir_->path() / "m.matlas", path);
+  {
+    const SafetensorsFile f = SafetensorsFile::open(path);
+    const TensorInfo* data = f.find("data");
+    ASSERT_TRUE(data && data->dtype == DType::F32);
+    std::uint64_t header = 0;
+    std::memcpy(&header, f.mapping().data(), 8);
+    std::fstream out(path, std::ios::in | std::ios::out | std::ios::binary);
+    out.seekp(static_cast<std::streamoff>(8 + header + data->begin));
+    const std::vector<float> huge(data->elements(), 3e38f);
+    out.write(reinterpret_cast<const char*>(huge.data()), static_cast<std::streamsize>(data->bytes()));
+  }
+  const Model model = Model::open(path);
+  GiBasisOptions options;
+  options.cache = dir / "cache";
+  try {
+    (void)build_gi_basis(model, *world_, settings(), options);
+    ADD_FAILURE() << "built";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("huge.matlas: material '" + model.names()[0] +
+                                         "' gives NaN or infinite pixels in the GI basis"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(std::filesystem::exists(options.cache / "material-0001.safetensors"));
+}
+
+TEST(GiBasisHardening, MeasuredValuesTheReaderAcceptsCanOverflowAndAreRefusedNamingTheMaterial) {
+  // Every value below the MERL reader's limit (1e15 stored): a build accepts them, but light that
+  // bounces on the object several times multiplies them past float32. gi-basis wrote such a basis
+  // (and gi refused it); now the build stops, naming the model.
+  test::TempDir dir;
+  const auto files = write_database(dir / "db", random_catalog(5, 3), null_progress(), MerlDims{8, 8, 16});
+  for (const auto& file : files) {
+    BrdfTable t = read_merl(file);
+    double peak = 0;
+    for (const double v : t.stored()) peak = std::max(peak, v);
+    for (double& v : t.stored())
+      if (v > 0) v *= 9e14 / peak;
+    write_merl(file, t, /*allow_nonstandard_dims=*/true);
+  }
+  BuildOptions options;
+  options.dim = 2;
+  build_model(MaterialSet::open({dir / "db"}), options, dir / "huge.matlas");
+  const Model model = Model::open(dir / "huge.matlas");
+  const World world(load_scene("box", "sphere"));
+  TraceSettings s;
+  s.width = 32;
+  s.height = 24;
+  s.spp = 16;
+  try {
+    (void)build_gi_basis(model, world, s, {});
+    ADD_FAILURE() << "built";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("huge.matlas: "), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("gives NaN or infinite pixels in the GI basis"), std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace
