@@ -46,6 +46,12 @@ double mean_of(const std::vector<double>& v) {
 
 }  // namespace
 
+int automatic_stride(std::size_t tables, std::size_t values_per_table, double budget) {
+  const double total = static_cast<double>(tables) * static_cast<double>(values_per_table);
+  if (!(budget > 0) || total <= budget) return 1;
+  return static_cast<int>(std::min(1e6, std::ceil(total / budget)));
+}
+
 std::vector<LayoutTransform> all_layouts() {
   std::vector<LayoutTransform> layouts;
   for (bool cosine : {false, true})
@@ -235,9 +241,14 @@ StudyResult run_layout_study(const MaterialSet& set, const StudyOptions& options
   query.coefficients.resize(static_cast<Eigen::Index>(items.size()), n);
   for (std::size_t i = 0; i < items.size(); ++i) query.coefficients.row(static_cast<Eigen::Index>(i)) = items[i].transpose();
   query.pairs = pairs;
-  query.value_stride = options.value_stride;
+  query.value_stride = options.value_stride > 0 ? options.value_stride
+                                                : automatic_stride(items.size(), 3 * set.dims().bins(),
+                                                                   options.compared_values_budget);
+  result.value_stride = query.value_stride;
   progress.message("perceptual distances: " + std::to_string(items.size()) + " tables, " +
-                   std::to_string(pairs.size()) + " pairs");
+                   std::to_string(pairs.size()) + " pairs, every " +
+                   (query.value_stride == 1 ? std::string("value") : std::to_string(query.value_stride) + "th value") +
+                   (options.value_stride > 0 ? "" : " (--stride 1 for all)"));
   const CombinationResult pass = evaluate_combinations(set, query, progress);
   result.pass_seconds = seconds_since(t0);
   result.compared_values = pass.values;

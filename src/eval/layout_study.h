@@ -22,6 +22,10 @@
 
 namespace matlas::eval {
 
+/// The value stride that keeps a pass over `tables` tables of `values_per_table` values within
+/// `budget` compared values: ceil(tables x values / budget), at least 1.
+int automatic_stride(std::size_t tables, std::size_t values_per_table, double budget);
+
 /// The six layout transforms: linear, cbrt, log, each plain and cosine-weighted.
 std::vector<LayoutTransform> all_layouts();
 
@@ -31,7 +35,11 @@ struct StudyOptions {
   int materials = 0;         ///< materials left out in turn (0 = all), spread evenly by index
   int pairs = 20;            ///< material pairs for latent paths (0 = none)
   int path_segments = 8;     ///< segments per latent path
-  int value_stride = 1;      ///< subsample the values for perceptual distances (1 = all)
+  /// Subsample the values for perceptual distances: every value_stride-th (1 = all). 0: chosen
+  /// so that the pass compares at most `compared_values_budget` values in all (tables x values
+  /// per table), which keeps the default run to a minute or two whatever the database's size.
+  int value_stride = 0;
+  double compared_values_budget = 1e9;
   int projection_starts = 3; ///< multi-start count of the projection
   FitOptions fit{};
   std::size_t block_columns = 4096;
@@ -83,6 +91,7 @@ struct StudyResult {
   std::vector<std::string> names;
   std::size_t kept_columns = 0;
   std::size_t compared_values = 0;   ///< values per perceptual distance
+  int value_stride = 1;              ///< the stride used (options.value_stride, or the one chosen)
   Eigen::MatrixXd material_cbrt;     ///< n x n cube-root distances between the materials
   Eigen::MatrixXd material_rmse;     ///< n x n cosine-RMSE distances
   std::vector<ConfigResult> configs; ///< layouts x dims, layout-major

@@ -75,6 +75,7 @@ json study_json(const StudyResult& s) {
           {"layouts", layouts},
           {"kept_columns", s.kept_columns},
           {"compared_values", s.compared_values},
+          {"value_stride", s.value_stride},
           {"recommended_layout", s.recommended.to_string()},
           {"recommendation", s.recommendation},
           {"material_cbrt", matrix(s.material_cbrt)},

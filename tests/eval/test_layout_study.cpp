@@ -146,6 +146,33 @@ TEST_F(TinyDatabase, MaterialsOptionLimitsTheLeftOutSet) {
   EXPECT_THROW(r.config(LayoutTransform::parse("log"), 2), Error);
 }
 
+TEST(AutomaticStride, KeepsThePassWithinItsBudget) {
+  EXPECT_EQ(automatic_stride(10, 1000, 1e9), 1);     // within the budget: every value
+  EXPECT_EQ(automatic_stride(1000, 1000, 1e6), 1);   // exactly at it
+  EXPECT_EQ(automatic_stride(1001, 1000, 1e6), 2);   // just over: every second value
+  // The default run on 8 MERL-size tables (6472 tables in the pass): every 29th value.
+  EXPECT_EQ(automatic_stride(6472, 3 * 90 * 90 * 180, 1e9), 29);
+  EXPECT_EQ(automatic_stride(5, 100, 0.0), 1);        // no budget: every value
+}
+
+TEST_F(TinyDatabase, TheDefaultStrideFollowsTheBudgetAndIsReported) {
+  StudyOptions o;
+  o.dims = {2};
+  o.layouts = {LayoutTransform{}};
+  o.pairs = 2;
+  o.path_segments = 2;
+  const StudyResult all = run_layout_study(*set_, o);  // a tiny database: within the budget
+  EXPECT_EQ(all.value_stride, 1);
+  o.compared_values_budget = 1000.0;  // force a stride
+  const StudyResult some = run_layout_study(*set_, o);
+  EXPECT_GT(some.value_stride, 1);
+  // Each distance then compares about 1/stride of the values.
+  EXPECT_NEAR(static_cast<double>(some.compared_values),
+              static_cast<double>(all.compared_values) / some.value_stride, 1.0 + all.compared_values * 0.01);
+  o.value_stride = 3;  // an explicit stride wins
+  EXPECT_EQ(run_layout_study(*set_, o).value_stride, 3);
+}
+
 TEST(ChoosePairs, DistinctDeterministicAndLimited) {
   const auto a = choose_pairs(10, 7, 3), b = choose_pairs(10, 7, 3);
   EXPECT_EQ(a, b);
