@@ -32,7 +32,7 @@ struct EvaluateArgs {
   std::string output;
   std::vector<int> dims{2, 3, 5, 8};
   std::vector<std::string> layouts;  // empty = all six
-  int materials = 0;
+  int materials = 24;
   int pairs = 20;
   int segments = 8;
   int stride = 0;
@@ -184,7 +184,9 @@ void add_evaluate_command(CLI::App& app, const Io& io) {
   cmd->add_option("--dims", args->dims, "Latent dimensions to evaluate")->delimiter(',')->check(CLI::Range(1, 10))->capture_default_str();
   cmd->add_option("--layouts", args->layouts, "Layout transforms to compare (default: all six: linear, cbrt, log, "
                                               "each also cosine-)")->delimiter(',');
-  cmd->add_option("--materials", args->materials, "Leave out only this many materials, spread over the list (0 = all)")
+  cmd->add_option("--materials", args->materials,
+                  "Leave out only this many materials in turn, spread evenly over the list (0 = all: the full "
+                  "study, one fit per material per layout and q)")
       ->check(CLI::NonNegativeNumber)->capture_default_str();
   cmd->add_option("--pairs", args->pairs, "Material pairs for latent paths")->check(CLI::NonNegativeNumber)->capture_default_str();
   cmd->add_option("--segments", args->segments, "Segments per latent path")->check(CLI::Range(1, 100))->capture_default_str();
