@@ -13,6 +13,7 @@
 #include "manifold/build.h"
 #include "manifold/material_set.h"
 #include "manifold/model.h"
+#include "manifold/plausibility.h"
 #include "render/render.h"
 #include "render/render_test_util.h"
 #include "render/text.h"
@@ -118,6 +119,23 @@ TEST_F(LatentMapTest, GridWeightsEqualThePerPointWeightsAtEveryCell) {
   const Eigen::Index centre = 4 * cols + 6;  // material 3's cell
   EXPECT_LT((g.points.row(centre).transpose() - x0).norm(), 1e-12);
   EXPECT_LT((g.weights.col(centre) - Eigen::VectorXd::Unit(model_->count(), 3)).cwiseAbs().maxCoeff(), 1e-9);
+}
+
+TEST_F(LatentMapTest, PlausibilityCellsDoNotDependOnHowTheGridIsSplit) {
+  // The plausibility layer is computed in blocks of cells in parallel: each cell's colour is the
+  // one the same cell gets alone.
+  const LatentGrid g = latent_grid(*model_, LatentPlane::automatic(*model_), 40, 30);
+  const PlausibilityProbe probe(*model_, 256);
+  const LayerCells all = layer_cells(*model_, g, MapLayer::plausibility, {}, &probe);
+  for (Eigen::Index k : {0, 511, 512, 700, 1023, 1024, 1199}) {
+    LatentGrid one;
+    one.cols = one.rows = 1;
+    one.points = g.points.row(k);
+    one.weights = g.weights.col(k);
+    one.variance = g.variance.segment(k, 1);
+    const LayerCells alone = layer_cells(*model_, one, MapLayer::plausibility, {}, &probe);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(all.colour[static_cast<std::size_t>(k)][c], alone.colour[0][c], 1e-12) << k;
+  }
 }
 
 TEST_F(LatentMapTest, AlbedoAndVarianceLayersColourTheGrid) {
