@@ -80,8 +80,6 @@ void cross_block(const Eigen::MatrixXd& X, const Kernel& kernel, const Eigen::Ve
 
 }  // namespace
 
-double GpPosterior::taper(Eigen::Index i, double distance) const { return taper_weight(taper_radius_[i], distance); }
-
 Eigen::VectorXd GpPosterior::cross(const Eigen::Ref<const Eigen::VectorXd>& x, double* noise) const {
   if (x.size() != X_.cols())
     throw Error("GP posterior: point has dimension " + std::to_string(x.size()) + " but the latent space has " +
