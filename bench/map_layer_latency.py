@@ -8,8 +8,10 @@ so that they share the machine's noise.
 Each binary serves MODEL on its own port (one cache folder for all, so that the preview basis is
 rendered once, before any timing); the request is the browser's first one: axes 0 and 1 through
 the latent mean, the latent points' box plus a tenth of its larger side on every side, size x size
-cells. Prints per binary and layer the minimum and median wall time over the rounds, the load
-average, and whether the PNGs of all binaries are byte-identical. Python standard library only.
+cells. Prints per binary and layer the minimum and median wall time over the rounds, the server
+process's CPU time per request (user + system from /proc, 10 ms ticks: what the machine's load
+does not change much), the load average, and whether the PNGs of all binaries are byte-identical.
+Python standard library only.
 """
 import argparse
 import json
@@ -36,6 +38,13 @@ def request(url, body=None, timeout=600):
     req = urllib.request.Request(url, data=data, headers={"Content-Type": "application/json"} if data else {})
     with urllib.request.urlopen(req, timeout=timeout) as r:
         return r.read()
+
+
+def cpu_seconds(pid):
+    """User + system CPU time of a process so far (all its threads)."""
+    with open(f"/proc/{pid}/stat") as f:
+        fields = f.read().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
 def wait_ready(base, x, deadline_s=900):
@@ -87,15 +96,18 @@ def main():
                       f"interpolation {model.get('interpolation')}; rect {[round(v, 4) for v in rect]}")
             wait_ready(base, body["x"])  # one at a time: the first renders the basis, the others load it
         times = {(b, l): [] for b, _, _ in servers for l in layers}
+        cpu = {(b, l): [] for b, _, _ in servers for l in layers}
         pngs = {}
         loads = []
         for r in range(a.rounds):
             for layer in layers:
-                for binary, _, base in servers:
+                for binary, proc, base in servers:
                     loads.append(os.getloadavg()[0])
+                    c0 = cpu_seconds(proc.pid)
                     t0 = time.perf_counter()
                     png = request(base + "api/map", dict(body, layer=layer))
                     times[(binary, layer)].append(time.perf_counter() - t0)
+                    cpu[(binary, layer)].append(cpu_seconds(proc.pid) - c0)
                     pngs.setdefault((binary, layer), png)
                     time.sleep(0.2)
         print(f"load average during the runs: {min(loads):.2f} .. {max(loads):.2f}; "
@@ -103,8 +115,9 @@ def main():
         for layer in layers:
             for binary, _, _ in servers:
                 t = times[(binary, layer)]
+                c = cpu[(binary, layer)]
                 print(f"{layer:13s} {binary}: min {1e3 * min(t):8.1f} ms, median {1e3 * statistics.median(t):8.1f} ms "
-                      f"({len(t)} requests)")
+                      f"({len(t)} requests); server CPU {1e3 * statistics.mean(c):8.1f} ms per request (mean)")
             same = len({pngs[(b, layer)] for b, _, _ in servers}) == 1
             print(f"{layer:13s} PNGs byte-identical across binaries: {same}")
     finally:
