@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Eigenvalues>
@@ -120,15 +121,27 @@ LatentGrid latent_grid(const Model& model, const LatentPlane& plane, int cols, i
   LatentGrid g;
   g.cols = cols, g.rows = rows;
   g.points.resize(static_cast<Eigen::Index>(cols) * rows, model.dim());
+  // The cells in serpentine order (odd rows right to left), so that consecutive points are
+  // neighbours: the convex mode solves each point's weights from the previous point's
+  // (Model::predict_batch); then the odd rows are turned back.
+  Eigen::MatrixXd path(g.points.rows(), g.points.cols());
+  auto cell = [cols](int r, int c) { return static_cast<Eigen::Index>(r) * cols + c; };
+  auto along = [cols](int r, int c) { return static_cast<Eigen::Index>(r) * cols + (r % 2 ? cols - 1 - c : c); };
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < cols; ++c) {
       const double u = plane.u_min + (c + 0.5) / cols * (plane.u_max - plane.u_min);
       const double v = plane.v_max - (r + 0.5) / rows * (plane.v_max - plane.v_min);
-      g.points.row(static_cast<Eigen::Index>(r) * cols + c) = plane.point(u, v).transpose();
+      g.points.row(cell(r, c)) = plane.point(u, v).transpose();
+      path.row(along(r, c)) = g.points.row(cell(r, c));
     }
-  Model::Prediction predicted = model.predict_batch(g.points);
+  Model::Prediction predicted = model.predict_batch(path);
   g.weights = std::move(predicted.weights);
   g.variance = std::move(predicted.variance);
+  for (int r = 1; r < rows; r += 2)
+    for (int c = 0; c < cols / 2; ++c) {
+      g.weights.col(cell(r, c)).swap(g.weights.col(cell(r, cols - 1 - c)));
+      std::swap(g.variance[cell(r, c)], g.variance[cell(r, cols - 1 - c)]);
+    }
   return g;
 }
 

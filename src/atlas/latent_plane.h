@@ -42,8 +42,9 @@ int frame_core(const Model& model, LatentPlane& plane, double margin = 0.1);
 
 /// A cols x rows grid of cell centres over the plane (row 0 at v_max, the top of a picture), with
 /// the weights and predictive variance of every point as the model's interpolation mode gives
-/// them (Model::predict_batch: one batched GP solve, then the convex projection per point in the
-/// convex mode), so that maps show what a preview or an export at that point would give.
+/// them (Model::predict_batch: one batched GP product, then in the convex mode the projections,
+/// each started from the neighbouring cell's: the cells go to it in serpentine order), so that
+/// maps show what a preview or an export at that point would give.
 struct LatentGrid {
   int cols = 0, rows = 0;
   Eigen::MatrixXd points;    ///< (cols * rows) x q, row-major cells

@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <vector>
 
 #include "core/error.h"
+#include "core/parallel.h"
 #include "formats/image_io.h"
 
 namespace matlas::atlas {
@@ -21,6 +23,30 @@ Eigen::Array3d linear_of(const Eigen::Array3d& srgb) {
   Eigen::Array3d c;
   for (int k = 0; k < 3; ++k) c[k] = srgb_decode(static_cast<float>(srgb[k]));
   return c;
+}
+
+/// The albedo at normal incidence of every column of W (3 x m): the first angle of
+/// Model::albedo_batch, without the other angles' products.
+Eigen::MatrixXd normal_albedo(const Model& model, const Eigen::MatrixXd& W) {
+  const auto curves = model.material_albedo().leftCols<3>();  // n x 3: [theta 0][channel]
+  const Eigen::RowVector3d mean = curves.colwise().mean();
+  Eigen::MatrixXd a = (curves.rowwise() - mean).transpose() * W;
+  a.colwise() += mean.transpose();
+  return a;
+}
+
+/// probe.batch(W) in blocks of columns, in parallel: each block's products stay small (the whole
+/// grid's sampled values and albedo curves would be 70 MB of fresh memory).
+std::vector<Plausibility> plausibility_of(const PlausibilityProbe& probe, const Eigen::MatrixXd& W) {
+  constexpr Eigen::Index kBlock = 512;
+  const Eigen::Index m = W.cols(), blocks = (m + kBlock - 1) / kBlock;
+  std::vector<Plausibility> out(static_cast<std::size_t>(m));
+  parallel_for_each(0, static_cast<std::size_t>(blocks), [&](std::size_t block) {
+    const Eigen::Index first = static_cast<Eigen::Index>(block) * kBlock, count = std::min(kBlock, m - first);
+    const std::vector<Plausibility> part = probe.batch(W.middleCols(first, count));
+    std::copy(part.begin(), part.end(), out.begin() + first);
+  });
+  return out;
 }
 
 }  // namespace
@@ -80,8 +106,8 @@ LayerCells layer_cells(const Model& model, const LatentGrid& grid, MapLayer laye
   Eigen::MatrixXd albedo;
   std::vector<Plausibility> plausibility;
   if (layer != MapLayer::variance) {
-    albedo = model.albedo_batch(grid.weights);  // rows 0..2: normal incidence
-    if (layer == MapLayer::plausibility) plausibility = probe->batch(grid.weights);
+    albedo = normal_albedo(model, grid.weights);
+    if (layer == MapLayer::plausibility) plausibility = plausibility_of(*probe, grid.weights);
   }
   for (std::size_t k = 0; k < cells; ++k) {
     const auto j = static_cast<Eigen::Index>(k);

@@ -1,11 +1,13 @@
 #include "gp/convex_weights.h"
 
-#include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
 
+#include "core/blas.h"
 #include "core/error.h"
+#include "core/parallel.h"
 
 namespace matlas::gp {
 
@@ -32,7 +34,99 @@ Eigen::VectorXd ConvexProjection::from_centred(const Eigen::Ref<const Eigen::Vec
   return project(affine_coefficients(w));
 }
 
-Eigen::VectorXd ConvexProjection::project(const Eigen::Ref<const Eigen::VectorXd>& g) const {
+// The iterate of the active-set method and the Cholesky factor of A_FF on its free set F, kept
+// up to date as F changes by one index at a time (O(|F|^2) instead of a factorisation, O(|F|^3),
+// per change) and from one point to the next: neighbouring points mostly end on the same F.
+struct ConvexProjection::Iterate {
+  Eigen::VectorXd c;                // feasible: c >= 0, sum c = 1; empty: no start yet
+  std::vector<Eigen::Index> order;  // F, in the factor's order
+  std::vector<Eigen::Index> pos;    // position in `order` of each index, -1 where bound
+  std::vector<double> L;            // A_FF = L L^T, row-major lower triangle, row stride n
+  std::vector<double> u, v, cF, x;  // u = A_FF^-1 b_F, v = A_FF^-1 1, the free set's optimum
+  bool v_valid = false;
+  Eigen::VectorXd b, r;
+
+  bool free(Eigen::Index i) const { return pos[static_cast<std::size_t>(i)] >= 0; }
+  std::size_t size() const { return order.size(); }
+  double& l(std::size_t i, std::size_t k) { return L[i * static_cast<std::size_t>(c.size()) + k]; }
+
+  /// The cold start: g clipped at 0 and renormalised (its positive parts sum to at least 1), F its
+  /// support.
+  void start_from(const Eigen::MatrixXd& A, const Eigen::Ref<const Eigen::VectorXd>& g) {
+    const Eigen::Index n = g.size();
+    c = g.cwiseMax(0.0);
+    c /= c.sum();
+    order.clear();
+    pos.assign(static_cast<std::size_t>(n), -1);
+    L.resize(static_cast<std::size_t>(n * n));
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (c[i] > 0) add(A, i);
+  }
+
+  /// y = L^-1 rhs (rhs and y may be the same array).
+  void forward(const double* rhs, double* y) {
+    for (std::size_t i = 0; i < size(); ++i) {
+      double sum = rhs[i];
+      for (std::size_t k = 0; k < i; ++k) sum -= l(i, k) * y[k];
+      y[i] = sum / l(i, i);
+    }
+  }
+  /// y = L^-T y, in place.
+  void backward(double* y) {
+    for (std::size_t i = size(); i-- > 0;) {
+      double sum = y[i];
+      for (std::size_t k = i + 1; k < size(); ++k) sum -= l(k, i) * y[k];
+      y[i] = sum / l(i, i);
+    }
+  }
+
+  /// F += {j}: a row appended to the factor.
+  void add(const Eigen::MatrixXd& A, Eigen::Index j) {
+    const std::size_t m = size();
+    x.resize(m + 1);
+    for (std::size_t k = 0; k < m; ++k) x[k] = A(order[k], j);
+    forward(x.data(), x.data());
+    double d = A(j, j);
+    for (std::size_t k = 0; k < m; ++k) d -= x[k] * x[k], l(m, k) = x[k];
+    // A_FF is a principal submatrix of a positive definite A: d >= its smallest eigenvalue > 0.
+    if (!(d > 0)) throw Error("convex weights: the metric is not positive definite (ridge too small)");
+    l(m, m) = std::sqrt(d);
+    order.push_back(j);
+    pos[static_cast<std::size_t>(j)] = static_cast<Eigen::Index>(m);
+    v_valid = false;
+  }
+
+  /// F -= {j}: its row and column leave the factor, and the rows below it take a rank-1 update
+  /// (their part of the removed column folded back in: L22' L22'^T = L22 L22^T + x x^T).
+  void remove(Eigen::Index j) {
+    const auto p = static_cast<std::size_t>(pos[static_cast<std::size_t>(j)]);
+    const std::size_t m = size();
+    x.resize(m);
+    for (std::size_t i = p + 1; i < m; ++i) {
+      x[i - p - 1] = l(i, p);
+      for (std::size_t k = 0; k < p; ++k) l(i - 1, k) = l(i, k);
+      for (std::size_t k = p + 1; k <= i; ++k) l(i - 1, k - 1) = l(i, k);
+    }
+    const std::size_t len = m - 1 - p;
+    for (std::size_t k = 0; k < len; ++k) {
+      const double lkk = l(p + k, p + k);
+      const double norm = std::hypot(lkk, x[k]);
+      const double cs = norm / lkk, sn = x[k] / lkk;
+      l(p + k, p + k) = norm;
+      for (std::size_t i = k + 1; i < len; ++i) {
+        l(p + i, p + k) = (l(p + i, p + k) + sn * x[i]) / cs;
+        x[i] = cs * x[i] - sn * l(p + i, p + k);
+      }
+    }
+    order.erase(order.begin() + static_cast<std::ptrdiff_t>(p));
+    pos[static_cast<std::size_t>(j)] = -1;
+    for (std::size_t i = p; i < order.size(); ++i)
+      pos[static_cast<std::size_t>(order[i])] = static_cast<Eigen::Index>(i);
+    v_valid = false;
+  }
+};
+
+double ConvexProjection::check(const Eigen::Ref<const Eigen::VectorXd>& g) const {
   const Eigen::Index n = A_.rows();
   if (g.size() != n)
     throw Error("convex weights: " + std::to_string(g.size()) + " coefficients for " + std::to_string(n) + " inputs");
@@ -40,84 +134,154 @@ Eigen::VectorXd ConvexProjection::project(const Eigen::Ref<const Eigen::VectorXd
   const double total = g.sum();
   if (std::abs(total - 1.0) > 1e-8 * std::max(1.0, g.lpNorm<1>()))
     throw Error("convex weights: coefficients sum to " + std::to_string(total) + ", not 1");
-  if (g.minCoeff() >= 0) return g / total;  // already convex: the GP's own answer
+  return total;
+}
 
-  // Feasible start: g clipped at 0 and renormalised (its positive parts sum to at least 1).
-  Eigen::VectorXd c = g.cwiseMax(0.0);
-  c /= c.sum();
-  std::vector<bool> free(static_cast<std::size_t>(n));
-  for (Eigen::Index i = 0; i < n; ++i) free[static_cast<std::size_t>(i)] = c[i] > 0;
-  const Eigen::VectorXd b = A_ * g;
+Eigen::VectorXd ConvexProjection::project(const Eigen::Ref<const Eigen::VectorXd>& g) const {
+  Eigen::VectorXd c = g;
+  Iterate it;
+  project_from(c, it);
+  return c;
+}
+
+void ConvexProjection::project_from(Eigen::Ref<Eigen::VectorXd> g, Iterate& it, const double* b) const {
+  const double total = check(g);
+  if (g.minCoeff() >= 0) {  // already convex: the GP's own answer
+    g /= total;
+    return;
+  }
+  if (it.c.size() != g.size()) it.start_from(A_, g);
+  if (b)
+    it.b = Eigen::Map<const Eigen::VectorXd>(b, g.size());
+  else
+    it.b.noalias() = A_ * g;
+  solve(it.b, it);
+  g = it.c;
+}
+
+void ConvexProjection::solve(const Eigen::VectorXd& b, Iterate& it) const {
+  const Eigen::Index n = A_.rows();
+  Eigen::VectorXd& c = it.c;
   const double tolerance = 1e-11 * (1.0 + b.cwiseAbs().maxCoeff());
-
-  std::vector<Eigen::Index> idx;
-  Eigen::MatrixXd AFF;
-  Eigen::VectorXd bF, cF;
-  Eigen::LLT<Eigen::MatrixXd> llt;
   const int max_iterations = 10 * static_cast<int>(n) + 10;
   for (int iteration = 0; iteration < max_iterations; ++iteration) {
-    idx.clear();
-    for (Eigen::Index i = 0; i < n; ++i)
-      if (free[static_cast<std::size_t>(i)]) idx.push_back(i);
-    const auto m = static_cast<Eigen::Index>(idx.size());
-    // Equality-constrained problem on the free set: A_FF c_F = b_F + nu 1, sum c_F = 1.
-    AFF.resize(m, m);
-    bF.resize(m);
-    for (Eigen::Index r = 0; r < m; ++r) {
-      bF[r] = b[idx[static_cast<std::size_t>(r)]];
-      for (Eigen::Index s = 0; s < m; ++s) AFF(r, s) = A_(idx[static_cast<std::size_t>(r)], idx[static_cast<std::size_t>(s)]);
+    // Equality-constrained problem on the free set: A_FF c_F = b_F + nu 1, sum c_F = 1:
+    // c_F = u + nu v with u = A_FF^-1 b_F, v = A_FF^-1 1 (v changes only with F).
+    const std::size_t m = it.size();
+    it.u.resize(m), it.cF.resize(m);
+    if (!it.v_valid) {
+      it.v.assign(m, 1.0);
+      it.forward(it.v.data(), it.v.data());
+      it.backward(it.v.data());
+      it.v_valid = true;
     }
-    llt.compute(AFF);
-    const Eigen::VectorXd u = llt.solve(bF);
-    const Eigen::VectorXd v = llt.solve(Eigen::VectorXd::Ones(m));
-    const double nu = (1.0 - u.sum()) / v.sum();
-    cF = u + nu * v;
+    for (std::size_t s = 0; s < m; ++s) it.u[s] = b[it.order[s]];
+    it.forward(it.u.data(), it.u.data());
+    it.backward(it.u.data());
+    double usum = 0, vsum = 0;
+    for (std::size_t s = 0; s < m; ++s) usum += it.u[s], vsum += it.v[s];
+    const double nu = (1.0 - usum) / vsum;
+    double cF_min = 1.0;
+    for (std::size_t s = 0; s < m; ++s) it.cF[s] = it.u[s] + nu * it.v[s], cF_min = std::min(cF_min, it.cF[s]);
 
-    if (cF.minCoeff() >= 0) {
+    if (cF_min >= 0) {
       // At the optimum of the free set: optimal if every bound's multiplier
       // lambda_j = (A c - b)_j - nu is >= 0; otherwise free the most negative one.
       c.setZero();
-      for (Eigen::Index r = 0; r < m; ++r) c[idx[static_cast<std::size_t>(r)]] = cF[r];
+      for (std::size_t s = 0; s < m; ++s) c[it.order[s]] = it.cF[s];
+      // (A c)_j of the bound j: the free columns summed (vectorised) while F is the smaller part,
+      // else one dot product over F per bound j.
+      const bool by_columns = 2 * m <= static_cast<std::size_t>(n);
+      if (by_columns) {
+        it.r.setZero(n);
+        for (std::size_t s = 0; s < m; ++s) it.r.noalias() += it.cF[s] * A_.col(it.order[s]);
+      }
       Eigen::Index worst = -1;
       double most_negative = -tolerance;
       for (Eigen::Index j = 0; j < n; ++j) {
-        if (free[static_cast<std::size_t>(j)]) continue;
-        const double lambda = A_.col(j).dot(c) - b[j] - nu;
+        if (it.free(j)) continue;
+        double Ac = 0;
+        if (by_columns)
+          Ac = it.r[j];
+        else
+          for (std::size_t s = 0; s < m; ++s) Ac += A_(it.order[s], j) * it.cF[s];
+        const double lambda = Ac - b[j] - nu;
         if (lambda < most_negative) {
           most_negative = lambda;
           worst = j;
         }
       }
-      if (worst < 0) return c / c.sum();
-      free[static_cast<std::size_t>(worst)] = true;
+      if (worst < 0) {
+        c /= c.sum();
+        return;
+      }
+      it.add(A_, worst);
       continue;
     }
     // Step from c towards c_F until the first free coefficient reaches 0; that one becomes bound.
     double alpha = 1.0;
     Eigen::Index blocking = -1;
-    for (Eigen::Index r = 0; r < m; ++r) {
-      const Eigen::Index k = idx[static_cast<std::size_t>(r)];
-      if (cF[r] < 0) {
-        const double a = c[k] / (c[k] - cF[r]);
+    for (std::size_t s = 0; s < m; ++s) {
+      const Eigen::Index k = it.order[s];
+      if (it.cF[s] < 0) {
+        const double a = c[k] / (c[k] - it.cF[s]);
         if (a < alpha) {
           alpha = a;
           blocking = k;
         }
       }
     }
-    for (Eigen::Index r = 0; r < m; ++r) {
-      const Eigen::Index k = idx[static_cast<std::size_t>(r)];
-      c[k] += alpha * (cF[r] - c[k]);
+    for (std::size_t s = 0; s < m; ++s) {
+      const Eigen::Index k = it.order[s];
+      c[k] = std::max(0.0, c[k] + alpha * (it.cF[s] - c[k]));
     }
     if (blocking >= 0) {
       c[blocking] = 0;
-      free[static_cast<std::size_t>(blocking)] = false;
+      it.remove(blocking);
     }
-    c = c.cwiseMax(0.0);
+    // Free coefficients at 0 stay free (c_i > 0 only where free holds either way).
   }
   // Not reached for a positive definite A (the active-set method terminates); should rounding make
   // it cycle, c is still a feasible convex combination, only not exactly the closest one.
-  return c / c.sum();
+  c /= c.sum();
+}
+
+void ConvexProjection::project_batch(Eigen::Ref<Eigen::MatrixXd> G, Eigen::Index run) const {
+  const Eigen::Index m = G.cols();
+  if (m == 0) return;
+  if (G.rows() != A_.rows())
+    throw Error("convex weights: " + std::to_string(G.rows()) + " coefficients for " + std::to_string(A_.rows()) +
+                " inputs");
+  if (run <= 0 || run > m) run = m;
+  const Eigen::Index runs = (m + run - 1) / run;
+  // The runs' first columns in turn, each from the one before; their iterates start the runs.
+  std::vector<Iterate> starts(static_cast<std::size_t>(runs));
+  Iterate it;
+  for (Eigen::Index r = 0; r < runs; ++r) {
+    project_from(G.col(r * run), it);
+    starts[static_cast<std::size_t>(r)] = it;
+  }
+  // Then the runs in parallel; b = A g of a block of columns at a time by one product.
+  constexpr Eigen::Index kBlock = 128;
+  const int nn = static_cast<int>(A_.rows());
+  parallel_for_each(0, static_cast<std::size_t>(runs), [&](std::size_t r) {
+    Iterate& own = starts[r];
+    const Eigen::Index first = static_cast<Eigen::Index>(r) * run + 1;
+    const Eigen::Index end = std::min(m, first - 1 + run);
+    Eigen::MatrixXd B(A_.rows(), kBlock);
+    for (Eigen::Index j0 = first; j0 < end; j0 += kBlock) {
+      const Eigen::Index count = std::min(kBlock, end - j0);
+      blas::openblas().dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, nn, static_cast<int>(count), nn, 1.0,
+                             A_.data(), nn, G.col(j0).data(), static_cast<int>(G.outerStride()), 0.0, B.data(), nn);
+      for (Eigen::Index j = j0; j < j0 + count; ++j) project_from(G.col(j), own, B.col(j - j0).data());
+    }
+  });
+}
+
+void ConvexProjection::from_centred_batch(Eigen::Ref<Eigen::MatrixXd> W, Eigen::Index run) const {
+  const double n = static_cast<double>(W.rows());
+  for (Eigen::Index j = 0; j < W.cols(); ++j) W.col(j).array() += (1.0 - W.col(j).sum()) / n;
+  project_batch(W, run);
 }
 
 }  // namespace matlas::gp

@@ -17,11 +17,22 @@
 // - exact at the data: g = e_i is already convex, so c = e_i;
 // - continuous (Lipschitz): the projection onto a convex set in the A-norm is non-expansive in
 //   that norm, |c(g) - c(g')|_A <= |g - g'|_A, and ridge > 0 makes A positive definite;
-// - where g is convex already (near the data, most of the map), c = g: the GP unchanged.
+// - where g is convex already (near the data), c = g: the GP unchanged. (With many inputs that is
+//   rare away from the data points: some GP weight is slightly negative almost everywhere.)
 // The quadratic programme (n variables, one equality, n bounds) is solved exactly by a primal
 // active-set method (Nocedal & Wright, Numerical Optimization, Algorithm 16.3), started from the
 // clipped and renormalised g; it ends in a few iterations since the solution is sparse.
+//
+// Many points at once (a map's grid): neighbouring points have nearly equal convex weights, so
+// project_batch starts each solve from the previous point's solution and free set, a feasible
+// start (all problems share the simplex) a change or two from the optimum (2.8 active-set
+// iterations per cell on average on a 128 x 128 map of 100 materials), and keeps the Cholesky
+// factor of A_FF from point to point, updated by one row per freed or bound coefficient
+// (O(|F|^2)) instead of refactorised per iteration (O(|F|^3)). The method ends at the same KKT
+// point whatever the start (A is positive definite, the projection unique), so the batch equals
+// project() per column.
 #include <Eigen/Core>
+#include <vector>
 
 namespace matlas::gp {
 
@@ -44,7 +55,29 @@ public:
   /// The convex weights for the GP weights w of the centred data: c(w + (1 - sum w) / n).
   Eigen::VectorXd from_centred(const Eigen::Ref<const Eigen::VectorXd>& w) const;
 
+  /// c(g) of every column of G (n x m), in place: project() per column, each solve started from
+  /// the solution of the column before it. The columns come in runs of `run` consecutive columns
+  /// along which neighbouring columns are close (a grid's rows), each run's first column close to
+  /// the previous run's first (the cell above): the runs' first columns are solved in turn, then
+  /// the runs in parallel (core/parallel.h). Any order gives the same result, only slower.
+  /// Throws as project() does for a bad column; run <= 0 means one run.
+  void project_batch(Eigen::Ref<Eigen::MatrixXd> G, Eigen::Index run) const;
+  /// The same for GP weights of the centred data (columns of W, n x m), in place: from_centred()
+  /// per column.
+  void from_centred_batch(Eigen::Ref<Eigen::MatrixXd> W, Eigen::Index run) const;
+
 private:
+  /// The active-set method's iterate: a feasible c (on the simplex) and its free set (c_i > 0
+  /// only where free), and the scratch of its solves.
+  struct Iterate;
+  /// Throws unless g has n finite entries summing to 1; returns the sum.
+  double check(const Eigen::Ref<const Eigen::VectorXd>& g) const;
+  /// Runs the active-set method for b = A g from `it` (feasible) to the optimum, left in `it`.
+  void solve(const Eigen::VectorXd& b, Iterate& it) const;
+  /// c(g) into g, started from `it` (the previous solution; cold when it holds none), which then
+  /// holds this solution (left as it was where g is convex already). b: A g if known (n values).
+  void project_from(Eigen::Ref<Eigen::VectorXd> g, Iterate& it, const double* b = nullptr) const;
+
   Eigen::MatrixXd A_;
   double ridge_;
 };

@@ -38,8 +38,9 @@ public:
   /// points, -> 1 far away from them (kernel units: multiply by the fitted signal variance s^2 for
   /// data units).
   double variance(const Eigen::Ref<const Eigen::VectorXd>& x) const;
-  /// Weights (n x m) and variances (length m) of many points (m x q) at once, from one kernel
-  /// matrix and one pair of triangular solves.
+  /// Weights (n x m) and variances (length m) of many points (m x q) at once: k(x) in blocks of
+  /// points, each multiplied by K^-1 (from the Cholesky factor) in one product, the blocks in
+  /// parallel. Equal to weights() and variance() per point up to rounding.
   struct Batch {
     Eigen::MatrixXd weights;
     Eigen::VectorXd variance;
@@ -64,8 +65,6 @@ private:
   /// k(x) with the tapered nugget; `noise` (optional) receives nugget * sum_i phi_i(x)^2, the
   /// tapered white noise meeting itself (part of c(x, x)).
   Eigen::VectorXd cross(const Eigen::Ref<const Eigen::VectorXd>& x, double* noise = nullptr) const;
-  /// phi_i(distance): 1 at the point, (1 - t^2)^2 with t = distance / radius inside, 0 outside.
-  double taper(Eigen::Index i, double distance) const;
 
   Eigen::MatrixXd X_;
   Eigen::VectorXd taper_radius_;

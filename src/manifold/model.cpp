@@ -351,13 +351,14 @@ Model::Prediction Model::predict_batch(const Eigen::MatrixXd& points) const {
                 std::to_string(dim()));
   if (!points.allFinite()) throw Error("latent point has a NaN or infinite coordinate");
   gp::GpPosterior::Batch b = impl_->posterior->predict_batch(points);
-  if (impl_->interpolation == Interpolation::convex)
-    parallel_for(0, static_cast<std::size_t>(b.weights.cols()), [&](std::size_t lo, std::size_t hi) {
-      for (std::size_t j = lo; j < hi; ++j) {
-        const auto col = static_cast<Eigen::Index>(j);
-        b.weights.col(col) = impl_->convex->from_centred(b.weights.col(col));
-      }
-    }, 16);
+  // Convex mode: each point's solve starts from the previous point's solution, in one run per
+  // worker (gp/convex_weights.h, project_batch): fastest when consecutive points are neighbours
+  // (latent_grid passes its cells in that order).
+  if (impl_->interpolation == Interpolation::convex) {
+    const auto m = static_cast<Eigen::Index>(points.rows());
+    const auto workers = static_cast<Eigen::Index>(std::max(1u, worker_count()));
+    impl_->convex->from_centred_batch(b.weights, (m + workers - 1) / workers);
+  }
   return {std::move(b.weights), std::move(b.variance)};
 }
 

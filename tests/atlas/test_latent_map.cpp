@@ -13,6 +13,7 @@
 #include "manifold/build.h"
 #include "manifold/material_set.h"
 #include "manifold/model.h"
+#include "manifold/plausibility.h"
 #include "render/render.h"
 #include "render/render_test_util.h"
 #include "render/text.h"
@@ -93,6 +94,48 @@ TEST_F(LatentMapTest, GridWeightsAndVariancesAreThePosteriors) {
   }
   // Row 0 is the top of the picture (largest v).
   EXPECT_GT(g.points(0, 1), g.points(15, 1));
+}
+
+TEST_F(LatentMapTest, GridWeightsEqualThePerPointWeightsAtEveryCell) {
+  // The grid solves the convex weights of each cell from its neighbour's (serpentine order, odd
+  // rows turned back): the same as Model::weights point by point, at every cell of a grid that
+  // reaches far from the data and has a material on a cell centre.
+  ASSERT_EQ(model_->interpolation(), Interpolation::convex);
+  const Eigen::VectorXd x0 = model_->latent().row(3).transpose();
+  const Eigen::VectorXd span = model_->latent_max() - model_->latent_min();
+  const int cols = 13, rows = 9;  // odd: the last row runs right to left
+  const double du = 3.0 * span[0] / cols, dv = 3.0 * span[1] / rows;
+  const LatentPlane plane = LatentPlane::rectangle(x0, 0, 1, x0[0] - 6.5 * du, x0[0] + 6.5 * du, x0[1] - 4.5 * dv,
+                                                   x0[1] + 4.5 * dv);
+  const LatentGrid g = latent_grid(*model_, plane, cols, rows);
+  double far = 0;
+  for (Eigen::Index k = 0; k < g.points.rows(); ++k) {
+    const Eigen::VectorXd x = g.points.row(k).transpose();
+    EXPECT_LT((g.weights.col(k) - model_->weights(x)).cwiseAbs().maxCoeff(), 1e-10) << "cell " << k;
+    EXPECT_NEAR(g.variance[k], model_->variance(x), 1e-12) << "cell " << k;
+    far = std::max(far, g.variance[k]);
+  }
+  EXPECT_GT(far, 0.9) << "the grid should reach far from the data";
+  const Eigen::Index centre = 4 * cols + 6;  // material 3's cell
+  EXPECT_LT((g.points.row(centre).transpose() - x0).norm(), 1e-12);
+  EXPECT_LT((g.weights.col(centre) - Eigen::VectorXd::Unit(model_->count(), 3)).cwiseAbs().maxCoeff(), 1e-9);
+}
+
+TEST_F(LatentMapTest, PlausibilityCellsDoNotDependOnHowTheGridIsSplit) {
+  // The plausibility layer is computed in blocks of cells in parallel: each cell's colour is the
+  // one the same cell gets alone.
+  const LatentGrid g = latent_grid(*model_, LatentPlane::automatic(*model_), 40, 30);
+  const PlausibilityProbe probe(*model_, 256);
+  const LayerCells all = layer_cells(*model_, g, MapLayer::plausibility, {}, &probe);
+  for (Eigen::Index k : {0, 511, 512, 700, 1023, 1024, 1199}) {
+    LatentGrid one;
+    one.cols = one.rows = 1;
+    one.points = g.points.row(k);
+    one.weights = g.weights.col(k);
+    one.variance = g.variance.segment(k, 1);
+    const LayerCells alone = layer_cells(*model_, one, MapLayer::plausibility, {}, &probe);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(all.colour[static_cast<std::size_t>(k)][c], alone.colour[0][c], 1e-12) << k;
+  }
 }
 
 TEST_F(LatentMapTest, AlbedoAndVarianceLayersColourTheGrid) {

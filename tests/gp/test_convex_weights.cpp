@@ -6,6 +6,8 @@
 #include <functional>
 #include <numeric>
 #include <random>
+#include <set>
+#include <utility>
 #include <vector>
 
 #include "core/error.h"
@@ -164,6 +166,124 @@ TEST(ConvexProjection, GpWeightsAlongADensePathAreConvexContinuousAndExactAtTheD
     const Eigen::VectorXd c = p.from_centred(gp.weights(X.row(i).transpose()));
     EXPECT_LT((c - Eigen::VectorXd::Unit(n, i)).cwiseAbs().maxCoeff(), 1e-9) << "material " << i;
   }
+}
+
+/// A GP over clustered 2D points whose points sit on cell centres of a cols x rows grid over
+/// [-4, 4]^2 (far beyond the data at the edges), and the GP weights of every cell, row-major with
+/// row 0 at the top, as a map's grid has them.
+struct GridCase {
+  int cols = 48, rows = 40;
+  Eigen::MatrixXd X;  // n x 2
+  Eigen::MatrixXd W;  // n x (cols * rows): GP weights of the centred data
+  Eigen::VectorXd variance;  // the GP's predictive variance per cell
+  std::vector<Eigen::Index> data_cells;
+};
+GridCase grid_case(int n, std::uint64_t seed) {
+  GridCase t;
+  const double lo = -4, hi = 4;
+  auto centre = [&](int c, int r) {
+    return Eigen::Vector2d(lo + (c + 0.5) / t.cols * (hi - lo), hi - (r + 0.5) / t.rows * (hi - lo));
+  };
+  // Points in the middle half of the grid, a third of them in tight clusters (nearby cells).
+  std::mt19937_64 rng(seed);
+  std::uniform_int_distribution<int> col(t.cols / 4, 3 * t.cols / 4), row(t.rows / 4, 3 * t.rows / 4);
+  std::uniform_int_distribution<int> step(-1, 1);
+  std::set<std::pair<int, int>> used;
+  t.X.resize(n, 2);
+  for (int i = 0; i < n; ++i) {
+    std::pair<int, int> cell;
+    do {
+      if (i % 3 == 2 && i > 0) {
+        const std::pair<int, int> prev = *std::prev(used.end());
+        cell = {std::clamp(prev.first + step(rng), 0, t.cols - 1), std::clamp(prev.second + step(rng), 0, t.rows - 1)};
+      } else {
+        cell = {col(rng), row(rng)};
+      }
+    } while (used.count(cell));
+    used.insert(cell);
+    t.X.row(i) = centre(cell.first, cell.second).transpose();
+    t.data_cells.push_back(static_cast<Eigen::Index>(cell.second) * t.cols + cell.first);
+  }
+  const GpPosterior gp(t.X, Kernel{1.0, 1e-4});
+  Eigen::MatrixXd points(t.cols * t.rows, 2);
+  for (int r = 0; r < t.rows; ++r)
+    for (int c = 0; c < t.cols; ++c) points.row(static_cast<Eigen::Index>(r) * t.cols + c) = centre(c, r).transpose();
+  GpPosterior::Batch b = gp.predict_batch(points);
+  t.W = std::move(b.weights);
+  t.variance = std::move(b.variance);
+  return t;
+}
+
+TEST(ConvexProjection, BatchOverAGridEqualsThePerPointSolveEverywhere) {
+  for (std::uint64_t seed : {3u, 8u}) {
+    const int n = 60;
+    const GridCase t = grid_case(n, seed);
+    const ConvexProjection p(test::centred_gram(test::random_low_rank_data(n, 80, 6, seed + 1)));
+    const Eigen::Index m = t.W.cols();
+    Eigen::MatrixXd G = t.W;
+    for (Eigen::Index j = 0; j < m; ++j) G.col(j) = affine_coefficients(t.W.col(j));
+    // The reference: project() at every cell, each solved on its own from the cold start.
+    Eigen::MatrixXd expected(n, m);
+    int projected = 0;
+    for (Eigen::Index j = 0; j < m; ++j) {
+      expected.col(j) = p.project(G.col(j));
+      projected += G.col(j).minCoeff() < 0;
+    }
+    // The grid must exercise the solver: most cells need it (far cells and between clusters).
+    ASSERT_GT(projected, m / 2);
+    // Equal to the per-point solve: to rounding where g is clearly not convex; at the data points,
+    // where g is a unit vector plus the GP's rounding (entries of 1e-11 either side of 0), the two
+    // starts may end on supports that differ by entries of that size, which the multiplier test
+    // (1e-11 relative to A g) cannot tell apart: there they agree to a few 1e-11.
+    auto expect_equal = [&](const Eigen::MatrixXd& batch, Eigen::Index run) {
+      double worst = 0, worst_clear = 0;
+      for (Eigen::Index j = 0; j < m; ++j) {
+        const double d = (batch.col(j) - expected.col(j)).cwiseAbs().maxCoeff();
+        worst = std::max(worst, d);
+        if (G.col(j).minCoeff() < -1e-9) worst_clear = std::max(worst_clear, d);
+      }
+      EXPECT_LT(worst_clear, 1e-12) << "run " << run;
+      EXPECT_LT(worst, 1e-10) << "run " << run;
+    };
+    for (Eigen::Index run : {Eigen::Index{t.cols}, Eigen::Index{1}, Eigen::Index{7}, Eigen::Index{0}}) {
+      Eigen::MatrixXd batch = G;
+      p.project_batch(batch, run);
+      expect_equal(batch, run);
+      Eigen::MatrixXd centred = t.W;
+      p.from_centred_batch(centred, run);
+      expect_equal(centred, run);
+    }
+    // At the data points the weights are the unit vectors, exactly as the per-point solve.
+    Eigen::MatrixXd batch = G;
+    p.project_batch(batch, t.cols);
+    for (int i = 0; i < n; ++i) {
+      const Eigen::Index cell = t.data_cells[static_cast<std::size_t>(i)];
+      EXPECT_LT((batch.col(cell) - Eigen::VectorXd::Unit(n, i)).cwiseAbs().maxCoeff(), 1e-9) << "material " << i;
+    }
+    // The grid reaches far from the data (the corners: predictive variance near its prior 1).
+    EXPECT_GT(t.variance[0], 0.9);
+    EXPECT_GT(t.variance[m - 1], 0.9);
+    // Any order: the cells shuffled, solved one after another.
+    std::vector<Eigen::Index> order(static_cast<std::size_t>(m));
+    std::iota(order.begin(), order.end(), Eigen::Index{0});
+    std::shuffle(order.begin(), order.end(), std::mt19937_64(seed));
+    Eigen::MatrixXd shuffled(n, m);
+    for (Eigen::Index j = 0; j < m; ++j) shuffled.col(j) = G.col(order[static_cast<std::size_t>(j)]);
+    p.project_batch(shuffled, 0);
+    Eigen::MatrixXd unshuffled(n, m);
+    for (Eigen::Index j = 0; j < m; ++j) unshuffled.col(order[static_cast<std::size_t>(j)]) = shuffled.col(j);
+    expect_equal(unshuffled, -1);
+  }
+}
+
+TEST(ConvexProjection, BatchRejectsMalformedColumns) {
+  const ConvexProjection p(Eigen::MatrixXd::Identity(3, 3));
+  Eigen::MatrixXd G(3, 2);
+  G << 0.2, 0.5, 0.3, 0.5, 0.5, 0.5;  // second column sums to 1.5
+  EXPECT_THROW(p.project_batch(G, 0), Error);
+  Eigen::MatrixXd wrong(2, 1);
+  wrong << 0.5, 0.5;
+  EXPECT_THROW(p.project_batch(wrong, 0), Error);
 }
 
 TEST(ConvexProjection, RejectsMalformedInput) {

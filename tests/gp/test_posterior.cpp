@@ -83,6 +83,33 @@ TEST(GpPosterior, PredictBatchEqualsSingleWeightsAndVariance) {
   EXPECT_THROW(gp.predict_batch(Eigen::MatrixXd::Zero(2, 3)), Error);
 }
 
+TEST(GpPosterior, PredictBatchOfManyPointsEqualsThePerPointQueries) {
+  // More points than one block of the batch (256), among them every data point and a point inside
+  // every nugget taper (where k(x) gets its tapered nugget), and points far away.
+  const GpPosterior gp(test::random_points(40, 3, 17), Kernel{0.8, 1e-3});
+  const int n = gp.count(), m = 700;
+  Eigen::MatrixXd P = test::random_points(m, 3, 18, 1.5);
+  for (int i = 0; i < n; ++i) {
+    P.row(i) = gp.latent().row(i);
+    P.row(n + i) = gp.latent().row(i) + Eigen::RowVector3d(0.3, -0.2, 0.1) * gp.taper_radius()[i];
+  }
+  P.row(m - 1) = Eigen::RowVector3d(30, -20, 10);
+  const GpPosterior::Batch b = gp.predict_batch(P);
+  ASSERT_EQ(b.weights.cols(), m);
+  for (int j = 0; j < m; ++j) {
+    const Eigen::VectorXd x = P.row(j).transpose();
+    EXPECT_LT((b.weights.col(j) - gp.weights(x)).cwiseAbs().maxCoeff(), 1e-10) << j;
+    EXPECT_NEAR(b.variance[j], gp.variance(x), 1e-12) << j;
+  }
+  for (int i = 0; i < n; ++i) {
+    EXPECT_LT((b.weights.col(i) - Eigen::VectorXd::Unit(n, i)).cwiseAbs().maxCoeff(), 1e-9) << "data point " << i;
+    EXPECT_NEAR(b.variance[i], 0.0, 1e-9);
+    EXPECT_GT(b.variance[n + i], 0.0) << "inside the taper of point " << i;
+  }
+  EXPECT_NEAR(b.variance[m - 1], 1.0, 1e-12);
+  EXPECT_EQ(gp.predict_batch(Eigen::MatrixXd(0, 3)).weights.cols(), 0);
+}
+
 TEST(GpPosterior, LogDetAndConditionMatchEigenvalues) {
   const GpPosterior gp = make_posterior();
   const Eigen::MatrixXd K = covariance_matrix(gp.latent(), gp.kernel());

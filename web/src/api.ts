@@ -221,7 +221,7 @@ export const api = {
   lobe: (x: Point, theta_i: number): Promise<LobeReply> =>
     post("api/lobe", { x, theta_i, samples: 181 } satisfies LobeRequest).then((r) => r.json()),
   albedo: (x: Point): Promise<AlbedoReply> => post("api/albedo", { x }).then((r) => r.json()),
-  map: (body: MapRequest): Promise<Blob> => post("api/map", body).then((r) => r.blob()),
+  map: (body: MapRequest, signal?: AbortSignal): Promise<Blob> => post("api/map", body, signal).then((r) => r.blob()),
   exportMerl: (x: Point): Promise<Blob> => post("api/export", { x }).then((r) => r.blob()),
   project: (file: Blob): Promise<ProjectReply> =>
     fetch("api/project", { method: "POST", headers: { "Content-Type": "application/octet-stream" }, body: file })

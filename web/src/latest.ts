@@ -2,7 +2,8 @@
 // While a task runs, newer inputs replace each other; when it finishes, the newest one (if any)
 // starts. A dragging pointer thus never queues stale requests, and the image always catches up
 // with the pointer's latest position. A request that supersedes (a new scene) also aborts the
-// task in flight: its result, if it still comes, is dropped.
+// task in flight: its result, if it still comes, is dropped. `idle` (optional) is called when
+// the latest input has been handled and nothing is left to run (for a loading indicator).
 
 export class LatestOnly<T, R> {
   private running: AbortController | null = null;
@@ -12,6 +13,7 @@ export class LatestOnly<T, R> {
     private readonly task: (input: T, signal: AbortSignal) => Promise<R>,
     private readonly done: (result: R, input: T, startedAt: number) => void,
     private readonly failed: (error: unknown) => void = (e) => console.error(e),
+    private readonly idle: () => void = () => {},
   ) {}
 
   /**
@@ -41,5 +43,6 @@ export class LatestOnly<T, R> {
       }
     }
     this.running = null;
+    this.idle();
   }
 }

@@ -31,21 +31,32 @@ export function createMapPanel(
     if (thumb.getAttribute("src") !== fallback) thumb.src = fallback;
   });
   const layerSel = $<HTMLSelectElement>("layer");
+  // While a layer is requested the map keeps showing the previous one (over its own rectangle)
+  // and says that a new one is coming; a newer view aborts the request in flight.
+  const mapWrap = $("map-wrap");
+  const loading = (on: boolean) => {
+    mapWrap.classList.toggle("layer-loading", on);
+    mapWrap.setAttribute("aria-busy", String(on));
+  };
   let layerTimer = 0;
   const layer = new LatestOnly<{ view: ViewRect; kind: MapKind; axes: [number, number]; x: number[] }, ImageBitmap | null>(
-    async ({ view, kind, axes, x }) => {
+    async ({ view, kind, axes, x }, signal) => {
       if (kind === "none") return null;
       const rows = Math.max(4, Math.min(256, Math.round((128 * (view.y1 - view.y0)) / (view.x1 - view.x0))));
-      const blob = await api.map({ layer: kind, axes, x, rect: [view.x0, view.x1, view.y0, view.y1], size: [128, rows] });
+      const rect: MapRequest["rect"] = [view.x0, view.x1, view.y0, view.y1];
+      const blob = await api.map({ layer: kind, axes, x, rect, size: [128, rows] }, signal);
       return createImageBitmap(blob);
     },
     (bitmap, input) => map.setLayer(bitmap, input.view, input.kind === "albedo"),
     (e) => setStatus(`map layer: ${(e as Error).message}`, true, "map layer"),
+    () => loading(false),
   );
   const refreshLayer = () => {
     clearTimeout(layerTimer);
     layerTimer = window.setTimeout(() => {
-      layer.request({ view: map.view, kind: layerSel.value as MapKind, axes: map.axes, x: map.point.slice() });
+      const kind = layerSel.value as MapKind;
+      loading(kind !== "none");
+      layer.request({ view: map.view, kind, axes: map.axes, x: map.point.slice() }, performance.now(), true);
     }, 120);
   };
 

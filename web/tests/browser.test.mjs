@@ -8,7 +8,9 @@
 // table of the current point; uploading a database file projects it next to its latent point; the
 // path tool fills its strip; shift+drag and alt+arrows pan the map; the plausibility line and layer;
 // drawn labels never overlap (fitted and zoomed in) and a hidden one shows on hover; the
-// interpolation badge says the model's mode; the albedo layer is transparent far from the data.
+// interpolation badge says the model's mode; the albedo layer is transparent far from the data; a
+// map layer on its way keeps the previous one and shows that it is loading, and a newer layer
+// aborts the request of the stale one.
 // Scene switching (issue #12): a scene being prepared is retried with progress shown, a stale
 // error disappears after a later success, environment and object changed together render that one
 // combination, a newer scene supersedes one still being prepared, and the tooltip falls back to
@@ -144,6 +146,41 @@ test("the plausibility line and map layer describe the current point", async () 
   await page.selectOption("#layer", "plausibility");
   assert.equal((await layer).status(), 200);
   await page.selectOption("#layer", "albedo");
+});
+
+test("a map layer on its way keeps the previous one, says it is loading, and a newer one aborts it", async () => {
+  await page.waitForFunction(() => window.matlas.map.layer !== null, null, { timeout: 20_000 });
+  const shown = await page.evaluate(() => window.matlas.map.layer.rect);
+  // Hold every layer response until released.
+  let release;
+  const held = new Promise((r) => (release = r));
+  const asked = [], failed = [];
+  await page.route("**/api/map", async (route) => {
+    asked.push(JSON.parse(route.request().postData()).layer);
+    await held;
+    await route.continue().catch(() => {});  // the page may have aborted it meanwhile
+  });
+  const onFailed = (r) => r.url().endsWith("/api/map") && failed.push(r.failure()?.errorText);
+  page.on("requestfailed", onFailed);
+  try {
+    await page.selectOption("#layer", "variance");
+    await page.waitForSelector("#map-wrap.layer-loading", { timeout: 5_000 });
+    assert.equal(await page.getAttribute("#map-wrap", "aria-busy"), "true");
+    assert.deepEqual(await page.evaluate(() => window.matlas.map.layer?.rect), shown, "the previous layer stays");
+    await page.selectOption("#layer", "plausibility");
+    for (let t = 0; asked.length < 2 && t < 100; ++t) await page.waitForTimeout(50);
+    assert.deepEqual(asked, ["variance", "plausibility"]);
+    release();
+    await page.waitForSelector("#map-wrap:not(.layer-loading)", { timeout: 20_000 });
+    assert.equal(await page.getAttribute("#map-wrap", "aria-busy"), "false");
+    assert.equal(failed.length, 1, `the stale request is aborted: ${failed}`);
+    assert.ok(await page.evaluate(() => window.matlas.map.layer !== null));
+  } finally {
+    release();
+    page.off("requestfailed", onFailed);
+    await page.unroute("**/api/map");
+    await page.selectOption("#layer", "albedo");
+  }
 });
 
 test("export downloads the MERL table of the current point", async () => {

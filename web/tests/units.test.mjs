@@ -55,6 +55,26 @@ test("LatestOnly runs the latest input only and drops a superseded result", asyn
   assert.equal(latest.busy, false);
 });
 
+test("LatestOnly says when it is idle: after the latest input, not between inputs", async () => {
+  const gates = [];
+  let idle = 0;
+  const latest = new LatestOnly(async (input, signal) => {
+    const g = deferred();
+    gates.push(g);
+    signal.addEventListener("abort", () => g.resolve(`aborted ${input}`));
+    return g.promise;
+  }, () => {}, () => {}, () => idle++);
+  latest.request(1);
+  latest.request(2, 0, true);  // aborts 1; 2 runs next
+  await new Promise((r) => setTimeout(r, 0));
+  assert.equal(idle, 0, "not idle while the superseding input runs");
+  assert.equal(gates.length, 2);
+  gates[1].resolve("r2");
+  await new Promise((r) => setTimeout(r, 0));
+  assert.equal(idle, 1, "idle once the latest input is done");
+  assert.equal(latest.busy, false);
+});
+
 test("retryWhileBusy retries 503 with growing delays, and only 503", async () => {
   const waits = [];
   let calls = 0;

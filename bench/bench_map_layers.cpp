@@ -1,0 +1,111 @@
+// The server's map layers (POST /api/map) without HTTP: a 128 x 128 grid over a model's map, its
+// weights and variances, and each layer as PNG bytes (atlas/map_layers.h), on a real model:
+//   MATLAS_BENCH_MODEL=/tmp/m.matlas build/bench/bench_map_layers
+// The model's own interpolation mode is used (convex for models built by default). Baseline in
+// the same run: BM_GridWeightsPerPoint, the grid's weights the way they were computed before the
+// batched convex solve (the batched GP, then every point's convex weights solved on its own from
+// the cold start, in parallel), but with today's solver; the former binary as a whole is timed
+// end to end by bench/map_layer_latency.py.
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+
+#include "atlas/latent_plane.h"
+#include "atlas/map_layers.h"
+#include "core/parallel.h"
+#include "manifold/model.h"
+#include "manifold/plausibility.h"
+
+namespace {
+
+using namespace matlas;
+
+constexpr int kSide = 128;
+
+const Model* bench_model() {
+  static const std::unique_ptr<Model> model = [] {
+    const char* path = std::getenv("MATLAS_BENCH_MODEL");
+    if (!path) {
+      std::fprintf(stderr, "set MATLAS_BENCH_MODEL to a .matlas file\n");
+      std::exit(2);
+    }
+    return std::make_unique<Model>(Model::open(path));
+  }();
+  return model.get();
+}
+
+/// The plane the browser shows first: the data's box plus a margin, axes 0 and 1.
+atlas::LatentPlane bench_plane() { return atlas::LatentPlane::automatic(*bench_model()); }
+
+/// The grid's points, row-major (as latent_grid lays them out).
+Eigen::MatrixXd grid_points(const atlas::LatentPlane& plane) {
+  Eigen::MatrixXd points(kSide * kSide, bench_model()->dim());
+  for (int r = 0; r < kSide; ++r)
+    for (int c = 0; c < kSide; ++c) {
+      const double u = plane.u_min + (c + 0.5) / kSide * (plane.u_max - plane.u_min);
+      const double v = plane.v_max - (r + 0.5) / kSide * (plane.v_max - plane.v_min);
+      points.row(r * kSide + c) = plane.point(u, v).transpose();
+    }
+  return points;
+}
+
+void BM_GridWeightsPerPoint(benchmark::State& state) {
+  const Model& model = *bench_model();
+  const Eigen::MatrixXd points = grid_points(bench_plane());
+  for (auto _ : state) {
+    gp::GpPosterior::Batch b = model.posterior().predict_batch(points);
+    parallel_for(0, static_cast<std::size_t>(b.weights.cols()), [&](std::size_t lo, std::size_t hi) {
+      for (std::size_t j = lo; j < hi; ++j) {
+        const auto col = static_cast<Eigen::Index>(j);
+        b.weights.col(col) = model.weights_from_gp(b.weights.col(col));
+      }
+    }, 16);
+    benchmark::DoNotOptimize(b.weights.data());
+  }
+  state.SetLabel(std::string(to_string(model.interpolation())) + ", n = " + std::to_string(model.count()));
+}
+BENCHMARK(BM_GridWeightsPerPoint)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_GpBatch(benchmark::State& state) {
+  const Model& model = *bench_model();
+  const Eigen::MatrixXd points = grid_points(bench_plane());
+  for (auto _ : state) {
+    gp::GpPosterior::Batch b = model.posterior().predict_batch(points);
+    benchmark::DoNotOptimize(b.weights.data());
+  }
+}
+BENCHMARK(BM_GpBatch)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_GridWeights(benchmark::State& state) {
+  const Model& model = *bench_model();
+  const atlas::LatentPlane plane = bench_plane();
+  for (auto _ : state) {
+    const atlas::LatentGrid g = atlas::latent_grid(model, plane, kSide, kSide);
+    benchmark::DoNotOptimize(g.weights.data());
+  }
+}
+BENCHMARK(BM_GridWeights)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_MapLayer(benchmark::State& state) {
+  const Model& model = *bench_model();
+  const PlausibilityProbe probe(model, 256);  // the server's map probe
+  const atlas::LatentPlane plane = bench_plane();
+  const auto layer = static_cast<atlas::MapLayer>(state.range(0));
+  for (auto _ : state) {
+    const std::string png = atlas::map_layer_png(model, plane, kSide, kSide, layer, &probe);
+    benchmark::DoNotOptimize(png.data());
+  }
+  state.SetLabel(atlas::to_string(layer));
+}
+BENCHMARK(BM_MapLayer)
+    ->Arg(static_cast<int>(atlas::MapLayer::albedo))
+    ->Arg(static_cast<int>(atlas::MapLayer::variance))
+    ->Arg(static_cast<int>(atlas::MapLayer::plausibility))
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+}  // namespace
+
+BENCHMARK_MAIN();
