@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstring>
 #include <limits>
+#include <string_view>
 
 #include <Eigen/Geometry>
 #include <draco/compression/decode.h>
@@ -318,6 +319,30 @@ std::string patch_glb(const unsigned char* data, std::size_t bytes) {
   return out;
 }
 
+/// tinygltf converts "extras" and "extensions" to its own values recursively, a stack frame per
+/// level: JSON nested deeper than kMaxJsonDepth (glTF's own structure is under 10 levels) is
+/// refused before it gets there (a 256 KiB file can nest 128 Ki levels).
+constexpr int kMaxJsonDepth = 256;
+
+void check_json_depth(std::string_view json, const std::string& name) {
+  int depth = 0;
+  bool in_string = false, escaped = false;
+  for (const char c : json) {
+    if (in_string) {
+      if (escaped) escaped = false;
+      else if (c == '\\') escaped = true;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxJsonDepth)
+        throw file_error(name, "glTF JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+}
+
 bool no_images(tinygltf::Image*, const int, std::string*, std::string*, int, int,
                const unsigned char*, int, void*) {
   return true;  // textures are not used: skip decoding them
@@ -369,6 +394,12 @@ TriangleMesh read_glb_memory(const void* data, std::size_t bytes, const std::str
   tinygltf::Model model;
   std::string err, warn;
   if (bytes > 0xffffffffu) throw file_error(name, "glTF file too large");
+  if (bytes >= 20 && std::memcmp(data, "glTF", 4) == 0) {  // the JSON chunk, as much of it as there is
+    const auto* p = static_cast<const char*>(data);
+    check_json_depth(std::string_view(p + 20, std::min<std::size_t>(read_u32(reinterpret_cast<const unsigned char*>(p) + 12),
+                                                                      bytes - 20)),
+                     name);
+  }
   const std::string glb = patch_glb(static_cast<const unsigned char*>(data), bytes);
   if (!loader.LoadBinaryFromMemory(&model, &err, &warn, reinterpret_cast<const unsigned char*>(glb.data()),
                                    static_cast<unsigned int>(glb.size()), ""))
@@ -387,7 +418,9 @@ TriangleMesh read_gltf(const std::filesystem::path& path) {
   tinygltf::TinyGLTF loader = make_loader();
   tinygltf::Model model;
   std::string err, warn;
-  nlohmann::json gltf = nlohmann::json::parse(read_file(path), nullptr, false);
+  const std::string text_in = read_file(path);
+  check_json_depth(text_in, path.string());
+  nlohmann::json gltf = nlohmann::json::parse(text_in, nullptr, false);
   if (gltf.is_discarded()) throw file_error(path, "cannot read glTF: malformed JSON");
   patch_draco_primitives(gltf);
   const std::string text = gltf.dump();

@@ -202,6 +202,33 @@ TEST(MeshIo, SharedChildrenAndCyclesDoNotHang) {
   EXPECT_EQ(read_glb_memory(bytes.data(), bytes.size(), "shared.glb").triangle_count(), 2u * 64u);
 }
 
+TEST(MeshIo, DeeplyNestedJsonIsRefusedBeforeTinygltfRecursesIntoIt) {
+  // tinygltf turns "extras" into its own values with a stack frame per level: 100000 nested
+  // arrays overflowed the stack (a crash, not an error).
+  const std::string deep = "{\"asset\": {\"version\": \"2.0\", \"extras\": " + std::string(100000, '[') +
+                           std::string(100000, ']') + "}}";
+  test::TempDir dir;
+  write_file_atomic(dir / "deep.gltf", deep);
+  std::string e = test::error_of([&] { read_mesh(dir / "deep.gltf"); });
+  EXPECT_NE(e.find("deep.gltf: glTF JSON nested deeper than 256 levels"), std::string::npos) << e.substr(0, 300);
+  std::string glb = quad_glb();
+  const std::string bytes = glb.substr(0, 12) + [&] {
+    std::string chunk;
+    std::string json = deep;
+    while (json.size() % 4) json.push_back(' ');
+    const auto length = static_cast<std::uint32_t>(json.size());
+    chunk.append(reinterpret_cast<const char*>(&length), 4);
+    return chunk + "JSON" + json;
+  }();
+  e = test::error_of([&] { read_glb_memory(bytes.data(), bytes.size(), "deep.glb"); });
+  EXPECT_NE(e.find("deep.glb: glTF JSON nested deeper than 256 levels"), std::string::npos) << e.substr(0, 300);
+  // Brackets inside strings do not count.
+  nlohmann::json gltf = quad_gltf();
+  gltf["asset"]["extras"] = std::string(1000, '[');
+  const std::string ok = glb_of(gltf, quad_bin());
+  EXPECT_EQ(read_glb_memory(ok.data(), ok.size(), "ok.glb").triangle_count(), 2u);
+}
+
 TEST(MeshIo, ExternalBuffersAreReadAsRegularFilesOnly) {
   test::TempDir dir;
   nlohmann::json gltf = quad_gltf();
