@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 
 #include "core/error.h"
@@ -315,6 +316,20 @@ BrdfTable resample_to_merl(const RglBsdf& bsdf, RglResampling* report, const Mer
       }
     }
   });
+  // What a MERL reader refuses must not come out of here: a crafted file (values near the float
+  // range, or a sigma near 0 under the Jacobian) can give values of 1e38 or more.
+  const auto stored = table.stored();
+  for (std::size_t v = 0; v < stored.size(); ++v) {
+    if (std::fabs(stored[v]) <= kMaxMerlMagnitude) continue;
+    const std::size_t c = v / dims.bins(), bin = v % dims.bins();
+    static const char* const channels[] = {"red", "green", "blue"};
+    char text[64];
+    std::snprintf(text, sizeof text, "%.6g (1/sr; %.6g in stored units)", stored[v] * BrdfTable::kChannelScale[c],
+                  stored[v]);
+    throw file_error(bsdf.path(), std::string("resampled onto the MERL grid, the material's value at bin ") +
+                                      std::to_string(bin) + " (" + channels[c] + ") is " + text +
+                                      ", beyond what MERL files hold (1e15 in stored units): not a plausible measurement");
+  }
   if (report) {
     RglResampling r;
     r.bins = dims.bins();

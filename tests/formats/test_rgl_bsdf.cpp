@@ -306,6 +306,20 @@ TEST(RglBsdf, InvalidFieldsAreRejectedNamingTheFileAndField) {
   expect_error(with("theta_i", [](TensorField& f) { std::memset(f.data.data() + 4, 0, 4); }), "not strictly increasing");
 }
 
+TEST(RglBsdf, ResamplingRefusesValuesNoMerlFileMayHold) {
+  // Finite float32 values near 1e30 passed every check, and resample_to_merl then produced
+  // tables that write_merl wrote and every MERL reader (ours too) refuses.
+  test::SyntheticRgl s;
+  s.scale = 1e30;
+  const MerlDims dims{9, 9, 18};  // a small grid: the same code, a hundredth of the bins
+  const std::string e = error_of([&] { resample_to_merl(synthetic(s), nullptr, dims); });
+  EXPECT_EQ(e.rfind("synthetic.bsdf: resampled onto the MERL grid, the material's value at bin ", 0), 0u) << e;
+  EXPECT_NE(e.find("beyond what MERL files hold (1e15 in stored units)"), std::string::npos) << e;
+  // A merely bright material is fine.
+  s.scale = 1e6;
+  EXPECT_NO_THROW(resample_to_merl(synthetic(s), nullptr, dims));
+}
+
 TEST(RglBsdf, OwnedFilesGiveTheSameMaterial) {
   // RglBsdf(TensorFile&&) frees each field once converted: the same material as from a const
   // file, whose fields are left as they were.
