@@ -27,15 +27,18 @@ std::array<Eigen::Vector3f, 2> TriangleMesh::bounds() const {
 }
 
 void TriangleMesh::compute_normals() {
-  normals.assign(positions.size(), Eigen::Vector3f::Zero());
+  // In double precision: the face normal of a triangle with coordinates of 1e22 (finite floats)
+  // overflows float (|n| ~ 1e44), and normalising infinity gave zero or NaN normals.
+  std::vector<Eigen::Vector3d> sums(positions.size(), Eigen::Vector3d::Zero());
   for (const auto& t : triangles) {
-    const Eigen::Vector3f n =
-        (positions[t[1]] - positions[t[0]]).cross(positions[t[2]] - positions[t[0]]);
-    for (std::uint32_t v : t) normals[v] += n;  // |n| = twice the area: area weighting
+    const Eigen::Vector3d p0 = positions[t[0]].cast<double>();
+    const Eigen::Vector3d n = (positions[t[1]].cast<double>() - p0).cross(positions[t[2]].cast<double>() - p0);
+    for (std::uint32_t v : t) sums[v] += n;  // |n| = twice the area: area weighting
   }
-  for (auto& n : normals) {
-    const float len = n.norm();
-    n = len > 0 ? Eigen::Vector3f(n / len) : Eigen::Vector3f(0, 0, 1);
+  normals.resize(positions.size());
+  for (std::size_t i = 0; i < sums.size(); ++i) {
+    const double len = sums[i].norm();
+    normals[i] = len > 0 && std::isfinite(len) ? Eigen::Vector3f((sums[i] / len).cast<float>()) : Eigen::Vector3f(0, 0, 1);
   }
 }
 

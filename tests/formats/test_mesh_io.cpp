@@ -34,6 +34,17 @@ TEST(MeshIo, ObjPolygonsAreFannedAndNegativeIndicesResolved) {
   EXPECT_EQ(lo, Eigen::Vector3f(0, 0, 0));
 }
 
+TEST(MeshIo, ComputedNormalsAreUnitForLargeCoordinates) {
+  // Found by the mesh fuzz target: a vertex at 9.4e21 made the face normal overflow float, and
+  // the computed normals came out zero.
+  test::TempDir dir;
+  write_file_atomic(dir / "big.obj", std::string("v 0 0 0\nv 1e22 0 0\nv 0 1e22 0\nv 1e-30 0 1\nf 1 2 3\nf 1 2 4\n"));
+  const TriangleMesh m = read_obj(dir / "big.obj");
+  ASSERT_EQ(m.normals.size(), 4u);
+  EXPECT_TRUE(m.normals[2].isApprox(Eigen::Vector3f(0, 0, 1))) << m.normals[2].transpose();
+  for (const auto& n : m.normals) EXPECT_NEAR(n.norm(), 1.0f, 1e-6f) << n.transpose();
+}
+
 TEST(MeshIo, ObjRoundTripKeepsNormals) {
   test::TempDir dir;
   TriangleMesh m;
