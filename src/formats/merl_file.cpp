@@ -84,6 +84,22 @@ void check_values(const fs::path& path, const MerlDims& dims, std::size_t first,
 
 std::array<std::int32_t, 3> header_of(const MerlDims& dims) { return {dims.theta_h, dims.theta_d, dims.phi_d}; }
 
+/// Refuses to write a table that read_merl would refuse (NaN, infinite or beyond
+/// kMaxMerlMagnitude), naming the output and the first such value.
+void check_writable(const fs::path& path, const BrdfTable& table) {
+  const auto values = table.stored();
+  if (!any_unusable(values.data(), values.size())) return;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (std::fabs(values[i]) <= kMaxMerlMagnitude) continue;
+    char text[32];
+    std::snprintf(text, sizeof text, "%.6g", values[i]);
+    throw file_error(path, std::string("refusing to write value ") + text + " in the " +
+                               channel_name(i / table.dims().bins()) + " channel at bin " +
+                               std::to_string(i % table.dims().bins()) +
+                               ": MERL files hold finite values within 1e15 in stored units, and readers refuse others");
+  }
+}
+
 }  // namespace
 
 MerlFile::MerlFile(fs::path path) : path_(std::move(path)) {
@@ -181,6 +197,7 @@ void write_merl(const fs::path& path, const BrdfTable& table, bool allow_nonstan
   if (!allow_nonstandard_dims && !table.dims().is_standard())
     throw file_error(path, "refusing to write a " + table.dims().to_string() +
                                " table: MERL files for other tools are 90x90x180");
+  check_writable(path, table);
   const auto header = header_of(table.dims());
   AtomicFile out(path);
   out.write(header.data(), MerlFile::kHeaderBytes);

@@ -78,7 +78,8 @@ private:
 BrdfTable read_merl(const std::filesystem::path& path);
 
 /// Writes a MERL file atomically. Files meant for other tools must have the standard 90x90x180
-/// grid: other dims are refused unless allow_nonstandard_dims is set.
+/// grid: other dims are refused unless allow_nonstandard_dims is set. A table holding a value
+/// read_merl refuses (NaN, infinite, beyond kMaxMerlMagnitude) is refused, nothing written.
 void write_merl(const std::filesystem::path& path, const BrdfTable& table,
                 bool allow_nonstandard_dims = false);
 

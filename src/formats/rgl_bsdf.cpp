@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 
 #include "core/error.h"
@@ -17,12 +18,14 @@ namespace {
 constexpr const char* kWhat = "RGL measured BSDF (.bsdf)";
 
 /// The float32 values of a field after checking its rank, dtype and that every value is finite.
-std::vector<float> floats(const TensorFile& file, const TensorField& f, std::size_t rank) {
+/// With `owned` (the file, when the reader owns it), the field's bytes are freed once converted.
+std::vector<float> floats(const TensorFile& file, const TensorField& f, std::size_t rank, TensorFile* owned) {
   if (f.dtype != TensorType::Float32 || f.shape.size() != rank)
     throw file_error(file.path(), "field '" + f.name + "' is " + f.describe() + ", expected float32 of rank " +
                                       std::to_string(rank));
   std::vector<float> v(f.count());
   if (!v.empty()) std::memcpy(v.data(), f.data.data(), v.size() * sizeof(float));
+  if (owned) owned->drop_data(f.name);
   for (std::size_t i = 0; i < v.size(); ++i)
     if (!std::isfinite(v[i]))
       throw file_error(file.path(), std::string(std::isnan(v[i]) ? "NaN" : "infinite") + " value in field '" + f.name +
@@ -87,14 +90,18 @@ std::vector<std::array<double, 3>> spectral_to_rgb_weights(const std::vector<flo
 
 RglBsdf RglBsdf::read(const fs::path& path) { return RglBsdf(TensorFile::read(path)); }
 
-RglBsdf::RglBsdf(const TensorFile& file) : path_(file.path()) {
+RglBsdf::RglBsdf(const TensorFile& file) : path_(file.path()) { load(file, nullptr); }
+
+RglBsdf::RglBsdf(TensorFile&& file) : path_(file.path()) { load(file, &file); }
+
+void RglBsdf::load(const TensorFile& file, TensorFile* owned) {
   if (const TensorField* d = file.find("description")) {
     require(file, d->dtype == TensorType::UInt8 && d->shape.size() == 1, "field 'description' is " + d->describe());
     description_.assign(reinterpret_cast<const char*>(d->data.data()), d->data.size());
     while (!description_.empty() && description_.back() == '\0') description_.pop_back();
   }
-  theta_i_ = floats(file, file.field("theta_i", kWhat), 1);
-  phi_i_ = floats(file, file.field("phi_i", kWhat), 1);
+  theta_i_ = floats(file, file.field("theta_i", kWhat), 1, owned);
+  phi_i_ = floats(file, file.field("phi_i", kWhat), 1, owned);
   require(file, !theta_i_.empty() && !phi_i_.empty(), "no incident directions (theta_i or phi_i is empty)");
   check_sorted(file, theta_i_, "theta_i");
   check_sorted(file, phi_i_, "phi_i");
@@ -104,8 +111,8 @@ RglBsdf::RglBsdf(const TensorFile& file) : path_(file.path()) {
   const TensorField& sigma = file.field("sigma", kWhat);
   const TensorField& vndf = file.field("vndf", kWhat);
   const TensorField& jacobian = file.field("jacobian", kWhat);
-  const std::vector<float> ndf_v = floats(file, ndf, 2), sigma_v = floats(file, sigma, 2);
-  const std::vector<float> vndf_v = floats(file, vndf, 4);
+  const std::vector<float> ndf_v = floats(file, ndf, 2, owned), sigma_v = floats(file, sigma, 2, owned);
+  const std::vector<float> vndf_v = floats(file, vndf, 4, owned);
   require(file, ndf.shape[0] >= 2 && ndf.shape[1] >= 2, "field 'ndf' is " + ndf.describe() + " (at least 2x2)");
   require(file, sigma.shape[0] >= 2 && sigma.shape[1] >= 2, "field 'sigma' is " + sigma.describe() + " (at least 2x2)");
   require(file, vndf.shape[0] == np && vndf.shape[1] == nt && vndf.shape[2] >= 2 && vndf.shape[3] >= 2,
@@ -118,41 +125,40 @@ RglBsdf::RglBsdf(const TensorFile& file) : path_(file.path()) {
   for (float v : vndf_v) require(file, v >= 0, "field 'vndf' has a negative value");
   for (float v : ndf_v) require(file, v >= 0, "field 'ndf' has a negative value");
 
-  // Reflectance: RGB, or a spectrum reduced to RGB here.
+  // Reflectance: RGB, or a spectrum reduced to RGB here. The largest field by far: converted
+  // once, its bytes in the file freed (when owned), and moved into its table.
   const TensorField* rgb = file.find("rgb");
   const TensorField* spectra = file.find("spectra");
   if (!rgb && !spectra) file.field("rgb", kWhat);  // throws, listing the fields present
   const TensorField& refl = rgb ? *rgb : *spectra;
-  const std::vector<float> refl_v = floats(file, refl, 5);
-  std::size_t channels = 3;
-  std::vector<float> rgb_v;
-  if (rgb) {
-    rgb_v = refl_v;
-  } else {
-    const std::vector<float> wavelengths = floats(file, file.field("wavelengths", kWhat), 1);
+  std::vector<float> rgb_v = floats(file, refl, 5, owned);
+  std::vector<float> wavelengths;
+  if (!rgb) {
+    wavelengths = floats(file, file.field("wavelengths", kWhat), 1, owned);
     check_sorted(file, wavelengths, "wavelengths");
-    channels = wavelengths.size();
-    wavelength_count_ = channels;
-    require(file, channels >= 1, "field 'wavelengths' is empty");
-    const auto weights = spectral_to_rgb_weights(wavelengths);
-    const std::size_t grid = refl.shape.size() == 5 ? refl.shape[3] * refl.shape[4] : 0;
-    const std::size_t slices = refl.shape[0] * refl.shape[1];
-    if (refl.shape[2] == channels) {
-      rgb_v.assign(slices * 3 * grid, 0.0f);
-      for (std::size_t s = 0; s < slices; ++s)
-        for (std::size_t l = 0; l < channels; ++l)
-          for (std::size_t c = 0; c < 3; ++c) {
-            const float* src = refl_v.data() + (s * channels + l) * grid;
-            float* dst = rgb_v.data() + (s * 3 + c) * grid;
-            const auto w = static_cast<float>(weights[l][c]);
-            for (std::size_t k = 0; k < grid; ++k) dst[k] += w * src[k];
-          }
-    }
+    require(file, !wavelengths.empty(), "field 'wavelengths' is empty");
+    wavelength_count_ = wavelengths.size();
   }
+  const std::size_t channels = rgb ? 3 : wavelengths.size();
   require(file, refl.shape[0] == np && refl.shape[1] == nt && refl.shape[2] == channels && refl.shape[3] >= 2 &&
                     refl.shape[4] >= 2,
           "field '" + refl.name + "' is " + refl.describe() + ", expected [phi_i, theta_i, " + std::to_string(channels) +
               ", >=2, >=2]");
+  const std::size_t ry = refl.shape[3], rx = refl.shape[4];
+  if (!rgb) {
+    const auto weights = spectral_to_rgb_weights(wavelengths);
+    const std::size_t grid = rx * ry, slices = np * nt;
+    std::vector<float> reduced(slices * 3 * grid, 0.0f);
+    for (std::size_t s = 0; s < slices; ++s)
+      for (std::size_t l = 0; l < channels; ++l)
+        for (std::size_t c = 0; c < 3; ++c) {
+          const float* src = rgb_v.data() + (s * channels + l) * grid;
+          float* dst = reduced.data() + (s * 3 + c) * grid;
+          const auto w = static_cast<float>(weights[l][c]);
+          for (std::size_t k = 0; k < grid; ++k) dst[k] += w * src[k];
+        }
+    rgb_v = std::move(reduced);
+  }
 
   isotropic_ = np <= 2;
   if (!isotropic_) {
@@ -167,7 +173,7 @@ RglBsdf::RglBsdf(const TensorFile& file) : path_(file.path()) {
   for (std::size_t s = 0; s < np * nt; ++s)
     require(file, vndf_.slice_integral(s) > 0,
             "field 'vndf' is zero everywhere for incident direction " + std::to_string(s));
-  rgb_ = RglWarp2D(rgb_v, refl.shape[4], refl.shape[3], np * nt * 3, false);
+  rgb_ = RglWarp2D(std::move(rgb_v), rx, ry, np * nt * 3);
 }
 
 std::string RglBsdf::summary() const {
@@ -310,6 +316,20 @@ BrdfTable resample_to_merl(const RglBsdf& bsdf, RglResampling* report, const Mer
       }
     }
   });
+  // What a MERL reader refuses must not come out of here: a crafted file (values near the float
+  // range, or a sigma near 0 under the Jacobian) can give values of 1e38 or more.
+  const auto stored = table.stored();
+  for (std::size_t v = 0; v < stored.size(); ++v) {
+    if (std::fabs(stored[v]) <= kMaxMerlMagnitude) continue;
+    const std::size_t c = v / dims.bins(), bin = v % dims.bins();
+    static const char* const channels[] = {"red", "green", "blue"};
+    char text[64];
+    std::snprintf(text, sizeof text, "%.6g (1/sr; %.6g in stored units)", stored[v] * BrdfTable::kChannelScale[c],
+                  stored[v]);
+    throw file_error(bsdf.path(), std::string("resampled onto the MERL grid, the material's value at bin ") +
+                                      std::to_string(bin) + " (" + channels[c] + ") is " + text +
+                                      ", beyond what MERL files hold (1e15 in stored units): not a plausible measurement");
+  }
   if (report) {
     RglResampling r;
     r.bins = dims.bins();

@@ -36,9 +36,16 @@ ParamBlend blend_params(std::span<const float> outer, double outer_x, std::span<
   return b;
 }
 
+RglWarp2D::RglWarp2D(std::vector<float>&& data, std::size_t nx, std::size_t ny, std::size_t slices)
+    : nx_(nx), ny_(ny), slices_(slices), raw_(std::move(data)) {}
+
 RglWarp2D::RglWarp2D(std::span<const float> data, std::size_t nx, std::size_t ny, std::size_t slices, bool build_cdf)
-    : nx_(nx), ny_(ny), slices_(slices), data_(data.begin(), data.end()) {
-  if (!build_cdf) return;
+    : nx_(nx), ny_(ny), slices_(slices) {
+  if (!build_cdf) {
+    raw_.assign(data.begin(), data.end());
+    return;
+  }
+  data_.assign(data.begin(), data.end());
   const std::size_t size = nx * ny;
   conditional_.assign(data_.size(), 0.0);
   marginal_.assign(slices * ny, 0.0);
@@ -80,10 +87,10 @@ RglWarp2D::Patch RglWarp2D::patch(double x, double y, const ParamBlend& b) const
   p.px = std::min(static_cast<std::size_t>(fx), nx_ - 2);
   p.py = std::min(static_cast<std::size_t>(fy), ny_ - 2);
   p.s = fx - static_cast<double>(p.px), p.t = fy - static_cast<double>(p.py);
-  const std::size_t size = nx_ * ny_, i = p.py * nx_ + p.px;
+  const std::size_t i = p.py * nx_ + p.px;
   p.index = i;
-  p.v00 = at(data_, size, i, b), p.v10 = at(data_, size, i + 1, b);
-  p.v01 = at(data_, size, i + nx_, b), p.v11 = at(data_, size, i + nx_ + 1, b);
+  p.v00 = value(i, b), p.v10 = value(i + 1, b);
+  p.v01 = value(i + nx_, b), p.v11 = value(i + nx_ + 1, b);
   return p;
 }
 
@@ -150,8 +157,8 @@ std::array<double, 2> RglWarp2D::sample(double u, double v, const ParamBlend& b)
     else hi = mid - 1;
   }
   const std::size_t px = lo, i = py * nx_ + px;
-  const double c0 = (1 - t) * at(data_, size, i, b) + t * at(data_, size, i + nx_, b);
-  const double c1 = (1 - t) * at(data_, size, i + 1, b) + t * at(data_, size, i + nx_ + 1, b);
+  const double c0 = (1 - t) * value(i, b) + t * value(i + nx_, b);
+  const double c1 = (1 - t) * value(i + 1, b) + t * value(i + nx_ + 1, b);
   const double s = solve_linear_cdf(c0, c1, target - cdf(px));
   return {(static_cast<double>(px) + s) / static_cast<double>(nx_ - 1),
           (static_cast<double>(py) + t) / static_cast<double>(ny_ - 1)};

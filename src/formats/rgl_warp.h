@@ -43,6 +43,9 @@ public:
   /// `data` holds slices * ny * nx values. nx, ny >= 2. With build_cdf, every slice must have a
   /// positive integral (the caller checks, naming the file).
   RglWarp2D(std::span<const float> data, std::size_t nx, std::size_t ny, std::size_t slices, bool build_cdf);
+  /// A table without CDFs that keeps `data` as it is (single precision, moved in: no copy).
+  /// Lookups give the same values as from a copy in double precision.
+  RglWarp2D(std::vector<float>&& data, std::size_t nx, std::size_t ny, std::size_t slices);
 
   std::size_t nx() const { return nx_; }
   std::size_t ny() const { return ny_; }
@@ -67,14 +70,20 @@ private:
   };
   Patch patch(double x, double y, const ParamBlend& b) const;
 
-  double at(const std::vector<double>& values, std::size_t stride, std::size_t index, const ParamBlend& b) const {
+  template <class T>
+  double at(const std::vector<T>& values, std::size_t stride, std::size_t index, const ParamBlend& b) const {
     double sum = 0;
-    for (int i = 0; i < b.count; ++i) sum += b.weight[i] * values[b.slice[i] * stride + index];
+    for (int i = 0; i < b.count; ++i) sum += b.weight[i] * static_cast<double>(values[b.slice[i] * stride + index]);
     return sum;
+  }
+  /// Value `index` of the table (blended slices), from whichever of data_ and raw_ holds it.
+  double value(std::size_t index, const ParamBlend& b) const {
+    return raw_.empty() ? at(data_, nx_ * ny_, index, b) : at(raw_, nx_ * ny_, index, b);
   }
 
   std::size_t nx_ = 0, ny_ = 0, slices_ = 0;
   std::vector<double> data_;         ///< slices * ny * nx (normalised when CDFs are built)
+  std::vector<float> raw_;           ///< instead of data_ for tables without CDFs
   std::vector<double> conditional_;  ///< per slice and row: integral from x = 0 to each column
   std::vector<double> marginal_;     ///< per slice: integral from y = 0 to each row
   std::vector<double> integral_;     ///< per slice, before normalisation

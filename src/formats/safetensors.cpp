@@ -372,8 +372,18 @@ SafetensorsFile SafetensorsFile::open(const fs::path& path) {
       const auto dtype = dtype_from_name(it->at("dtype").get<std::string>());
       if (!dtype) throw file_error(path, "tensor '" + t.name + "' has an unsupported dtype");
       t.dtype = *dtype;
-      t.shape = it->at("shape").get<std::vector<std::int64_t>>();
-      const auto offsets = it->at("data_offsets").get<std::vector<std::size_t>>();
+      // Integers only: nlohmann converts a float such as 2e34 to an integer type by a cast that
+      // is undefined out of range (UBSan: "outside the range of representable values"), and a
+      // float in range (8.0) would pass for an integer.
+      const json& shape = it->at("shape");
+      const json& offset_list = it->at("data_offsets");
+      if (!shape.is_array() || !std::all_of(shape.begin(), shape.end(), [](const json& d) { return d.is_number_integer(); }))
+        throw file_error(path, "tensor '" + t.name + "': its shape is not a list of integers (corrupted header)");
+      if (!offset_list.is_array() ||
+          !std::all_of(offset_list.begin(), offset_list.end(), [](const json& d) { return d.is_number_unsigned(); }))
+        throw file_error(path, "tensor '" + t.name + "': its data offsets are not non-negative integers (corrupted header)");
+      t.shape = shape.get<std::vector<std::int64_t>>();
+      const auto offsets = offset_list.get<std::vector<std::size_t>>();
       if (offsets.size() != 2 || offsets[0] > offsets[1])
         throw file_error(path, "tensor '" + t.name + "' has invalid data offsets");
       t.begin = offsets[0];

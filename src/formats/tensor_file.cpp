@@ -1,11 +1,15 @@
 #include "formats/tensor_file.h"
 
+#include <algorithm>
 #include <cstring>
-#include <limits>
 #include <set>
+
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/file_io.h"
 
 namespace matlas {
 
@@ -17,10 +21,14 @@ constexpr char kMagic[12] = {'t', 'e', 'n', 's', 'o', 'r', '_', 'f', 'i', 'l', '
 constexpr std::size_t kMaxRank = 16;
 constexpr std::uint32_t kMaxFields = 4096;
 
-/// Bounds-checked little-endian reader over the header.
+/// Thrown by Cursor when the header goes on past the bytes read so far, inside the file.
+struct NeedMoreHeader {};
+
+/// Bounds-checked little-endian reader over the first bytes of a file of `file_size` bytes.
 class Cursor {
 public:
-  Cursor(std::span<const std::byte> bytes, const fs::path& path) : bytes_(bytes), path_(path) {}
+  Cursor(std::span<const std::byte> bytes, std::uint64_t file_size, const fs::path& path)
+      : bytes_(bytes), file_size_(file_size), path_(path) {}
 
   template <class T>
   T get(const char* what) {
@@ -40,11 +48,13 @@ public:
 
 private:
   void need(std::size_t n, const char* what) const {
-    if (bytes_.size() - pos_ < n)
-      throw file_error(path_, std::string("truncated tensor file: the header ends inside ") + what + " (" +
-                                  std::to_string(bytes_.size()) + " bytes)");
+    if (bytes_.size() - pos_ >= n) return;
+    if (bytes_.size() < file_size_) throw NeedMoreHeader{};
+    throw file_error(path_, std::string("truncated tensor file: the header ends inside ") + what + " (" +
+                                std::to_string(file_size_) + " bytes)");
   }
   std::span<const std::byte> bytes_;
+  std::uint64_t file_size_;
   const fs::path& path_;
   std::size_t pos_ = 0;
 };
@@ -92,11 +102,29 @@ std::string TensorField::describe() const {
   return s + "]";
 }
 
-TensorFile TensorFile::parse(std::span<const std::byte> bytes, const fs::path& path) {
-  if (bytes.empty()) throw file_error(path, "empty file, expected an RGL tensor file (.bsdf)");
+namespace {
+
+/// The header of a tensor file of `file_size` bytes from its first bytes (NeedMoreHeader when
+/// they end inside it): the fields without their data, and where each one's data lies, checked
+/// against the file's size and against each other.
+struct Header {
+  std::vector<TensorField> fields;
+  std::vector<std::uint64_t> offsets;
+};
+
+void check_file_size(std::uint64_t file_size, const fs::path& path) {
+  if (file_size == 0) throw file_error(path, "empty file, expected an RGL tensor file (.bsdf)");
+  if (file_size > kMaxTensorFileBytes)
+    throw file_error(path, std::to_string(file_size) + " bytes: larger than any RGL tensor file (.bsdf) could be (at most " +
+                               std::to_string(kMaxTensorFileBytes >> 20) + " MiB are read)");
+}
+
+Header parse_header(std::span<const std::byte> bytes, std::uint64_t file_size, const fs::path& path) {
+  check_file_size(file_size, path);
+  if (bytes.size() < sizeof kMagic && bytes.size() < file_size) throw NeedMoreHeader{};
   if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
     throw file_error(path, "not a tensor file (the RGL .bsdf format starts with \"tensor_file\")");
-  Cursor in(bytes, path);
+  Cursor in(bytes, file_size, path);
   in.string(sizeof kMagic, "the magic");
   const auto major = in.get<std::uint8_t>("the version");
   const auto minor = in.get<std::uint8_t>("the version");
@@ -107,11 +135,8 @@ TensorFile TensorFile::parse(std::span<const std::byte> bytes, const fs::path& p
   if (count == 0 || count > kMaxFields)
     throw file_error(path, "invalid tensor file: " + std::to_string(count) + " fields");
 
-  TensorFile file;
-  file.path_ = path;
+  Header header;
   std::set<std::string> names;
-  struct Pending { std::uint64_t offset; };
-  std::vector<Pending> offsets;
   for (std::uint32_t f = 0; f < count; ++f) {
     TensorField field;
     const auto name_length = in.get<std::uint16_t>("a field name");
@@ -129,37 +154,101 @@ TensorFile TensorFile::parse(std::span<const std::byte> bytes, const fs::path& p
     for (std::uint16_t d = 0; d < rank; ++d) {
       const auto extent = in.get<std::uint64_t>("a field shape");
       field.shape.push_back(extent);
-      if (extent != 0 && elements > std::numeric_limits<std::uint64_t>::max() / 16 / extent)
-        throw file_error(path, "invalid tensor file: " + label + " has an absurd shape " + field.describe());
+      // Bounded by the file's size, not by overflow alone: no extent may exceed what the file
+      // holds even where another extent is 0 (a product of 0 must not hide 2^60 x 2^60).
+      if (extent > file_size || (extent != 0 && elements > file_size / extent))
+        throw file_error(path, "invalid tensor file: " + label + " has an absurd shape " + field.describe() +
+                                   " for a file of " + std::to_string(file_size) + " bytes");
       elements *= extent;
     }
     if (!names.insert(field.name).second)
       throw file_error(path, "invalid tensor file: two fields named '" + field.name + "'");
     const std::uint64_t size = elements * tensor_type_size(field.dtype);
-    if (offset > bytes.size() || size > bytes.size() - offset)
+    if (offset > file_size || size > file_size - offset)
       throw file_error(path, "truncated: " + label + " (" + field.describe() + ", " + std::to_string(size) +
                                  " bytes at offset " + std::to_string(offset) + ") ends past the end of the file (" +
-                                 std::to_string(bytes.size()) + " bytes)");
-    offsets.push_back({offset});
-    file.fields_.push_back(std::move(field));
+                                 std::to_string(file_size) + " bytes)");
+    header.offsets.push_back(offset);
+    header.fields.push_back(std::move(field));
   }
+  // Every field's data after the header; together no more than the file holds (fields sharing
+  // their bytes would let a small file claim many times its size in memory).
+  std::uint64_t total = 0;
+  for (std::size_t f = 0; f < header.fields.size(); ++f) {
+    const TensorField& field = header.fields[f];
+    const std::uint64_t size = field.count() * tensor_type_size(field.dtype);
+    if (header.offsets[f] < in.position() && size != 0)
+      throw file_error(path, "invalid tensor file: field '" + field.name + "' has its data inside the header");
+    total += size;
+  }
+  if (total > file_size - in.position())
+    throw file_error(path, "invalid tensor file: its fields claim " + std::to_string(total) + " bytes of data, more than the " +
+                               std::to_string(file_size - in.position()) + " bytes after the header (fields overlap)");
+  return header;
+}
+
+}  // namespace
+
+TensorFile TensorFile::parse(std::span<const std::byte> bytes, const fs::path& path) {
+  Header header;
+  try {
+    header = parse_header(bytes, bytes.size(), path);
+  } catch (const NeedMoreHeader&) {
+    throw file_error(path, "internal error: the tensor header needs more bytes than the whole file");
+  }
+  TensorFile file;
+  file.path_ = path;
+  file.fields_ = std::move(header.fields);
   for (std::size_t f = 0; f < file.fields_.size(); ++f) {
     TensorField& field = file.fields_[f];
-    if (offsets[f].offset < in.position() && field.count() != 0)
-      throw file_error(path, "invalid tensor file: field '" + field.name + "' has its data inside the header");
-    const std::size_t size = field.count() * tensor_type_size(field.dtype);
-    field.data.resize(size);
-    if (size) std::memcpy(field.data.data(), bytes.data() + offsets[f].offset, size);
+    field.data.resize(field.count() * tensor_type_size(field.dtype));
+    if (!field.data.empty()) std::memcpy(field.data.data(), bytes.data() + header.offsets[f], field.data.size());
   }
   return file;
 }
 
 TensorFile TensorFile::read(const fs::path& path) {
   std::error_code ec;
-  if (!fs::exists(path, ec)) throw file_error(path, "no such file");
   if (fs::is_directory(path, ec)) throw file_error(path, "is a directory, not an RGL .bsdf file");
-  const std::string bytes = read_file(path);
-  return parse(std::as_bytes(std::span(bytes.data(), bytes.size())), path);
+  const int fd = open_regular_file(path, "an RGL .bsdf file");
+  try {
+    struct stat st {};
+    if (::fstat(fd, &st) != 0) throw file_error(path, "cannot stat");
+    const auto file_size = static_cast<std::uint64_t>(st.st_size);
+    check_file_size(file_size, path);
+    // The header first (from its first 64 KiB, more only for a header that long), then each
+    // field's data straight into its buffer: the file is never held in memory as a whole.
+    std::vector<std::byte> prefix;
+    Header header;
+    for (std::uint64_t want = std::min<std::uint64_t>(file_size, 1 << 16);; want = std::min(file_size, 4 * want)) {
+      prefix.resize(static_cast<std::size_t>(want));
+      read_exact_at(fd, path, prefix.data(), prefix.size(), 0);
+      try {
+        header = parse_header(prefix, file_size, path);
+        break;
+      } catch (const NeedMoreHeader&) {
+      }
+    }
+    prefix = {};
+    TensorFile file;
+    file.path_ = path;
+    file.fields_ = std::move(header.fields);
+    for (std::size_t f = 0; f < file.fields_.size(); ++f) {
+      TensorField& field = file.fields_[f];
+      field.data.resize(field.count() * tensor_type_size(field.dtype));
+      read_exact_at(fd, path, field.data.data(), field.data.size(), header.offsets[f]);
+    }
+    ::close(fd);
+    return file;
+  } catch (...) {
+    ::close(fd);
+    throw;
+  }
+}
+
+void TensorFile::drop_data(const std::string& name) {
+  for (auto& f : fields_)
+    if (f.name == name) std::vector<std::byte>().swap(f.data);
 }
 
 const TensorField* TensorFile::find(const std::string& name) const {

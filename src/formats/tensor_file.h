@@ -10,7 +10,8 @@
 //
 // dtype codes: 1 u8, 2 i8, 3 u16, 4 i16, 5 u32, 6 i32, 7 u64, 8 i64, 9 f16, 10 f32, 11 f64.
 // Every structural problem (bad magic, truncated header, a field past the end of the file,
-// overflowing shapes, duplicate names) is a matlas::Error naming the file.
+// shapes larger than the file, fields sharing bytes, duplicate names, a file over
+// kMaxTensorFileBytes) is a matlas::Error naming the file, raised before any field is read.
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -19,6 +20,10 @@
 #include <vector>
 
 namespace matlas {
+
+/// The largest tensor file read (1 GiB; the isotropic RGB files of the RGL database are 0.66 MB):
+/// a larger one is refused before anything but its size is looked at.
+inline constexpr std::uint64_t kMaxTensorFileBytes = std::uint64_t{1} << 30;
 
 enum class TensorType : std::uint8_t {
   UInt8 = 1, Int8 = 2, UInt16 = 3, Int16 = 4, UInt32 = 5, Int32 = 6, UInt64 = 7, Int64 = 8,
@@ -43,7 +48,8 @@ struct TensorField {
 
 class TensorFile {
 public:
-  /// Reads and validates a whole tensor file.
+  /// Reads and validates a whole tensor file: its header, then each field's data straight into
+  /// the field (the file is not held in memory besides).
   static TensorFile read(const std::filesystem::path& path);
   /// Parses a tensor file held in memory; `path` names it in error messages.
   static TensorFile parse(std::span<const std::byte> bytes, const std::filesystem::path& path);
@@ -56,6 +62,9 @@ public:
   const TensorField& field(const std::string& name, const std::string& what = "tensor") const;
 
   void add(TensorField field) { fields_.push_back(std::move(field)); }
+  /// Frees the data of the field `name` (its name, type and shape stay): for readers that have
+  /// converted it and want the memory back before converting the next one.
+  void drop_data(const std::string& name);
 
 private:
   std::filesystem::path path_;

@@ -1,6 +1,7 @@
 #include "pathtrace/scene_spec.h"
 
 #include <cmath>
+#include <cstdio>
 #include <set>
 
 #include <unistd.h>
@@ -9,12 +10,14 @@
 
 #include "core/error.h"
 #include "core/file_io.h"
+#include "render/scene.h"
 
 namespace matlas::pathtrace {
 
 namespace {
 
 using nlohmann::json;
+using render::kMaxSceneCoordinate;
 
 // The built-in scenes, in the file format itself ("$object" is replaced by the object's name).
 constexpr const char* kFloorScene = R"({
@@ -65,6 +68,22 @@ void check_keys(const json& j, const std::set<std::string>& allowed, const std::
     if (!allowed.contains(key)) fail(source, where + ": unknown key '" + key + "'");
 }
 
+/// A bound in messages: 1000000, not 1e+06 or 1000000.0.
+std::string show(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.15g", v);
+  return text;
+}
+
+/// j[key] as a string, `fallback` when absent; a matlas::Error naming `where.key` otherwise
+/// (json::value would throw nlohmann's type_error, naming neither the file nor the key).
+std::string string_at(const json& j, const char* key, const std::string& fallback, const std::string& source,
+                      const std::string& where) {
+  if (!j.contains(key)) return fallback;
+  if (!j[key].is_string()) fail(source, where + key + " must be a string");
+  return j[key].get<std::string>();
+}
+
 double number(const json& j, const std::string& source, const std::string& where) {
   if (!j.is_number()) fail(source, where + " must be a number");
   const double v = j.get<double>();
@@ -77,6 +96,22 @@ Vec3 vec3(const json& j, const std::string& source, const std::string& where) {
   return Vec3(number(j[0], source, where), number(j[1], source, where), number(j[2], source, where));
 }
 
+/// A position or extent in the scene: within kMaxSceneCoordinate of the origin in every
+/// coordinate (Embree works in single precision and asserts on infinities).
+Vec3 point(const json& j, const std::string& source, const std::string& where) {
+  const Vec3 v = vec3(j, source, where);
+  if (!v.allFinite() || !(v.cwiseAbs().maxCoeff() <= kMaxSceneCoordinate))
+    fail(source, where + " must have coordinates within +-" + show(kMaxSceneCoordinate));
+  return v;
+}
+
+/// A number in [lo, hi] (finite).
+double bounded(const json& j, double lo, double hi, const std::string& source, const std::string& where) {
+  const double v = number(j, source, where);
+  if (!(v >= lo && v <= hi)) fail(source, where + " must be in [" + show(lo) + ", " + show(hi) + "]");
+  return v;
+}
+
 Rgb rgb(const json& j, const std::string& source, const std::string& where, double max = 1e30) {
   const Vec3 v = vec3(j, source, where);
   if (v.minCoeff() < 0 || v.maxCoeff() > max)
@@ -87,7 +122,7 @@ Rgb rgb(const json& j, const std::string& source, const std::string& where, doub
 SurfaceSpec parse_surface(const json& j, const std::string& source, const std::string& where) {
   check_keys(j, {"type", "albedo", "specular", "alpha"}, source, where);
   SurfaceSpec s;
-  const std::string type = j.value("type", std::string("lambert"));
+  const std::string type = string_at(j, "type", "lambert", source, where + ".");
   if (type == "lambert") s.kind = SurfaceSpec::Kind::lambert;
   else if (type == "ggx") s.kind = SurfaceSpec::Kind::ggx;
   else if (type == "measured") s.kind = SurfaceSpec::Kind::measured;
@@ -105,25 +140,23 @@ ObjectSpec parse_object(const json& j, const std::string& source, const std::str
   check_keys(j, {"shape", "mesh", "center", "radius", "rotate_y", "rest_on", "corner", "edge1", "edge2", "material", "emission"},
              source, where);
   ObjectSpec o;
-  o.shape = j.value("shape", std::string("sphere"));
+  o.shape = string_at(j, "shape", "sphere", source, where + ".");
   if (o.shape != "sphere" && o.shape != "quad" && o.shape != "mesh")
     fail(source, where + ".shape must be sphere, quad or mesh, not '" + o.shape + "'");
-  if (j.contains("mesh")) {
-    if (!j["mesh"].is_string()) fail(source, where + ".mesh must be a string");
-    o.mesh = j["mesh"].get<std::string>();
-  }
+  o.mesh = string_at(j, "mesh", "", source, where + ".");
   if (o.shape == "mesh" && o.mesh.empty()) fail(source, where + ": a mesh object needs \"mesh\"");
   if (o.shape == "mesh" && o.mesh == "sphere") o.shape = "sphere";  // the exact sphere
-  if (j.contains("center")) o.center = vec3(j["center"], source, where + ".center");
+  if (j.contains("center")) o.center = point(j["center"], source, where + ".center");
   if (j.contains("radius")) {
-    o.radius = number(j["radius"], source, where + ".radius");
+    o.radius = bounded(j["radius"], 0, kMaxSceneCoordinate, source, where + ".radius");
     if (!(o.radius > 0)) fail(source, where + ".radius must be positive");
   }
-  if (j.contains("rotate_y")) o.rotate_y = number(j["rotate_y"], source, where + ".rotate_y");
-  if (j.contains("rest_on")) o.rest_on = number(j["rest_on"], source, where + ".rest_on");
-  if (j.contains("corner")) o.corner = vec3(j["corner"], source, where + ".corner");
-  if (j.contains("edge1")) o.edge1 = vec3(j["edge1"], source, where + ".edge1");
-  if (j.contains("edge2")) o.edge2 = vec3(j["edge2"], source, where + ".edge2");
+  if (j.contains("rotate_y")) o.rotate_y = bounded(j["rotate_y"], -kMaxSceneCoordinate, kMaxSceneCoordinate, source, where + ".rotate_y");
+  if (j.contains("rest_on"))
+    o.rest_on = bounded(j["rest_on"], -kMaxSceneCoordinate, kMaxSceneCoordinate, source, where + ".rest_on");
+  if (j.contains("corner")) o.corner = point(j["corner"], source, where + ".corner");
+  if (j.contains("edge1")) o.edge1 = point(j["edge1"], source, where + ".edge1");
+  if (j.contains("edge2")) o.edge2 = point(j["edge2"], source, where + ".edge2");
   if (o.shape == "quad" && !(o.edge1.cross(o.edge2).norm() > 0)) fail(source, where + ": the quad's edges are parallel");
   if (j.contains("material")) o.surface = parse_surface(j["material"], source, where + ".material");
   if (j.contains("emission")) o.emission = rgb(j["emission"], source, where + ".emission");
@@ -148,29 +181,25 @@ SceneSpec builtin(const char* text, const std::string& object) {
 SceneSpec parse_scene(const json& j, const std::string& source) {
   check_keys(j, {"name", "camera", "environment", "objects"}, source, "scene");
   SceneSpec s;
-  s.name = j.value("name", std::string("scene"));
+  s.name = string_at(j, "name", "scene", source, "");
   if (j.contains("camera")) {
     const json& c = j["camera"];
     check_keys(c, {"position", "target", "fov"}, source, "camera");
-    if (c.contains("position")) s.camera.position = vec3(c["position"], source, "camera.position");
-    if (c.contains("target")) s.camera.target = vec3(c["target"], source, "camera.target");
+    if (c.contains("position")) s.camera.position = point(c["position"], source, "camera.position");
+    if (c.contains("target")) s.camera.target = point(c["target"], source, "camera.target");
     if (c.contains("fov")) s.camera.fov_degrees = number(c["fov"], source, "camera.fov");
     if (!(s.camera.fov_degrees > 0 && s.camera.fov_degrees < 180)) fail(source, "camera.fov must be in (0, 180)");
-    if (!((s.camera.target - s.camera.position).norm() > 0)) fail(source, "camera.target equals camera.position");
+    if (!((s.camera.target - s.camera.position).norm() >= 1e-6))
+      fail(source, "camera.target must differ from camera.position (by 1e-6 at least)");
   }
   if (j.contains("environment")) {
     const json& e = j["environment"];
     check_keys(e, {"map", "constant", "rotation", "intensity"}, source, "environment");
-    if (e.contains("map")) {
-      if (!e["map"].is_string()) fail(source, "environment.map must be a string");
-      s.environment.map = e["map"].get<std::string>();
-    }
+    s.environment.map = string_at(e, "map", "", source, "environment.");
     if (e.contains("constant")) s.environment.constant = rgb(e["constant"], source, "environment.constant");
-    if (e.contains("rotation")) s.environment.rotation = number(e["rotation"], source, "environment.rotation");
-    if (e.contains("intensity")) {
-      s.environment.intensity = number(e["intensity"], source, "environment.intensity");
-      if (s.environment.intensity < 0) fail(source, "environment.intensity must not be negative");
-    }
+    if (e.contains("rotation")) s.environment.rotation = bounded(e["rotation"], -kMaxSceneCoordinate, kMaxSceneCoordinate, source, "environment.rotation");
+    if (e.contains("intensity"))
+      s.environment.intensity = bounded(e["intensity"], 0, kMaxSceneCoordinate, source, "environment.intensity");
   }
   if (!j.contains("objects") || !j["objects"].is_array() || j["objects"].empty())
     fail(source, "\"objects\" must be a non-empty array");
@@ -218,7 +247,9 @@ SceneSpec load_scene(const std::string& name_or_path, const std::string& object)
   const int fd = open_regular_file(path, "a JSON scene file");
   std::string text;
   try {
-    text.resize(std::filesystem::file_size(path));
+    const auto size = std::filesystem::file_size(path);
+    if (size > (64u << 20)) fail(path.string(), std::to_string(size) + " bytes: too large for a scene file (64 MiB at most)");
+    text.resize(size);
     read_exact_at(fd, path, text.data(), text.size(), 0);
   } catch (...) {
     ::close(fd);

@@ -64,8 +64,10 @@ struct SceneSpec {
   std::vector<ObjectSpec> objects;
 };
 
-/// Parses a scene; `source` names the file in error messages (matlas::Error for unknown keys,
-/// wrong types, bad values, several measured objects).
+/// Parses a scene; `source` names the file in error messages (matlas::Error naming the key for
+/// unknown keys, wrong types, bad values (coordinates, radii, angles and intensities beyond
+/// render::kMaxSceneCoordinate, a camera target within 1e-6 of its position), several measured
+/// objects).
 SceneSpec parse_scene(const nlohmann::json& j, const std::string& source);
 /// The scene as JSON (parse_scene(scene_to_json(s)) gives s back): stored in GI bases.
 nlohmann::json scene_to_json(const SceneSpec& scene);

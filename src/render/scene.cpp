@@ -28,6 +28,35 @@ std::optional<TriangleMesh> load_object(const SceneDescription& d) {
   return read_mesh(resolve_mesh(d.object));
 }
 
+/// Refuses what would reach Embree as infinities or lose all precision in single precision (a
+/// camera at 1e308 tripped an assertion in Embree: SIGABRT), naming the field.
+void validate_description(const SceneDescription& d) {
+  auto fail = [](const std::string& what) { throw Error("scene: " + what); };
+  auto check_point = [&](const Vec3& v, const char* key) {
+    if (!v.allFinite() || !(v.cwiseAbs().maxCoeff() <= kMaxSceneCoordinate))  // maxCoeff may skip a NaN
+      fail(std::string(key) + " must be finite, with coordinates within +-1e6");
+  };
+  const Camera& c = d.camera;
+  check_point(c.position, "camera.position");
+  check_point(c.target, "camera.target");
+  if (!((c.target - c.position).norm() >= 1e-6)) fail("camera.target must differ from camera.position (by 1e-6 at least)");
+  if (!(c.fov_degrees > 0 && c.fov_degrees < 180)) fail("camera.fov_degrees must be in (0, 180)");
+  if (!(c.ortho_height > 0 && c.ortho_height <= kMaxSceneCoordinate)) fail("camera.ortho_height must be in (0, 1e6]");
+  for (const DirectionalLight& l : d.lights) {
+    if (!l.direction.allFinite() || !(l.direction.norm() > 0)) fail("a light's direction must be finite and non-zero");
+    if (!l.irradiance.allFinite()) fail("a light's irradiance must be finite");
+  }
+  if (!std::isfinite(d.environment_rotation)) fail("environment_rotation must be finite");
+  if (!std::isfinite(d.environment_intensity)) fail("environment_intensity must be finite");
+}
+
+/// The description after validate_description (arguments are evaluated in no set order: each
+/// loader's argument validates, so that nothing is read for a description that is refused).
+const SceneDescription& validated(const SceneDescription& d) {
+  validate_description(d);
+  return d;
+}
+
 }  // namespace
 
 void normalize_mesh(TriangleMesh& mesh) {
@@ -53,10 +82,11 @@ struct Scene::Impl {
 };
 
 Scene::Scene(const SceneDescription& description)
-    : Scene(description, load_object(description), load_environment(description)) {}
+    : Scene(description, load_object(validated(description)), load_environment(validated(description))) {}
 
 Scene::Scene(const SceneDescription& description, std::optional<TriangleMesh> mesh, Environment environment)
     : description_(description), environment_(std::move(environment)), impl_(std::make_unique<Impl>()) {
+  validate_description(description_);
   build(std::move(mesh));
 }
 

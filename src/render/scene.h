@@ -57,9 +57,17 @@ struct Hit {
   Vec3 geometric_normal;    ///< facing the ray's origin side
 };
 
+/// The largest camera coordinate (and orthographic height) a scene accepts; also the bound of
+/// path-traced scenes' coordinates, radii, angles and intensities (pathtrace/scene_spec.h).
+/// Embree builds in single precision: beyond, scenes lose their precision, and infinities (a
+/// camera at 1e308) trip its assertions.
+inline constexpr double kMaxSceneCoordinate = 1e6;
+
 class Scene {
 public:
-  /// Builds the scene; throws matlas::Error naming the file for unreadable meshes or maps.
+  /// Builds the scene; throws matlas::Error naming the file for unreadable meshes or maps, and
+  /// naming the field for a camera or light that is not finite, beyond kMaxSceneCoordinate or
+  /// degenerate (target at the position), before anything is loaded.
   explicit Scene(const SceneDescription& description);
   /// A scene with an already loaded mesh and environment (tests, servers caching assets).
   Scene(const SceneDescription& description, std::optional<TriangleMesh> mesh, Environment environment);

@@ -74,6 +74,23 @@ TEST(MerlFile, NonStandardDimsAreReadButNotWrittenForOtherTools) {
   EXPECT_EQ(read_merl(dir / "x.binary").dims(), (MerlDims{4, 5, 6}));
 }
 
+TEST(MerlFile, TablesTheReaderRefusesAreNotWritten) {
+  // write_merl used to write whatever it was given: a file that read_merl then refused.
+  test::TempDir dir;
+  for (const double bad : {1e300, -3e38, std::numeric_limits<double>::infinity(), std::nan("")}) {
+    BrdfTable t = pattern_table();
+    t.stored()[t.dims().bins() + 7] = bad;  // green, bin 7
+    const std::string e = test::error_of([&] { write_merl(dir / "x.binary", t); });
+    EXPECT_EQ(e.rfind((dir / "x.binary").string() + ": refusing to write value ", 0), 0u) << e;
+    EXPECT_NE(e.find("in the green channel at bin 7"), std::string::npos) << e;
+    EXPECT_FALSE(std::filesystem::exists(dir / "x.binary"));
+  }
+  BrdfTable t = pattern_table();
+  t.stored()[3] = 0.99e15;  // the largest values readers accept are written
+  write_merl(dir / "x.binary", t);
+  EXPECT_EQ(read_merl(dir / "x.binary").stored()[3], 0.99e15);
+}
+
 TEST(MerlFile, BadFilesGiveClearErrorsNamingTheFile) {
   test::TempDir dir;
   const auto p = dir / "bad.binary";

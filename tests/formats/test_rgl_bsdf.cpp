@@ -289,7 +289,12 @@ TEST(RglBsdf, InvalidFieldsAreRejectedNamingTheFileAndField) {
   expect_error(without("vndf"), "no field 'vndf'");
   expect_error(without("rgb"), "no field 'rgb'");
   expect_error(without("jacobian"), "no field 'jacobian'");
-  expect_error(with("vndf", [](TensorField& f) { f.shape = {1, 2, 6, 18}; }), "field 'vndf' is float32 [1, 2, 6, 18]");
+  expect_error(with("vndf",
+                    [](TensorField& f) {
+                      f.shape = {1, 2, 6, 18};
+                      f.data.resize(f.count() * 4);  // else the header claims bytes of the next field
+                    }),
+               "field 'vndf' is float32 [1, 2, 6, 18]");
   expect_error(with("theta_i", [](TensorField& f) { f.dtype = TensorType::Int32; }), "field 'theta_i' is int32");
   expect_error(with("rgb", [](TensorField& f) {
                  const float nan = std::nanf("");
@@ -299,6 +304,40 @@ TEST(RglBsdf, InvalidFieldsAreRejectedNamingTheFileAndField) {
   expect_error(with("sigma", [](TensorField& f) { std::memset(f.data.data(), 0, 4); }), "'sigma'");
   expect_error(with("vndf", [](TensorField& f) { std::memset(f.data.data(), 0, f.data.size()); }), "'vndf' is zero");
   expect_error(with("theta_i", [](TensorField& f) { std::memset(f.data.data() + 4, 0, 4); }), "not strictly increasing");
+}
+
+TEST(RglBsdf, ResamplingRefusesValuesNoMerlFileMayHold) {
+  // Finite float32 values near 1e30 passed every check, and resample_to_merl then produced
+  // tables that write_merl wrote and every MERL reader (ours too) refuses.
+  test::SyntheticRgl s;
+  s.scale = 1e30;
+  const MerlDims dims{9, 9, 18};  // a small grid: the same code, a hundredth of the bins
+  const std::string e = error_of([&] { resample_to_merl(synthetic(s), nullptr, dims); });
+  EXPECT_EQ(e.rfind("synthetic.bsdf: resampled onto the MERL grid, the material's value at bin ", 0), 0u) << e;
+  EXPECT_NE(e.find("beyond what MERL files hold (1e15 in stored units)"), std::string::npos) << e;
+  // A merely bright material is fine.
+  s.scale = 1e6;
+  EXPECT_NO_THROW(resample_to_merl(synthetic(s), nullptr, dims));
+}
+
+TEST(RglBsdf, OwnedFilesGiveTheSameMaterial) {
+  // RglBsdf(TensorFile&&) frees each field once converted: the same material as from a const
+  // file, whose fields are left as they were.
+  for (const bool spectral : {false, true}) {
+    test::SyntheticRgl s;
+    if (spectral) s.wavelengths = {400, 500, 600, 700};
+    const TensorFile file = TensorFile::parse(serialize_tensor_file(s.fields()), "s.bsdf");
+    const RglBsdf kept(file);
+    TensorFile copy = file;
+    const RglBsdf owned(std::move(copy));
+    for (const auto& f : file.fields()) EXPECT_EQ(f.data.size(), f.count() * tensor_type_size(f.dtype)) << f.name;
+    std::mt19937 rng(5);
+    for (int i = 0; i < 200; ++i) {
+      const Vec3 wi = random_direction(rng), wo = random_direction(rng);
+      EXPECT_TRUE((kept.eval(wi, wo) == owned.eval(wi, wo)).all());
+    }
+    EXPECT_EQ(kept.summary(), owned.summary());
+  }
 }
 
 TEST(RglBsdf, ReadBrdfDispatchesOnTheExtension) {

@@ -85,6 +85,31 @@ TEST(Safetensors, TruncatedCorruptedAndForeignFilesAreRejected) {
   EXPECT_NE(open_error(dir / "nope").find("no such file"), std::string::npos);
 }
 
+TEST(Safetensors, ShapesAndOffsetsMustBeIntegers) {
+  // Found by the coefficients fuzz target: "data_offsets": [0, 2.11111e+34] reached nlohmann's
+  // float-to-integer cast, undefined out of range (UBSan). A float in range was taken as an
+  // integer: [0, 24.0] passed for 24.
+  test::TempDir dir;
+  const auto p = dir / "t.safetensors";
+  auto write_header = [&](const std::string& header) {
+    const std::uint64_t n = header.size();
+    std::ofstream out(p, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(&n), 8);
+    out << header << std::string(24, '\0');
+  };
+  write_header(R"({"a":{"dtype":"F32","shape":[2,3],"data_offsets":[0,2.11111e+34]}})");
+  EXPECT_NE(open_error(p).find("t.safetensors: tensor 'a': its data offsets are not non-negative integers"),
+            std::string::npos)
+      << open_error(p);
+  write_header(R"({"a":{"dtype":"F32","shape":[2,3],"data_offsets":[0,24.0]}})");
+  EXPECT_NE(open_error(p).find("its data offsets are not non-negative integers"), std::string::npos) << open_error(p);
+  write_header(R"({"a":{"dtype":"F32","shape":[2,-1e300],"data_offsets":[0,24]}})");
+  EXPECT_NE(open_error(p).find("t.safetensors: tensor 'a': its shape is not a list of integers"), std::string::npos)
+      << open_error(p);
+  write_header(R"({"a":{"dtype":"F32","shape":[2,3],"data_offsets":[0,24]}})");
+  EXPECT_EQ(open_error(p), "no error");
+}
+
 TEST(Safetensors, OverflowingShapesAndTruncationWhileMappedAreSafe) {
   test::TempDir dir;
   const auto p = dir / "t.safetensors";

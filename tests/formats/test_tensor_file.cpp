@@ -1,5 +1,7 @@
+#include <chrono>
 #include <cstring>
 #include <fstream>
+#include <tuple>
 
 #include <gtest/gtest.h>
 
@@ -7,6 +9,7 @@
 #include "formats/rgl_bsdf.h"
 #include "formats/tensor_file.h"
 #include "rgl_test_files.h"
+#include "support/error_of.h"
 #include "support/temp_dir.h"
 
 namespace matlas {
@@ -101,6 +104,105 @@ TEST(TensorFile, DuplicateFieldNamesAreRejected) {
   const std::uint8_t one[1] = {1};
   const auto bytes = serialize_tensor_file({uint8_field("a", {1}, one), uint8_field("a", {1}, one)});
   EXPECT_NE(parse_error(bytes).find("two fields named 'a'"), std::string::npos);
+}
+
+/// A header of one field (name, dtype code, offset, shape) and nothing else.
+std::vector<std::byte> header_only(const std::vector<std::tuple<std::string, std::uint8_t, std::uint64_t,
+                                                                std::vector<std::uint64_t>>>& fields) {
+  std::vector<std::byte> out;
+  auto put = [&out](const void* p, std::size_t n) {
+    out.insert(out.end(), static_cast<const std::byte*>(p), static_cast<const std::byte*>(p) + n);
+  };
+  put("tensor_file", 12);
+  const std::uint8_t version[2] = {1, 0};
+  put(version, 2);
+  const auto count = static_cast<std::uint32_t>(fields.size());
+  put(&count, 4);
+  for (const auto& [name, type, offset, shape] : fields) {
+    const auto length = static_cast<std::uint16_t>(name.size());
+    put(&length, 2);
+    put(name.data(), name.size());
+    const auto rank = static_cast<std::uint16_t>(shape.size());
+    put(&rank, 2);
+    put(&type, 1);
+    put(&offset, 8);
+    put(shape.data(), 8 * shape.size());
+  }
+  return out;
+}
+
+TEST(TensorFile, HugeSparseFilesAreRefusedBeforeTheirDataIsRead) {
+  // 2 GiB of apparent size, a few bytes on disk: one float32 field of 2^29 values. Used to be
+  // read whole (minutes, several GiB of memory) before anything was refused.
+  test::TempDir dir;
+  const auto header = header_only({{"rgb", 10, 64, {std::uint64_t{1} << 29}}});
+  {
+    std::ofstream out(dir / "sparse.bsdf", std::ios::binary);
+    out.write(reinterpret_cast<const char*>(header.data()), static_cast<std::streamsize>(header.size()));
+  }
+  std::filesystem::resize_file(dir / "sparse.bsdf", 64 + (std::uint64_t{1} << 31));
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    TensorFile::read(dir / "sparse.bsdf");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("sparse.bsdf: 2147483712 bytes: larger than any RGL tensor file (.bsdf) "
+                                         "could be (at most 1024 MiB are read)"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(2));
+}
+
+TEST(TensorFile, ShapesAreBoundedByTheFileAndFieldsMayNotShareBytes) {
+  // A zero extent used to hide any other: [0, 2^62] passed as 0 values.
+  auto bytes = header_only({{"a", 1, 64, {0, std::uint64_t{1} << 62}}});
+  bytes.resize(128);
+  EXPECT_NE(parse_error(bytes).find("x.bsdf: invalid tensor file: field 'a' has an absurd shape uint8 [0, "
+                                    "4611686018427387904] for a file of 128 bytes"),
+            std::string::npos)
+      << parse_error(bytes);
+  // Four fields of 4 KiB over the same 4 KiB: 16 KiB of memory from a 4 KiB file (and 4096 such
+  // fields, 16 MiB from 4 KiB).
+  bytes = header_only({{"a", 1, 256, {4096}}, {"b", 1, 256, {4096}}, {"c", 1, 256, {4096}}, {"d", 1, 256, {4096}}});
+  bytes.resize(256 + 4096);
+  EXPECT_NE(parse_error(bytes).find("x.bsdf: invalid tensor file: its fields claim 16384 bytes of data, more than the"),
+            std::string::npos)
+      << parse_error(bytes);
+  bytes = header_only({{"a", 1, 256, {4096}}});
+  bytes.resize(256 + 4096);
+  EXPECT_EQ(parse_error(bytes), "no error");
+}
+
+TEST(TensorFile, HeadersLongerThanTheFirstReadAreReadWhole) {
+  // The header is read from the file's first 64 KiB, and more when it goes on: two names of
+  // 60000 bytes make a header of 120 KiB.
+  const std::uint8_t one[1] = {7};
+  const std::vector<TensorField> fields{uint8_field(std::string(60000, 'a'), {1}, one),
+                                        uint8_field(std::string(60000, 'b'), {1}, one)};
+  test::TempDir dir;
+  write_tensor_file(dir / "long.bsdf", fields);
+  const TensorFile f = TensorFile::read(dir / "long.bsdf");
+  ASSERT_EQ(f.fields().size(), 2u);
+  EXPECT_EQ(static_cast<int>(f.field(std::string(60000, 'b')).data.at(0)), 7);
+  // A header cut inside its second name, past the first 64 KiB: truncated (fields of no data
+  // at offset 0, so that the cut is found in the header and not past a field's data).
+  const auto header = header_only({{std::string(60000, 'a'), 1, 0, {0}}, {std::string(60000, 'b'), 1, 0, {0}}});
+  auto cut = header;
+  cut.resize(90000);
+  {
+    std::ofstream out(dir / "cut.bsdf", std::ios::binary);
+    out.write(reinterpret_cast<const char*>(cut.data()), static_cast<std::streamsize>(cut.size()));
+  }
+  const std::string e = test::error_of([&] { TensorFile::read(dir / "cut.bsdf"); });
+  EXPECT_NE(e.find("cut.bsdf: truncated tensor file: the header ends inside a field name (90000 bytes)"),
+            std::string::npos)
+      << e.substr(0, 300);
+  {
+    std::ofstream out(dir / "whole.bsdf", std::ios::binary);
+    out.write(reinterpret_cast<const char*>(header.data()), static_cast<std::streamsize>(header.size()));
+  }
+  EXPECT_EQ(TensorFile::read(dir / "whole.bsdf").fields().size(), 2u);
 }
 
 TEST(TensorFile, MissingFileAndDirectory) {

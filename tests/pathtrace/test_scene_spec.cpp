@@ -1,0 +1,93 @@
+// JSON scene files against hostile values: wrong types and absurd magnitudes are matlas::Errors
+// naming the file and the key, before anything reaches Embree.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "core/atomic_file.h"
+#include "pathtrace/scene_spec.h"
+#include "pathtrace/world.h"
+#include "support/error_of.h"
+#include "support/temp_dir.h"
+
+namespace matlas::pathtrace {
+namespace {
+
+using nlohmann::json;
+
+json minimal_scene() {
+  return {{"camera", {{"position", {0, 1, 5}}, {"target", {0, 0, 0}}, {"fov", 40}}},
+          {"objects", json::array({{{"shape", "sphere"}, {"material", {{"type", "measured"}}}},
+                                   {{"shape", "quad"}, {"corner", {-2, -1, -2}}, {"edge1", {0, 0, 4}},
+                                    {"edge2", {4, 0, 0}}}})}};
+}
+
+/// The error of parsing the minimal scene edited by `edit`, as file "s.json".
+template <class Edit>
+std::string error_with(Edit edit) {
+  json j = minimal_scene();
+  edit(j);
+  return test::error_of([&] { parse_scene(j, "s.json"); });
+}
+
+TEST(SceneSpec, WrongTypesNameTheFileAndTheKey) {
+  // Each used to escape as nlohmann's "[json.exception.type_error.302] type must be string, but
+  // is number", naming neither the file nor the key (printed as an internal error).
+  EXPECT_EQ(error_with([](json& j) { j["name"] = 5; }), "s.json: name must be a string");
+  EXPECT_EQ(error_with([](json& j) { j["objects"][0]["shape"] = 1.5; }), "s.json: objects[0].shape must be a string");
+  EXPECT_EQ(error_with([](json& j) { j["objects"][1]["material"] = {{"type", json::array()}}; }),
+            "s.json: objects[1].material.type must be a string");
+  EXPECT_EQ(error_with([](json& j) { j["objects"][0]["mesh"] = true; }), "s.json: objects[0].mesh must be a string");
+  EXPECT_EQ(error_with([](json& j) { j["environment"] = {{"map", 3}}; }), "s.json: environment.map must be a string");
+  EXPECT_EQ(error_with([](json& j) { j["camera"]["fov"] = "wide"; }), "s.json: camera.fov must be a number");
+  EXPECT_EQ(error_with([](json& j) { j["objects"][0]["radius"] = json::object(); }),
+            "s.json: objects[0].radius must be a number");
+  EXPECT_EQ(error_with([](json& j) { j["objects"][1]["corner"] = "here"; }),
+            "s.json: objects[1].corner must be an array of 3 numbers");
+  EXPECT_EQ(error_with([](json& j) { j["objects"][0] = 7; }), "s.json: objects[0] must be an object");
+  EXPECT_EQ(error_with([](json& j) { j["camera"] = json::array(); }), "s.json: camera must be an object");
+}
+
+TEST(SceneSpec, AbsurdMagnitudesAreRefusedNamingTheKey) {
+  // A camera at 1e308 reached Embree as infinities (float) and tripped its assertion: SIGABRT.
+  EXPECT_EQ(error_with([](json& j) { j["camera"]["position"] = {1e308, 0, 0}; }),
+            "s.json: camera.position must have coordinates within +-1000000");
+  EXPECT_EQ(error_with([](json& j) { j["camera"]["target"] = {0, -1e308, 0}; }),
+            "s.json: camera.target must have coordinates within +-1000000");
+  EXPECT_EQ(error_with([](json& j) { j["objects"][0]["center"] = {0, 0, 2e6}; }),
+            "s.json: objects[0].center must have coordinates within +-1000000");
+  EXPECT_EQ(error_with([](json& j) { j["objects"][1]["edge2"] = {1e300, 0, 0}; }),
+            "s.json: objects[1].edge2 must have coordinates within +-1000000");
+  EXPECT_EQ(error_with([](json& j) { j["objects"][0]["radius"] = 1e300; }),
+            "s.json: objects[0].radius must be in [0, 1000000]");
+  EXPECT_EQ(error_with([](json& j) { j["objects"][0]["rest_on"] = -1e20; }),
+            "s.json: objects[0].rest_on must be in [-1000000, 1000000]");
+  EXPECT_EQ(error_with([](json& j) { j["environment"] = {{"intensity", 1e308}}; }),
+            "s.json: environment.intensity must be in [0, 1000000]");
+  // A degenerate look-at: the target within 1e-6 of the position (a difference that is 0, or
+  // that underflows when normalised).
+  EXPECT_EQ(error_with([](json& j) { j["camera"]["target"] = {0, 1, 5 + 1e-9}; }),
+            "s.json: camera.target must differ from camera.position (by 1e-6 at least)");
+  // At the limits, the scene parses and Embree builds it.
+  json j = minimal_scene();
+  j["camera"]["position"] = {1e6, -1e6, 1e6};
+  j["objects"][0]["center"] = {-1e6, 0, 0};
+  j["objects"][0]["radius"] = 1e6;
+  const SceneSpec spec = parse_scene(j, "s.json");
+  const World world(spec);
+  EXPECT_TRUE(world.intersect(Vec3(-1e6, 0, 5e6), Vec3(0, 0, -1)).has_value());
+}
+
+TEST(SceneSpec, SceneFilesNameThemselvesInErrors) {
+  const test::TempDir dir("matlas-scene-spec");
+  json j = minimal_scene();
+  j["camera"]["position"] = {0, 1e308, 0};
+  write_file_atomic(dir / "far.json", j.dump());
+  const std::string e = test::error_of([&] { load_scene((dir / "far.json").string()); });
+  EXPECT_EQ(e, (dir / "far.json").string() + ": camera.position must have coordinates within +-1000000");
+}
+
+}  // namespace
+}  // namespace matlas::pathtrace
