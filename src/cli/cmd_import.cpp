@@ -9,6 +9,7 @@
 #include "cli/commands.h"
 #include "cli/print.h"
 #include "core/error.h"
+#include "core/file_io.h"
 #include "formats/merl_file.h"
 #include "formats/rgl_bsdf.h"
 
@@ -41,6 +42,9 @@ void run_import(const ImportArgs& a, const Io& io) {
     sources.push_back(std::move(b));
   }
   const fs::path dir(a.output);
+  // An output that is one of the inputs (through a link): refused before anything is written.
+  const std::vector<fs::path> input_paths(a.inputs.begin(), a.inputs.end());
+  for (const RglBsdf& b : sources) refuse_output_among_inputs(dir / (b.path().stem().string() + ".binary"), input_paths);
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (!fs::is_directory(dir)) throw file_error(dir, "cannot create the output folder");

@@ -37,5 +37,21 @@ TEST(CliImport, WritesOnlyTablesTheMerlReaderAccepts) {
   EXPECT_FALSE(std::filesystem::exists(dir / "out" / "bright.binary"));
 }
 
+TEST(CliImport, RefusesAnOutputThatIsItsInputThroughALink) {
+  const test::TempDir dir("matlas-cli-import-link");
+  test::SyntheticRgl plain;
+  std::filesystem::create_directories(dir / "out");
+  write_tensor_file(dir / "out" / "a.bin", plain.fields());
+  // a.bsdf (the input) is a hard link to out/a.binary, which import would write.
+  std::filesystem::create_hard_link(dir / "out" / "a.bin", dir / "a.bsdf");
+  std::filesystem::rename(dir / "out" / "a.bin", dir / "out" / "a.binary");
+  const auto before = std::filesystem::file_size(dir / "a.bsdf");
+  const test::CliOutput r =
+      test::call_matlas({"import", (dir / "a.bsdf").string(), "-o", (dir / "out").string(), "--no-check"});
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.err.find("a.binary"), std::string::npos) << r.err;
+  EXPECT_EQ(std::filesystem::file_size(dir / "a.bsdf"), before);  // the input is intact
+}
+
 }  // namespace
 }  // namespace matlas
