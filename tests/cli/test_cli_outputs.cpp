@@ -34,17 +34,17 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
+struct OutputsRun {
   int code = -1;
   std::string out;  ///< stdout and stderr
 };
 
-Result run(const std::vector<std::string>& args) {
+OutputsRun run_matlas(const std::vector<std::string>& args) {
   const test::CliOutput r = test::call_matlas(args);
   return {r.code, r.out + r.err};
 }
 
-std::string bytes_of(const fs::path& p) {
+std::string file_bytes_of(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
@@ -56,11 +56,11 @@ protected:
   static void SetUpTestSuite() {
     dir_ = new test::TempDir("matlas-cli-outputs");
     write_database(dir_->path() / "db", random_catalog(5, 3), null_progress(), MerlDims{8, 8, 16});
-    const Result r = run({"build", (dir_->path() / "db").string(), "-o", model().string(), "--quiet", "--dim", "2"});
+    const OutputsRun r = run_matlas({"build", (dir_->path() / "db").string(), "-o", model().string(), "--quiet", "--dim", "2"});
     ASSERT_EQ(r.code, 0) << r.out;
     const std::vector<std::string> gi = {"gi-basis", model().string(), "--scene", "box", "--width", "4", "--height",
                                          "3", "--spp", "1", "-o", gi_basis().string()};
-    ASSERT_EQ(run(gi).code, 0);
+    ASSERT_EQ(run_matlas(gi).code, 0);
     std::ofstream(scene()) << pathtrace::scene_to_json(pathtrace::load_scene("box", "sphere")).dump();
   }
   static void TearDownTestSuite() { delete dir_; }
@@ -112,7 +112,7 @@ TEST_F(CliOutputs, NoCommandWritesOverOneOfItsInputs) {
       {first_material(), {"build", (dir_->path() / "db").string(), "--quiet", "-o", "OUT"}},
   };
   for (const Case& c : cases) {
-    const std::string before = bytes_of(c.input);
+    const std::string before = file_bytes_of(c.input);
     const fs::path symlink = t.path() / ("link" + c.input.extension().string());
     const fs::path hardlink = t.path() / ("hard" + c.input.extension().string());
     fs::remove(symlink);
@@ -122,10 +122,10 @@ TEST_F(CliOutputs, NoCommandWritesOverOneOfItsInputs) {
     for (const fs::path& out : {c.input, symlink, hardlink}) {
       std::vector<std::string> args = c.args;
       std::replace(args.begin(), args.end(), std::string("OUT"), out.string());
-      const Result r = run(args);
+      const OutputsRun r = run_matlas(args);
       EXPECT_EQ(r.code, 1) << args[0] << " -o " << out << ": " << r.out;
       EXPECT_CONTAINS(r.out, "is one of the inputs");
-      EXPECT_EQ(bytes_of(c.input), before) << args[0] << " -o " << out << " changed " << c.input;
+      EXPECT_EQ(file_bytes_of(c.input), before) << args[0] << " -o " << out << " changed " << c.input;
     }
   }
   EXPECT_NO_THROW(Model::open(model()));
@@ -134,7 +134,7 @@ TEST_F(CliOutputs, NoCommandWritesOverOneOfItsInputs) {
 TEST_F(CliOutputs, GalleryRefusesAKeyThatIsItsPicture) {
   test::TempDir t;
   const std::string png = (t.path() / "g.png").string();
-  const Result r = run({"gallery", model().string(), "--env", "constant", "--random", "1", "--real", "1", "--width",
+  const OutputsRun r = run_matlas({"gallery", model().string(), "--env", "constant", "--random", "1", "--real", "1", "--width",
                         "4", "--height", "3", "--spp", "1", "-o", png, "--key", png});
   EXPECT_EQ(r.code, 1) << r.out;
   EXPECT_CONTAINS(r.out, "is the output picture");
@@ -148,9 +148,9 @@ TEST_F(CliOutputs, ASymlinkPlantedAtTheTemporaryNameIsNotFollowed) {
   const fs::path victim = t.path() / "victim.txt", out = t.path() / "z.safetensors";
   std::ofstream(victim) << "precious";
   fs::create_symlink(victim, out.string() + ".tmp-" + std::to_string(::getpid()));  // in-process: our pid
-  const Result r = run({"zonal", model().string(), "--bands", "2", "--theta-o", "4", "-o", out.string()});
+  const OutputsRun r = run_matlas({"zonal", model().string(), "--bands", "2", "--theta-o", "4", "-o", out.string()});
   ASSERT_EQ(r.code, 0) << r.out;
-  EXPECT_EQ(bytes_of(victim), "precious");
+  EXPECT_EQ(file_bytes_of(victim), "precious");
   EXPECT_TRUE(fs::is_regular_file(fs::symlink_status(out)));
   EXPECT_GT(fs::file_size(out), 0u);
 }
@@ -184,7 +184,7 @@ TEST_F(CliOutputs, NoOutputIsCommittedFromAModelTruncatedWhileItWasRead) {
              {"map", model().string(), "--size", "16", "-o", out.string() + ".png"},
              {"gi", model().string(), "--at", "0,0", "--basis", gi_basis().string(), "-o", out.string() + ".exr"},
              {"weights", model().string(), "--at", "0,0"}}) {
-      const Result r = run(args);
+      const OutputsRun r = run_matlas(args);
       EXPECT_EQ(r.code, 1) << args[0] << ": " << r.out;
       EXPECT_CONTAINS(r.out, victim.string() + ": the file changed or was truncated while it was read");
       for (const char* ext : {".safetensors", ".png", ".exr"})
@@ -192,7 +192,7 @@ TEST_F(CliOutputs, NoOutputIsCommittedFromAModelTruncatedWhileItWasRead) {
     }
   }
   // Once the damaged mapping is closed before a command starts, nothing of it remains.
-  const Result r = run({"weights", model().string(), "--at", "0,0"});
+  const OutputsRun r = run_matlas({"weights", model().string(), "--at", "0,0"});
   EXPECT_EQ(r.code, 0) << r.out;
 }
 
@@ -211,7 +211,7 @@ TEST(CliTruncation, AModelTruncatedDuringACommandGivesNoOutput) {
   write_database(t.path() / "db", random_catalog(3, 5), null_progress(), MerlDims{90, 90, 180});
   const fs::path built = t.path() / "built.matlas", model = t.path() / "m.matlas", out = t.path() / "z.safetensors",
                  log = t.path() / "log.txt";
-  ASSERT_EQ(run({"build", (t.path() / "db").string(), "-o", built.string(), "--quiet", "--dim", "1"}).code, 0);
+  ASSERT_EQ(run_matlas({"build", (t.path() / "db").string(), "-o", built.string(), "--quiet", "--dim", "1"}).code, 0);
   bool mid_command = false;
   // The truncation must land after the model was opened (else the open refuses the file, which
   // proves nothing here): waited for, then retried later if it came too early.
@@ -232,7 +232,7 @@ TEST(CliTruncation, AModelTruncatedDuringACommandGivesNoOutput) {
     fs::resize_file(model, fs::file_size(model) / 4);
     int status = 0;
     ::waitpid(pid, &status, 0);
-    const std::string text = bytes_of(log);
+    const std::string text = file_bytes_of(log);
     ASSERT_TRUE(WIFEXITED(status)) << text;
     EXPECT_NE(WEXITSTATUS(status), 0) << "a truncated model gave an answer: " << text;
     EXPECT_FALSE(fs::exists(out)) << text;
@@ -271,7 +271,7 @@ TEST_F(CliOutputs, MetadataNestedTooDeepIsRefusedOnOpen) {
        {std::vector<std::string>{"latent", crafted.string()},
         std::vector<std::string>{"gi-basis", crafted.string(), "--scene", "box", "--width", "4", "--height", "3",
                                  "--spp", "1", "-o", (t.path() / "b.safetensors").string()}}) {
-    const Result r = run(args);
+    const OutputsRun r = run_matlas(args);
     EXPECT_EQ(r.code, 1) << args[0] << ": " << r.out;
     EXPECT_CONTAINS(r.out, crafted.string() + ": corrupted model metadata: JSON nested more than 64 levels deep");
   }
@@ -283,7 +283,7 @@ TEST_F(CliOutputs, APermutedGridIsRefusedOnOpenAndNeverBuilt) {
   for (const auto& grid : {std::vector<int>{16, 8, 8}, std::vector<int>{8, 16, 8}}) {
     fs::copy_file(model(), crafted, fs::copy_options::overwrite_existing);
     test::edit_model_metadata(crafted, [&](nlohmann::json& meta) { meta["grid"] = grid; });
-    const Result r = run({"latent", crafted.string()});
+    const OutputsRun r = run_matlas({"latent", crafted.string()});
     EXPECT_EQ(r.code, 1) << r.out;
     EXPECT_CONTAINS(r.out, "crafted.matlas: corrupted model metadata: 'grid' [" + std::to_string(grid[0]) + ", " +
                                std::to_string(grid[1]) + ", " + std::to_string(grid[2]) +
@@ -293,7 +293,7 @@ TEST_F(CliOutputs, APermutedGridIsRefusedOnOpenAndNeverBuilt) {
   // reader opens).
   write_database(t.path() / "db", random_catalog(4, 7), null_progress(), MerlDims{8, 8, 12});
   const fs::path out = t.path() / "m.matlas";
-  const Result r = run({"build", (t.path() / "db").string(), "-o", out.string(), "--quiet"});
+  const OutputsRun r = run_matlas({"build", (t.path() / "db").string(), "-o", out.string(), "--quiet"});
   EXPECT_EQ(r.code, 1) << r.out;
   EXPECT_CONTAINS(r.out, "a model needs phi_d = 2 theta_d");
   EXPECT_FALSE(fs::exists(out));

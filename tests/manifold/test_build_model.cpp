@@ -185,9 +185,11 @@ TEST(BuildModel, IsDeterministicAndIndependentOfBlockSize) {
   EXPECT_LT((a.gram() - b.gram()).norm(), 1e-12 * a.gram().norm());
   // ...and the optimiser, stopping at a relative tolerance, lands on the same optimum (the
   // layout's Gram comes from single-precision slices, whose sums differ by about 1e-7 between
-  // block sizes, so the likelihood agrees to about 1e-6, not to double rounding).
+  // block sizes, so the likelihood agrees to about 1e-6 to 1e-5, not to double rounding: the
+  // sanitizer build on an AMD EPYC VM (other vector kernels) read 1.7e-5, with the latent
+  // distances below still within 1e-2).
   EXPECT_NEAR(a.metadata()["log_likelihood"].get<double>(), b.metadata()["log_likelihood"].get<double>(),
-              1e-5 * std::abs(a.metadata()["log_likelihood"].get<double>()));
+              1e-4 * std::abs(a.metadata()["log_likelihood"].get<double>()));
   for (int i = 0; i < 8; ++i)
     for (int j = 0; j < i; ++j)
       EXPECT_NEAR((a.latent().row(i) - a.latent().row(j)).norm(), (b.latent().row(i) - b.latent().row(j)).norm(), 1e-2);
