@@ -174,6 +174,31 @@ Reply Api::preview(const std::string& body) {
   return r;
 }
 
+Reply Api::preview_refine(const std::string& body) {
+  const auto j = parse_json_object(body);
+  const Eigen::VectorXd x = parse_latent(j, "x", domain_);
+  const std::string env = parse_choice(j, "env", envs_, previews_->default_environment());
+  const std::string object = parse_choice(j, "object", objects_, previews_->default_object());
+  const double seconds = parse_number(j, "seconds", 0.05, 5.0, 0.5);
+  PreviewSource::Refined refined;
+  {
+    auto slot = acquire(compute_);
+    refined = previews_->refine(model_.weights(x), point_key(x), env, object, seconds);
+  }
+  Reply r = Reply::bytes(encode_png_fast(refined.image, previews_->tone()), kPng);
+  const auto& st = refined.state;
+  char error[32];
+  std::snprintf(error, sizeof error, "%.6g", st.relative_error);
+  char secs[32];
+  std::snprintf(secs, sizeof secs, "%.3f", st.seconds);
+  r.headers.emplace_back("Cache-Control", "no-store");
+  r.headers.emplace_back("X-Matlas-Spp", std::to_string(st.spp));
+  r.headers.emplace_back("X-Matlas-Error", std::isfinite(st.relative_error) ? error : "unknown");
+  r.headers.emplace_back("X-Matlas-Converged", st.converged ? "1" : "0");
+  r.headers.emplace_back("X-Matlas-Seconds", secs);
+  return r;
+}
+
 Reply Api::thumbnail(int index, const std::string& env, const std::string& object, int size) {
   if (index < 0 || index >= model_.count())
     throw HttpError(404, "no material " + std::to_string(index) + " (the model has " +

@@ -38,6 +38,9 @@ public:
   Reply model_info() const;
   /// POST /api/preview {"x", "env", "object", "size"} -> PNG
   Reply preview(const std::string& body);
+  /// POST /api/preview/refine {"x", "env", "object", "seconds"} -> PNG of the point refined for
+  /// about `seconds` more (X-Matlas-Spp, X-Matlas-Error, X-Matlas-Converged, X-Matlas-Seconds)
+  Reply preview_refine(const std::string& body);
   /// GET /api/thumbnail/INDEX?env=&object=&size= -> PNG
   Reply thumbnail(int index, const std::string& env, const std::string& object, int size);
   /// POST /api/weights {"x", "top"}
