@@ -164,6 +164,7 @@ std::string Api::preview_png(const Eigen::VectorXd& w, const std::string& key, c
 }
 
 Reply Api::preview(const std::string& body) {
+  preview_generations_.advance(request_client());
   const auto j = parse_json_object(body);
   const Eigen::VectorXd x = parse_latent(j, "x", domain_);
   const std::string env = parse_choice(j, "env", envs_, previews_->default_environment());
@@ -180,10 +181,18 @@ Reply Api::preview_refine(const std::string& body) {
   const std::string env = parse_choice(j, "env", envs_, previews_->default_environment());
   const std::string object = parse_choice(j, "object", objects_, previews_->default_object());
   const double seconds = parse_number(j, "seconds", 0.05, 5.0, 0.5);
+  // A newer preview request from the same client (the pointer moved) cancels the pass under
+  // way: the refinement stays as it was and this request gets 409.
+  const std::string client = request_client();
+  const std::uint64_t generation = preview_generations_.current(client);
+  SupersededSink superseded(preview_generations_, client, generation);
   PreviewSource::Refined refined;
-  {
+  try {
     auto slot = acquire(compute_);
-    refined = previews_->refine(model_.weights(x), point_key(x), env, object, seconds);
+    superseded.update("queued", 0, 1);
+    refined = previews_->refine(model_.weights(x), point_key(x), env, object, seconds, superseded);
+  } catch (const SupersededSink::Superseded&) {
+    throw HttpError(409, "superseded by a newer preview request");
   }
   Reply r = Reply::bytes(encode_png_fast(refined.image, previews_->tone()), kPng);
   const auto& st = refined.state;

@@ -15,6 +15,7 @@
 #include "server/atlas_server.h"
 #include "server/compute_gate.h"
 #include "server/png_cache.h"
+#include "server/preview_generations.h"
 #include "server/realtime.h"
 #include "server/request_parsing.h"
 
@@ -100,6 +101,7 @@ private:
   ComputeGate compute_;
   ComputeGate heavy_;
   PngCache cache_;
+  PreviewGenerations preview_generations_;
   std::unique_ptr<Realtime> realtime_;
   std::shared_ptr<const GiScenes> gi_;
 };

@@ -217,7 +217,7 @@ struct BasisPreviews::Impl {
 
 BasisPreviews::Refined BasisPreviews::refine(const Eigen::VectorXd& w, const std::string& point,
                                              const std::string& environment, const std::string& object,
-                                             double seconds) const {
+                                             double seconds, ProgressSink& progress) const {
   auto& im = *impl_;
   if (std::find(im.envs.begin(), im.envs.end(), environment) == im.envs.end() ||
       std::find(im.objects.begin(), im.objects.end(), object) == im.objects.end())
@@ -263,7 +263,7 @@ BasisPreviews::Refined BasisPreviews::refine(const Eigen::VectorXd& w, const std
     drop_least_used(im.refinements, static_cast<std::size_t>(std::max(1, im.options.max_refinements)));
     drop_least_used(im.scenes, 2);
   }
-  CancellableSink sink(null_progress(), im.stop);
+  CancellableSink sink(progress, im.stop);
   try {
     const render::ProgressiveState state = refinement->refine(seconds, sink);
     return Refined{refinement->image(), state};

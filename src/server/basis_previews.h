@@ -67,7 +67,7 @@ public:
   Image render(const Eigen::VectorXd& w, const std::string& environment, const std::string& object,
                int size) const override;
   Refined refine(const Eigen::VectorXd& w, const std::string& point, const std::string& environment,
-                 const std::string& object, double seconds) const override;
+                 const std::string& object, double seconds, ProgressSink& progress = null_progress()) const override;
 
 private:
   struct Impl;

@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 
+#include "core/progress.h"
 #include "formats/image_io.h"
 #include "render/progressive_render.h"
 #include "server/http_error.h"
@@ -38,11 +39,12 @@ public:
     render::ProgressiveState state;
   };
   /// Refines the image of the point `point` (a key: the same key, the same refinement; its
-  /// weights are w) for about `seconds` more and returns it. Sources without refinement answer
-  /// 404; unknown scenes 400.
+  /// weights are w) for about `seconds` more and returns it. `progress` hears every row of a
+  /// pass and may throw to cancel it (the refinement then stays as it was). Sources without
+  /// refinement answer 404; unknown scenes 400.
   virtual Refined refine(const Eigen::VectorXd& /*w*/, const std::string& /*point*/,
                          const std::string& /*environment*/, const std::string& /*object*/,
-                         double /*seconds*/) const {
+                         double /*seconds*/, ProgressSink& /*progress*/ = null_progress()) const {
     throw HttpError(404, "this server does not refine previews");
   }
 };
