@@ -64,21 +64,19 @@ void ProgressiveRender::add_pass(const Image& pass, int spp, double seconds) {
 void ProgressiveRender::update_error() {
   const double a = half_spp_[0], b = half_spp_[1];
   if (a == 0 || b == 0) return;
-  double squares = 0, mean = 0;
-  std::size_t count = 0;
+  double squares = 0, signal = 0;
   for (std::size_t p = 0; p < object_.size(); ++p) {
     if (!object_[p]) continue;
     for (std::size_t c = 0; c < 3; ++c) {
       const std::size_t i = p * 3 + c;
       const double d = sum_[0][i] / a - sum_[1][i] / b;
+      const double mean = (sum_[0][i] + sum_[1][i]) / (a + b);
       squares += d * d;
-      mean += sum_[0][i] + sum_[1][i];
+      signal += mean * mean;
     }
-    count += 3;
   }
-  mean /= (a + b) * static_cast<double>(count);
-  const double variance = squares / static_cast<double>(count) * a * b / ((a + b) * (a + b));
-  state_.relative_error = mean > 0 ? std::sqrt(variance) / mean : (variance > 0 ? std::numeric_limits<double>::infinity() : 0.0);
+  const double variance = squares * a * b / ((a + b) * (a + b));
+  state_.relative_error = signal > 0 ? std::sqrt(variance / signal) : (variance > 0 ? std::numeric_limits<double>::infinity() : 0.0);
   state_.converged = state_.spp >= settings_.max_spp ||
                      (state_.spp >= settings_.min_converged_spp && state_.relative_error <= settings_.target_error);
 }

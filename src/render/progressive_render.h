@@ -10,9 +10,10 @@
 //
 //     Var(mean) = Var(A - B) a b / (a + b)^2,   Var(A - B) estimated by (A - B)^2,
 //
-// averaged over the pixels that see only the object; `relative_error` is the root of that mean
-// over the object's mean value (the RMS error of the image inside the object relative to its
-// mean, the preview's convergence measure). Pass sizes are powers of two (the stratified
+// summed over the pixels that see only the object; `relative_error` is the root of that sum over
+// the sum of the squared mean: the RMS error of the image inside the object relative to its RMS
+// value there (the normalisation of docs/RENDERING.md's noise figures; relative to the plain mean,
+// a small bright highlight, which tone mapping saturates, would dominate the figure). Pass sizes are powers of two (the stratified
 // sampler's points stay balanced) chosen from the time the passes so far took, so that one call
 // of refine() stays within its time.
 #include <limits>

@@ -44,20 +44,18 @@ ProgressiveSettings small(int side, int first_spp, std::uint64_t seed = 1) {
   return s;
 }
 
-/// RMS over the object's pixels and channels of (a - b), relative to b's mean there.
+/// RMS over the object's pixels and channels of (a - b), relative to b's RMS there.
 double relative_rms(const Image& a, const Image& b, const std::vector<bool>& object) {
-  double squares = 0, mean = 0;
-  std::size_t count = 0;
+  double squares = 0, signal = 0;
   for (std::size_t p = 0; p < object.size(); ++p) {
     if (!object[p]) continue;
     for (std::size_t c = 0; c < 3; ++c) {
       const double d = static_cast<double>(a.rgb[3 * p + c]) - b.rgb[3 * p + c];
       squares += d * d;
-      mean += b.rgb[3 * p + c];
-      ++count;
+      signal += static_cast<double>(b.rgb[3 * p + c]) * b.rgb[3 * p + c];
     }
   }
-  return std::sqrt(squares / static_cast<double>(count)) / (mean / static_cast<double>(count));
+  return std::sqrt(squares / signal);
 }
 
 TEST(ProgressiveRender, ConvergesToTheFurnaceImage) {
