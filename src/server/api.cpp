@@ -175,24 +175,36 @@ Reply Api::preview(const std::string& body) {
   return r;
 }
 
+Reply Api::preview_status(const std::string& env_text, const std::string& object_text) const {
+  const nlohmann::json j = {{"env", env_text.empty() ? nlohmann::json() : nlohmann::json(env_text)},
+                            {"object", object_text.empty() ? nlohmann::json() : nlohmann::json(object_text)}};
+  const std::string env = parse_choice(j, "env", envs_, previews_->default_environment());
+  const std::string object = parse_choice(j, "object", objects_, previews_->default_object());
+  const PreviewSource::SceneStatus s = previews_->status(env, object);
+  nlohmann::json reply = {{"env", env}, {"object", object}, {"ready", s.ready}, {"progress", s.progress},
+                          {"stage", s.stage}, {"seconds", s.seconds}};
+  if (s.seconds_left >= 0) reply["seconds_left"] = s.seconds_left;
+  if (!s.error.empty()) reply["error"] = s.error;
+  Reply r = Reply::json(reply);
+  r.headers.emplace_back("Cache-Control", "no-store");
+  return r;
+}
+
 Reply Api::preview_refine(const std::string& body) {
   const auto j = parse_json_object(body);
   const Eigen::VectorXd x = parse_latent(j, "x", domain_);
   const std::string env = parse_choice(j, "env", envs_, previews_->default_environment());
   const std::string object = parse_choice(j, "object", objects_, previews_->default_object());
   const double seconds = parse_number(j, "seconds", 0.05, 5.0, 0.5);
-  // A newer preview request from the same client (the pointer moved) cancels the pass under
-  // way: the refinement stays as it was and this request gets 409.
+  // A newer preview request from the same client (the pointer moved, or the scene's basis image
+  // arrived) stops the pass under way: the answer is the refinement as it was, marked
+  // X-Matlas-Interrupted (200: an expected event, not an error).
   const std::string client = request_client();
-  const std::uint64_t generation = preview_generations_.current(client);
-  SupersededSink superseded(preview_generations_, client, generation);
+  SupersededSink superseded(preview_generations_, client, preview_generations_.current(client));
   PreviewSource::Refined refined;
-  try {
+  {
     auto slot = acquire(compute_);
-    superseded.update("queued", 0, 1);
     refined = previews_->refine(model_.weights(x), point_key(x), env, object, seconds, superseded);
-  } catch (const SupersededSink::Superseded&) {
-    throw HttpError(409, "superseded by a newer preview request");
   }
   Reply r = Reply::bytes(encode_png_fast(refined.image, previews_->tone()), kPng);
   const auto& st = refined.state;
@@ -205,6 +217,7 @@ Reply Api::preview_refine(const std::string& body) {
   r.headers.emplace_back("X-Matlas-Error", std::isfinite(st.relative_error) ? error : "unknown");
   r.headers.emplace_back("X-Matlas-Converged", st.converged ? "1" : "0");
   r.headers.emplace_back("X-Matlas-Seconds", secs);
+  if (refined.interrupted) r.headers.emplace_back("X-Matlas-Interrupted", "1");
   return r;
 }
 

@@ -39,6 +39,9 @@ public:
   Reply model_info() const;
   /// POST /api/preview {"x", "env", "object", "size"} -> PNG
   Reply preview(const std::string& body);
+  /// GET /api/preview/status?env=&object=: whether the scene's previews are ready, else how far
+  /// their preparation got (starts it; never 503)
+  Reply preview_status(const std::string& env, const std::string& object) const;
   /// POST /api/preview/refine {"x", "env", "object", "seconds"} -> PNG of the point refined for
   /// about `seconds` more (X-Matlas-Spp, X-Matlas-Error, X-Matlas-Converged, X-Matlas-Seconds)
   Reply preview_refine(const std::string& body);
