@@ -16,6 +16,7 @@
 #include "manifold/model_metadata.h"
 #include "manifold/project.h"
 #include "pathtrace/gi_basis.h"
+#include "render/auto_exposure.h"
 #include "server/gi_scenes.h"
 #include "server/http_error.h"
 #include "server/preview_source.h"
@@ -432,13 +433,31 @@ Reply Api::reference_reply(const std::string& body, bool radiance) {
   return r;
 }
 
-Reply Api::gi(const std::string& scene_text, const std::string& x_text, const std::string& exposure_text) {
+double Api::gi_auto_exposure(const std::string& scene, const pathtrace::GiBasis& basis) {
+  std::lock_guard lock(gi_exposure_mutex_);
+  const auto it = gi_exposure_.find(scene);
+  if (it != gi_exposure_.end()) return it->second;
+  // The scene with the model's mean material (w = 0): one exposure for the whole map, so that
+  // dragging changes the material, not the brightness of the room.
+  const double e = render::auto_exposure(basis.compose(Eigen::VectorXd::Zero(model_.count())));
+  gi_exposure_.emplace(scene, e);
+  return e;
+}
+
+Reply Api::gi(const std::string& scene_text, const std::string& x_text, const std::string& exposure_text,
+              const std::string& tone_text) {
   if (!gi_ || gi_->scenes().empty())
     throw HttpError(404, "this server has no GI scenes: start it with --gi-basis FILE (from matlas gi-basis) "
                          "or --gi-scenes floor,box");
   const std::string scene = scene_text.empty() ? gi_->scenes().front() : scene_text;
   const Eigen::VectorXd x = parse_latent_text(x_text, "x", domain_);
-  const double exposure = exposure_text.empty() ? 0.0 : parse_number_text(exposure_text, "exposure", -16.0, 16.0);
+  const bool auto_exposure = exposure_text == "auto";
+  const double exposure = exposure_text.empty() || auto_exposure ? 0.0 : parse_number_text(exposure_text, "exposure", -16.0, 16.0);
+  ToneMap::Curve curve = gi_->tone().curve;
+  if (tone_text == "aces") curve = ToneMap::Curve::aces;
+  else if (tone_text == "reinhard") curve = ToneMap::Curve::reinhard;
+  else if (tone_text == "clamp") curve = ToneMap::Curve::clamp;
+  else if (!tone_text.empty()) throw bad_request("tone must be aces, reinhard or clamp, got " + quoted_excerpt(tone_text));
   const GiSceneState state = gi_->state(scene);  // matlas::Error (400) naming the offered scenes
   if (!state.error.empty()) throw HttpError(500, "the GI scene '" + scene + "' could not be traced: " + state.error);
   if (!state.basis) {
@@ -452,14 +471,18 @@ Reply Api::gi(const std::string& scene_text, const std::string& x_text, const st
     return r;
   }
   ToneMap tone = gi_->tone();
-  tone.exposure += exposure;
+  tone.curve = curve;
   std::string png;
   {
     auto slot = acquire(compute_);
+    tone.exposure += auto_exposure ? gi_auto_exposure(scene, *state.basis) : exposure;
     png = encode_png_fast(state.basis->compose(model_.weights(x)), tone);
   }
   Reply r = Reply::bytes(std::move(png), kPng);
   r.headers.emplace_back("Cache-Control", "no-store");
+  char used[32];
+  std::snprintf(used, sizeof used, "%.3f", tone.exposure);
+  r.headers.emplace_back("X-Matlas-Exposure", used);
   return r;
 }
 

@@ -303,7 +303,8 @@ struct AtlasServer::Impl {
     });
     http.Get("/api/gi", [this](const httplib::Request& req, httplib::Response& res) {
       serve_api(res, [&](Api& api) {
-        return api.gi(req.get_param_value("scene"), req.get_param_value("x"), req.get_param_value("exposure"));
+        return api.gi(req.get_param_value("scene"), req.get_param_value("x"), req.get_param_value("exposure"),
+                      req.get_param_value("tone"));
       });
     });
     http.Get(R"(/api/thumbnail/(\d+))", [this](const httplib::Request& req, httplib::Response& res) {

@@ -281,8 +281,12 @@ export const api = {
   realtimeMesh: (name: string): Promise<ArrayBuffer> =>
     fetch(`api/realtime/mesh/${encodeURIComponent(name)}`).then(check).then((r) => r.arrayBuffer()),
   realtimeReference: (body: ReferenceRequest): Promise<Blob> => post("api/realtime/reference", body).then((r) => r.blob()),
-  gi: (scene: string, x: Point, signal?: AbortSignal): Promise<Blob> =>
-    fetch(`api/gi?scene=${encodeURIComponent(scene)}&x=${x.map(String).join(",")}`, { signal }).then(check).then((r) => r.blob()),
+  /** The scene view; `exposure` in stops or "auto" (the answer says which exposure it used). */
+  gi: async (scene: string, x: Point, exposure: number | "auto", tone: string, signal?: AbortSignal): Promise<{ blob: Blob; exposure: number }> => {
+    const r = await fetch(`api/gi?scene=${encodeURIComponent(scene)}&x=${x.map(String).join(",")}` +
+      `&exposure=${exposure}&tone=${encodeURIComponent(tone)}`, { signal }).then(check);
+    return { blob: await r.blob(), exposure: Number(r.headers.get("X-Matlas-Exposure") ?? 0) };
+  },
   thumbnailUrl: (index: number, env: string, object: string): string =>
     `api/thumbnail/${index}?env=${encodeURIComponent(env)}&object=${encodeURIComponent(object)}`,
 };
