@@ -6,7 +6,7 @@
 //   version      uint8 [2]                 1, 0
 //   description  uint8 [n]                 free text
 //   phi_i        float32 [1]               0 (isotropic)
-//   theta_i      float32 [Nt]              incident elevations, evenly spaced over [0, theta_max]
+//   theta_i      float32 [Nt]              incident elevations over [0, 90 deg], denser at grazing
 //   sigma        float32 [2, Ns]           projected area sigma(theta_i) on u = sqrt(2 theta / pi)
 //   ndf          float32 [2, Nd]           D(theta_m) on u (both rows equal: no azimuth dependence)
 //   vndf         float32 [1, Nt, Nv, Nv]   the sample warp of the half vector per incident
@@ -41,9 +41,12 @@ namespace matlas {
 
 struct RglExportOptions {
   int theta_i = 32;          ///< incident elevations
-  double theta_max_deg = 89.0;  ///< the last one (the reader and Mitsuba clamp beyond it)
-  int vndf_resolution = 128;  ///< VNDF grid per incident elevation
-  int rgb_resolution = 64;    ///< reflectance grid per incident elevation
+  double theta_max_deg = 90.0;  ///< the last one (the reader and Mitsuba clamp beyond it)
+  /// Spacing of the elevations: theta_max ((1 - g) x + g sin(pi x / 2)) at x = k / (Nt - 1),
+  /// denser towards grazing incidence for g > 0.
+  double grazing_refinement = 0.8;
+  int vndf_resolution = 96;   ///< VNDF grid per incident elevation
+  int rgb_resolution = 80;    ///< reflectance grid per incident elevation
   int sigma_resolution = 128;
   /// Weight of the resolution density in the warp written as `vndf` (the rest is the VNDF).
   double resolution_mix = 0.5;
