@@ -135,4 +135,16 @@ std::string albedo_rule_description(const AlbedoQuadrature& q) {
          " azimuths, MERL nearest-bin lookup, missing values as 0";
 }
 
+Rgb normal_albedo(const BrdfTable& table, double cone_deg, int rings, const AlbedoQuadrature& q) {
+  Rgb sum = Rgb::Zero();
+  double weights = 0;
+  for (int k = 0; k < rings; ++k) {
+    const double theta = (k + 0.5) / rings * cone_deg * kPi / 180.0;
+    const double w = std::sin(theta);
+    sum += w * directional_albedo(table, theta, q);
+    weights += w;
+  }
+  return sum / weights;
+}
+
 }  // namespace matlas

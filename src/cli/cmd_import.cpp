@@ -1,5 +1,8 @@
 // matlas import FILE.bsdf... -o DIR: RGL measured materials resampled onto the MERL grid.
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <filesystem>
 #include <set>
 #include <string>
@@ -63,8 +66,12 @@ void run_import(const ImportArgs& a, const Io& io) {
     print(io.out, "  reciprocity     the measurement and its reverse differ by %.1f %% (cosine-weighted); the table "
                 "holds their least-squares reciprocal combination\n",
                 100 * r.reciprocity_error);
+    if (b.negative_samples())
+      print(io.out, "  negative        %zu of the file's %zu reflectance samples (out-of-gamut colour or noise); "
+                  "evaluation clips them at 0, as RGL's loader and Mitsuba do\n",
+                  b.negative_samples(), b.reflectance_samples());
     if (r.clamped_values)
-      print(io.out, "  clamped         %zu negative values (out-of-gamut colour or noise) stored as 0\n", r.clamped_values);
+      print(io.out, "  clamped         %zu negative values stored as 0\n", r.clamped_values);
     print(io.out, "  largest value   %.4g %.4g %.4g (1/sr)\n", r.max_value[0], r.max_value[1], r.max_value[2]);
     if (a.check) {
       for (double deg : {5.0, 30.0, 60.0}) {
@@ -73,8 +80,15 @@ void run_import(const ImportArgs& a, const Io& io) {
         const Rgb m = half_vector_albedo(
             [&](const Vec3& wi, const Vec3& v) -> Rgb { return b.eval_reciprocal(wi, v).max(0.0); }, wo);
         const double rel = ((t - m).abs() / m.max(0.01)).maxCoeff();
-        print(io.out, "  albedo %2.0f deg   %.4f %.4f %.4f (table), %.2f %% from the model integrated directly\n", deg, t[0],
-                    t[1], t[2], 100 * rel);
+        // What a renderer shows from the file itself: one order (the view first), not reciprocal.
+        const Rgb g = half_vector_albedo([&](const Vec3& w, const Vec3& v) { return b.eval(v, w); }, wo);
+        const Rgb gap = (t - g) / g.max(0.01);
+        const int worst = static_cast<int>(std::distance(gap.data(), std::max_element(gap.data(), gap.data() + 3, [](double x, double y) {
+          return std::fabs(x) < std::fabs(y);
+        })));
+        print(io.out, "  albedo %2.0f deg   %.4f %.4f %.4f (table), %.2f %% from the model integrated directly; %+.1f %% "
+                    "from the measurement as renderers evaluate it (%.4f %.4f %.4f)\n",
+                    deg, t[0], t[1], t[2], 100 * rel, 100 * gap[worst], g[0], g[1], g[2]);
       }
     }
   }

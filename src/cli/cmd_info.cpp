@@ -38,8 +38,8 @@ void print_info(const std::string& path, const Io& io) {
     const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
     print(io.out, "  %-5s           min %.6g  median %.6g  max %.6g\n", names[c], *lo, *mid, *hi);
   }
-  const Rgb albedo = directional_albedo(table, 0.0);
-  print(io.out, "  albedo (normal) %.4f %.4f %.4f\n", albedo[0], albedo[1], albedo[2]);
+  const Rgb albedo = normal_albedo(table);
+  print(io.out, "  albedo (normal) %.4f %.4f %.4f (views within 2 deg of the normal)\n", albedo[0], albedo[1], albedo[2]);
 }
 
 }  // namespace

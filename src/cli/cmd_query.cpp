@@ -2,6 +2,7 @@
 // weights, project.
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <numeric>
 #include <optional>
 #include <string>
@@ -14,8 +15,11 @@
 #include "core/error.h"
 #include "core/file_io.h"
 #include "formats/merl_file.h"
+#include "atlas/map_layers.h"
 #include "manifold/export.h"
 #include "formats/rgl_bsdf.h"
+#include "formats/rgl_bsdf_writer.h"
+#include "formats/rgl_export_check.h"
 #include "manifold/project.h"
 
 namespace matlas::cli {
@@ -23,6 +27,7 @@ namespace matlas::cli {
 namespace {
 
 using nlohmann::json;
+namespace fs = std::filesystem;
 
 json vector_json(const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
 
@@ -37,24 +42,98 @@ std::string point_text(const Eigen::VectorXd& x) {
 
 // ---- export
 struct ExportArgs {
-  std::string model, output;
+  std::string source, output, format;
+  int theta_i = RglExportOptions{}.theta_i, rgb = RglExportOptions{}.rgb_resolution;
   std::optional<std::string> at, material;
+  bool check = true;
 };
+
+enum class ExportFormat { merl, bsdf };
+
+/// --format, or the output's extension (.bsdf) when --format is absent; a contradiction is refused.
+ExportFormat export_format(const ExportArgs& a) {
+  const bool bsdf_name = fs::path(a.output).extension() == ".bsdf";
+  if (a.format.empty()) return bsdf_name ? ExportFormat::bsdf : ExportFormat::merl;
+  if (a.format == "bsdf-spectral")
+    throw Error("--format bsdf-spectral: spectral .bsdf export is not implemented yet (use --format bsdf, RGB)");
+  if (a.format != "binary" && a.format != "bsdf")
+    throw Error("--format '" + a.format + "': expected binary (MERL) or bsdf (RGL, Mitsuba 3 and pbrt-v4)");
+  const ExportFormat f = a.format == "bsdf" ? ExportFormat::bsdf : ExportFormat::merl;
+  if (f == ExportFormat::merl && bsdf_name)
+    throw Error("-o " + a.output + ": a .bsdf name for --format binary (a MERL table); use --format bsdf or another name");
+  return f;
+}
+
+void write_bsdf_export(const ExportArgs& a, const BrdfTable& table, const std::string& what, const Io& io) {
+  RglExportOptions options;
+  options.theta_i = a.theta_i;
+  options.rgb_resolution = a.rgb;
+  options.description = "matlas export of " + what;
+  RglExportReport report;
+  write_rgl_bsdf(a.output, table, options, &report);
+  print(io.out, "wrote %s (RGL .bsdf, isotropic RGB, %d incident elevations, reflectance %dx%d, %.2f MB)\n",
+        a.output.c_str(), options.theta_i, options.rgb_resolution, options.rgb_resolution,
+        static_cast<double>(report.bytes) / 1e6);
+  print(io.out, "  NDF             power iterations on the back-scattering: %d iterations, last change %.2g\n",
+        report.ndf.iterations, report.ndf.last_change);
+  if (!a.check) return;
+  const RglBsdf file = RglBsdf::read(a.output);
+  const RglFidelity f = check_rgl_fidelity(file, table);
+  print(io.out, "  fidelity        the file read back reproduces the table: cosine-weighted relative RMS %.2f %% over the "
+        "bin centres\n", 100 * f.relative_rms);
+  for (std::size_t k = 0; k < f.angles_deg.size(); ++k) {
+    const Rgb& t = f.table_albedo[k];
+    const Rgb& b = f.file_albedo[k];
+    print(io.out, "  albedo %2.0f deg   %.4f %.4f %.4f (table), %.4f %.4f %.4f (file); sampling variance %.3g "
+          "(own) vs %.3g (cosine)\n", f.angles_deg[k], t[0], t[1], t[2], b[0], b[1], b[2], f.variance_own[k],
+          f.variance_cosine[k]);
+  }
+  print(io.out, "  largest albedo difference %.2f %% (0-75 deg, per channel)\n", 100 * f.albedo_error);
+}
 
 void run_export(const ExportArgs& a, const Io& io) {
   if (a.output.empty()) throw Error("-o: the output file name is empty");
-  refuse_output_among_inputs(a.output, {a.model});
-  const Model model = Model::open(a.model);
-  const Eigen::VectorXd x = resolve_point(model, a.at, a.material);
-  const Eigen::VectorXd w = a.material ? model.material_weights(model.index_of(*a.material)) : model.weights(x);
-  ExportStats stats;
-  const BrdfTable table = export_table(model, w, &stats);
-  write_merl(a.output, table);
-  print(io.out, "wrote %s (x = %s, predictive variance %.3g)\n", a.output.c_str(), point_text(x).c_str(),
-              model.variance(x));
-  if (stats.clamped)
-    print(io.out, "  clamped %zu negative values to 0 (most negative %.3g)\n", stats.clamped, stats.most_negative);
-  if (stats.missing) print(io.out, "  %zu values written as missing (-1): not measured in every input\n", stats.missing);
+  const ExportFormat format = export_format(a);
+  refuse_output_among_inputs(a.output, {a.source});
+  const fs::path source(a.source);
+  BrdfTable table;
+  std::string what;
+  if (source.extension() == ".binary" || is_rgl_path(source)) {
+    // A table file: converted as it is.
+    if (a.at || a.material)
+      throw Error(a.source + ": --at and --material pick a point of a model (.matlas), not of a table file");
+    table = read_brdf(source);
+    what = source.filename().string();
+    if (format == ExportFormat::merl) {
+      write_merl(a.output, table);
+      print(io.out, "wrote %s (MERL table of %s)\n", a.output.c_str(), what.c_str());
+      return;
+    }
+  } else {
+    const Model model = Model::open(a.source);
+    const Eigen::VectorXd x = resolve_point(model, a.at, a.material);
+    const Eigen::VectorXd w = a.material ? model.material_weights(model.index_of(*a.material)) : model.weights(x);
+    const double variance = model.variance(x);
+    // Far from the data the map's BRDF is an extrapolation: exported, but said loudly.
+    if (!a.material && variance >= atlas::kFadeFrom)
+      print(io.err, "warning: x = %s is far from the data (predictive variance %.3g, maps fade out from %.2g): the "
+            "exported BRDF is an extrapolation, not a measured material\n", point_text(x).c_str(), variance, atlas::kFadeFrom);
+    ExportStats stats;
+    table = export_table(model, w, &stats);
+    what = a.material ? "material " + *a.material + " of " + source.filename().string()
+                      : "x = " + point_text(x) + " of " + source.filename().string();
+    if (format == ExportFormat::merl) write_merl(a.output, table);
+    else write_bsdf_export(a, table, what, io);
+    if (format == ExportFormat::merl)
+      print(io.out, "wrote %s (x = %s, predictive variance %.3g)\n", a.output.c_str(), point_text(x).c_str(), variance);
+    else
+      print(io.out, "  point           x = %s, predictive variance %.3g\n", point_text(x).c_str(), variance);
+    if (stats.clamped)
+      print(io.out, "  clamped %zu negative values to 0 (most negative %.3g)\n", stats.clamped, stats.most_negative);
+    if (stats.missing) print(io.out, "  %zu values written as missing (-1): not measured in every input\n", stats.missing);
+    return;
+  }
+  write_bsdf_export(a, table, what, io);
 }
 
 // ---- latent
@@ -138,11 +217,20 @@ void add_query_commands(CLI::App& app, const Io& io) {
   {
     auto a = std::make_shared<ExportArgs>();
     auto* cmd = app.add_subcommand(
-        "export", "Export the BRDF at a latent point as a MERL .binary file (alias: eval, deprecated)");
+        "export", "Export the BRDF at a latent point, a model's material or a table file as a MERL .binary or an "
+                  "RGL .bsdf file (Mitsuba 3, pbrt-v4; docs/EXPORT.md) (alias: eval, deprecated)");
     cmd->alias("eval");  // the command's old name, kept for scripts written before the rename
-    cmd->add_option("model", a->model, "Model file (.matlas)")->required();
+    cmd->add_option("source", a->source, "Model file (.matlas), or a table file (.binary, .bsdf) to convert")
+        ->required();
     add_point_options(*cmd, a->at, a->material);
-    cmd->add_option("-o,--output", a->output, "Output .binary file")->required();
+    cmd->add_option("-o,--output", a->output, "Output file (.binary, or .bsdf)")->required();
+    cmd->add_option("--format", a->format,
+                    "binary (MERL, the default) or bsdf (RGL tensor file); default from the output's extension");
+    cmd->add_option("--theta-i", a->theta_i, "bsdf: incident elevations")->check(CLI::Range(2, 90))->capture_default_str();
+    cmd->add_option("--rgb-resolution", a->rgb, "bsdf: reflectance samples per axis per elevation")
+        ->check(CLI::Range(2, 256))
+        ->capture_default_str();
+    cmd->add_flag("!--no-check", a->check, "bsdf: skip reading the file back and measuring its fidelity (faster)");
     cmd->callback([io, a] { run_export(*a, io); });
   }
   {

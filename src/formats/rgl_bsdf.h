@@ -10,7 +10,7 @@
 //   ndf          float32 [Ny, Nx]               microfacet distribution D on (theta, phi) coordinates
 //   sigma        float32 [Ny, Nx]               projected microfacet area sigma(wi)
 //   vndf         float32 [Np, Nt, My, Mx]        visible-normal distribution per incident direction
-//   luminance    float32 [Np, Nt, Ry, Rx]        used for importance sampling only
+//   luminance    float32 [Np, Nt, Ry, Rx]        used for importance sampling only (sample(), pdf())
 //   rgb          float32 [Np, Nt, 3, Ry, Rx]     reflectance in the VNDF's warped coordinates, or
 //   spectra      float32 [Np, Nt, L, Ry, Rx] with wavelengths float32 [L] (nm)
 //   jacobian     uint8 [1]                      1: apply D / (4 sigma)
@@ -21,7 +21,15 @@
 // coordinates (its azimuth taken relative to phi_i for isotropic materials) go through the
 // inverse of the VNDF warp at the incident direction, the reflectance table is interpolated
 // there, and multiplied by D(h) / (4 sigma(wi)) when `jacobian` is set. The result is
-// f(wi, wo) cos(theta_o); eval() divides the cosine out to give the BRDF f.
+// f(wi, wo) cos(theta_o); eval() divides the cosine out to give the BRDF f. As RGL's loader (and
+// so Mitsuba) does, the interpolated reflectance is clipped at 0 before the Jacobian: saturated
+// colours and noise leave negative samples in the files (18 % of iris_purple_gem's values at
+// random directions), and a renderer never sees them.
+//
+// Importance sampling (sample(), pdf()) follows Mitsuba's `measured` plugin: a point of the
+// reflectance's unit square from the luminance warp (when the file has a usable `luminance`),
+// through the VNDF's sample warp to the half vector's coordinates, reflected about it; the
+// density is vndf_pdf * luminance_pdf / (2 pi^2 u sin(theta_m) * 4 (wi.m)).
 //
 // Spectral files are reduced to RGB when read (linear sRGB primaries, CIE 1931 observer through
 // the analytic fit of Wyman, Sloan and Shirley 2013, balanced so that a flat spectrum of
@@ -75,6 +83,23 @@ public:
   /// noise without bound). Symmetric in (wi, wo): what a MERL table can hold.
   Rgb eval_reciprocal(const Vec3& wi, const Vec3& wo) const;
 
+  /// Reflectance samples of the file (per channel, RGB after reduction) below 0, and all of them.
+  std::size_t negative_samples() const { return negative_samples_; }
+  std::size_t reflectance_samples() const { return rgb_.slices() * rgb_.nx() * rgb_.ny(); }
+  /// True when the file's `luminance` field is present, of the reflectance's shape, and usable
+  /// as a sampling density (positive integral for every incident direction).
+  bool has_luminance() const { return has_luminance_; }
+
+  /// A direction drawn for the first direction wi (the one whose elevation indexes the tables,
+  /// the view in Mitsuba's convention) from uniform (u1, u2), as Mitsuba samples the file.
+  struct Sample {
+    Vec3 wo = Vec3::Zero();
+    double pdf = 0;  ///< solid-angle density of wo; 0 when the sample failed (wo below the horizon)
+  };
+  Sample sample(const Vec3& wi, double u1, double u2) const;
+  /// The density of sample() at wo.
+  double pdf(const Vec3& wi, const Vec3& wo) const;
+
 private:
   RglBsdf() = default;
   /// The constructors' work; `owned` is the file when its fields' bytes may be freed.
@@ -89,6 +114,9 @@ private:
   std::vector<float> theta_i_, phi_i_;
   RglWarp2D ndf_, sigma_, vndf_;
   RglWarp2D rgb_;  ///< slices [phi_i][theta_i][channel]
+  RglWarp2D luminance_;  ///< with CDFs, when has_luminance_
+  bool has_luminance_ = false;
+  std::size_t negative_samples_ = 0;
 };
 
 /// What resampling onto the MERL grid did.
@@ -96,7 +124,9 @@ struct RglResampling {
   std::size_t bins = 0;            ///< bins of the grid
   std::size_t measured_bins = 0;   ///< bins with both directions above the horizon
   std::size_t missing_bins = 0;    ///< below the horizon: stored as -1 (missing), as MERL does
-  std::size_t clamped_values = 0;  ///< negative model values (measurement noise) stored as 0
+  /// Reciprocal values below 0 stored as 0 (none since evaluation clips at 0, as RGL's loader;
+  /// RglBsdf::negative_samples() counts the file's negative samples).
+  std::size_t clamped_values = 0;
   /// Non-reciprocity of the model at the bin centres: sum |f(wi,wo) - f(wo,wi)| over sum of
   /// (f(wi,wo) + f(wo,wi)) / 2, weighted by cos(theta_i) cos(theta_o), over channels. The table
   /// holds RglBsdf::eval_reciprocal (a MERL table is reciprocal by construction).

@@ -1,0 +1,190 @@
+#include "formats/rgl_bsdf_writer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "core/check.h"
+#include "core/parallel.h"
+#include "formats/rgl_warp.h"
+
+namespace matlas {
+
+namespace {
+
+/// RGL's unit coordinate of an elevation, u = sqrt(2 theta / pi).
+double writer_unit_of_theta(double theta) { return std::sqrt(std::max(theta, 0.0) * (2.0 / kPi)); }
+
+/// The direction at unit coordinates (u of theta, v of phi), phi = 2 pi v - pi.
+Vec3 writer_direction(double u, double v) {
+  const double theta = 0.5 * kPi * u * u, phi = 2.0 * kPi * v - kPi;
+  const double st = std::sin(theta);
+  return {st * std::cos(phi), st * std::sin(phi), std::cos(theta)};
+}
+
+constexpr double kWriterLuminance[3] = {0.2126, 0.7152, 0.0722};
+
+std::vector<float> to_floats(const std::vector<double>& v) {
+  std::vector<float> out(v.size());
+  for (std::size_t i = 0; i < v.size(); ++i) out[i] = static_cast<float>(v[i]);
+  return out;
+}
+
+}  // namespace
+
+std::vector<TensorField> rgl_fields_from_table(const BrdfTable& table, const RglExportOptions& o,
+                                               RglExportReport* report) {
+  MATLAS_CHECK_GE(o.theta_i, 2);
+  MATLAS_CHECK_GE(o.vndf_resolution, 2);
+  MATLAS_CHECK_GE(o.rgb_resolution, 2);
+  MATLAS_CHECK_GE(o.sigma_resolution, 2);
+  MATLAS_CHECK(o.theta_max_deg > 0 && o.theta_max_deg <= 90, "theta_max_deg out of (0, 90]");
+  RglExportReport r;
+  const MicrofacetNdf ndf = extract_ndf(table, o.ndf, &r.ndf);
+
+  // D and sigma, as float32 rows (two equal rows: the azimuth axis of an isotropic material).
+  const std::size_t nd = ndf.nodes().size(), ns = static_cast<std::size_t>(o.sigma_resolution);
+  std::vector<double> ndf_rows(2 * nd), sigma_rows(2 * ns);
+  for (std::size_t x = 0; x < nd; ++x) ndf_rows[x] = ndf_rows[nd + x] = ndf.nodes()[x];
+  for (std::size_t x = 0; x < ns; ++x) {
+    const double u = static_cast<double>(x) / static_cast<double>(ns - 1);
+    sigma_rows[x] = sigma_rows[ns + x] = std::max(ndf.projected_area(0.5 * kPi * u * u), 1e-12);
+  }
+  const std::vector<float> ndf_f = to_floats(ndf_rows), sigma_f = to_floats(sigma_rows);
+  const RglWarp2D ndf_w(ndf_f, nd, 2, 1, false), sigma_w(sigma_f, ns, 2, 1, false);
+
+  const auto nt = static_cast<std::size_t>(o.theta_i);
+  std::vector<float> theta_f(nt);
+  for (std::size_t t = 0; t < nt; ++t)
+  {
+    // Denser towards grazing incidence, where the peak of a glossy table grows fastest with
+    // theta_i (and where cos(theta_o) of the mirror direction goes to 0).
+    const double x = static_cast<double>(t) / static_cast<double>(nt - 1);
+    const double g = o.grazing_refinement;
+    const double spread = (1.0 - g) * x + g * std::sin(0.5 * kPi * x);
+    theta_f[t] = static_cast<float>(spread * o.theta_max_deg * kPi / 180.0);
+  }
+  const ParamBlend none;
+  auto incident = [&](std::size_t t) {
+    const double theta = theta_f[t];
+    return Vec3(std::sin(theta), 0.0, std::max(std::cos(theta), 0.0));  // float(pi / 2) is a bit above pi / 2
+  };
+  auto sigma_at = [&](std::size_t t) { return sigma_w.eval(writer_unit_of_theta(theta_f[t]), 0.5, none); };
+
+  // VNDF per incident elevation: D(m) max(0, wi.m) / sigma(wi), times the unit square's Jacobian.
+  // The density of the VNDF on the unit square (unnormalised: its integral is 1 up to the grid).
+  auto vndf_density = [&](const Vec3& wi, double sigma, double u, double v) {
+    const Vec3 m = writer_direction(u, v);
+    const double jacobian = 2.0 * kPi * kPi * u * std::sin(0.5 * kPi * u * u);
+    return ndf_w.eval(u, v, none) * std::max(0.0, wi.dot(m)) * jacobian / sigma;
+  };
+  // The warp written: the VNDF mixed with a density of theta_m alone, 1 / sqrt(u + u0) (u0 = one
+  // cell), which puts samples where the table varies faster than the extracted NDF predicts
+  // (near the specular peak, at grazing angles); the luminance field carries the ratio, so that
+  // the file's sampling still follows the reflected light (docs/EXPORT.md).
+  const auto nv = static_cast<std::size_t>(o.vndf_resolution);
+  const double u0 = 1.0 / static_cast<double>(nv - 1);
+  std::vector<float> vndf_f(nt * nv * nv);
+  parallel_for_each(0, nt, [&](std::size_t t) {
+    const Vec3 wi = incident(t);
+    const double sigma = sigma_at(t);
+    std::vector<double> a(nv * nv), b(nv * nv);
+    double sa = 0, sb = 0;
+    for (std::size_t y = 0; y < nv; ++y)
+      for (std::size_t x = 0; x < nv; ++x) {
+        const double u = static_cast<double>(x) / static_cast<double>(nv - 1);
+        const double v = static_cast<double>(y) / static_cast<double>(nv - 1);
+        a[y * nv + x] = vndf_density(wi, sigma, u, v);
+        b[y * nv + x] = 1.0 / std::sqrt(u + u0);
+        sa += a[y * nv + x];
+        sb += b[y * nv + x];
+      }
+    for (std::size_t k = 0; k < nv * nv; ++k)
+      vndf_f[t * nv * nv + k] = static_cast<float>((1.0 - o.resolution_mix) * a[k] / sa + o.resolution_mix * b[k] / sb);
+  });
+  const RglWarp2D vndf_w(vndf_f, nv, nv, nt, true);
+  for (std::size_t t = 0; t < nt; ++t) MATLAS_CHECK_GT(vndf_w.slice_integral(t), 0.0);
+
+  // Reflectance samples at the nodes of the unit square, through the VNDF's sample warp.
+  const auto nr = static_cast<std::size_t>(o.rgb_resolution);
+  const std::size_t grid = nr * nr;
+  std::vector<float> rgb_f(nt * 3 * grid), lum_f(nt * grid);
+  std::vector<std::uint8_t> valid(nt * grid, 0);
+  parallel_for_each(0, nt, [&](std::size_t t) {
+    const Vec3 wi = incident(t);
+    const double sigma = sigma_at(t);
+    ParamBlend slice;
+    slice.slice[0] = t;
+    for (std::size_t y = 0; y < nr; ++y)
+      for (std::size_t x = 0; x < nr; ++x) {
+        const auto u_m = vndf_w.sample(static_cast<double>(x) / static_cast<double>(nr - 1),
+                                       static_cast<double>(y) / static_cast<double>(nr - 1), slice);
+        const Vec3 m = writer_direction(u_m[0], u_m[1]);
+        const double c = wi.dot(m);
+        const Vec3 wo = 2.0 * c * m - wi;
+        Rgb value = Rgb::Zero();
+        const std::size_t at = y * nr + x;
+        if (c > 0 && wo.z() > 0) {
+          const double d = ndf_w.eval(u_m[0], u_m[1], none);
+          value = table.lookup_smooth(wi, wo.normalized()).max(0.0) * (wo.z() * 4.0 * sigma / d);
+          valid[t * grid + at] = 1;
+        }
+        double lum = 0;
+        for (std::size_t ch = 0; ch < 3; ++ch) {
+          rgb_f[(t * 3 + ch) * grid + at] = static_cast<float>(value[static_cast<Eigen::Index>(ch)]);
+          lum += kWriterLuminance[ch] * value[static_cast<Eigen::Index>(ch)];
+        }
+        // The integrand on the reflectance's square: luminance times the VNDF over the warp's density.
+        const double warp = vndf_w.eval(u_m[0], u_m[1], slice);
+        const double ratio = warp > 0 ? vndf_density(wi, sigma, u_m[0], u_m[1]) / warp : 0.0;
+        lum_f[t * grid + at] = static_cast<float>(std::max(lum * ratio, 0.0));
+      }
+    // The luminance is a sampling density: a slice that is black everywhere is sampled uniformly,
+    // and a small floor (1e-4 of the slice's mean) keeps every region reachable.
+    double mean = 0;
+    for (std::size_t k = 0; k < grid; ++k) mean += lum_f[t * grid + k];
+    mean /= static_cast<double>(grid);
+    for (std::size_t k = 0; k < grid; ++k)
+      lum_f[t * grid + k] = mean > 0 ? static_cast<float>(lum_f[t * grid + k] + 1e-4 * mean) : 1.0f;
+  });
+
+  r.samples = nt * grid;
+  for (std::size_t k = 0; k < valid.size(); ++k) r.below_horizon += valid[k] ? 0 : 1;
+  for (float v : rgb_f) {
+    MATLAS_CHECK(std::isfinite(v), "a reflectance sample is not finite");
+    r.largest_value = std::max(r.largest_value, static_cast<double>(v));
+  }
+  std::vector<std::uint8_t> valid_bits((valid.size() + 7) / 8, 0);
+  for (std::size_t k = 0; k < valid.size(); ++k)
+    if (valid[k]) valid_bits[k / 8] = static_cast<std::uint8_t>(valid_bits[k / 8] | (0x80u >> (k % 8)));
+
+  const std::string description = o.description.empty() ? std::string("matlas export") : o.description;
+  const std::uint8_t version[2] = {1, 0}, jacobian[1] = {1};
+  const float phi_i[1] = {0.0f};
+  std::vector<TensorField> fields;
+  fields.push_back(uint8_field("version", {2}, version));
+  fields.push_back(uint8_field("description", {description.size()},
+                               {reinterpret_cast<const std::uint8_t*>(description.data()), description.size()}));
+  fields.push_back(float32_field("phi_i", {1}, phi_i));
+  fields.push_back(float32_field("theta_i", {nt}, theta_f));
+  fields.push_back(float32_field("sigma", {2, ns}, sigma_f));
+  fields.push_back(float32_field("ndf", {2, nd}, ndf_f));
+  fields.push_back(float32_field("vndf", {1, nt, nv, nv}, vndf_f));
+  fields.push_back(float32_field("luminance", {1, nt, nr, nr}, lum_f));
+  fields.push_back(float32_field("rgb", {1, nt, 3, nr, nr}, rgb_f));
+  fields.push_back(uint8_field("jacobian", {1}, jacobian));
+  fields.push_back(uint8_field("valid", {valid_bits.size()}, valid_bits));
+  if (report) *report = r;
+  return fields;
+}
+
+void write_rgl_bsdf(const std::filesystem::path& path, const BrdfTable& table, const RglExportOptions& options,
+                    RglExportReport* report) {
+  RglExportReport r;
+  const std::vector<TensorField> fields = rgl_fields_from_table(table, options, &r);
+  write_tensor_file(path, fields);
+  r.bytes = static_cast<std::size_t>(std::filesystem::file_size(path));
+  if (report) *report = r;
+}
+
+}  // namespace matlas
