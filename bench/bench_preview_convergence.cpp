@@ -1,8 +1,10 @@
 // Preview convergence at rest (docs/RENDERING.md "Refinement"): for named materials and midpoints
 // of a model, the error of the refined preview against a long reference as a function of render
 // samples and render time, for the refinement the server runs (render/progressive_render.h with the mixture fitted to
-// the one material, as server/basis_previews.cpp does) and for the same passes with the database's
-// mixture (the sampling of the preview bases). Prints one row per refine step and, per point and
+// the one material made defensive with the database's, atlas::defensive_mixture, as
+// server/basis_previews.cpp does: "server"), and for the same passes with each of its two
+// mixtures alone ("own": fitted to the material; "database": the preview bases' sampling).
+// MATLAS_BENCH_SERVER_ONLY=1: the server's sampling only. Prints one row per refine step and, per point and
 // sampling, the samples and time to reach 2 % and 1 %. Samples do not depend on the machine's
 // load; times do (the first line gives the load average).
 //
@@ -77,6 +79,7 @@ int main(int argc, char** argv) {
   const auto scene = std::make_shared<const render::Scene>(desc);
   const int size = std::atoi(argv[3]), reference_spp = std::atoi(argv[4]);
   const int max_spp = std::atoi(argv[5]);
+  const bool only_server = std::getenv("MATLAS_BENCH_SERVER_ONLY") != nullptr;
 
   char date[32];
   const std::time_t now = std::time(nullptr);
@@ -114,10 +117,13 @@ int main(int argc, char** argv) {
     std::printf("%-44s %-8s %8.2f %7d %10s %10.5f\n", spec.c_str(), "ref", reference.state().seconds, reference_spp, "-",
                 ref_error);
 
-    for (const bool fitted : {true, false}) {
+    const render::SamplingMixture defensive = atlas::defensive_mixture(own, database);
+    for (const char* sampling : {"server", "own", "database"}) {
+      const std::string which = sampling;
+      if (only_server && which != "server") continue;
       render::ProgressiveSettings s;
       s.render = base;
-      s.render.mixture = fitted ? own : database;
+      s.render.mixture = which == "server" ? defensive : which == "own" ? own : database;
       s.target_error = 1e-12;
       render::ProgressiveRender r(scene, material, s);
       double to2 = -1, to1 = -1;
@@ -129,11 +135,11 @@ int main(int argc, char** argv) {
         const double t = st.seconds + table_seconds;
         if (to2 < 0 && error <= 0.02) to2 = t, spp2 = st.spp;
         if (to1 < 0 && error <= 0.01) to1 = t, spp1 = st.spp;
-        std::printf("%-44s %-8s %8.2f %7d %10.5f %10.5f\n", spec.c_str(), fitted ? "own" : "database", t, st.spp, error,
+        std::printf("%-44s %-8s %8.2f %7d %10.5f %10.5f\n", spec.c_str(), sampling, t, st.spp, error,
                     st.relative_error);
       }
       std::printf("# %s, %s mixture: 2 %% at %d spp (%.1f s), 1 %% at %d spp (%.1f s); -1: not within %d spp\n",
-                  spec.c_str(), fitted ? "own" : "database", spp2, to2, spp1, to1, max_spp);
+                  spec.c_str(), sampling, spp2, to2, spp1, to1, max_spp);
       std::fflush(stdout);
     }
   }

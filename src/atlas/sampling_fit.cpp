@@ -6,6 +6,7 @@
 
 #include "atlas/model_material.h"
 #include "brdf/merl_grid.h"
+#include "core/check.h"
 
 namespace matlas::atlas {
 
@@ -144,6 +145,25 @@ SamplingFitOptions SamplingFitOptions::for_sampler(render::Sampler sampler) {
 render::RenderSettings model_render_settings(const Model& model, render::RenderSettings settings) {
   settings.mixture = fit_sampling_mixture(model, SamplingFitOptions::for_sampler(settings.sampler));
   return settings;
+}
+
+render::SamplingMixture defensive_mixture(const render::SamplingMixture& a, const render::SamplingMixture& b) {
+  const double ta = a.total(), tb = b.total();
+  MATLAS_CHECK(ta > 0 && tb > 0);
+  render::SamplingMixture m(0.5 * (a.environment / ta + b.environment / tb), 0.5 * (a.cosine / ta + b.cosine / tb), {});
+  for (const auto& [alpha, p] : a.lobes) m.lobes.emplace_back(alpha, 0.5 * p / ta);
+  for (const auto& [alpha, p] : b.lobes) m.lobes.emplace_back(alpha, 0.5 * p / tb);
+  const double pa = a.profile().empty() ? 0.0 : 0.5 * a.tabulated / ta;
+  const double pb = b.profile().empty() ? 0.0 : 0.5 * b.tabulated / tb;
+  if (pa + pb > 0) {
+    const std::size_t n = std::max(a.profile().size(), b.profile().size());
+    MATLAS_CHECK(pa == 0 || pb == 0 || a.profile().size() == b.profile().size());
+    std::vector<double> bins(n, 0.0);
+    for (std::size_t i = 0; i < a.profile().size(); ++i) bins[i] += pa * a.profile()[i];
+    for (std::size_t i = 0; i < b.profile().size(); ++i) bins[i] += pb * b.profile()[i];
+    m.set_profile(std::move(bins), pa + pb);
+  }
+  return m;
 }
 
 }  // namespace matlas::atlas

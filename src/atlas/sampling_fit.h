@@ -57,6 +57,14 @@ render::SamplingMixture fit_sampling_mixture(const render::MaterialBank& bank, c
 /// The mixture fitted to a model's database materials (its ModelBank without the mean).
 render::SamplingMixture fit_sampling_mixture(const Model& model, const SamplingFitOptions& options = {});
 
+/// The defensive mixture of two (Hesterberg 1995): each strategy of `a` and of `b` with half its
+/// normalised probability, the tabulated lobes merged into one profile (the same per-bin form, so
+/// the merge is exact), so that its density is (a's + b's) / 2 for any direction. A one-sample
+/// estimator with it has at most twice the variance of the better of the two, whichever that is:
+/// what a refined preview uses for one material, from the mixture fitted to that material and
+/// the database's (neither is better for every material: docs/RENDERING.md "Refinement").
+render::SamplingMixture defensive_mixture(const render::SamplingMixture& a, const render::SamplingMixture& b);
+
 /// `settings` with the mixture fitted to the model for its sampler: what render_basis uses, and
 /// what a direct render of a map point must use to equal the composition of the basis.
 render::RenderSettings model_render_settings(const Model& model, render::RenderSettings settings);

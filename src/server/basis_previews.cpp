@@ -318,8 +318,12 @@ BasisPreviews::Refined BasisPreviews::refine(const Eigen::VectorXd& w, const std
     settings.render.width = settings.render.height = im.options.size;
     settings.render.spp = im.options.refine_first_spp;
     settings.render.seed = im.options.seed + 0x5DEECE66Dull;  // not the basis' samples
-    settings.render.mixture = atlas::fit_sampling_mixture(
-        render::MaterialList({material.get()}), atlas::SamplingFitOptions::for_sampler(settings.render.sampler));
+    // Sampling: the mixture fitted to this one table, made defensive with the database's (the
+    // bases'): neither alone is best for every material (docs/RENDERING.md "Refinement").
+    settings.render.mixture = atlas::defensive_mixture(
+        atlas::fit_sampling_mixture(render::MaterialList({material.get()}),
+                                    atlas::SamplingFitOptions::for_sampler(settings.render.sampler)),
+        atlas::model_render_settings(im.model, settings.render).mixture);
     settings.target_error = im.options.refine_target_error;
     auto made = std::make_shared<render::ProgressiveRender>(scene, material, settings);
     std::lock_guard lock(im.refine_mutex);

@@ -11,8 +11,8 @@
 // `max_loaded` bases stay in memory (least recently used dropped).
 //
 // Refinement: the point a user rests on is rendered directly (render/progressive_render.h): its
-// table is built once (atlas::ModelTableMaterial), sampled with a mixture fitted to that one
-// material (sharper than the database's for glossy points, more cosine for matte ones), and
+// table is built once (atlas::ModelTableMaterial), sampled with the defensive mixture of the one
+// fitted to that material and the database's (atlas::defensive_mixture), and
 // refined pass after pass while the client keeps asking; the image never mixes basis and direct
 // samples. The last `max_refinements` points stay (each holds its table, about 35 MB).
 #include <filesystem>

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <random>
 #include <string>
 #include <tuple>
 
@@ -155,6 +156,32 @@ TEST(SamplingFit, TheDefaultLightAndLobeSamplerIsLessNoisyAtEqualSamples) {
     RecordProperty(std::string(name) + "_light_and_lobe", std::to_string(b));
     std::printf("%s: stratified %.4f, light and lobe %.4f (%.2fx)\n", name, a, b, a / b);
     EXPECT_LT(b * gain, a) << name << ": stratified " << a << ", light and lobe " << b;
+  }
+}
+
+TEST(SamplingFit, TheDefensiveMixtureHasTheMeanDensityOfItsTwoMixtures) {
+  render::SamplingMixture a(0.5, 0.1, {{0.02, 0.3}});
+  std::vector<double> pa(90, 0.0), pb(90, 0.0);
+  for (std::size_t i = 0; i < 90; ++i) pa[i] = std::exp(-0.2 * static_cast<double>(i)), pb[i] = 1.0 + 0.01 * static_cast<double>(i);
+  a.set_profile(pa, 0.2);
+  render::SamplingMixture b(0.4, 0.05, {{0.1, 0.2}, {0.4, 0.1}});
+  b.set_profile(pb, 0.25);
+  const render::SamplingMixture m = defensive_mixture(a, b);
+  EXPECT_NO_THROW(m.validate());
+  EXPECT_NEAR(m.environment_probability(), 0.5 * (a.environment_probability() + b.environment_probability()), 1e-12);
+  ASSERT_EQ(m.lobes.size(), 3u);
+  // local_pdf is each mixture's lobe density weighted by its normalised probabilities: the
+  // defensive mixture's is their mean, at any pair of directions.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int k = 0; k < 200; ++k) {
+    const auto dir = [&] {
+      const double z = 0.02 + 0.98 * u(rng), phi = 2 * 3.14159265358979 * u(rng), r = std::sqrt(1 - z * z);
+      return Vec3(r * std::cos(phi), r * std::sin(phi), z);
+    };
+    const Vec3 wo = dir(), wi = dir();
+    EXPECT_NEAR(m.local_pdf(wo, wi), 0.5 * (a.local_pdf(wo, wi) + b.local_pdf(wo, wi)),
+                1e-9 * (1 + a.local_pdf(wo, wi) + b.local_pdf(wo, wi)));
   }
 }
 
