@@ -13,17 +13,23 @@
 #include "zonal/basis.h"
 #include "zonal/coefficients.h"
 #include "zonal/prefilter.h"
+#include "zonal/window.h"
 
 namespace matlas::zonal {
 
-/// Radiance leaving a point of normal n towards wo (world, unit vectors).
+/// Radiance leaving a point of normal n towards wo (world, unit vectors). With `window`
+/// (zonal/window.h: w_0..w_L'), only bands 0..L' are summed, band l's terms times w_l; without
+/// it every band of the coefficients, unweighted.
 Rgb shade_point(const ZonalBasis& basis, const ZonalCoefficients& c, const PrefilteredEnvironment& env,
-                const Vec3& n, const Vec3& wo);
+                const Vec3& n, const Vec3& wo, const std::vector<double>* window = nullptr);
 
 struct ShadeSettings {
   int width = 256;
   int height = 256;
   int subsamples = 2;  ///< per axis: subsamples^2 stratified rays per pixel, averaged
+  /// Bands shown, L' (-1: all of the coefficients'), and the window over them (zonal/window.h).
+  int shown_bands = -1;
+  BandWindow window = BandWindow::none;
 };
 
 /// The scene's object shaded with the coefficients under the prefiltered environment, through
