@@ -6,6 +6,13 @@
 //                        [--subsamples 2] [--chunk 12] [--window none[,hann,...]]
 //                        [--lobes none|64,256,...] [--ref-cache DIR] [--dump DIR]
 //                        FILE.binary... > results.csv
+//   bench_zonal_accuracy --sheet OUT.png [--env studio] [--sheet-size 128] [--sheet-spp 1024]
+//                        [--bands 16] [--exposure 0] FILE.binary...
+//
+// --sheet: a before/after picture instead of the study: one row per material, columns the path
+// tracer (render_bank, one seed), the viewer's former default (L, no lobes, Hann window over the
+// bands) and its present one (L, zonal::kDefaultLobes, no window), 4 x 4 rays per pixel, the
+// environment behind the sphere, clamp tone map at `exposure` stops.
 //
 // --lobes: the sharp lobes fitted beside the expansion (zonal/lobes.h; default none, "default":
 // zonal::kDefaultLobes). --env all: every installed environment. --window: the band windows to shade with
@@ -20,6 +27,7 @@
 // Also prints per material its gloss
 // ln(pi f_peak / A) (f_peak: luminance at theta_h bin 0, theta_d bin 10, phi_d bin 90; A: the
 // luminance of the albedo at normal incidence) that classifies it. CSV on stdout, timings on stderr.
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -115,6 +123,52 @@ void write_cached(const std::string& path, const Image& img) {
   std::filesystem::rename(tmp, path);
 }
 
+/// The before/after sheet (see the top of the file).
+void write_sheet(const std::string& out, const std::string& env_name, const std::vector<std::string>& files, int L,
+                 int theta_o, int size, int spp, double exposure) {
+  render::SceneDescription desc;
+  desc.environment = env_name;
+  const render::Scene scene(desc);
+  render::RenderSettings rs;
+  rs.width = rs.height = size;
+  rs.spp = spp;
+  std::vector<BrdfTable> tables;
+  for (const std::string& f : files) tables.push_back(read_merl(f));
+  const TableBank bank(tables);
+  const std::vector<Image> refs = render::render_bank(scene, bank, rs);
+  const int gap = 4, cols = 3, rows = static_cast<int>(files.size());
+  Image sheet(cols * size + (cols - 1) * gap, rows * size + (rows - 1) * gap);
+  std::fill(sheet.rgb.begin(), sheet.rgb.end(), 1.0f);
+  auto place = [&](const Image& img, int row, int col) {
+    for (int y = 0; y < size; ++y)
+      for (int x = 0; x < size; ++x) {
+        const float* p = img.pixel(x, y);
+        float* q = sheet.pixel(col * (size + gap) + x, row * (size + gap) + y);
+        for (int c = 0; c < 3; ++c) q[c] = p[c];
+      }
+  };
+  zonal::ShadeSettings ss;
+  ss.width = ss.height = size;
+  ss.subsamples = 4;
+  for (int version = 0; version < 2; ++version) {
+    zonal::ProjectionSettings ps{L, theta_o, 128, 256, version ? zonal::kDefaultLobes : std::vector<double>{}};
+    const zonal::ZonalProjector projector(ps);
+    zonal::PrefilterSettings fs;
+    fs.bands = L;
+    fs.lobes = ps.lobes;
+    const zonal::PrefilteredEnvironment env(scene.environment(), fs);
+    ss.window = version ? zonal::BandWindow::none : zonal::BandWindow::hann;
+    for (std::size_t i = 0; i < tables.size(); ++i) {
+      if (version == 0) place(refs[i], static_cast<int>(i), 0);
+      place(zonal::shade_image(scene, projector.basis(), projector.project(tables[i]), env, ss), static_cast<int>(i),
+            1 + version);
+    }
+  }
+  ToneMap tone;
+  tone.exposure = exposure;
+  write_image(out, sheet, tone);
+}
+
 int run(int argc, char** argv) {
   std::string env_names = "studio", windows = "none", ref_cache;
   std::vector<double> lobes;
@@ -123,6 +177,9 @@ int run(int argc, char** argv) {
   double texels = 8.0;
   std::vector<std::string> files;
   std::string dump;  // folder for PNGs of the references and shadings (inspection)
+  std::string sheet;
+  int sheet_size = 128, sheet_spp = 1024;
+  double exposure = 0.0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string {
@@ -149,9 +206,17 @@ int run(int argc, char** argv) {
     else if (a == "--subsamples") subsamples = std::stoi(next());
     else if (a == "--chunk") chunk = std::stoi(next());
     else if (a == "--dump") dump = next();
+    else if (a == "--sheet") sheet = next();
+    else if (a == "--sheet-size") sheet_size = std::stoi(next());
+    else if (a == "--sheet-spp") sheet_spp = std::stoi(next());
+    else if (a == "--exposure") exposure = std::stod(next());
     else files.push_back(a);
   }
   if (files.empty()) throw Error("no .binary files given");
+  if (!sheet.empty()) {
+    write_sheet(sheet, env_names, files, bands.front(), theta_o, sheet_size, sheet_spp, exposure);
+    return 0;
+  }
   std::vector<std::string> envs = split(env_names);
   if (env_names == "all") envs = installed_environments();
   std::vector<zonal::BandWindow> window_list;

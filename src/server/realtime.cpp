@@ -76,6 +76,7 @@ nlohmann::json Realtime::info() {
           {"zonal_coefficients", basis.size()},
           {"lobes", s.settings.lobes},
           {"window", zonal::band_window_name(kRealtimeWindow)},
+          {"reduced_window", zonal::band_window_name(kRealtimeReducedWindow)},
           {"materials", s.materials.size()},
           {"alpha", alpha},
           {"band", band},
@@ -175,6 +176,7 @@ Realtime::Reference Realtime::reference(const Eigen::VectorXd& w, const std::str
   const zonal::ZonalBasis basis(s.settings.bands);
   zonal::ShadeSettings shade{size, size, 2};
   shade.window = kRealtimeWindow;
+  shade.reduced_window = kRealtimeReducedWindow;
   Reference out{zonal::shade_image(scene, basis, c, *maps, shade), {}};
   render::RenderSettings rs;
   rs.width = rs.height = size;

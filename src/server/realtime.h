@@ -29,8 +29,11 @@ namespace matlas::server {
 /// L and T of the viewer: L = 16 (153 coefficients, docs/REALTIME.md's preview setting), T = 32.
 inline constexpr int kRealtimeBands = 16;
 inline constexpr int kRealtimeThetaO = 32;
-/// The window over the bands shown (zonal/window.h), in the shader and the reference alike.
+/// The windows over the bands shown (zonal/window.h, zonal::ShadeSettings), in the shader and the
+/// reference alike: none with every band (the accuracy study's best, docs/REALTIME.md), Hann for
+/// the previews with fewer bands (the bands slider, the reduced frames while moving).
 inline constexpr zonal::BandWindow kRealtimeWindow = zonal::BandWindow::none;
+inline constexpr zonal::BandWindow kRealtimeReducedWindow = zonal::BandWindow::hann;
 
 class Realtime {
 public:

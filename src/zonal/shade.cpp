@@ -70,8 +70,8 @@ Image shade_image(const render::Scene& scene, const ZonalBasis& basis, const Zon
   if (settings.width <= 0 || settings.height <= 0 || settings.width > 16384 || settings.height > 16384 ||
       settings.subsamples < 1 || settings.subsamples > 16)
     throw Error("zonal shading: image size or subsamples out of range");
-  const std::vector<double> window =
-      band_window(settings.window, settings.shown_bands < 0 ? c.bands : std::min(settings.shown_bands, c.bands));
+  const int shown = settings.shown_bands < 0 ? c.bands : std::min(settings.shown_bands, c.bands);
+  const std::vector<double> window = band_window(shown < c.bands ? settings.reduced_window : settings.window, shown);
   Image image(settings.width, settings.height);
   const int s = settings.subsamples;
   parallel_for_each(0, static_cast<std::size_t>(settings.height), [&](std::size_t row) {

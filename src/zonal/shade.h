@@ -27,9 +27,13 @@ struct ShadeSettings {
   int width = 256;
   int height = 256;
   int subsamples = 2;  ///< per axis: subsamples^2 stratified rays per pixel, averaged
-  /// Bands shown, L' (-1: all of the coefficients'), and the window over them (zonal/window.h).
+  /// Bands shown, L' (-1: all of the coefficients'), and the window over them (zonal/window.h):
+  /// `window` when every band is shown (none: the lobes were fitted against exactly this
+  /// truncation, so the pair is consistent), `reduced_window` for a preview with fewer bands
+  /// (L' < L: the residual's bands above L' are missing, and a window keeps it from ringing).
   int shown_bands = -1;
   BandWindow window = BandWindow::none;
+  BandWindow reduced_window = BandWindow::hann;
 };
 
 /// The scene's object shaded with the coefficients under the prefiltered environment, through

@@ -17,7 +17,7 @@ import {
 } from "./realtime-shader";
 
 /** What /api/realtime says beyond RealtimeInfo's fields: the lobes and the window (docs/API.md). */
-type LobeInfo = { zonal_coefficients?: number; lobes?: number[]; window?: BandWindowName };
+type LobeInfo = { zonal_coefficients?: number; lobes?: number[]; window?: BandWindowName; reduced_window?: BandWindowName };
 /** The detail atlas after the band maps (zonal::pack_detail): lobe maps, then the background. */
 type DetailShape = { offset: number; lobes: number[]; layers: number; width: number; height: number };
 
@@ -45,8 +45,9 @@ export class RealtimeGl {
   private detailTexture: THREE.DataArrayTexture | null = null;
   /** The environment behind the object in the forward frames (hidden in the G-buffer pass). */
   private readonly backgroundMesh: THREE.Mesh;
-  /** The window over the bands shown (the server's, as its CPU reference uses). */
+  /** The windows over the bands shown, all of them or fewer (the server's, as its CPU reference uses). */
   readonly window: BandWindowName;
+  readonly reducedWindow: BandWindowName;
   private pendingFast = false;
   private refine: ReturnType<typeof setTimeout> | null = null;
   private readonly low: THREE.WebGLRenderTarget;
@@ -101,6 +102,7 @@ export class RealtimeGl {
     this.bands = info.bands;
     const lobeInfo = info as RealtimeInfo & LobeInfo;
     this.window = lobeInfo.window ?? "none";
+    this.reducedWindow = lobeInfo.reduced_window ?? "none";
     const lobes = lobeInfo.lobes?.length ?? 0;
     if (lobes > maxShaderLobes) throw new Error(`the server's ${lobes} lobes exceed the shader's ${maxShaderLobes}`);
     this.material = new THREE.ShaderMaterial({
@@ -198,9 +200,9 @@ export class RealtimeGl {
     else this.invalidate();
   }
 
-  /** uWindow's values for bands 0..L (padded to the shader's array). */
+  /** uWindow's values for bands 0..L (padded to the shader's array): zonal::ShadeSettings' rule. */
   private windowFactors(L: number): number[] {
-    const w = bandWindow(this.window, L);
+    const w = bandWindow(L < this.info.bands ? this.reducedWindow : this.window, L);
     while (w.length < maxShaderBands + 1) w.push(0);
     return w;
   }
