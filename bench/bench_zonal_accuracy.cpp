@@ -125,7 +125,7 @@ void write_cached(const std::string& path, const Image& img) {
 
 /// The before/after sheet (see the top of the file).
 void write_sheet(const std::string& out, const std::string& env_name, const std::vector<std::string>& files, int L,
-                 int theta_o, int size, int spp, double exposure) {
+                 int theta_o, int size, int spp, double exposure, zonal::BandWindow after_window) {
   render::SceneDescription desc;
   desc.environment = env_name;
   const render::Scene scene(desc);
@@ -157,7 +157,7 @@ void write_sheet(const std::string& out, const std::string& env_name, const std:
     fs.bands = L;
     fs.lobes = ps.lobes;
     const zonal::PrefilteredEnvironment env(scene.environment(), fs);
-    ss.window = version ? zonal::BandWindow::none : zonal::BandWindow::hann;
+    ss.window = version ? after_window : zonal::BandWindow::hann;
     for (std::size_t i = 0; i < tables.size(); ++i) {
       if (version == 0) place(refs[i], static_cast<int>(i), 0);
       place(zonal::shade_image(scene, projector.basis(), projector.project(tables[i]), env, ss), static_cast<int>(i),
@@ -214,7 +214,8 @@ int run(int argc, char** argv) {
   }
   if (files.empty()) throw Error("no .binary files given");
   if (!sheet.empty()) {
-    write_sheet(sheet, env_names, files, bands.front(), theta_o, sheet_size, sheet_spp, exposure);
+    write_sheet(sheet, env_names, files, bands.front(), theta_o, sheet_size, sheet_spp, exposure,
+                zonal::parse_band_window(windows));
     return 0;
   }
   std::vector<std::string> envs = split(env_names);

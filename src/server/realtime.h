@@ -31,7 +31,8 @@ inline constexpr int kRealtimeBands = 16;
 inline constexpr int kRealtimeThetaO = 32;
 /// The windows over the bands shown (zonal/window.h, zonal::ShadeSettings), in the shader and the
 /// reference alike: none with every band (the accuracy study's best, docs/REALTIME.md), Hann for
-/// the previews with fewer bands (the bands slider, the reduced frames while moving).
+/// the previews with fewer bands (the bands slider, the reduced frames while moving). The page
+/// holds the same two names (web/src/realtime-shader.ts: viewerWindow, viewerReducedWindow).
 inline constexpr zonal::BandWindow kRealtimeWindow = zonal::BandWindow::none;
 inline constexpr zonal::BandWindow kRealtimeReducedWindow = zonal::BandWindow::hann;
 

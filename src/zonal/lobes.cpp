@@ -1,5 +1,6 @@
 #include "zonal/lobes.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -32,6 +33,27 @@ std::vector<double> lobe_legendre(double kappa, int L) {
     }
   }
   return k;
+}
+
+double lobe_cosine_mass(double kappa, double rz) {
+  // Over the circle r . w = t: w_z = a + b cos(phi), a = t rz, b = sqrt(1 - t^2) sqrt(1 - rz^2); the
+  // mean of max(w_z, 0) over phi is (a phi0 + b sin phi0) / pi, phi0 = acos(-a / b) (a if b = 0).
+  const double umax = std::min(2.0 * kappa, 60.0), q = std::sqrt(std::max(0.0, 1.0 - rz * rz));
+  const int steps = 4000;
+  const double h = umax / steps, scale = 2.0 * kPi * lobe_normalisation(kappa) / kappa;
+  double sum = 0;
+  for (int s = 0; s <= steps; ++s) {
+    const double u = s * h, t = 1.0 - u / kappa;
+    const double a = t * rz, b = std::sqrt(std::max(0.0, 1.0 - t * t)) * q;
+    double mean;
+    if (b <= 1e-300) mean = std::max(a, 0.0);
+    else {
+      const double phi0 = std::acos(std::clamp(-a / b, -1.0, 1.0));
+      mean = (a * phi0 + b * std::sin(phi0)) / kPi;
+    }
+    sum += (s == 0 || s == steps ? 1.0 : (s % 2 ? 4.0 : 2.0)) * h / 3.0 * std::exp(-u) * mean;
+  }
+  return scale * sum;
 }
 
 double lobe_product(double a, double b) {

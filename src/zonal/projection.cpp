@@ -1,5 +1,6 @@
 #include "zonal/projection.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -56,47 +57,53 @@ ZonalProjector::ZonalProjector(const ProjectionSettings& settings, MerlDims dims
   if (settings.lobes.empty()) return;
   validate_lobes(settings.lobes);
   const auto M = static_cast<Eigen::Index>(settings.lobes.size());
-  std::vector<std::vector<double>> k;  // k_l of each lobe, l <= L
-  for (double kappa : settings.lobes) k.push_back(lobe_legendre(kappa, L));
-  // High-pass Gram matrix: <K_i, K_j> minus its bands 0..L (sum_m Y_l^m(r)^2 = (2l + 1) / 4 pi).
-  Eigen::MatrixXd gram(M, M);
-  for (Eigen::Index i = 0; i < M; ++i)
-    for (Eigen::Index j = 0; j < M; ++j) {
-      double g = lobe_product(settings.lobes[static_cast<std::size_t>(i)], settings.lobes[static_cast<std::size_t>(j)]);
-      for (int l = 0; l <= L; ++l)
-        g -= k[static_cast<std::size_t>(i)][static_cast<std::size_t>(l)] * k[static_cast<std::size_t>(j)][static_cast<std::size_t>(l)] *
-             (2.0 * l + 1.0) / (4.0 * kPi);
-      gram(i, j) = g;
-    }
-  // A small ridge: lobes far broader than band L have almost no energy above it.
-  const Eigen::MatrixXd fit = (gram + 1e-6 * gram.diagonal().maxCoeff() * Eigen::MatrixXd::Identity(M, M)).inverse();
+  // The fitted functions are the cosine-weighted lobes Kc_i(w) = K_i(r . w) max(w_z, 0): zero
+  // below the horizon and continuous across it, as the slice is. Their spectra and Gram matrix
+  // (over the upper hemisphere) come from this projector's own quadrature.
   lobe_fits_.resize(static_cast<std::size_t>(T));
   parallel_for_each(0, static_cast<std::size_t>(T), [&](std::size_t t) {
     const double to = ZonalCoefficients::theta_o(static_cast<int>(t), T);
     const Vec3 r(-std::sin(to), 0.0, std::cos(to));
     LobeFit& f = lobe_fits_[t];
-    f.fit = fit;
     f.weights.resize(static_cast<Eigen::Index>(rows) * cols, M);
+    std::vector<Eigen::MatrixXd> grid(static_cast<std::size_t>(M), Eigen::MatrixXd(rows, cols));
     for (int row = 0; row < rows; ++row) {
       const double theta = (row + 0.5) * dtheta;
       const double area = (std::cos(theta - dtheta / 2) - std::cos(theta + dtheta / 2)) * 2.0 * dphi;
       for (int c = 0; c < cols; ++c) {
         const double phi = (c + 0.5) * dphi;
         const double cosine = r.dot(Vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)));
-        for (Eigen::Index i = 0; i < M; ++i)
-          f.weights(static_cast<Eigen::Index>(row) * cols + c, i) = area * lobe_value(settings.lobes[static_cast<std::size_t>(i)], cosine);
+        for (Eigen::Index i = 0; i < M; ++i) {
+          const double v = lobe_value(settings.lobes[static_cast<std::size_t>(i)], cosine) * std::cos(theta);
+          grid[static_cast<std::size_t>(i)](row, c) = v;
+          f.weights(static_cast<Eigen::Index>(row) * cols + c, i) = area * v;
+        }
       }
     }
-    // Y_l^m(r): r has phi = pi, so cos(m phi) = (-1)^m.
-    std::vector<double> pl;
-    normalized_legendre(L, std::cos(to), pl);
     f.spectra.resize(static_cast<Eigen::Index>(triangle_size(L)), M);
-    for (int l = 0; l <= L; ++l)
-      for (int m = 0; m <= l; ++m) {
-        const double y = (m > 0 ? std::sqrt(2.0) : 1.0) * pl[lm_index(l, m)] * (m % 2 ? -1.0 : 1.0);
-        for (Eigen::Index i = 0; i < M; ++i)
-          f.spectra(static_cast<Eigen::Index>(lm_index(l, m)), i) = k[static_cast<std::size_t>(i)][static_cast<std::size_t>(l)] * y;
+    Eigen::MatrixXd gram(M, M);
+    for (Eigen::Index i = 0; i < M; ++i) {
+      const Eigen::MatrixXd fourier = grid[static_cast<std::size_t>(i)] * cosines_;  // as a slice's projection
+      for (int l = 0; l <= L; ++l)
+        for (int m = 0; m <= l; ++m)
+          f.spectra(static_cast<Eigen::Index>(lm_index(l, m)), i) =
+              fourier.col(m).dot(legendre_.col(static_cast<Eigen::Index>(lm_index(l, m))));
+      for (Eigen::Index j = 0; j < M; ++j) {
+        double sum = 0;  // weights' column i is area * Kc_i in row-major cell order
+        for (int row = 0; row < rows; ++row)
+          for (int c = 0; c < cols; ++c)
+            sum += f.weights(static_cast<Eigen::Index>(row) * cols + c, i) * grid[static_cast<std::size_t>(j)](row, c);
+        gram(i, j) = sum;
       }
+    }
+    // High-pass Gram matrix: <Kc_i, Kc_j> minus its bands 0..L; a small ridge (lobes far broader
+    // than band L have almost no energy above it).
+    gram -= f.spectra.transpose() * f.spectra;
+    f.fit = (gram + 1e-6 * gram.diagonal().maxCoeff() * Eigen::MatrixXd::Identity(M, M)).inverse();
+    // Stored weight: c_i times Kc_i's mass, so that shading is c_i mass_i E_i(r) (the environment
+    // taken as even over the lobe).
+    f.mass.resize(M);
+    for (Eigen::Index i = 0; i < M; ++i) f.mass(i) = lobe_cosine_mass(settings.lobes[static_cast<std::size_t>(i)], r.z());
   });
 }
 
@@ -104,7 +111,7 @@ void ZonalProjector::fit_lobes(std::size_t t, Eigen::VectorXd& a, const Eigen::V
   const LobeFit& f = lobe_fits_[t];
   const Eigen::VectorXd weights = f.fit * (b - f.spectra.transpose() * a);
   a -= f.spectra * weights;
-  for (Eigen::Index i = 0; i < weights.size(); ++i) c[i] = weights(i);
+  for (Eigen::Index i = 0; i < weights.size(); ++i) c[i] = weights(i) * f.mass(i);
 }
 
 ZonalCoefficients ZonalProjector::project(const BrdfTable& table) const {
@@ -239,7 +246,9 @@ Rgb reconstruct(const ZonalBasis& basis, const ZonalCoefficients& c, double thet
   const Vec3 r(-std::sin(theta_o), 0.0, std::cos(theta_o));
   for (std::size_t i = 0; i < c.lobes.size(); ++i) {
     const std::size_t j = K + i;
-    sum += lobe_value(c.lobes[i], r.dot(wi)) * Rgb(lambda[3 * j], lambda[3 * j + 1], lambda[3 * j + 2]);
+    const double mass = lobe_cosine_mass(c.lobes[i], r.z());
+    sum += lobe_value(c.lobes[i], r.dot(wi)) * std::max(wi.z(), 0.0) / mass *
+           Rgb(lambda[3 * j], lambda[3 * j + 1], lambda[3 * j + 2]);
   }
   return sum;
 }

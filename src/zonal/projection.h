@@ -57,11 +57,12 @@ private:
   Eigen::MatrixXd cosines_;          ///< [column][m]: cos(m phi) * column width * 2 (both halves)
   Eigen::MatrixXd legendre_;         ///< [row][lm]: sqrt(2)^(m>0) Pbar_l^m(cos theta) (cos theta0 - cos theta1)
   /// Per theta_o sample, the lobe fit (zonal/lobes.h): c = fit (b - sum_lm a_lm spectra_lm), then
-  /// a_lm -= sum_i c_i spectra(lm, i).
+  /// a_lm -= sum_i c_i spectra(lm, i); stored c_i mass_i.
   struct LobeFit {
-    Eigen::MatrixXd weights;  ///< [row * cols + col][i]: K_i(r . w) times the cell's area (both phi halves)
-    Eigen::MatrixXd spectra;  ///< [lm][i]: k_l^i Y_l^m(r)
+    Eigen::MatrixXd weights;  ///< [row * cols + col][i]: Kc_i(w) times the cell's area (both phi halves)
+    Eigen::MatrixXd spectra;  ///< [lm][i]: the SH coefficients of Kc_i
     Eigen::MatrixXd fit;      ///< M x M: the inverse of the high-pass Gram matrix (ridge-regularised)
+    Eigen::VectorXd mass;     ///< integral of Kc_i over the sphere (lobe_cosine_mass)
   };
   std::vector<LobeFit> lobe_fits_;
   /// Subtracts the fitted lobes from one table's SH coefficients a (triangle) at sample t, given the
@@ -70,7 +71,7 @@ private:
 };
 
 /// The slice reconstructed from coefficients: sum_{l,k} lambda_l^k(theta_o) Y_l^0(d_{l,k} . wi)
-/// (+ sum_i c_i(theta_o) K_i(r . wi) with lobes), wi in the local frame of the slice (wo in the
+/// (+ sum_i c_i(theta_o) / mass_i K_i(r . wi) max(wi_z, 0) with lobes), wi in the local frame of the slice (wo in the
 /// x-z plane, x >= 0). With `window` (w_0..w_L', zonal/window.h) band l is weighted by w_l and
 /// bands above L' are left out.
 Rgb reconstruct(const ZonalBasis& basis, const ZonalCoefficients& c, double theta_o, const Vec3& wi,

@@ -103,6 +103,21 @@ TEST(Lobes, LegendreCoefficientsMatchAQuadratureInTheta) {
     // k_1 is the lobe's mean cosine, coth(kappa) - 1/kappa.
     EXPECT_NEAR(k[1], 1 / std::tanh(kappa) - 1 / kappa, 1e-9) << kappa;
   }
+  // The cosine-weighted lobe's mass against a midpoint rule over the sphere.
+  for (double kappa : {16.0, 256.0})
+    for (double angle : {0.0, 0.7, 1.4, kPi / 2}) {
+      const Vec3 r(-std::sin(angle), 0, std::cos(angle));
+      double sum = 0;
+      const int n = 2000;
+      for (int a = 0; a < n; ++a)
+        for (int b = 0; b < 2 * n; ++b) {
+          const double theta = (a + 0.5) * kPi / (2 * n), phi = (b + 0.5) * kPi / n;
+          const Vec3 w(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+          sum += lobe_value(kappa, r.dot(w)) * w.z() * std::sin(theta) * (kPi / (2 * n)) * (kPi / n);
+        }
+      EXPECT_NEAR(lobe_cosine_mass(kappa, r.z()), sum, 2e-4) << kappa << " " << angle;
+    }
+  EXPECT_NEAR(lobe_cosine_mass(4096, 0.5), 0.5, 1e-3);  // a sharp lobe: the cosine at its axis
   EXPECT_NEAR(lobe_product(64, 64), 64 / (4 * kPi) * (1 + std::exp(-256.0)), 1e-9);  // N^2 2pi/(2 kappa) for large kappa
   EXPECT_THROW(validate_lobes({64, 16}), Error);
   EXPECT_THROW(validate_lobes({0.5}), Error);
@@ -140,14 +155,14 @@ TEST(Lobes, MapsOfALinearEnvironmentAreItsMeanCosineGradient) {
   }
 }
 
-/// A BRDF whose cosine-weighted slice is `amplitude` K_kappa(r . wi) (r the mirror direction)
-/// above the horizon.
+/// The BRDF `amplitude` K_kappa(r . wi) (r the mirror direction): its cosine-weighted slice is
+/// amplitude Kc, one of the fitted functions.
 struct LobeBrdf {
   double kappa, amplitude;
   Rgb operator()(const Vec3& wi, const Vec3& wo) const {
-    if (wi.z() <= 1e-3 || wo.z() <= 0) return Rgb::Zero();
+    if (wi.z() <= 0 || wo.z() <= 0) return Rgb::Zero();
     const Vec3 r(-wo.x(), -wo.y(), wo.z());
-    return Rgb::Constant(amplitude * lobe_value(kappa, r.dot(wi)) / wi.z());
+    return Rgb::Constant(amplitude * lobe_value(kappa, r.dot(wi)));
   }
 };
 
@@ -167,8 +182,9 @@ double slice_error(const ZonalProjector& p, const ZonalCoefficients& c, const Lo
 }
 
 TEST(Lobes, ALobeShapedSliceIsCarriedByItsLobe) {
-  // The slice is 0.8 K_256 around the mirror direction: the fit puts about 0.8 on lobe 256 and
-  // reconstructs the slice far better than the expansion alone at the same L.
+  // The slice is 0.8 K_256 cos(theta_i) around the mirror direction: the fit puts about 0.8 on
+  // lobe 256 (stored times the lobe's mass) and reconstructs the slice far better than the
+  // expansion alone at the same L.
   const LobeBrdf f{256.0, 0.8};
   const BrdfTable table = tabulate(f);
   ProjectionSettings plain;
@@ -182,7 +198,7 @@ TEST(Lobes, ALobeShapedSliceIsCarriedByItsLobe) {
   for (int t : {2, 6, 9}) {
     const double theta_o = ZonalCoefficients::theta_o(t, 16);
     const double e0 = slice_error(p0, c0, f, theta_o), e1 = slice_error(p1, c1, f, theta_o);
-    const Rgb weight = c1.at(t, c1.zonal_size() + 1);
+    const Rgb weight = c1.at(t, c1.zonal_size() + 1) / lobe_cosine_mass(256.0, std::cos(theta_o));
     std::printf("theta_o %.1f deg: slice error %.3f without lobes, %.3f with; lobe weights %.3f %.3f %.3f\n",
                 theta_o * 180 / kPi, e0, e1, c1.at(t, c1.zonal_size())[0], weight[0], c1.at(t, c1.zonal_size() + 2)[0]);
     EXPECT_GT(e0, 0.3);  // 9 bands cannot hold a 3.6-degree lobe

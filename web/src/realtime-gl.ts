@@ -13,11 +13,10 @@ import { GLTFLoader } from "three/examples/jsm/loaders/GLTFLoader.js";
 import type { EnvironmentAtlas, RealtimeInfo } from "./api";
 import {
   backgroundFragmentShader, backgroundVertexShader, bandWindow, type BandWindowName, deferredFragmentShader,
-  fragmentShader, gbufferFragmentShader, maxShaderBands, maxShaderLobes, quadVertexShader, vertexShader,
+  fragmentShader, gbufferFragmentShader, maxShaderBands, maxShaderLobes, quadVertexShader, vertexShader, viewerReducedWindow,
+  viewerWindow,
 } from "./realtime-shader";
 
-/** What /api/realtime says beyond RealtimeInfo's fields: the lobes and the window (docs/API.md). */
-type LobeInfo = { zonal_coefficients?: number; lobes?: number[]; window?: BandWindowName; reduced_window?: BandWindowName };
 /** The detail atlas after the band maps (zonal::pack_detail): lobe maps, then the background. */
 type DetailShape = { offset: number; lobes: number[]; layers: number; width: number; height: number };
 
@@ -100,10 +99,11 @@ export class RealtimeGl {
     const steps = Array.from({ length: maxShaderBands + 1 }, (_, l) =>
       new THREE.Vector2(Math.cos(Math.PI / (l + 1)), Math.sin(Math.PI / (l + 1))));
     this.bands = info.bands;
-    const lobeInfo = info as RealtimeInfo & LobeInfo;
-    this.window = lobeInfo.window ?? "none";
-    this.reducedWindow = lobeInfo.reduced_window ?? "none";
-    const lobes = lobeInfo.lobes?.length ?? 0;
+    this.window = viewerWindow;
+    this.reducedWindow = viewerReducedWindow;
+    // Per theta_o sample: the (L + 1)(L + 2) / 2 rotated-ZH terms, then one weight per lobe.
+    const zonalTerms = ((info.bands + 1) * (info.bands + 2)) / 2, lobes = K - zonalTerms;
+    if (lobes < 0) throw new Error(`the server's ${K} coefficients are fewer than bands 0..${info.bands} need`);
     if (lobes > maxShaderLobes) throw new Error(`the server's ${lobes} lobes exceed the shader's ${maxShaderLobes}`);
     this.material = new THREE.ShaderMaterial({
       glslVersion: THREE.GLSL3,
@@ -120,7 +120,7 @@ export class RealtimeGl {
         uDetail: { value: null },
         uDetailSide: { value: 1 },
         uLobes: { value: -1 },  // no detail texture yet
-        uZonalTerms: { value: lobeInfo.zonal_coefficients ?? K },
+        uZonalTerms: { value: zonalTerms },
         uCameraInverse: { value: new THREE.Matrix4() },
         uBackground: { value: new THREE.Color(0x202020) },
         uRotation: { value: new THREE.Vector2(1, 0) },

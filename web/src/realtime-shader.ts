@@ -27,6 +27,14 @@ export const maxShaderLobes = 8;
 export type BandWindowName = "none" | "hann" | "lanczos" | "gauss";
 
 /**
+ * The viewer's windows (src/server/realtime.h: kRealtimeWindow, kRealtimeReducedWindow, which the
+ * server's CPU reference uses): none when every band is shown, Hann for fewer (the bands slider,
+ * the reduced frames while moving).
+ */
+export const viewerWindow: BandWindowName = "none";
+export const viewerReducedWindow: BandWindowName = "hann";
+
+/**
  * w_0..w_L of a window over bands 0..L (src/zonal/window.cpp's formulas): none 1; hann
  * cos^2(pi l / (2 (L + 1))); lanczos sinc(pi l / (L + 1)); gauss exp(-l (l + 1) / (2 s^2)),
  * s = (L + 1) / 2.5. w_0 = 1 always.
