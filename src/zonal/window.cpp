@@ -30,6 +30,14 @@ std::vector<double> band_window(BandWindow window, int shown) {
         v = std::exp(-l * (l + 1.0) / (2.0 * s * s));
         break;
       }
+      case BandWindow::taper: {
+        const double h = n / 2.0;
+        if (l > h) {
+          const double c = std::cos(kPi * (l - h) / (2.0 * (n - h)));
+          v = c * c;
+        }
+        break;
+      }
     }
     w[static_cast<std::size_t>(l)] = v;
   }
@@ -41,7 +49,8 @@ BandWindow parse_band_window(const std::string& name) {
   if (name == "hann") return BandWindow::hann;
   if (name == "lanczos") return BandWindow::lanczos;
   if (name == "gauss") return BandWindow::gauss;
-  throw Error("unknown band window '" + name + "' (none, hann, lanczos, gauss)");
+  if (name == "taper") return BandWindow::taper;
+  throw Error("unknown band window '" + name + "' (none, hann, lanczos, gauss, taper)");
 }
 
 const char* band_window_name(BandWindow window) {
@@ -50,6 +59,7 @@ const char* band_window_name(BandWindow window) {
     case BandWindow::hann: return "hann";
     case BandWindow::lanczos: return "lanczos";
     case BandWindow::gauss: return "gauss";
+    case BandWindow::taper: return "taper";
   }
   return "none";
 }

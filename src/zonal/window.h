@@ -13,6 +13,8 @@
 //   lanczos  w_l = sinc(pi l / (L' + 1)) = sin(x) / x                 (Lanczos sigma factors)
 //   gauss    w_l = exp(-l (l + 1) / (2 s^2)), s = (L' + 1) / 2.5      (a heat kernel: positive
 //            on the sphere for every L', so a delta never rings below zero)
+//   taper    w_l = 1 for l <= h = (L' + 1) / 2, then cos^2(pi (l - h) / (2 (L' + 1 - h))): Hann
+//            over the upper half only (the low bands, all a diffuse material has, untouched)
 //
 // Every window has w_0 = 1: the mean over the sphere (band 0) is kept, so a diffuse material's
 // brightness does not change with the window.
@@ -21,12 +23,12 @@
 
 namespace matlas::zonal {
 
-enum class BandWindow { none, hann, lanczos, gauss };
+enum class BandWindow { none, hann, lanczos, gauss, taper };
 
 /// w_0..w_shown of a window for bands 0..shown (shown >= 0; matlas::Error otherwise).
 std::vector<double> band_window(BandWindow window, int shown);
 
-/// "none", "hann", "lanczos", "gauss" (matlas::Error naming the valid ones otherwise).
+/// "none", "hann", "lanczos", "gauss", "taper" (matlas::Error naming the valid ones otherwise).
 BandWindow parse_band_window(const std::string& name);
 const char* band_window_name(BandWindow window);
 

@@ -24,7 +24,7 @@ export const maxShaderBands = 32;
 /** Most lobes the shader sums. */
 export const maxShaderLobes = 8;
 
-export type BandWindowName = "none" | "hann" | "lanczos" | "gauss";
+export type BandWindowName = "none" | "hann" | "lanczos" | "gauss" | "taper";
 
 /**
  * The viewer's windows (src/server/realtime.h: kRealtimeWindow, kRealtimeReducedWindow, which the
@@ -37,7 +37,8 @@ export const viewerReducedWindow: BandWindowName = "hann";
 /**
  * w_0..w_L of a window over bands 0..L (src/zonal/window.cpp's formulas): none 1; hann
  * cos^2(pi l / (2 (L + 1))); lanczos sinc(pi l / (L + 1)); gauss exp(-l (l + 1) / (2 s^2)),
- * s = (L + 1) / 2.5. w_0 = 1 always.
+ * s = (L + 1) / 2.5; taper 1 up to h = (L + 1) / 2, then cos^2(pi (l - h) / (2 (L + 1 - h))).
+ * w_0 = 1 always.
  */
 export function bandWindow(name: BandWindowName, L: number): number[] {
   const n = L + 1;
@@ -47,6 +48,7 @@ export function bandWindow(name: BandWindowName, L: number): number[] {
       case "hann": return Math.cos((Math.PI * l) / (2 * n)) ** 2;
       case "lanczos": return Math.sin((Math.PI * l) / n) / ((Math.PI * l) / n);
       case "gauss": return Math.exp((-l * (l + 1)) / (2 * (n / 2.5) ** 2));
+      case "taper": return l <= n / 2 ? 1 : Math.cos((Math.PI * (l - n / 2)) / (2 * (n - n / 2))) ** 2;
       default: return 1;
     }
   });
