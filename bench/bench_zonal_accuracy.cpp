@@ -11,8 +11,9 @@
 //
 // --sheet: a before/after picture instead of the study: one row per material, columns the path
 // tracer (render_bank, one seed), the viewer's former default (L, no lobes, Hann window over the
-// bands) and its present one (L, zonal::kDefaultLobes, no window), 4 x 4 rays per pixel, the
-// environment behind the sphere, clamp tone map at `exposure` stops.
+// bands), the lobes (zonal::kDefaultLobes) with --window (default none: the present default) and
+// the lobes with Hann; 4 x 4 rays per pixel, the environment behind the sphere, clamp tone map at
+// `exposure` stops.
 //
 // --lobes: the sharp lobes fitted beside the expansion (zonal/lobes.h; default none, "default":
 // zonal::kDefaultLobes). --env all: every installed environment. --window: the band windows to shade with
@@ -136,7 +137,7 @@ void write_sheet(const std::string& out, const std::string& env_name, const std:
   for (const std::string& f : files) tables.push_back(read_merl(f));
   const TableBank bank(tables);
   const std::vector<Image> refs = render::render_bank(scene, bank, rs);
-  const int gap = 4, cols = 3, rows = static_cast<int>(files.size());
+  const int gap = 4, cols = 4, rows = static_cast<int>(files.size());
   Image sheet(cols * size + (cols - 1) * gap, rows * size + (rows - 1) * gap);
   std::fill(sheet.rgb.begin(), sheet.rgb.end(), 1.0f);
   auto place = [&](const Image& img, int row, int col) {
@@ -150,14 +151,14 @@ void write_sheet(const std::string& out, const std::string& env_name, const std:
   zonal::ShadeSettings ss;
   ss.width = ss.height = size;
   ss.subsamples = 4;
-  for (int version = 0; version < 2; ++version) {
+  for (int version = 0; version < 3; ++version) {
     zonal::ProjectionSettings ps{L, theta_o, 128, 256, version ? zonal::kDefaultLobes : std::vector<double>{}};
     const zonal::ZonalProjector projector(ps);
     zonal::PrefilterSettings fs;
     fs.bands = L;
     fs.lobes = ps.lobes;
     const zonal::PrefilteredEnvironment env(scene.environment(), fs);
-    ss.window = version ? after_window : zonal::BandWindow::hann;
+    ss.window = version == 1 ? after_window : zonal::BandWindow::hann;
     for (std::size_t i = 0; i < tables.size(); ++i) {
       if (version == 0) place(refs[i], static_cast<int>(i), 0);
       place(zonal::shade_image(scene, projector.basis(), projector.project(tables[i]), env, ss), static_cast<int>(i),

@@ -30,11 +30,12 @@ namespace matlas::server {
 inline constexpr int kRealtimeBands = 16;
 inline constexpr int kRealtimeThetaO = 32;
 /// The windows over the bands shown (zonal/window.h, zonal::ShadeSettings), in the shader and the
-/// reference alike: Hann, with every band as with fewer (the bands slider, the reduced frames
-/// while moving). Without a window the study's error is lower but glossy materials such as
-/// nickel show rings of the expansion's remainder (docs/REALTIME.md, "Accuracy of the viewer"). The page
+/// reference alike: none with every band (the lobes were fitted against exactly that truncation;
+/// the study's lowest error, docs/REALTIME.md "Accuracy of the viewer": 4.9 % against 12.8 % with
+/// Hann), Hann for the previews with fewer bands (the bands slider, the reduced frames while
+/// moving), which would otherwise ring. The page
 /// holds the same two names (web/src/realtime-shader.ts: viewerWindow, viewerReducedWindow).
-inline constexpr zonal::BandWindow kRealtimeWindow = zonal::BandWindow::hann;
+inline constexpr zonal::BandWindow kRealtimeWindow = zonal::BandWindow::none;
 inline constexpr zonal::BandWindow kRealtimeReducedWindow = zonal::BandWindow::hann;
 
 class Realtime {
