@@ -30,12 +30,12 @@ namespace matlas::server {
 inline constexpr int kRealtimeBands = 16;
 inline constexpr int kRealtimeThetaO = 32;
 /// The windows over the bands shown (zonal/window.h, zonal::ShadeSettings), in the shader and the
-/// reference alike: none with every band (the lobes were fitted against exactly that truncation;
-/// the study's lowest error, docs/REALTIME.md "Accuracy of the viewer": 4.9 % against 12.8 % with
-/// Hann), Hann for the previews with fewer bands (the bands slider, the reduced frames while
-/// moving), which would otherwise ring. The page
+/// reference alike: Hann, with every band as with fewer (the bands slider, the reduced frames while
+/// moving). Without a window the study's error is lower (docs/REALTIME.md "Accuracy of the
+/// viewer": 4.9 % against 12.8 %) but glossy materials ring visibly at the rim under small bright
+/// lights (the before/after sheet); kRealtimeWindow = none trades the one for the other. The page
 /// holds the same two names (web/src/realtime-shader.ts: viewerWindow, viewerReducedWindow).
-inline constexpr zonal::BandWindow kRealtimeWindow = zonal::BandWindow::none;
+inline constexpr zonal::BandWindow kRealtimeWindow = zonal::BandWindow::hann;
 inline constexpr zonal::BandWindow kRealtimeReducedWindow = zonal::BandWindow::hann;
 
 class Realtime {

@@ -28,10 +28,10 @@ export type BandWindowName = "none" | "hann" | "lanczos" | "gauss" | "taper";
 
 /**
  * The viewer's windows (src/server/realtime.h: kRealtimeWindow, kRealtimeReducedWindow, which the
- * server's CPU reference uses): none when every band is shown, Hann for fewer (the bands slider,
- * the reduced frames while moving).
+ * server's CPU reference uses): Hann whether every band is shown or fewer (the bands slider, the
+ * reduced frames while moving).
  */
-export const viewerWindow: BandWindowName = "none";
+export const viewerWindow: BandWindowName = "hann";
 export const viewerReducedWindow: BandWindowName = "hann";
 
 /**
