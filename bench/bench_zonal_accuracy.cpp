@@ -1,9 +1,25 @@
 // Accuracy of the rotated-ZH CPU reference (src/zonal) against the path tracer (src/render), the
 // numbers of docs/REALTIME.md. Not a Google Benchmark: a study with its own main.
 //
-//   bench_zonal_accuracy [--env studio] [--bands 4,8,16,24,32] [--size 64] [--spp 4096]
-//                        [--theta-o 32] [--rows 128] [--cols 256] [--texels 8] [--subsamples 2]
-//                        [--chunk 12] [--dump DIR] FILE.binary... > results.csv
+//   bench_zonal_accuracy [--env studio[,forest,...|all]] [--bands 4,8,16,24,32] [--size 64]
+//                        [--spp 4096] [--theta-o 32] [--rows 128] [--cols 256] [--texels 8]
+//                        [--subsamples 2] [--chunk 12] [--window none[,hann,...]]
+//                        [--lobes none|64,256,...] [--ref-cache DIR] [--dump DIR]
+//                        FILE.binary... > results.csv
+//   bench_zonal_accuracy --sheet OUT.png [--env studio] [--sheet-size 128] [--sheet-spp 1024]
+//                        [--bands 16] [--exposure 0] FILE.binary...
+//
+// --sheet: a before/after picture instead of the study: one row per material, columns the path
+// tracer (render_bank, one seed), the viewer's former default (L, no lobes, Hann window over the
+// bands), the lobes (zonal::kDefaultLobes) with --window (default none: the present default) and
+// the lobes with Hann; 4 x 4 rays per pixel, the environment behind the sphere, clamp tone map at
+// `exposure` stops.
+//
+// --lobes: the sharp lobes fitted beside the expansion (zonal/lobes.h; default none, "default":
+// zonal::kDefaultLobes). --env all: every installed environment. --window: the band windows to shade with
+// (zonal/window.h; one row per window). --ref-cache: the reference renders are read from (or
+// written to) DIR as raw float32 files named by environment, size, spp, seed and material, so
+// that a second study of the same scene only shades.
 //
 // For every material: two reference renders R1, R2 of a sphere with seeds 1 and 2 (the `matlas
 // render` scene and camera; render_bank shares the samples of a chunk of materials, one bin index per sample), R = (R1 +
@@ -12,7 +28,10 @@
 // Also prints per material its gloss
 // ln(pi f_peak / A) (f_peak: luminance at theta_h bin 0, theta_d bin 10, phi_d bin 90; A: the
 // luminance of the albedo at normal incidence) that classifies it. CSV on stdout, timings on stderr.
+#include <algorithm>
 #include <chrono>
+#include <filesystem>
+#include <fstream>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -24,6 +43,7 @@
 #include "brdf/albedo.h"
 #include "core/error.h"
 #include "formats/merl_file.h"
+#include "render/assets.h"
 #include "render/material.h"
 #include "render/render.h"
 #include "zonal/compare.h"
@@ -64,28 +84,119 @@ double gloss(const BrdfTable& t) {
   return std::log(std::max(kPi * peak, 1e-12) / std::max(albedo, 1e-12));
 }
 
-std::vector<int> parse_list(const std::string& s) {
-  std::vector<int> out;
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
   std::stringstream in(s);
   std::string item;
-  while (std::getline(in, item, ',')) out.push_back(std::stoi(item));
+  while (std::getline(in, item, ',')) out.push_back(item);
   return out;
 }
 
+std::vector<int> parse_list(const std::string& s) {
+  std::vector<int> out;
+  for (const std::string& item : split(s)) out.push_back(std::stoi(item));
+  return out;
+}
+
+std::string stem_of(const std::string& file) {
+  std::string name = file.substr(file.find_last_of('/') + 1);
+  return name.substr(0, name.find('.'));
+}
+
+/// A cached reference image (raw float32 RGB, width * height * 3), or false.
+bool read_cached(const std::string& path, int size, Image* out) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  Image img(size, size);
+  in.read(reinterpret_cast<char*>(img.rgb.data()), static_cast<std::streamsize>(img.rgb.size() * sizeof(float)));
+  if (!in || in.peek() != EOF) return false;
+  *out = std::move(img);
+  return true;
+}
+
+void write_cached(const std::string& path, const Image& img) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(img.rgb.data()), static_cast<std::streamsize>(img.rgb.size() * sizeof(float)));
+    if (!out) throw Error("cannot write " + tmp);
+  }
+  std::filesystem::rename(tmp, path);
+}
+
+/// The before/after sheet (see the top of the file).
+void write_sheet(const std::string& out, const std::string& env_name, const std::vector<std::string>& files, int L,
+                 int theta_o, int size, int spp, double exposure, zonal::BandWindow after_window) {
+  render::SceneDescription desc;
+  desc.environment = env_name;
+  const render::Scene scene(desc);
+  render::RenderSettings rs;
+  rs.width = rs.height = size;
+  rs.spp = spp;
+  std::vector<BrdfTable> tables;
+  for (const std::string& f : files) tables.push_back(read_merl(f));
+  const TableBank bank(tables);
+  const std::vector<Image> refs = render::render_bank(scene, bank, rs);
+  const int gap = 4, cols = 4, rows = static_cast<int>(files.size());
+  Image sheet(cols * size + (cols - 1) * gap, rows * size + (rows - 1) * gap);
+  std::fill(sheet.rgb.begin(), sheet.rgb.end(), 1.0f);
+  auto place = [&](const Image& img, int row, int col) {
+    for (int y = 0; y < size; ++y)
+      for (int x = 0; x < size; ++x) {
+        const float* p = img.pixel(x, y);
+        float* q = sheet.pixel(col * (size + gap) + x, row * (size + gap) + y);
+        for (int c = 0; c < 3; ++c) q[c] = p[c];
+      }
+  };
+  zonal::ShadeSettings ss;
+  ss.width = ss.height = size;
+  ss.subsamples = 4;
+  for (int version = 0; version < 3; ++version) {
+    zonal::ProjectionSettings ps{L, theta_o, 128, 256, version ? zonal::kDefaultLobes : std::vector<double>{}};
+    const zonal::ZonalProjector projector(ps);
+    zonal::PrefilterSettings fs;
+    fs.bands = L;
+    fs.lobes = ps.lobes;
+    const zonal::PrefilteredEnvironment env(scene.environment(), fs);
+    ss.window = version == 1 ? after_window : zonal::BandWindow::hann;
+    for (std::size_t i = 0; i < tables.size(); ++i) {
+      if (version == 0) place(refs[i], static_cast<int>(i), 0);
+      place(zonal::shade_image(scene, projector.basis(), projector.project(tables[i]), env, ss), static_cast<int>(i),
+            1 + version);
+    }
+  }
+  ToneMap tone;
+  tone.exposure = exposure;
+  write_image(out, sheet, tone);
+}
+
 int run(int argc, char** argv) {
-  std::string env_name = "studio";
+  std::string env_names = "studio", windows = "none", ref_cache;
+  std::vector<double> lobes;
   std::vector<int> bands = {4, 8, 16, 24, 32};
   int size = 64, spp = 4096, theta_o = 32, rows = 128, cols = 256, subsamples = 2, chunk = 12;
   double texels = 8.0;
   std::vector<std::string> files;
   std::string dump;  // folder for PNGs of the references and shadings (inspection)
+  std::string sheet;
+  int sheet_size = 128, sheet_spp = 1024;
+  double exposure = 0.0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string {
       if (i + 1 >= argc) throw Error(a + " needs a value");
       return argv[++i];
     };
-    if (a == "--env") env_name = next();
+    if (a == "--env") env_names = next();
+    else if (a == "--window") windows = next();
+    else if (a == "--ref-cache") ref_cache = next();
+    else if (a == "--lobes") {
+      const std::string v = next();
+      lobes.clear();
+      if (v == "default") lobes = zonal::kDefaultLobes;
+      else if (v != "none")
+        for (const std::string& item : split(v)) lobes.push_back(std::stod(item));
+    }
     else if (a == "--bands") bands = parse_list(next());
     else if (a == "--size") size = std::stoi(next());
     else if (a == "--spp") spp = std::stoi(next());
@@ -96,69 +207,120 @@ int run(int argc, char** argv) {
     else if (a == "--subsamples") subsamples = std::stoi(next());
     else if (a == "--chunk") chunk = std::stoi(next());
     else if (a == "--dump") dump = next();
+    else if (a == "--sheet") sheet = next();
+    else if (a == "--sheet-size") sheet_size = std::stoi(next());
+    else if (a == "--sheet-spp") sheet_spp = std::stoi(next());
+    else if (a == "--exposure") exposure = std::stod(next());
     else files.push_back(a);
   }
   if (files.empty()) throw Error("no .binary files given");
-  render::SceneDescription desc;  // the `matlas render` defaults: sphere, default camera
-  desc.environment = env_name;
-  const render::Scene scene(desc);
+  if (!sheet.empty()) {
+    write_sheet(sheet, env_names, files, bands.front(), theta_o, sheet_size, sheet_spp, exposure,
+                zonal::parse_band_window(windows));
+    return 0;
+  }
+  std::vector<std::string> envs = split(env_names);
+  if (env_names == "all") envs = installed_environments();
+  std::vector<zonal::BandWindow> window_list;
+  for (const std::string& w : split(windows)) window_list.push_back(zonal::parse_band_window(w));
   render::RenderSettings rs;
   rs.width = rs.height = size;
   rs.spp = spp;
-  const std::vector<float> coverage = render::object_coverage(scene, rs);
-  zonal::ShadeSettings ss;
-  ss.width = ss.height = size;
-  ss.subsamples = subsamples;
 
+  // Coefficients of every material at every L: computed once, shaded under every environment.
+  std::vector<BrdfTable> all_tables;
+  std::vector<std::string> names;
+  std::vector<double> glosses;
+  for (const std::string& f : files) {
+    all_tables.push_back(read_merl(f));
+    names.push_back(stem_of(f));
+    glosses.push_back(gloss(all_tables.back()));
+  }
   std::vector<std::unique_ptr<zonal::ZonalProjector>> projectors;
-  std::vector<std::unique_ptr<zonal::PrefilteredEnvironment>> filtered;
+  std::vector<std::vector<zonal::ZonalCoefficients>> coefficients;  // [L][material]
   for (int L : bands) {
-    zonal::ProjectionSettings ps{L, theta_o, rows, cols};
+    zonal::ProjectionSettings ps{L, theta_o, rows, cols, lobes};
     auto t = std::chrono::steady_clock::now();
     projectors.push_back(std::make_unique<zonal::ZonalProjector>(ps));
-    std::fprintf(stderr, "L=%d projector %.2f s", L, seconds_since(t));
-    t = std::chrono::steady_clock::now();
-    zonal::PrefilterSettings fs;
-    fs.bands = L;
-    fs.texels_per_band = texels;
-    filtered.push_back(std::make_unique<zonal::PrefilteredEnvironment>(scene.environment(), fs));
-    std::fprintf(stderr, ", prefilter %.2f s\n", seconds_since(t));
+    coefficients.emplace_back();
+    for (const BrdfTable& table : all_tables) coefficients.back().push_back(projectors.back()->project(table));
+    std::fprintf(stderr, "L=%d projector and %zu projections %.2f s\n", L, files.size(), seconds_since(t));
   }
-  std::printf("material,gloss,L,l1,rms,noise\n");
-  for (std::size_t begin = 0; begin < files.size(); begin += static_cast<std::size_t>(chunk)) {
-    const std::size_t end = std::min(files.size(), begin + static_cast<std::size_t>(chunk));
-    std::vector<BrdfTable> tables;
-    for (std::size_t i = begin; i < end; ++i) tables.push_back(read_merl(files[i]));
-    const TableBank bank(tables);
-    auto t = std::chrono::steady_clock::now();
-    const std::vector<Image> refs = render::render_bank(scene, bank, rs);
-    render::RenderSettings other = rs;
-    other.seed = 2;
-    const std::vector<Image> refs2 = render::render_bank(scene, bank, other);
-    std::fprintf(stderr, "reference of %zu materials (two seeds): %.1f s\n", tables.size(), seconds_since(t));
-    for (std::size_t i = 0; i < tables.size(); ++i) {
-      std::string name = files[begin + i];
-      name = name.substr(name.find_last_of('/') + 1);
-      const double g = gloss(tables[i]);
-      for (std::size_t b = 0; b < bands.size(); ++b) {
-        t = std::chrono::steady_clock::now();
-        const zonal::ZonalCoefficients c = projectors[b]->project(tables[i]);
-        const double tp = seconds_since(t);
-        t = std::chrono::steady_clock::now();
-        const Image img = zonal::shade_image(scene, projectors[b]->basis(), c, *filtered[b], ss);
-        const zonal::ImageErrors e = zonal::compare_to_reference(img, refs[i], refs2[i], coverage);
-        if (!dump.empty()) {
-          const std::string stem = dump + "/" + name.substr(0, name.find('.'));
-          if (b == 0) write_image(stem + "-ref.png", refs[i]);
-          write_image(stem + "-L" + std::to_string(bands[b]) + ".png", img);
-          Image diff = img;
-          for (std::size_t v = 0; v < diff.rgb.size(); ++v)
-            diff.rgb[v] = std::abs(img.rgb[v] - 0.5f * (refs[i].rgb[v] + refs2[i].rgb[v])) * 4.0f;
-          write_image(stem + "-L" + std::to_string(bands[b]) + "-diff4.png", diff);
+  if (!ref_cache.empty()) std::filesystem::create_directories(ref_cache);
+  std::printf("environment,material,gloss,L,lobes,window,l1,rms,noise\n");
+  for (const std::string& env_name : envs) {
+    render::SceneDescription desc;  // the `matlas render` defaults: sphere, default camera
+    desc.environment = env_name;
+    const render::Scene scene(desc);
+    const std::vector<float> coverage = render::object_coverage(scene, rs);
+    std::vector<std::unique_ptr<zonal::PrefilteredEnvironment>> filtered;
+    for (int L : bands) {
+      auto t = std::chrono::steady_clock::now();
+      zonal::PrefilterSettings fs;
+      fs.bands = L;
+      fs.texels_per_band = texels;
+      fs.lobes = lobes;
+      filtered.push_back(std::make_unique<zonal::PrefilteredEnvironment>(scene.environment(), fs));
+      std::fprintf(stderr, "%s L=%d prefilter %.2f s\n", env_name.c_str(), L, seconds_since(t));
+    }
+    // References: from the cache, else rendered a chunk at a time (render_bank shares samples).
+    std::vector<Image> refs(files.size()), refs2(files.size());
+    auto cached = [&](std::size_t i, int seed) {
+      return ref_cache + "/" + env_name + "-" + std::to_string(size) + "-" + std::to_string(spp) + "-s" +
+             std::to_string(seed) + "-" + names[i] + ".f32";
+    };
+    std::vector<std::size_t> missing;
+    for (std::size_t i = 0; i < files.size(); ++i)
+      if (ref_cache.empty() || !read_cached(cached(i, 1), size, &refs[i]) || !read_cached(cached(i, 2), size, &refs2[i]))
+        missing.push_back(i);
+    for (std::size_t begin = 0; begin < missing.size(); begin += static_cast<std::size_t>(chunk)) {
+      const std::size_t end = std::min(missing.size(), begin + static_cast<std::size_t>(chunk));
+      std::vector<BrdfTable> tables;
+      for (std::size_t k = begin; k < end; ++k) tables.push_back(all_tables[missing[k]]);
+      const TableBank bank(tables);
+      auto t = std::chrono::steady_clock::now();
+      const std::vector<Image> r1 = render::render_bank(scene, bank, rs);
+      render::RenderSettings other = rs;
+      other.seed = 2;
+      const std::vector<Image> r2 = render::render_bank(scene, bank, other);
+      for (std::size_t k = begin; k < end; ++k) {
+        refs[missing[k]] = r1[k - begin];
+        refs2[missing[k]] = r2[k - begin];
+        if (!ref_cache.empty()) {
+          write_cached(cached(missing[k], 1), r1[k - begin]);
+          write_cached(cached(missing[k], 2), r2[k - begin]);
         }
-        std::printf("%s,%.3f,%d,%.5f,%.5f,%.5f\n", name.c_str(), g, bands[b], e.l1, e.rms, e.noise);
-        std::fprintf(stderr, "%s L=%d project %.3f s shade %.2f s\n", name.c_str(), bands[b], tp, seconds_since(t));
       }
+      std::fprintf(stderr, "%s: reference of %zu materials (two seeds): %.1f s\n", env_name.c_str(), tables.size(),
+                   seconds_since(t));
+    }
+    for (std::size_t i = 0; i < files.size(); ++i) {
+      for (std::size_t b = 0; b < bands.size(); ++b)
+        for (zonal::BandWindow window : window_list) {
+          auto t = std::chrono::steady_clock::now();
+          zonal::ShadeSettings ss;
+          ss.width = ss.height = size;
+          ss.subsamples = subsamples;
+          ss.window = window;
+          const Image img = zonal::shade_image(scene, projectors[b]->basis(), coefficients[b][i], *filtered[b], ss);
+          const zonal::ImageErrors e = zonal::compare_to_reference(img, refs[i], refs2[i], coverage);
+          const char* wname = zonal::band_window_name(window);
+          if (!dump.empty()) {
+            std::filesystem::create_directories(dump);
+            const std::string stem = dump + "/" + env_name + "-" + names[i];
+            if (b == 0) write_image(stem + "-ref.png", refs[i]);
+            const std::string tag = "-L" + std::to_string(bands[b]) + "-" + wname;
+            write_image(stem + tag + ".png", img);
+            Image diff = img;
+            for (std::size_t v = 0; v < diff.rgb.size(); ++v)
+              diff.rgb[v] = std::abs(img.rgb[v] - 0.5f * (refs[i].rgb[v] + refs2[i].rgb[v])) * 4.0f;
+            write_image(stem + tag + "-diff4.png", diff);
+          }
+          std::printf("%s,%s,%.3f,%d,%zu,%s,%.5f,%.5f,%.5f\n", env_name.c_str(), names[i].c_str(), glosses[i],
+                      bands[b], lobes.size(), wname, e.l1, e.rms, e.noise);
+          std::fprintf(stderr, "%s %s L=%d %s shade %.2f s\n", env_name.c_str(), names[i].c_str(), bands[b], wname,
+                       seconds_since(t));
+        }
       std::fflush(stdout);
     }
   }

@@ -18,7 +18,7 @@ std::filesystem::path zonal_cache_path(const std::filesystem::path& model_path, 
 }
 
 std::string zonal_cache_key(const Model& model, const zonal::ProjectionSettings& settings) {
-  const nlohmann::json key = {
+  nlohmann::json key = {
       {"cache", "matlas-zonal-cache 1"},
       {"model_metadata", model.metadata()},
       {"dims", model.dims().to_string()},
@@ -29,6 +29,7 @@ std::string zonal_cache_key(const Model& model, const zonal::ProjectionSettings&
       {"theta_rows", settings.theta_rows},
       {"phi_columns", settings.phi_columns},
   };
+  if (!settings.lobes.empty()) key["lobes"] = settings.lobes;  // keys of sets without lobes unchanged
   return hex64(xxh3_64(key.dump()));
 }
 
@@ -36,7 +37,7 @@ namespace {
 
 bool same_settings(const zonal::ProjectionSettings& a, const zonal::ProjectionSettings& b) {
   return a.bands == b.bands && a.theta_o_count == b.theta_o_count && a.theta_rows == b.theta_rows &&
-         a.phi_columns == b.phi_columns;
+         a.phi_columns == b.phi_columns && a.lobes == b.lobes;
 }
 
 }  // namespace

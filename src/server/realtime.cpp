@@ -34,7 +34,7 @@ render::Environment load_environment(const std::string& name, double rotation) {
 zonal::PrefilterSettings prefilter_settings() {
   zonal::PrefilterSettings s;
   s.bands = kRealtimeBands;
-  s.hann_window = true;  // no truncation rings around small bright lights in the viewer
+  s.lobes = zonal::kDefaultLobes;
   return s;
 }
 
@@ -46,7 +46,7 @@ Realtime::Realtime(const Model& model, std::vector<std::string> environments, st
 const zonal::CoefficientSet& Realtime::set() {
   std::lock_guard lock(coefficients_mutex_);
   if (!set_) {
-    const zonal::ProjectionSettings settings{kRealtimeBands, kRealtimeThetaO, 128, 256};
+    const zonal::ProjectionSettings settings{kRealtimeBands, kRealtimeThetaO, 128, 256, zonal::kDefaultLobes};
     atlas::CachedCoefficients c =
         atlas::cached_model_coefficients(model_, settings, atlas::zonal_cache_path(model_.path(), kRealtimeBands));
     auto set = std::make_unique<zonal::CoefficientSet>(std::move(c.set));
@@ -72,12 +72,13 @@ nlohmann::json Realtime::info() {
   const render::Camera camera;
   return {{"bands", s.settings.bands},
           {"theta_o_count", s.settings.theta_o_count},
-          {"coefficients", basis.size()},
+          {"coefficients", basis.size() + s.settings.lobes.size()},
           {"materials", s.materials.size()},
           {"alpha", alpha},
           {"band", band},
           {"theta_o", theta},
-          {"layout", "float32 [materials + 1][theta_o_count][coefficients][3], the mean first"},
+          {"layout", "float32 [materials + 1][theta_o_count][coefficients][3], the mean first; per theta_o the "
+                     "(bands + 1)(bands + 2)/2 rotated-ZH terms, then one weight per lobe"},
           {"seconds", seconds_},
           {"cache", cache_},
           {"cache_note", cache_note_},
@@ -102,13 +103,21 @@ const Realtime::Prefiltered& Realtime::prefiltered(const std::string& name) {
   if (it == envs_cache_.end()) {
     Prefiltered p;
     const auto start = std::chrono::steady_clock::now();
-    p.maps = std::make_shared<const zonal::PrefilteredEnvironment>(load_environment(name, 0.0), prefilter_settings());
+    const render::Environment raw = load_environment(name, 0.0);
+    p.maps = std::make_shared<const zonal::PrefilteredEnvironment>(raw, prefilter_settings());
     const zonal::EnvironmentAtlas atlas = zonal::pack_environment(*p.maps);
-    p.atlas = std::make_shared<const std::string>(float_bytes(atlas.values));
+    const zonal::EnvironmentAtlas detail = zonal::pack_detail(*p.maps, raw, zonal::kDetailSide);
+    p.atlas = std::make_shared<const std::string>(float_bytes(atlas.values) + float_bytes(detail.values));
     p.shape = {{"name", name},
                {"bands", atlas.bands},
                {"width", atlas.width},
                {"height", atlas.height},
+               {"detail",
+                {{"offset", atlas.values.size()},
+                 {"lobes", p.maps->lobes()},
+                 {"layers", detail.bands + 1},
+                 {"width", detail.width},
+                 {"height", detail.height}}},
                {"seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()}};
     it = envs_cache_.emplace(name, std::move(p)).first;
   }
@@ -161,7 +170,10 @@ Realtime::Reference Realtime::reference(const Eigen::VectorXd& w, const std::str
   description.show_environment = false;
   const render::Scene scene(description);
   const zonal::ZonalBasis basis(s.settings.bands);
-  Reference out{zonal::shade_image(scene, basis, c, *maps, {size, size, 2}), {}};
+  zonal::ShadeSettings shade{size, size, 2};
+  shade.window = kRealtimeWindow;
+  shade.reduced_window = kRealtimeReducedWindow;
+  Reference out{zonal::shade_image(scene, basis, c, *maps, shade), {}};
   render::RenderSettings rs;
   rs.width = rs.height = size;
   out.coverage = render::object_coverage(scene, rs);

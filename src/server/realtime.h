@@ -18,6 +18,7 @@
 #include "formats/image_io.h"
 #include "zonal/coefficient_file.h"
 #include "zonal/prefilter.h"
+#include "zonal/window.h"
 
 namespace matlas {
 class Model;
@@ -28,6 +29,14 @@ namespace matlas::server {
 /// L and T of the viewer: L = 16 (153 coefficients, docs/REALTIME.md's preview setting), T = 32.
 inline constexpr int kRealtimeBands = 16;
 inline constexpr int kRealtimeThetaO = 32;
+/// The windows over the bands shown (zonal/window.h, zonal::ShadeSettings), in the shader and the
+/// reference alike: Hann, with every band as with fewer (the bands slider, the reduced frames while
+/// moving). Without a window the study's error is lower (docs/REALTIME.md "Accuracy of the
+/// viewer": 4.9 % against 12.8 %) but glossy materials ring visibly at the rim under small bright
+/// lights (the before/after sheet); kRealtimeWindow = none trades the one for the other. The page
+/// holds the same two names (web/src/realtime-shader.ts: viewerWindow, viewerReducedWindow).
+inline constexpr zonal::BandWindow kRealtimeWindow = zonal::BandWindow::hann;
+inline constexpr zonal::BandWindow kRealtimeReducedWindow = zonal::BandWindow::hann;
 
 class Realtime {
 public:
@@ -39,7 +48,9 @@ public:
   nlohmann::json info();
   /// float32 little-endian: the mean's [T, K, 3], then each material's (zonal/shader_layout.h).
   const std::string& coefficients();
-  /// {"bands", "width", "height"} and the float32 [L + 1, H, W, 3] atlas of `name`.
+  /// {"bands", "width", "height", "detail"} and the float32 [L + 1, H, W, 3] atlas of `name`,
+  /// followed by the detail atlas (zonal::pack_detail: the lobe maps and the background)
+  /// at detail.offset floats, [detail.layers, detail.height, detail.width, 3].
   std::pair<nlohmann::json, std::shared_ptr<const std::string>> environment(const std::string& name);
   /// An offered mesh ("bunny", "suzi") as the renderer places it (render::normalize_mesh):
   /// uint32 vertex and triangle counts, float32 positions [v][3], normals [v][3], uint32 [t][3].

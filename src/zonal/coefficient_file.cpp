@@ -68,11 +68,12 @@ double write_coefficients(const std::filesystem::path& path, const CoefficientSe
   const ProjectionSettings& s = set.settings;
   const ZonalBasis basis(s.bands);
   const auto T = static_cast<std::int64_t>(s.theta_o_count), K = static_cast<std::int64_t>(basis.size());
-  const std::size_t per = static_cast<std::size_t>(T * K * 3);
+  const auto S = K + static_cast<std::int64_t>(s.lobes.size());
+  const std::size_t per = static_cast<std::size_t>(T * S * 3);
   double scale = 0, error = 0;
   std::vector<std::byte> coeffs, mean;
   for (const ZonalCoefficients& c : set.materials) {
-    if (c.bands != s.bands || c.theta_o_count != s.theta_o_count || c.values.size() != per)
+    if (c.bands != s.bands || c.theta_o_count != s.theta_o_count || c.lobes != s.lobes || c.values.size() != per)
       throw Error("coefficient set: a material's layout differs from the settings");
     for (double v : c.values) scale = std::max(scale, std::abs(v));
     encode(c.values, storage, coeffs, &error);
@@ -82,17 +83,18 @@ double write_coefficients(const std::filesystem::path& path, const CoefficientSe
 
   SafetensorsWriter w;
   w.add_metadata("format", "matlas-zonal");
-  w.add_metadata("version", "1");
+  w.add_metadata("version", "2");
   w.add_metadata("bands", std::to_string(s.bands));
   w.add_metadata("theta_o_count", std::to_string(s.theta_o_count));
   w.add_metadata("theta_rows", std::to_string(s.theta_rows));
   w.add_metadata("phi_columns", std::to_string(s.phi_columns));
+  w.add_metadata("lobes", nlohmann::json(s.lobes).dump());
   w.add_metadata("names", nlohmann::json(set.names).dump());
   w.add_metadata("storage", storage == DType::F16 ? "f16" : "f32");
   w.add_metadata("storage_error", std::to_string(relative));
   if (!set.source_key.empty()) w.add_metadata("source_key", set.source_key);
-  w.declare("coefficients", storage, {static_cast<std::int64_t>(set.materials.size()), T, K, 3});
-  if (set.mean) w.declare("mean", storage, {T, K, 3});
+  w.declare("coefficients", storage, {static_cast<std::int64_t>(set.materials.size()), T, S, 3});
+  if (set.mean) w.declare("mean", storage, {T, S, 3});
   w.declare("alpha", DType::F32, {K});
   w.declare("band", DType::I32, {K});
   w.declare("theta_o", DType::F32, {T});
@@ -119,6 +121,11 @@ CoefficientSet read_coefficients(const std::filesystem::path& path) {
   const auto format = file.metadata().find("format");
   if (format == file.metadata().end() || format->second != "matlas-zonal")
     throw Error(path.string() + ": not a matlas zonal coefficient file (metadata format is not matlas-zonal)");
+  const auto version = file.metadata().find("version");
+  const std::string v = version == file.metadata().end() ? "1" : version->second;
+  if (v != "1" && v != "2")
+    throw Error(path.string() + ": zonal coefficient file version " + v +
+                " is newer than this matlas reads (1 and 2); recompute it with `matlas zonal` or update matlas");
   CoefficientSet set;
   if (const auto key = file.metadata().find("source_key"); key != file.metadata().end()) set.source_key = key->second;
   set.settings.bands = metadata_int(file, "bands");
@@ -133,7 +140,18 @@ CoefficientSet read_coefficients(const std::filesystem::path& path) {
   } catch (const std::exception&) {
     throw Error(path.string() + ": metadata 'names' is not a JSON array of strings");
   }
-  const std::int64_t T = set.settings.theta_o_count, K = static_cast<std::int64_t>(triangle_size(set.settings.bands));
+  if (v == "2") {
+    try {
+      set.settings.lobes = nlohmann::json::parse(file.metadata().at("lobes")).get<std::vector<double>>();
+      validate_lobes(set.settings.lobes);
+    } catch (const Error& e) {
+      throw Error(path.string() + ": " + e.what());
+    } catch (const std::exception&) {
+      throw Error(path.string() + ": metadata 'lobes' is missing or not a JSON array of numbers");
+    }
+  }
+  const std::int64_t T = set.settings.theta_o_count,
+                     K = static_cast<std::int64_t>(triangle_size(set.settings.bands) + set.settings.lobes.size());
   const TensorInfo* c = file.find("coefficients");
   if (!c || (c->dtype != DType::F32 && c->dtype != DType::F16))
     throw Error(path.string() + ": tensor 'coefficients' is missing or not F32/F16");
@@ -144,6 +162,7 @@ CoefficientSet read_coefficients(const std::filesystem::path& path) {
     ZonalCoefficients z;
     z.bands = set.settings.bands;
     z.theta_o_count = set.settings.theta_o_count;
+    z.lobes = set.settings.lobes;
     z.values = decode(file, *c, static_cast<std::size_t>(i) * per, per);
     set.materials.push_back(std::move(z));
   }
@@ -152,6 +171,7 @@ CoefficientSet read_coefficients(const std::filesystem::path& path) {
     ZonalCoefficients z;
     z.bands = set.settings.bands;
     z.theta_o_count = set.settings.theta_o_count;
+    z.lobes = set.settings.lobes;
     z.values = decode(file, m, 0, per);
     set.mean = std::move(z);
   }

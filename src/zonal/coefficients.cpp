@@ -36,7 +36,8 @@ ZonalCoefficients combine(const std::vector<const ZonalCoefficients*>& materials
   std::fill(out.values.begin(), out.values.end(), 0.0);
   for (std::size_t i = 0; i < materials.size(); ++i) {
     const ZonalCoefficients& m = *materials[i];
-    MATLAS_CHECK(m.bands == out.bands && m.theta_o_count == out.theta_o_count && m.values.size() == out.values.size(),
+    MATLAS_CHECK(m.bands == out.bands && m.theta_o_count == out.theta_o_count && m.lobes == out.lobes &&
+                     m.values.size() == out.values.size(),
                  "every material of a combination has one layout");
     for (std::size_t v = 0; v < out.values.size(); ++v) out.values[v] += w[i] * m.values[v];
   }

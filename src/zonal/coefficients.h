@@ -1,8 +1,9 @@
 #pragma once
 // The rotated-ZH coefficients lambda_l^k(theta_o) of one material, RGB, on a theta_o grid.
 //
-// Layout (also of the coefficient file and of a shader's texture): values[(t * K + j) * 3 + c]
-// for theta_o sample t, coefficient j = lm_index(l, k) and channel c. The theta_o samples are
+// Layout (also of the coefficient file and of a shader's texture): values[(t * S + j) * 3 + c]
+// for theta_o sample t, coefficient j = lm_index(l, k) and channel c; S = K + M: after the K
+// rotated-ZH coefficients come the M sharp-lobe weights c_i (zonal/lobes.h, j = K + i). The theta_o samples are
 // the centres theta_t = (t + 0.5) (pi/2) / T; between them lambda is linear in theta_o, and
 // clamped beyond the first and last.
 #include <cstddef>
@@ -16,8 +17,14 @@ struct ZonalCoefficients {
   int bands = 0;          ///< L
   int theta_o_count = 0;  ///< T
   std::vector<double> values;
+  /// Sharpness kappa_i of each lobe (zonal/lobes.h); empty: the expansion alone. (After values:
+  /// {bands, T, values} aggregates keep their meaning.)
+  std::vector<double> lobes = {};
 
-  std::size_t size() const { return static_cast<std::size_t>(bands + 1) * static_cast<std::size_t>(bands + 2) / 2; }
+  /// K: the rotated-ZH coefficients per theta_o sample.
+  std::size_t zonal_size() const { return static_cast<std::size_t>(bands + 1) * static_cast<std::size_t>(bands + 2) / 2; }
+  /// S = K + M: every value per theta_o sample and channel.
+  std::size_t size() const { return zonal_size() + lobes.size(); }
   static double theta_o(int t, int count) { return (t + 0.5) * (kPi / 2) / count; }
   Rgb at(int t, std::size_t j) const {
     const double* v = &values[(static_cast<std::size_t>(t) * size() + j) * 3];

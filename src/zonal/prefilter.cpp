@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "core/parallel.h"
+#include "zonal/lobes.h"
 #include "zonal/sh.h"
 
 namespace matlas::zonal {
@@ -43,12 +44,37 @@ private:
 /// sqrt(2)^(m>0) for the real harmonics.
 double real_factor(int m) { return m > 0 ? std::sqrt(2.0) : 1.0; }
 
+/// Bilinear read of a lat-long map of h rows (poles as rows) and w = 2 (h - 1) periodic columns.
+Rgb bilinear(const std::vector<float>& map, int h, const Vec3& d) {
+  double theta, phi;
+  angles(d, &theta, &phi);
+  const int w = 2 * (h - 1);
+  const double fx = phi / (2.0 * kPi) * w;
+  const double fy = std::clamp(theta / kPi * (h - 1), 0.0, h - 1.0);
+  const int x0 = static_cast<int>(std::floor(fx)), y0 = std::min(static_cast<int>(fy), h - 2);
+  const double tx = fx - x0, ty = fy - y0;
+  Rgb sum = Rgb::Zero();
+  for (int dy = 0; dy < 2; ++dy)
+    for (int dx = 0; dx < 2; ++dx) {
+      const int x = ((x0 + dx) % w + w) % w;
+      const float* p = &map[(static_cast<std::size_t>(y0 + dy) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)) * 3];
+      sum += (dx ? tx : 1 - tx) * (dy ? ty : 1 - ty) * Rgb(p[0], p[1], p[2]);
+    }
+  return sum;
+}
+
 }  // namespace
 
 PrefilteredEnvironment::PrefilteredEnvironment(const render::Environment& env, const PrefilterSettings& settings)
     : settings_(settings) {
-  const int L = settings.bands;
-  if (L < 0 || L > 128) throw Error("prefilter bands must be between 0 and 128, got " + std::to_string(L));
+  const int bands = settings.bands;
+  if (bands < 0 || bands > 128) throw Error("prefilter bands must be between 0 and 128, got " + std::to_string(bands));
+  validate_lobes(settings.lobes);
+  if (!settings.lobes.empty() && (settings.lobe_bands < 1 || settings.lobe_bands > 512 || settings.lobe_rows < 8 ||
+                                  settings.lobe_rows > 4097))
+    throw Error("prefilter lobe resolution out of range");
+  // The SH of the environment up to L: the bands' and, with lobes, the lobes' highest band.
+  const int L = settings.lobes.empty() ? bands : std::max(bands, settings.lobe_bands);
   if (!(settings.texels_per_band > 0) || settings.texels_per_band > 64 || settings.supersample < 1 ||
       settings.supersample > 16 || settings.constant_grid < 4)
     throw Error("prefilter resolution out of range");
@@ -93,19 +119,10 @@ PrefilteredEnvironment::PrefilteredEnvironment(const render::Environment& env, c
       sin_coeffs_[i] += row_sin[static_cast<std::size_t>(r)][i];
     }
 
-  if (settings.hann_window)
-    for (int l = 0; l <= L; ++l) {
-      const double c = std::cos(kPi * l / (2.0 * (L + 1)));
-      for (int m = 0; m <= l; ++m) {
-        cos_coeffs_[lm_index(l, m)] *= c * c;
-        sin_coeffs_[lm_index(l, m)] *= c * c;
-      }
-    }
-
   // Tabulate every band.
-  heights_.resize(static_cast<std::size_t>(L) + 1);
-  maps_.resize(static_cast<std::size_t>(L) + 1);
-  parallel_for_each(0, static_cast<std::size_t>(L) + 1, [&](std::size_t band) {
+  heights_.resize(static_cast<std::size_t>(bands) + 1);
+  maps_.resize(static_cast<std::size_t>(bands) + 1);
+  parallel_for_each(0, static_cast<std::size_t>(bands) + 1, [&](std::size_t band) {
     const int l = static_cast<int>(band);
     const int h = std::max(8, static_cast<int>(std::ceil(settings.texels_per_band * (l + 1)))), w = 2 * (h - 1);
     heights_[band] = h;
@@ -127,6 +144,39 @@ PrefilteredEnvironment::PrefilteredEnvironment(const render::Environment& env, c
       }
     }
   });
+
+  // Lobe maps: per row, A_m = sum_l k_l sqrt(2)^(m>0) Pbar_l^m L_l^m (and B_m for sin), then per
+  // column sum_m A_m cos(m phi) + B_m sin(m phi).
+  const int h = settings.lobe_rows, w = 2 * (h - 1);
+  for (double kappa : settings.lobes) {
+    const std::vector<double> k = lobe_legendre(kappa, L);
+    int top = 0;  // the lobe's highest band: k_l >= e^-9
+    while (top < L && k[static_cast<std::size_t>(top) + 1] >= std::exp(-9.0)) ++top;
+    const Trig trig(top, w, 0.0);
+    std::vector<float> map(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 3);
+    parallel_for_each(0, static_cast<std::size_t>(h), [&](std::size_t row) {
+      std::vector<double> p;
+      normalized_legendre(top, std::cos(static_cast<double>(row) * kPi / (h - 1)), p);
+      std::vector<Rgb> a(static_cast<std::size_t>(top) + 1, Rgb::Zero()), b(a);
+      for (int l = 0; l <= top; ++l)
+        for (int m = 0; m <= l; ++m) {
+          const double y = k[static_cast<std::size_t>(l)] * real_factor(m) * p[lm_index(l, m)];
+          a[static_cast<std::size_t>(m)] += y * cos_coeffs_[lm_index(l, m)];
+          b[static_cast<std::size_t>(m)] += y * sin_coeffs_[lm_index(l, m)];
+        }
+      for (int x = 0; x < w; ++x) {
+        Rgb e = Rgb::Zero();
+        for (int m = 0; m <= top; ++m) e += a[static_cast<std::size_t>(m)] * trig.cos(x, m) + b[static_cast<std::size_t>(m)] * trig.sin(x, m);
+        float* out = &map[(row * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)) * 3];
+        for (int c = 0; c < 3; ++c) out[c] = static_cast<float>(e[c]);
+      }
+    });
+    lobe_maps_.push_back(std::move(map));
+  }
+}
+
+Rgb PrefilteredEnvironment::lobe_lookup(std::size_t i, const Vec3& d) const {
+  return bilinear(lobe_maps_[i], settings_.lobe_rows, d);
 }
 
 Rgb PrefilteredEnvironment::coefficient(int l, int m) const {

@@ -27,12 +27,13 @@ struct PrefilterSettings {
   int supersample = 2;
   /// Grid of a constant environment's SH integral (it has no map).
   int constant_grid = 64;
-  /// Multiply band l of the environment by the Hann window cos^2(pi l / (2 (bands + 1))): a
-  /// small bright light then shades without the truncation's rings (negative lobes that
-  /// clamp to black bands on glossy materials), at the price of a blurrier highlight. Off for
-  /// the accuracy study (it moves the result away from the path tracer); the browser viewer
-  /// turns it on.
-  bool hann_window = false;
+  /// Sharp lobes (zonal/lobes.h): one map per sharpness kappa_i, the environment convolved with
+  /// the lobe, E_i(d) = sum_l k_l^i sum_m L_l^m Y_l^m(d) with the SH of the environment up to
+  /// `lobe_bands` (each lobe stops where k_l < e^-9), tabulated on `lobe_rows` rows from pole to
+  /// pole and 2 (lobe_rows - 1) columns, read bilinearly as the band maps. Empty: no lobe maps.
+  std::vector<double> lobes = {};
+  int lobe_bands = 256;
+  int lobe_rows = 257;
 };
 
 class PrefilteredEnvironment {
@@ -50,12 +51,16 @@ public:
   int map_height(int l) const { return heights_[static_cast<std::size_t>(l)]; }
   /// Band l's map, RGB float, row-major from the +y pole: the texture layout of a shader.
   const std::vector<float>& map(int l) const { return maps_[static_cast<std::size_t>(l)]; }
+  /// The lobes' sharpnesses (PrefilterSettings::lobes) and E_i(d), bilinear in lobe i's map.
+  const std::vector<double>& lobes() const { return settings_.lobes; }
+  Rgb lobe_lookup(std::size_t i, const Vec3& d) const;
 
 private:
   PrefilterSettings settings_;
   std::vector<Rgb> cos_coeffs_, sin_coeffs_;  ///< [lm_index(l, m)]
   std::vector<int> heights_;
   std::vector<std::vector<float>> maps_;
+  std::vector<std::vector<float>> lobe_maps_;  ///< lobe_rows x 2 (lobe_rows - 1), RGB
 };
 
 }  // namespace matlas::zonal

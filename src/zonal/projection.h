@@ -16,6 +16,7 @@
 
 #include "brdf/brdf_table.h"
 #include "zonal/basis.h"
+#include "zonal/lobes.h"
 #include "zonal/coefficients.h"
 
 namespace matlas::zonal {
@@ -25,6 +26,8 @@ struct ProjectionSettings {
   int theta_o_count = 32;  ///< T
   int theta_rows = 128;    ///< quadrature rows in theta_i over [0, pi/2]
   int phi_columns = 256;   ///< quadrature columns in phi_i over [0, pi)
+  /// Sharp lobes fitted beside the expansion (zonal/lobes.h; empty: none, the plain projection).
+  std::vector<double> lobes = {};
   /// Throws matlas::Error naming the setting out of range.
   void validate() const;
 };
@@ -53,10 +56,25 @@ private:
   std::vector<double> cos_theta_;    ///< per row
   Eigen::MatrixXd cosines_;          ///< [column][m]: cos(m phi) * column width * 2 (both halves)
   Eigen::MatrixXd legendre_;         ///< [row][lm]: sqrt(2)^(m>0) Pbar_l^m(cos theta) (cos theta0 - cos theta1)
+  /// Per theta_o sample, the lobe fit (zonal/lobes.h): c = fit (b - sum_lm a_lm spectra_lm), then
+  /// a_lm -= sum_i c_i spectra(lm, i); stored c_i mass_i.
+  struct LobeFit {
+    Eigen::MatrixXd weights;  ///< [row * cols + col][i]: Kc_i(w) times the cell's area (both phi halves)
+    Eigen::MatrixXd spectra;  ///< [lm][i]: the SH coefficients of Kc_i
+    Eigen::MatrixXd fit;      ///< M x M: the inverse of the high-pass Gram matrix (ridge-regularised)
+    Eigen::VectorXd mass;     ///< integral of Kc_i over the sphere (lobe_cosine_mass)
+  };
+  std::vector<LobeFit> lobe_fits_;
+  /// Subtracts the fitted lobes from one table's SH coefficients a (triangle) at sample t, given the
+  /// table's lobe inner products b; writes the lobe weights to c.
+  void fit_lobes(std::size_t t, Eigen::VectorXd& a, const Eigen::VectorXd& b, double* c) const;
 };
 
-/// The slice reconstructed from coefficients: sum_{l,k} lambda_l^k(theta_o) Y_l^0(d_{l,k} . wi),
-/// wi in the local frame of the slice (wo in the x-z plane, x >= 0).
-Rgb reconstruct(const ZonalBasis& basis, const ZonalCoefficients& c, double theta_o, const Vec3& wi);
+/// The slice reconstructed from coefficients: sum_{l,k} lambda_l^k(theta_o) Y_l^0(d_{l,k} . wi)
+/// (+ sum_i c_i(theta_o) / mass_i K_i(r . wi) max(wi_z, 0) with lobes), wi in the local frame of the slice (wo in the
+/// x-z plane, x >= 0). With `window` (w_0..w_L', zonal/window.h) band l is weighted by w_l and
+/// bands above L' are left out.
+Rgb reconstruct(const ZonalBasis& basis, const ZonalCoefficients& c, double theta_o, const Vec3& wi,
+                const std::vector<double>* window = nullptr);
 
 }  // namespace matlas::zonal

@@ -13,17 +13,27 @@
 #include "zonal/basis.h"
 #include "zonal/coefficients.h"
 #include "zonal/prefilter.h"
+#include "zonal/window.h"
 
 namespace matlas::zonal {
 
-/// Radiance leaving a point of normal n towards wo (world, unit vectors).
+/// Radiance leaving a point of normal n towards wo (world, unit vectors). With `window`
+/// (zonal/window.h: w_0..w_L'), only bands 0..L' are summed, band l's terms times w_l; without
+/// it every band of the coefficients, unweighted.
 Rgb shade_point(const ZonalBasis& basis, const ZonalCoefficients& c, const PrefilteredEnvironment& env,
-                const Vec3& n, const Vec3& wo);
+                const Vec3& n, const Vec3& wo, const std::vector<double>* window = nullptr);
 
 struct ShadeSettings {
   int width = 256;
   int height = 256;
   int subsamples = 2;  ///< per axis: subsamples^2 stratified rays per pixel, averaged
+  /// Bands shown, L' (-1: all of the coefficients'), and the window over them (zonal/window.h):
+  /// `window` when every band is shown (none: the lobes were fitted against exactly this
+  /// truncation, so the pair is consistent), `reduced_window` for a preview with fewer bands
+  /// (L' < L: the residual's bands above L' are missing, and a window keeps it from ringing).
+  int shown_bands = -1;
+  BandWindow window = BandWindow::none;
+  BandWindow reduced_window = BandWindow::hann;
 };
 
 /// The scene's object shaded with the coefficients under the prefiltered environment, through

@@ -2,8 +2,9 @@
 // The data of the browser's real-time viewer (docs/REALTIME.md, "The browser viewer"), laid out
 // as its textures want them:
 //
-// - coefficients: float32, the mean's [T, K, 3] (zeros for a set without mean) followed by each
-//   material's [T, K, 3], in the order of the set: n + 1 blocks of T * K * 3 values;
+// - coefficients: float32, the mean's [T, S, 3] (zeros for a set without mean) followed by each
+//   material's [T, S, 3], in the order of the set: n + 1 blocks of T * S * 3 values (S = K + M:
+//   the K rotated-ZH coefficients, then the M lobe weights, zonal/coefficients.h);
 // - environment: the L + 1 band maps E_l on one octahedral grid (y up): a direction d maps to
 //   p = (d_x, d_z) / (|d_x| + |d_y| + |d_z|), folded for d_y < 0 to (1 - |p_z|, 1 - |p_x|) with
 //   p's signs; the N x N texels of [-1, 1]^2 sit at p = 2 (i + 1/2) / N - 1, surrounded by a
@@ -39,5 +40,12 @@ Vec3 octahedral_direction(double px, double pz);
 
 /// Every band of `env` on the octahedral grid of side `side` (0: octahedral_side(L)).
 EnvironmentAtlas pack_environment(const PrefilteredEnvironment& env, int side = 0);
+
+/// The detail layers, on a finer octahedral grid of side `side` (same layout and border): the M
+/// lobe maps of `env` (PrefilteredEnvironment::lobe_lookup), then the background, `raw`'s
+/// Environment::eval_smooth (what the renderer shows where a ray misses the object). `bands`
+/// holds M: M + 1 layers. The viewer's default side is kDetailSide.
+EnvironmentAtlas pack_detail(const PrefilteredEnvironment& env, const render::Environment& raw, int side);
+inline constexpr int kDetailSide = 320;
 
 }  // namespace matlas::zonal

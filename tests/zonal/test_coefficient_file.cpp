@@ -96,5 +96,64 @@ TEST(CoefficientFile, ErrorsNameTheFile) {
   EXPECT_THROW(write_coefficients(dir / "e.safetensors", empty, DType::F32), Error);
 }
 
+/// A file as version 1 wrote it (no lobes metadata, K values per theta_o sample), or with another
+/// version string.
+void write_old_file(const std::filesystem::path& path, const ZonalCoefficients& c, const std::string& version) {
+  const ZonalBasis basis(c.bands);
+  const auto T = static_cast<std::int64_t>(c.theta_o_count), K = static_cast<std::int64_t>(basis.size());
+  SafetensorsWriter w;
+  w.add_metadata("format", "matlas-zonal");
+  w.add_metadata("version", version);
+  w.add_metadata("bands", std::to_string(c.bands));
+  w.add_metadata("theta_o_count", std::to_string(c.theta_o_count));
+  w.add_metadata("theta_rows", "128");
+  w.add_metadata("phi_columns", "256");
+  w.add_metadata("names", "[\"plastic\"]");
+  w.add_metadata("storage", "f32");
+  w.add_metadata("storage_error", "0");
+  w.declare("coefficients", DType::F32, {1, T, K, 3});
+  w.begin(path);
+  std::vector<float> v(c.values.begin(), c.values.end());
+  w.write(std::span<const float>(v));
+  w.commit();
+}
+
+TEST(CoefficientFile, VersionTwoKeepsTheLobesAndVersionOneStillReads) {
+  test::TempDir dir;
+  CoefficientSet set;
+  set.settings.bands = 4;
+  set.settings.theta_o_count = 4;
+  set.settings.lobes = {64.0, 512.0};
+  const ZonalProjector projector(set.settings);
+  set.names = {"plastic"};
+  set.materials.push_back(projector.project(tabulate(RoughPlastic{Rgb(0.5, 0.2, 0.1), 0.1, 1.5, 1.0})));
+  write_coefficients(dir / "v2.safetensors", set, DType::F32);
+  const CoefficientSet back = read_coefficients(dir / "v2.safetensors");
+  EXPECT_EQ(back.settings.lobes, set.settings.lobes);
+  ASSERT_EQ(back.materials[0].size(), 15u + 2u);
+  EXPECT_EQ(back.materials[0].lobes, set.settings.lobes);
+  for (std::size_t v = 0; v < set.materials[0].values.size(); ++v)
+    EXPECT_NEAR(back.materials[0].values[v], set.materials[0].values[v], 1e-6 * std::abs(set.materials[0].values[v]) + 1e-9);
+
+  // Version 1 (before the lobes): read as a set without lobes, values as written.
+  ProjectionSettings plain = set.settings;
+  plain.lobes.clear();
+  const ZonalCoefficients old = ZonalProjector(plain).project(tabulate(RoughPlastic{Rgb(0.5, 0.2, 0.1), 0.1, 1.5, 1.0}));
+  write_old_file(dir / "v1.safetensors", old, "1");
+  const CoefficientSet v1 = read_coefficients(dir / "v1.safetensors");
+  EXPECT_TRUE(v1.settings.lobes.empty());
+  ASSERT_EQ(v1.materials[0].values.size(), old.values.size());
+  EXPECT_NEAR(v1.materials[0].values[5], old.values[5], 1e-6 * std::abs(old.values[5]));
+
+  // A newer version is refused, saying so.
+  write_old_file(dir / "v3.safetensors", old, "3");
+  try {
+    read_coefficients(dir / "v3.safetensors");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("version 3 is newer"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace matlas::zonal

@@ -59,23 +59,6 @@ TEST(Prefilter, LinearEnvironmentBandOneIsItsGradient) {
   }
 }
 
-TEST(Prefilter, HannWindowScalesEachBandByItsFactor) {
-  // The linear environment again: band 0 keeps its value, band 1 is scaled by
-  // cos^2(pi / (2 (L + 1))) = cos^2(pi / 8) at L = 3.
-  PrefilterSettings s;
-  s.bands = 3;
-  s.hann_window = true;
-  const PrefilteredEnvironment env(render::Environment(linear_map(128, 64)), s);
-  const double c = std::cos(kPi / 8), factor = c * c;
-  for (const Vec3& raw : {Vec3(0, 1, 0), Vec3(0.3, -0.5, 0.8), Vec3(-1, 0.1, 0.2)}) {
-    const Vec3 d = raw.normalized();
-    const double e1 = std::sqrt(3 / (4 * kPi)) * (4 * kPi / 3) * kC.dot(d);
-    EXPECT_NEAR(env.exact(1, d)[0], factor * e1, 2e-3);
-    EXPECT_NEAR(env.lookup(1, d)[0], factor * e1, 1e-2);
-    EXPECT_NEAR(env.lookup(0, d)[0], kC0 * std::sqrt(4 * kPi), 2e-3);
-  }
-}
-
 TEST(Prefilter, RotationTurnsTheFilteredMaps) {
   PrefilterSettings s;
   s.bands = 2;
@@ -111,6 +94,34 @@ TEST(Shade, LambertianUnderALinearEnvironmentIsExactFromOneBand) {
       EXPECT_NEAR(shade_point(projector.basis(), coeffs, env, n, wo)[1], expected, 3e-3 * expected) << L;
     }
   }
+}
+
+TEST(Shade, WindowScalesEachBandOfTheShading) {
+  // The Lambertian under the linear environment again: radiance = a (c0 + w_1 2/3 c.n) with the
+  // window's band-1 factor w_1 (band 2 and above see nothing of a linear environment).
+  const double a = 0.7;
+  const render::Environment environment(linear_map(256, 128));
+  ProjectionSettings ps;
+  ps.bands = 3;
+  ps.theta_o_count = 8;
+  const ZonalProjector projector(ps);
+  const ZonalCoefficients coeffs = projector.project(tabulate(Lambertian{Rgb::Constant(a)}));
+  PrefilterSettings s;
+  s.bands = 3;
+  s.texels_per_band = 16;
+  const PrefilteredEnvironment env(environment, s);
+  for (BandWindow window : {BandWindow::hann, BandWindow::lanczos, BandWindow::gauss}) {
+    const std::vector<double> w = band_window(window, 3);
+    for (const Vec3& raw : {Vec3(0, 1, 0), Vec3(0.3, -0.5, 0.8), Vec3(-1, 0.1, 0.2)}) {
+      const Vec3 n = raw.normalized();
+      const Vec3 wo = (n + Vec3(0.2, 0.1, 0.4)).normalized();
+      const double expected = a * (kC0 + w[1] * 2.0 / 3.0 * kC.dot(n));
+      EXPECT_NEAR(shade_point(projector.basis(), coeffs, env, n, wo, &w)[1], expected, 3e-3 * expected);
+    }
+  }
+  // Showing bands 0..0 only: the mean, a c0, whatever the window.
+  const std::vector<double> w0 = band_window(BandWindow::hann, 0);
+  EXPECT_NEAR(shade_point(projector.basis(), coeffs, env, Vec3(0, 1, 0), Vec3(0, 1, 0), &w0)[1], a * kC0, 3e-3 * a * kC0);
 }
 
 TEST(Shade, MatchesTheRendererOnASphere) {

@@ -5,14 +5,20 @@
 // (orbit, rotation, dragging on the map) frames are reduced: drawn at `fastScale` of the canvas's
 // side into a render target with bands 0..`fastBands` only, then stretched over the canvas, so
 // that the view follows the pointer even with software WebGL; the full frame (every band, full
-// resolution) follows once the interaction pauses for `refineMs`.
+// resolution) follows once the interaction pauses for `refineMs`. Behind the object: the
+// environment itself (the detail texture's last layer), turned with it.
 import * as THREE from "three";
 import { OrbitControls } from "three/examples/jsm/controls/OrbitControls.js";
 import { GLTFLoader } from "three/examples/jsm/loaders/GLTFLoader.js";
 import type { EnvironmentAtlas, RealtimeInfo } from "./api";
 import {
-  deferredFragmentShader, fragmentShader, gbufferFragmentShader, maxShaderBands, quadVertexShader, vertexShader,
+  backgroundFragmentShader, backgroundVertexShader, bandWindow, type BandWindowName, deferredFragmentShader,
+  fragmentShader, gbufferFragmentShader, maxShaderBands, maxShaderLobes, quadVertexShader, vertexShader, viewerReducedWindow,
+  viewerWindow,
 } from "./realtime-shader";
+
+/** The detail atlas after the band maps (zonal::pack_detail): lobe maps, then the background. */
+type DetailShape = { offset: number; lobes: number[]; layers: number; width: number; height: number };
 
 /** RGB triples to RGBA (the alpha unused): WebGL2 cannot filter RGB float textures everywhere. */
 function rgba(rgb: Float32Array, count: number, out = new Float32Array(count * 4)): Float32Array<ArrayBuffer> {
@@ -35,6 +41,12 @@ export class RealtimeGl {
   private readonly coefData: Float32Array<ArrayBuffer>;
   private object: THREE.Object3D | null = null;
   private envTexture: THREE.DataArrayTexture | null = null;
+  private detailTexture: THREE.DataArrayTexture | null = null;
+  /** The environment behind the object in the forward frames (hidden in the G-buffer pass). */
+  private readonly backgroundMesh: THREE.Mesh;
+  /** The windows over the bands shown, all of them or fewer (the server's, as its CPU reference uses). */
+  readonly window: BandWindowName;
+  readonly reducedWindow: BandWindowName;
   private pendingFast = false;
   private refine: ReturnType<typeof setTimeout> | null = null;
   private readonly low: THREE.WebGLRenderTarget;
@@ -87,6 +99,12 @@ export class RealtimeGl {
     const steps = Array.from({ length: maxShaderBands + 1 }, (_, l) =>
       new THREE.Vector2(Math.cos(Math.PI / (l + 1)), Math.sin(Math.PI / (l + 1))));
     this.bands = info.bands;
+    this.window = viewerWindow;
+    this.reducedWindow = viewerReducedWindow;
+    // Per theta_o sample: the (L + 1)(L + 2) / 2 rotated-ZH terms, then one weight per lobe.
+    const zonalTerms = ((info.bands + 1) * (info.bands + 2)) / 2, lobes = K - zonalTerms;
+    if (lobes < 0) throw new Error(`the server's ${K} coefficients are fewer than bands 0..${info.bands} need`);
+    if (lobes > maxShaderLobes) throw new Error(`the server's ${lobes} lobes exceed the shader's ${maxShaderLobes}`);
     this.material = new THREE.ShaderMaterial({
       glslVersion: THREE.GLSL3,
       vertexShader,
@@ -97,7 +115,14 @@ export class RealtimeGl {
         uEnv: { value: null },
         uBands: { value: info.bands },
         uStep: { value: steps },
+        uWindow: { value: this.windowFactors(info.bands) },
         uEnvSide: { value: 1 },
+        uDetail: { value: null },
+        uDetailSide: { value: 1 },
+        uLobes: { value: -1 },  // no detail texture yet
+        uZonalTerms: { value: zonalTerms },
+        uCameraInverse: { value: new THREE.Matrix4() },
+        uBackground: { value: new THREE.Color(0x202020) },
         uRotation: { value: new THREE.Vector2(1, 0) },
         uExposure: { value: 0 },
         uLinear: { value: false },
@@ -127,9 +152,20 @@ export class RealtimeGl {
         ...this.material.uniforms,  // the same uniform objects: one set of values
         uGNormal: { value: this.gbuffer.textures[0] },
         uGView: { value: this.gbuffer.textures[1] },
-        uBackground: { value: this.renderer.getClearColor(new THREE.Color()) },
+        uViewport: { value: new THREE.Vector2(canvas.width, canvas.height) },
       },
     });
+    this.backgroundMesh = new THREE.Mesh(new THREE.PlaneGeometry(2, 2), new THREE.ShaderMaterial({
+      glslVersion: THREE.GLSL3,
+      vertexShader: backgroundVertexShader,
+      fragmentShader: backgroundFragmentShader,
+      depthTest: false,
+      depthWrite: false,
+      uniforms: this.material.uniforms,  // the same uniform objects
+    }));
+    this.backgroundMesh.frustumCulled = false;
+    this.backgroundMesh.renderOrder = -1;
+    this.scene.add(this.backgroundMesh);
     const quad = new THREE.Mesh(new THREE.PlaneGeometry(2, 2), deferred);
     quad.frustumCulled = false;
     this.deferredScene.add(quad);
@@ -164,8 +200,46 @@ export class RealtimeGl {
     else this.invalidate();
   }
 
+  /** uWindow's values for bands 0..L (padded to the shader's array): zonal::ShadeSettings' rule. */
+  private windowFactors(L: number): number[] {
+    const w = bandWindow(L < this.info.bands ? this.reducedWindow : this.window, L);
+    while (w.length < maxShaderBands + 1) w.push(0);
+    return w;
+  }
+
+  /** Bands 0..L of the next draw, with the window over them. */
+  private useBands(L: number): void {
+    this.material.uniforms.uBands.value = L;
+    this.material.uniforms.uWindow.value = this.windowFactors(L);
+  }
+
+  /** The camera's inverse for the background rays (after any change of the camera). */
+  private syncCamera(): void {
+    this.camera.updateMatrixWorld();
+    (this.material.uniforms.uCameraInverse.value as THREE.Matrix4)
+      .multiplyMatrices(this.camera.matrixWorld, this.camera.projectionMatrixInverse);
+  }
+
   setEnvironment(atlas: EnvironmentAtlas): void {
     const layers = atlas.bands + 1;
+    const detail = (atlas as EnvironmentAtlas & { detail?: DetailShape }).detail;
+    if (detail) {
+      const count = detail.width * detail.height * detail.layers;
+      const d = new THREE.DataArrayTexture(rgba(atlas.values.subarray(detail.offset), count), detail.width, detail.height,
+        detail.layers);
+      d.format = THREE.RGBAFormat;
+      d.type = THREE.FloatType;
+      if (!this.floatLinear) d.internalFormat = "RGBA16F";
+      d.magFilter = d.minFilter = THREE.LinearFilter;
+      d.wrapS = d.wrapT = THREE.ClampToEdgeWrapping;
+      d.generateMipmaps = false;
+      d.needsUpdate = true;
+      this.detailTexture?.dispose();
+      this.detailTexture = d;
+      this.material.uniforms.uDetail.value = d;
+      this.material.uniforms.uDetailSide.value = detail.width - 2;
+      this.material.uniforms.uLobes.value = detail.layers - 1;
+    }
     const tex = new THREE.DataArrayTexture(rgba(atlas.values, atlas.width * atlas.height * layers), atlas.width,
       atlas.height, layers);
     tex.format = THREE.RGBAFormat;
@@ -325,12 +399,14 @@ export class RealtimeGl {
     const clear = this.renderer.getClearColor(new THREE.Color()), alpha = this.renderer.getClearAlpha();
     this.renderer.setClearColor(0x000000, 0);
     this.scene.overrideMaterial = this.gbufferMaterial;
+    this.backgroundMesh.visible = false;
     try {
       this.renderer.setRenderTarget(this.gbuffer);
       this.renderer.render(this.scene, this.camera);
     } finally {
       this.renderer.setRenderTarget(null);
       this.scene.overrideMaterial = null;
+      this.backgroundMesh.visible = true;
       this.renderer.setClearColor(clear, alpha);
     }
   }
@@ -339,7 +415,8 @@ export class RealtimeGl {
   private drawTile(tile: { x: number; y: number }): void {
     if (!this.envTexture) return;
     const t = RealtimeGl.tileSize;
-    this.material.uniforms.uBands.value = this.bands;
+    this.useBands(this.bands);
+    this.syncCamera();
     this.renderer.setScissorTest(true);
     this.renderer.setScissor(tile.x, tile.y, t, t);
     this.renderer.render(this.deferredScene, this.blitCamera);
@@ -355,7 +432,8 @@ export class RealtimeGl {
     const aspect = this.camera.aspect;
     this.camera.aspect = 1;
     this.camera.updateProjectionMatrix();
-    this.material.uniforms.uBands.value = this.bands;
+    this.useBands(this.bands);
+    this.syncCamera();
     this.material.uniforms.uLinear.value = true;
     const pixels = new Float32Array(size * size * 4);
     try {
@@ -388,7 +466,8 @@ export class RealtimeGl {
     if (!this.envTexture) return 0;
     if (!fast) this.tiles = null;  // a full frame supersedes the tiles
     const start = performance.now();
-    this.material.uniforms.uBands.value = fast ? Math.min(this.bands, this.fastBands) : this.bands;
+    this.useBands(fast ? Math.min(this.bands, this.fastBands) : this.bands);
+    this.syncCamera();
     if (fast) {
       this.renderer.setRenderTarget(this.low);
       this.renderer.render(this.scene, this.camera);

@@ -10,11 +10,49 @@
 // texel of border continuing the map across its edges, so bilinear filtering is seamless).
 // lambda is the K x T coefficient texture of the current map point, row t = theta_o sample
 // (t + 1/2) (pi/2) / T: two texel reads per term, interpolated in float with the weight computed
-// once per pixel (clamped at the ends), as the CPU reference does. Output: 2^exposure, clamped,
-// sRGB-encoded (or, with uLinear, the radiance times 2^exposure as is, for float targets).
+// once per pixel (clamped at the ends), as the CPU reference does. Band l's terms are weighted
+// by uWindow[l] (zonal/window.h, the window over the bands shown: computed by bandWindow below
+// with the same formulas as the CPU reference). Then the sharp lobes (zonal/lobes.h): lobe i's
+// weight is column K + i of the coefficient texture, its map layer i of the detail texture
+// (octahedral, finer), read at the mirror direction r = 2 (n . wo) n - wo. The detail texture's
+// last layer is the environment itself (Environment::eval_smooth): the background where no
+// object covers the pixel. Output: 2^exposure, clamped, sRGB-encoded (or, with uLinear, the
+// radiance times 2^exposure as is, for float targets).
 
 /** Highest band the shader's step table holds. */
 export const maxShaderBands = 32;
+/** Most lobes the shader sums. */
+export const maxShaderLobes = 8;
+
+export type BandWindowName = "none" | "hann" | "lanczos" | "gauss" | "taper";
+
+/**
+ * The viewer's windows (src/server/realtime.h: kRealtimeWindow, kRealtimeReducedWindow, which the
+ * server's CPU reference uses): Hann whether every band is shown or fewer (the bands slider, the
+ * reduced frames while moving).
+ */
+export const viewerWindow: BandWindowName = "hann";
+export const viewerReducedWindow: BandWindowName = "hann";
+
+/**
+ * w_0..w_L of a window over bands 0..L (src/zonal/window.cpp's formulas): none 1; hann
+ * cos^2(pi l / (2 (L + 1))); lanczos sinc(pi l / (L + 1)); gauss exp(-l (l + 1) / (2 s^2)),
+ * s = (L + 1) / 2.5; taper 1 up to h = (L + 1) / 2, then cos^2(pi (l - h) / (2 (L + 1 - h))).
+ * w_0 = 1 always.
+ */
+export function bandWindow(name: BandWindowName, L: number): number[] {
+  const n = L + 1;
+  return Array.from({ length: n }, (_, l) => {
+    if (l === 0) return 1;
+    switch (name) {
+      case "hann": return Math.cos((Math.PI * l) / (2 * n)) ** 2;
+      case "lanczos": return Math.sin((Math.PI * l) / n) / ((Math.PI * l) / n);
+      case "gauss": return Math.exp((-l * (l + 1)) / (2 * (n / 2.5) ** 2));
+      case "taper": return l <= n / 2 ? 1 : Math.cos((Math.PI * (l - n / 2)) / (2 * (n - n / 2))) ** 2;
+      default: return 1;
+    }
+  });
+}
 
 export const vertexShader = /* glsl */ `
 out vec3 vWorldPos;
@@ -35,7 +73,12 @@ uniform sampler2D uCoef;       // K x T, RGB (+ unused A), read with texelFetch
 uniform sampler2DArray uEnv;   // (N + 2) x (N + 2) x (L + 1), octahedral with a border
 uniform int uBands;            // L': bands 0..L' are summed
 uniform vec2 uStep[${maxShaderBands + 1}];  // cos, sin of pi / (l + 1)
+uniform float uWindow[${maxShaderBands + 1}];  // band l's weight (the window over bands 0..L')
 uniform float uEnvSide;        // N
+uniform sampler2DArray uDetail;  // lobe maps 0..M-1, then the background; octahedral with a border
+uniform float uDetailSide;     // its N
+uniform int uLobes;            // M (0: no detail texture)
+uniform int uZonalTerms;       // K of the coefficient texture: lobe i is column K + i
 uniform vec2 uRotation;        // cos, sin of the environment's rotation
 uniform float uExposure;       // stops
 uniform bool uLinear;          // output 2^exposure radiance as is (float targets: the tests' comparison)
@@ -48,12 +91,12 @@ vec3 srgb(vec3 c) {
   return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(0.0031308, c));
 }
 
-// Texture coordinates of direction d on the octahedral maps (y up).
-vec2 octahedral(vec3 d) {
+// Texture coordinates of direction d on octahedral maps of side N (y up).
+vec2 octahedral(vec3 d, float side) {
   vec2 p = d.xz / (abs(d.x) + abs(d.y) + abs(d.z));
   vec2 s = vec2(p.x >= 0.0 ? 1.0 : -1.0, p.y >= 0.0 ? 1.0 : -1.0);
   p = d.y < 0.0 ? (1.0 - abs(p.yx)) * s : p;
-  return (p * (0.5 * uEnvSide) + (0.5 * uEnvSide + 1.0)) / (uEnvSide + 2.0);
+  return (p * (0.5 * side) + (0.5 * side + 1.0)) / (side + 2.0);
 }
 
 // The lookup direction of the rotated environment: phi - beta.
@@ -64,6 +107,7 @@ vec3 unrotate(vec3 d) {
 // Radiance towards wo of a point with normal n (both unit, dot(n, wo) >= 0), as displayed.
 vec4 shade(vec3 n, vec3 wo) {
   float c = clamp(dot(n, wo), 0.0, 1.0);
+  vec3 r = unrotate(2.0 * c * n - wo);  // the mirror direction: the lobes' axis
   vec3 t = wo - c * n;
   float tl = length(t);
   if (tl < 1e-6) {
@@ -83,15 +127,37 @@ vec4 shade(vec3 n, vec3 wo) {
     vec2 st = uStep[l];
     vec2 cs = vec2(1.0, 0.0);  // cos, sin of alpha_lk
     float layer = float(l);
+    vec3 band = vec3(0.0);
     for (int k = 0; k <= l; ++k) {
       vec3 lambda = mix(texelFetch(uCoef, ivec2(j, t0), 0).rgb, texelFetch(uCoef, ivec2(j, t1), 0).rgb, f);
-      sum += lambda * texture(uEnv, vec3(octahedral(cs.y * x + cs.x * n), layer)).rgb;
+      band += lambda * texture(uEnv, vec3(octahedral(cs.y * x + cs.x * n, uEnvSide), layer)).rgb;
       cs = vec2(cs.x * st.x - cs.y * st.y, cs.y * st.x + cs.x * st.y);
       ++j;
     }
+    sum += uWindow[l] * band;
+  }
+  vec2 ro = octahedral(r, uDetailSide);
+  for (int i = 0; i < uLobes; ++i) {
+    int col = uZonalTerms + i;
+    vec3 w = mix(texelFetch(uCoef, ivec2(col, t0), 0).rgb, texelFetch(uCoef, ivec2(col, t1), 0).rgb, f);
+    sum += w * texture(uDetail, vec3(ro, float(i))).rgb;
   }
   sum *= exp2(uExposure);
   return vec4(uLinear ? sum : srgb(sum), 1.0);
+}
+`;
+
+// The environment seen along a camera ray d (world), as displayed.
+const backgroundShading = /* glsl */ `
+uniform mat4 uCameraInverse;   // camera.matrixWorld * projectionMatrixInverse
+uniform vec3 uBackground;      // without a detail texture: a plain colour
+vec4 background(vec2 ndc) {
+  if (uLobes < 0) return vec4(uBackground, 1.0);
+  vec4 p = uCameraInverse * vec4(ndc, 1.0, 1.0);
+  vec4 q = uCameraInverse * vec4(ndc, -1.0, 1.0);
+  vec3 d = normalize(p.xyz / p.w - q.xyz / q.w);
+  vec3 e = texture(uDetail, vec3(octahedral(unrotate(d), uDetailSide), float(uLobes))).rgb * exp2(uExposure);
+  return vec4(uLinear ? e : srgb(e), 1.0);
 }
 `;
 
@@ -133,17 +199,33 @@ void main() {
 `;
 
 export const deferredFragmentShader = /* glsl */ `
-${shading}uniform sampler2D uGNormal;
+${shading}${backgroundShading}uniform sampler2D uGNormal;
 uniform sampler2D uGView;
-uniform vec3 uBackground;
+uniform vec2 uViewport;
 
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   vec4 n = texelFetch(uGNormal, p, 0);
   if (n.a == 0.0) {  // a branch, not a select: background pixels skip the sum
-    outColor = vec4(uBackground, 1.0);
+    outColor = background(gl_FragCoord.xy / uViewport * 2.0 - 1.0);
     return;
   }
   outColor = shade(n.xyz, texelFetch(uGView, p, 0).xyz);
+}
+`;
+
+// The background of the forward frames: a screen quad at the far plane, drawn first.
+export const backgroundVertexShader = /* glsl */ `
+out vec2 vNdc;
+void main() {
+  vNdc = position.xy;
+  gl_Position = vec4(position.xy, 1.0, 1.0);
+}
+`;
+
+export const backgroundFragmentShader = /* glsl */ `
+${shading}${backgroundShading}in vec2 vNdc;
+void main() {
+  outColor = background(vNdc);
 }
 `;

@@ -127,14 +127,22 @@ test("a live server answers every endpoint as the schema says", async () => {
   assert.equal(projected.nearest.index, 2);
   // The real-time viewer's data: shapes agree with the payloads.
   const rt = await expectAnswer("GET", "api/realtime");
-  assert.equal(rt.coefficients, ((rt.bands + 1) * (rt.bands + 2)) / 2);
+  // Per view angle: the (L + 1)(L + 2)/2 rotated-ZH terms, then one weight per sharp lobe.
+  const lobes = rt.coefficients - ((rt.bands + 1) * (rt.bands + 2)) / 2;
+  assert.ok(lobes >= 0 && lobes <= 8, `${lobes} lobe weights`);
   assert.equal(rt.materials, model.count);
   const coefficients = await expectAnswer("GET", "api/realtime/coefficients");
   assert.equal(coefficients.length, 4 * (model.count + 1) * rt.theta_o_count * rt.coefficients * 3);
   const env = rt.environments[0];
   const { res: envRes } = await call("GET", `api/realtime/environment/${env}`);
   const shape = JSON.parse(envRes.headers.get("x-matlas-shape"));
-  assert.equal((await envRes.arrayBuffer()).byteLength, 4 * (shape.bands + 1) * shape.width * shape.height * 3);
+  // The band maps, then the detail atlas: one map per lobe and the background.
+  const bandFloats = (shape.bands + 1) * shape.width * shape.height * 3;
+  assert.equal(shape.detail.offset, bandFloats);
+  assert.equal(shape.detail.lobes.length, lobes);
+  assert.equal(shape.detail.layers, lobes + 1);
+  assert.equal((await envRes.arrayBuffer()).byteLength,
+    4 * (bandFloats + shape.detail.layers * shape.detail.width * shape.detail.height * 3));
   const mesh = rt.objects.find((o) => o !== "sphere");
   if (mesh) {
     const bytes = await expectAnswer("GET", `api/realtime/mesh/${mesh}`);

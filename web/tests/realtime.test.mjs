@@ -2,7 +2,8 @@
 // (SwiftShader) against `matlas demo`. Checks: the viewer's full frame equals the server's CPU
 // reference (zonal::shade_image) of the current point within 1 % in radiance (POST
 // /api/realtime/reference/radiance) and the displayed canvas within a stated error in 8-bit sRGB
-// (POST /api/realtime/reference); dragging on the map changes the material shown; rotating the environment and orbiting
+// (POST /api/realtime/reference); the background shows the environment along each pixel's camera
+// ray; dragging on the map changes the material shown; rotating the environment and orbiting
 // the camera change the view. Screenshots: test-results/realtime-*.png.
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
@@ -164,6 +165,62 @@ test("the canvas shows the server's CPU reference of the current point", async (
   // output, the canvas's interpolated mesh normals against the exact sphere).
   assert.ok(relative < 0.02, `relative difference ${relative}`);
   await setSlider("#rt-exposure", 0);
+});
+
+test("the background shows the environment along each camera ray", async () => {
+  // Pixels the sphere does not cover: the environment (Environment::eval_smooth, the detail
+  // atlas's last layer) in the direction of the pixel's ray, computed here from the camera and
+  // the octahedral layout (zonal/shader_layout.h), not by the shader's code.
+  await page.evaluate(() => window.matlasViewer.gl.resetCamera());
+  await setSlider("#rt-exposure", 0);
+  const { w, h, px } = await canvasPixels();
+  const expected = await page.evaluate(({ w, h }) => {
+    const gl = window.matlasViewer.gl, cam = gl.camera, V = cam.position.constructor;
+    const tex = gl.detailTexture.image, N = tex.width - 2, layer = tex.depth - 1, data = tex.data;
+    const srgb = (c) => {
+      c = Math.min(Math.max(c, 0), 1);
+      return 255 * (c <= 0.0031308 ? 12.92 * c : 1.055 * c ** (1 / 2.4) - 0.055);
+    };
+    const out = [];
+    for (let py = 2; py < h; py += 7)
+      for (let pxl = 2; pxl < w; pxl += 7) {
+        const nx = ((pxl + 0.5) / w) * 2 - 1, ny = 1 - ((py + 0.5) / h) * 2;
+        const a = new V(nx, ny, 1).unproject(cam), b = new V(nx, ny, -1).unproject(cam);
+        const d = a.sub(b).normalize();
+        // Rays that may hit the unit sphere at the origin (with a margin) are skipped.
+        const o = cam.position, t = -o.dot(d), miss = o.lengthSq() - t * t;
+        if (miss < 1.1 ** 2) continue;
+        let sx = d.x / (Math.abs(d.x) + Math.abs(d.y) + Math.abs(d.z)), sz = d.z / (Math.abs(d.x) + Math.abs(d.y) + Math.abs(d.z));
+        if (d.y < 0) [sx, sz] = [(1 - Math.abs(sz)) * (sx >= 0 ? 1 : -1), (1 - Math.abs(sx)) * (sz >= 0 ? 1 : -1)];
+        const fx = sx * N / 2 + N / 2 + 0.5, fz = sz * N / 2 + N / 2 + 0.5;
+        const x0 = Math.floor(fx), z0 = Math.floor(fz), tx = fx - x0, tz = fz - z0;
+        const e = [0, 0, 0];
+        for (const [dx, dz] of [[0, 0], [1, 0], [0, 1], [1, 1]]) {
+          const wgt = (dx ? tx : 1 - tx) * (dz ? tz : 1 - tz);
+          const i = ((layer * (N + 2) + Math.min(z0 + dz, N + 1)) * (N + 2) + Math.min(x0 + dx, N + 1)) * 4;
+          for (let c = 0; c < 3; ++c) e[c] += wgt * data[i + c];
+        }
+        out.push({ x: pxl, y: py, rgb: e.map(srgb) });
+      }
+    return out;
+  }, { w, h });
+  let diff = 0, lo = 255, hi = 0, plain = 0;
+  for (const { x, y, rgb } of expected)
+    for (let c = 0; c < 3; ++c) {
+      const got = px[(y * w + x) * 4 + c];
+      diff += Math.abs(got - rgb[c]);
+      lo = Math.min(lo, rgb[c]);
+      hi = Math.max(hi, rgb[c]);
+      if (Math.abs(got - 32) <= 1) ++plain;
+    }
+  diff /= 3 * expected.length;
+  console.log(`background: ${expected.length} pixels, mean |difference| ${diff.toFixed(2)} of 255, environment from ${lo.toFixed(0)} to ${hi.toFixed(0)}`);
+  await page.locator("#rt-canvas").screenshot({ path: join(results, "realtime-background.png") });
+  assert.ok(expected.length > 100, `${expected.length} background pixels`);
+  assert.ok(hi - lo > 20, "the environment varies across the background (the check can fail)");
+  assert.ok(plain < 0.5 * 3 * expected.length, "not the former plain grey background");
+  // Stated error: 2 of 255 (8-bit output, float16 or float32 filtering).
+  assert.ok(diff < 2, `mean difference ${diff}`);
 });
 
 test("dragging on the map changes the material shown", async () => {
