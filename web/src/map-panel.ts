@@ -87,19 +87,28 @@ export function createMapPanel(
   );
 
   const fade = model.uncertainty ?? { fade_from: 0.5, fade_to: 0.9 };
+  // What a point far from the data is depends on the interpolation: the GP's weights fall to zero
+  // (the database mean), convex weights still sum to 1 (a mix of the nearest materials).
+  const far = (model.interpolation ?? "gp") === "convex"
+    ? "a point there is a mix of the nearest materials (see Largest weights), not a measured one"
+    : "the model only has the database mean there";
   const showLegend = () => {
     const kind = layerSel.value;
     const item = (swatch: string, text: string) => `<span class="item"><span class="swatch ${swatch}"></span>${text}</span>`;
     $("legend-layer").innerHTML =
       kind === "albedo"
         ? item("fade", `albedo fades out from variance ${fade.fade_from}`) +
-          item("hatch", `no data here (variance &gt; ${fade.fade_to}): the model only has the database mean`)
+          item("hatch", `no data here (variance &gt; ${fade.fade_to}): ${far}`)
         : kind === "variance"
           ? item("variance", "predictive variance 0 (at the data) → 1 (far away)")
           : kind === "plausibility"
             ? item("red", "not physically plausible (negative values or albedo outside [0, 1])")
             : "";
   };
+  if (model.dim > 2) {
+    $("legend-far").textContent =
+      `q = ${model.dim}: points fade with their distance from the displayed slice (the other coordinates); faded points are not labelled`;
+  }
   showLegend();
   let labelText = "";
   map.onDrawn = () => {
