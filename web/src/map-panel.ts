@@ -5,6 +5,7 @@ import { api, type MapRequest, type ModelInfo } from "./api";
 import { $ } from "./dom";
 import { LatestOnly } from "./latest";
 import { LatentMap, type ViewRect } from "./map";
+import { LABEL_ALPHA } from "./map-draw";
 import { setStatus } from "./status";
 
 /** A background layer, or none. */
@@ -113,7 +114,9 @@ export function createMapPanel(
   let labelText = "";
   map.onDrawn = () => {
     const shown = map.labelBoxes.length, n = map.visibleMaterials;
-    const text = !map.showLabels ? "" : shown < n ? `${shown} of ${n} labels shown: hover a point or zoom in for the others` : "";
+    const far = model.dim > 2 ? map.markerAlpha.filter((a) => a < LABEL_ALPHA).length : 0;
+    const text = !map.showLabels || shown >= n ? ""
+      : `${shown} of ${n} labels shown: ${far > 0 ? `${far} far from the slice, ` : ""}hover a point or zoom in for the others`;
     if (text !== labelText) $("label-count").textContent = labelText = text;
   };
 
