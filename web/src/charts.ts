@@ -109,8 +109,9 @@ export class LobeChart {
             ctx.beginPath();
             ctx.ellipse(x.getPixelForValue(0), y.getPixelForValue(0), rx, ry, 0, Math.PI, 2 * Math.PI);
             ctx.stroke();
+            // Labelled on the ground line at the back (the side light comes from, rarely drawn on).
             ctx.fillStyle = "rgba(200,206,216,0.75)";
-            ctx.fillText(fmtRing(ring.value), x.getPixelForValue(0) + rx + 2, y.getPixelForValue(0) - 1);
+            ctx.fillText(fmtRing(ring.value), x.getPixelForValue(0) - rx + 2, y.getPixelForValue(0) - 1);
           }
           ctx.restore();
         },
@@ -164,7 +165,14 @@ export class WeightsChart {
       data: { labels: [], datasets: [{ label: "weight", data: [], backgroundColor: [], borderWidth: 0 }] },
       options: {
         indexAxis: "y", responsive: true, maintainAspectRatio: false,
-        scales: { x: { type: "linear" }, y: { type: "category", ticks: { autoSkip: false } } },
+        scales: {
+          x: { type: "linear" },
+          // Long names shortened (the bar's tooltip has the whole name).
+          y: { type: "category", ticks: { autoSkip: false, callback(v) {
+            const name = String(this.getLabelForValue(Number(v)));
+            return name.length > 20 ? `${name.slice(0, 19)}…` : name;
+          } } },
+        },
         plugins: { legend: { display: false } },
       },
     });

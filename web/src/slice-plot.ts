@@ -96,12 +96,17 @@ export class SlicePlot {
     g.fillStyle = "#9aa3b2";
     g.strokeStyle = "#9aa3b2";
     g.textAlign = "left";
+    let lastY = Infinity;
+    const shown: number[] = [];
     for (const v of ticks) {
       const y = y0 + side * (1 - scalePosition(v, this.max));
+      if (lastY - y < 12) continue;  // too close to the one below (0.01 just above 0)
+      lastY = y;
       g.beginPath(); g.moveTo(bx + barW, y); g.lineTo(bx + barW + 3, y); g.stroke();
       g.fillText(fmtValue(v), bx + barW + 5, Math.min(Math.max(y, y0 + 5), y0 + side - 5));
+      shown.push(v);
     }
     g.fillText("sr⁻¹", bx + barW + 5, y0 + side + 10);
-    this.drawn = { max: this.max, valueTicks: ticks, thetaH, thetaD };
+    this.drawn = { max: this.max, valueTicks: shown, thetaH, thetaD };
   }
 }

@@ -84,5 +84,7 @@ export function keepUrl(store: PageStore, map: LatentMap, layer: () => string): 
   store.on(["x", "env", "object", "shortlist", "dragging"], write);
   map.viewListeners.push(write);
   for (const id of ["layer", "axis-x", "axis-y"]) document.getElementById(id)?.addEventListener("change", write);
+  // A view pasted into the address bar of this tab (replaceState fires no hashchange): open it.
+  window.addEventListener("hashchange", () => location.reload());
   write();
 }
