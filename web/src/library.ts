@@ -128,6 +128,7 @@ export function createLibrary(store: PageStore, map: LatentMap): void {
       t.querySelector(".tile-btn")!.textContent = listed.has(i) ? "✓" : "+";
     });
     const items = list.map((it) => tileOf(it.name, () => goTo(it.x), "×", () => toggle(it)));
+    items.forEach((t) => (t.querySelector("img")!.loading = "eager"));  // blob images, shown once decoded
     items.forEach((t, k) => (t.title = `${list[k].name}: x = (${fmtX(list[k].x)})`));
     compare.replaceChildren(...items);
     const { env, object } = store.state, size = model.preview.size;

@@ -119,15 +119,20 @@ class CardStatus {
     this.progress.hidden = true;
   }
 
-  fail(message: string): void {
+  private source = "";
+
+  /** Shows `message` over the canvas; `source`: what a later success of the same kind clears. */
+  fail(message: string, source = "start"): void {
     this.done();
     this.error.textContent = message;
     this.error.hidden = false;
-    $("rt-info").textContent = "";
+    this.source = source;
+    if (source === "start") $("rt-info").textContent = "";
   }
 
-  clear(): void {
-    this.error.hidden = true;
+  /** A success of `source` (or of anything, without it): its error is stale. */
+  clear(source?: string): void {
+    if (source === undefined || source === this.source) this.error.hidden = true;
   }
 }
 
@@ -188,16 +193,17 @@ async function startRealtimeView(store: PageStore, card: CardStatus): Promise<Vi
     movedAt = at;
     gl.setCoefficients(point, store.state.dragging);
     state.shownX = x;
+    card.clear("move");  // an earlier move's failure is stale
   };
   const weights = new LatestOnly<number[], number[]>(
-    (x) => api.weights(x, 0).then((r) => r.weights), show, (e) => fail(e),
+    (x) => api.weights(x, 0).then((r) => r.weights), show, (e) => fail(e, "move"),
   );
   const request = (x: number[], at: number) => {
     if (!local) return weights.request(x, at);
     try {
       show(local.weights(x), x.slice(), at);
     } catch (e) {
-      fail(e);
+      fail(e, "move");
     }
   };
   const median = (v: number[]) => {
@@ -315,8 +321,8 @@ async function startRealtimeView(store: PageStore, card: CardStatus): Promise<Vi
   slider("rt-bands", (v) => gl.setBands(v), (v) => `L = ${v}`);
   $("rt-reset").addEventListener("click", () => gl.resetCamera());
 
-  function fail(e: unknown): void {
-    card.fail(`real-time view: ${(e as Error).message}`);
+  function fail(e: unknown, source = "scene"): void {
+    card.fail(`real-time view: ${(e as Error).message}`, source);
   }
 
   await setEnv(envSelect.value);
