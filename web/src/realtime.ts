@@ -127,7 +127,13 @@ class CardStatus {
     this.error.textContent = message;
     this.error.hidden = false;
     this.source = source;
-    if (source === "start") $("rt-info").textContent = "";
+    if (source === "start") {
+      // Nothing in the card can act: its controls say so by being disabled.
+      $("rt-info").textContent = "";
+      document.querySelectorAll<HTMLInputElement>(".realtime-card input, .realtime-card select, .realtime-card button")
+        .forEach((el) => (el.disabled = true));
+      document.querySelector(".realtime-card label.button")?.classList.add("disabled");
+    }
   }
 
   /** A success of `source` (or of anything, without it): its error is stale. */

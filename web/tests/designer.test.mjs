@@ -171,6 +171,7 @@ test("without WebGL2 the real-time card says so in the card, not 'loading' forev
   assert.ok(await page.locator("#rt-progress").isHidden(), "no progress bar left");
   assert.doesNotMatch(await page.textContent("#rt-info"), /loading/);
   assert.doesNotMatch(await page.textContent("#status"), /real-time/, "the error is not in another card");
+  assert.ok(await page.locator("#rt-exposure").isDisabled() && await page.locator("#rt-reset").isDisabled(), "its controls are disabled");
   await page.locator(".realtime-card").screenshot({ path: join(results, "realtime-no-webgl.png") });
 });
 
