@@ -413,6 +413,13 @@ BrdfTable Model::table(const Eigen::Ref<const Eigen::VectorXd>& w) const {
   BrdfTable t(impl_->dims, ValueBuffer::Uninitialized{});
   const std::size_t bins = impl_->dims.bins();
   const double weight_of_mean = mean_weight(w);
+  // Convex weights have a few non-zero entries: then only their values are read (a few cache
+  // lines of each column's n instead of all; the same sums, in the same order, as data_dot).
+  std::vector<int> nonzero;
+  for (int i = 0; i < count(); ++i)
+    if (w[i] != 0.0) nonzero.push_back(i);
+  const bool sparse = nonzero.size() * 4 <= static_cast<std::size_t>(count());
+  const auto n = static_cast<std::size_t>(count());
   parallel_for(0, t.size(), [&](std::size_t lo, std::size_t hi) {
     for (std::size_t v = lo; v < hi; ++v) {
       const auto channel = static_cast<int>(v / bins);
@@ -422,7 +429,17 @@ BrdfTable Model::table(const Eigen::Ref<const Eigen::VectorXd>& w) const {
         continue;
       }
       const auto column = static_cast<std::size_t>(c);
-      t.set_value(channel, v % bins, weight_of_mean * impl_->mean[column] + impl_->data_dot(column, w));
+      double dot = 0.0;
+      if (!sparse) {
+        dot = impl_->data_dot(column, w);
+      } else if (impl_->data_f32) {
+        const float* row = impl_->data_f32 + column * n;
+        for (const int i : nonzero) dot += w[i] * static_cast<double>(row[i]);
+      } else {
+        const std::uint16_t* row = impl_->data_f16 + column * n;
+        for (const int i : nonzero) dot += w[i] * static_cast<double>(half_to_float(row[i]));
+      }
+      t.set_value(channel, v % bins, weight_of_mean * impl_->mean[column] + dot);
     }
   }, 65536);
   return t;

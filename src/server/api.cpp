@@ -164,6 +164,7 @@ std::string Api::preview_png(const Eigen::VectorXd& w, const std::string& key, c
 }
 
 Reply Api::preview(const std::string& body) {
+  preview_generations_.advance(request_client());
   const auto j = parse_json_object(body);
   const Eigen::VectorXd x = parse_latent(j, "x", domain_);
   const std::string env = parse_choice(j, "env", envs_, previews_->default_environment());
@@ -171,6 +172,39 @@ Reply Api::preview(const std::string& body) {
   const int size = parse_int(j, "size", 16, 512, previews_->size());
   Reply r = Reply::bytes(preview_png(model_.weights(x), point_key(x).insert(0, 1, 'x'), env, object, size), kPng);
   r.headers.emplace_back("Cache-Control", "no-store");
+  return r;
+}
+
+Reply Api::preview_refine(const std::string& body) {
+  const auto j = parse_json_object(body);
+  const Eigen::VectorXd x = parse_latent(j, "x", domain_);
+  const std::string env = parse_choice(j, "env", envs_, previews_->default_environment());
+  const std::string object = parse_choice(j, "object", objects_, previews_->default_object());
+  const double seconds = parse_number(j, "seconds", 0.05, 5.0, 0.5);
+  // A newer preview request from the same client (the pointer moved) cancels the pass under
+  // way: the refinement stays as it was and this request gets 409.
+  const std::string client = request_client();
+  const std::uint64_t generation = preview_generations_.current(client);
+  SupersededSink superseded(preview_generations_, client, generation);
+  PreviewSource::Refined refined;
+  try {
+    auto slot = acquire(compute_);
+    superseded.update("queued", 0, 1);
+    refined = previews_->refine(model_.weights(x), point_key(x), env, object, seconds, superseded);
+  } catch (const SupersededSink::Superseded&) {
+    throw HttpError(409, "superseded by a newer preview request");
+  }
+  Reply r = Reply::bytes(encode_png_fast(refined.image, previews_->tone()), kPng);
+  const auto& st = refined.state;
+  char error[32];
+  std::snprintf(error, sizeof error, "%.6g", st.relative_error);
+  char secs[32];
+  std::snprintf(secs, sizeof secs, "%.3f", st.seconds);
+  r.headers.emplace_back("Cache-Control", "no-store");
+  r.headers.emplace_back("X-Matlas-Spp", std::to_string(st.spp));
+  r.headers.emplace_back("X-Matlas-Error", std::isfinite(st.relative_error) ? error : "unknown");
+  r.headers.emplace_back("X-Matlas-Converged", st.converged ? "1" : "0");
+  r.headers.emplace_back("X-Matlas-Seconds", secs);
   return r;
 }
 

@@ -15,6 +15,7 @@
 #include "server/atlas_server.h"
 #include "server/compute_gate.h"
 #include "server/png_cache.h"
+#include "server/preview_generations.h"
 #include "server/realtime.h"
 #include "server/request_parsing.h"
 
@@ -38,6 +39,9 @@ public:
   Reply model_info() const;
   /// POST /api/preview {"x", "env", "object", "size"} -> PNG
   Reply preview(const std::string& body);
+  /// POST /api/preview/refine {"x", "env", "object", "seconds"} -> PNG of the point refined for
+  /// about `seconds` more (X-Matlas-Spp, X-Matlas-Error, X-Matlas-Converged, X-Matlas-Seconds)
+  Reply preview_refine(const std::string& body);
   /// GET /api/thumbnail/INDEX?env=&object=&size= -> PNG
   Reply thumbnail(int index, const std::string& env, const std::string& object, int size);
   /// POST /api/weights {"x", "top"}
@@ -97,6 +101,7 @@ private:
   ComputeGate compute_;
   ComputeGate heavy_;
   PngCache cache_;
+  PreviewGenerations preview_generations_;
   std::unique_ptr<Realtime> realtime_;
   std::shared_ptr<const GiScenes> gi_;
 };

@@ -268,6 +268,7 @@ struct AtlasServer::Impl {
       });
     };
     post("/api/preview", &Api::preview);
+    post("/api/preview/refine", &Api::preview_refine);
     post("/api/weights", &Api::weights);
     post("/api/slice", &Api::slice);
     post("/api/lobe", &Api::lobe);

@@ -11,11 +11,13 @@
 #include <thread>
 
 #include "atlas/model_basis.h"
+#include "atlas/model_material.h"
 #include "atlas/sampling_fit.h"
 #include "core/error.h"
 #include "formats/image_resize.h"
 #include "manifold/model.h"
 #include "render/assets.h"
+#include "render/progressive_render.h"
 #include "render/render.h"
 #include "render/scene.h"
 #include "server/cancellable_sink.h"
@@ -24,6 +26,17 @@
 namespace matlas::server {
 
 namespace {
+
+/// Drops the least recently used entries of a map of {..., used} until `keep` are left.
+template <class Map>
+void drop_least_used(Map& map, std::size_t keep) {
+  while (map.size() > keep) {
+    auto oldest = map.begin();
+    for (auto it = map.begin(); it != map.end(); ++it)
+      if (it->second.used < oldest->second.used) oldest = it;
+    map.erase(oldest);
+  }
+}
 
 std::string safe_name(const std::string& s) {
   std::string out;
@@ -51,6 +64,20 @@ struct BasisPreviews::Impl {
   mutable std::map<std::string, std::string> failed;
   mutable std::condition_variable cv;
   std::atomic<bool> stop{false};
+
+  /// Refinements (point, scene) and the scenes they render, least recently used dropped.
+  struct Refinement {
+    std::shared_ptr<render::ProgressiveRender> render;
+    std::uint64_t used = 0;
+  };
+  mutable std::mutex refine_mutex;
+  mutable std::map<std::string, Refinement> refinements;
+  struct RefinedScene {
+    std::shared_ptr<const render::Scene> scene;
+    std::uint64_t used = 0;
+  };
+  mutable std::map<std::string, RefinedScene> scenes;
+  mutable std::uint64_t refine_clock = 0;
   std::thread worker;
 
   Impl(const Model& m, BasisPreviewOptions o) : model(m), options(std::move(o)) {
@@ -187,6 +214,63 @@ struct BasisPreviews::Impl {
     }
   }
 };
+
+BasisPreviews::Refined BasisPreviews::refine(const Eigen::VectorXd& w, const std::string& point,
+                                             const std::string& environment, const std::string& object,
+                                             double seconds, ProgressSink& progress) const {
+  auto& im = *impl_;
+  if (std::find(im.envs.begin(), im.envs.end(), environment) == im.envs.end() ||
+      std::find(im.objects.begin(), im.objects.end(), object) == im.objects.end())
+    throw HttpError(400, "no preview scene (" + quoted_excerpt(environment) + ", " + quoted_excerpt(object) + ")");
+  const std::string scene_key = Impl::key(environment, object);
+  const std::string key = point + "\n" + scene_key;
+  std::shared_ptr<render::ProgressiveRender> refinement;
+  std::shared_ptr<const render::Scene> scene;
+  {
+    std::lock_guard lock(im.refine_mutex);
+    if (const auto it = im.refinements.find(key); it != im.refinements.end()) {
+      it->second.used = ++im.refine_clock;
+      refinement = it->second.render;
+    } else if (const auto sc = im.scenes.find(scene_key); sc != im.scenes.end()) {
+      sc->second.used = ++im.refine_clock;
+      scene = sc->second.scene;
+    }
+  }
+  if (!refinement) {
+    // Built outside the lock (a scene and a table take a few hundred milliseconds); a
+    // concurrent request for the same point may build it too, the first one inserted wins.
+    if (!scene) {
+      render::SceneDescription desc;
+      desc.environment = environment;
+      desc.object = object;
+      scene = std::make_shared<const render::Scene>(desc);
+    }
+    auto material = std::make_shared<const atlas::ModelTableMaterial>(im.model, w);
+    render::ProgressiveSettings settings;
+    settings.render.width = settings.render.height = im.options.size;
+    settings.render.spp = im.options.refine_first_spp;
+    settings.render.seed = im.options.seed + 0x5DEECE66Dull;  // not the basis' samples
+    settings.render.mixture = atlas::fit_sampling_mixture(
+        render::MaterialList({material.get()}), atlas::SamplingFitOptions::for_sampler(settings.render.sampler));
+    settings.target_error = im.options.refine_target_error;
+    auto made = std::make_shared<render::ProgressiveRender>(scene, material, settings);
+    std::lock_guard lock(im.refine_mutex);
+    auto& slot = im.refinements[key];
+    if (!slot.render) slot.render = std::move(made);
+    slot.used = ++im.refine_clock;
+    refinement = slot.render;
+    im.scenes[scene_key] = {scene, im.refine_clock};
+    drop_least_used(im.refinements, static_cast<std::size_t>(std::max(1, im.options.max_refinements)));
+    drop_least_used(im.scenes, 2);
+  }
+  CancellableSink sink(progress, im.stop);
+  try {
+    const render::ProgressiveState state = refinement->refine(seconds, sink);
+    return Refined{refinement->image(), state};
+  } catch (const Cancelled&) {
+    throw HttpError(503, "the server is shutting down");
+  }
+}
 
 BasisPreviews::BasisPreviews(const Model& model, BasisPreviewOptions options)
     : impl_(std::make_unique<Impl>(model, std::move(options))) {}

@@ -9,6 +9,12 @@
 // default scene is prepared before serving (prepare_default); any other scene is rendered in the
 // background on its first request, which gets 503 "being prepared" meanwhile. At most
 // `max_loaded` bases stay in memory (least recently used dropped).
+//
+// Refinement: the point a user rests on is rendered directly (render/progressive_render.h): its
+// table is built once (atlas::ModelTableMaterial), sampled with a mixture fitted to that one
+// material (sharper than the database's for glossy points, more cosine for matte ones), and
+// refined pass after pass while the client keeps asking; the image never mixes basis and direct
+// samples. The last `max_refinements` points stay (each holds its table, about 35 MB).
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -35,6 +41,10 @@ struct BasisPreviewOptions {
   int max_loaded = 4;
   /// Relative error allowed for the low-rank form of the half-size (drag) basis; 0: exact.
   double drag_tolerance = 2e-3;
+  /// Refinement: points kept, the first pass's samples, and the error at which it stops.
+  int max_refinements = 4;
+  int refine_first_spp = 16;
+  double refine_target_error = 0.004;
 };
 
 class BasisPreviews final : public PreviewSource {
@@ -56,6 +66,8 @@ public:
   ToneMap tone() const override;
   Image render(const Eigen::VectorXd& w, const std::string& environment, const std::string& object,
                int size) const override;
+  Refined refine(const Eigen::VectorXd& w, const std::string& point, const std::string& environment,
+                 const std::string& object, double seconds, ProgressSink& progress = null_progress()) const override;
 
 private:
   struct Impl;

@@ -1,13 +1,17 @@
 #pragma once
 // PreviewSource: what the server needs to show a material: a linear RGB image of m(x), given its
 // weights w(x), for one of the offered environments and objects. The renderer-backed source is
-// BasisPreviews (server/basis_previews.h): per scene an image basis, composed linearly.
+// BasisPreviews (server/basis_previews.h): per scene an image basis, composed linearly, and a
+// progressive render of the point the user rests on.
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "core/progress.h"
 #include "formats/image_io.h"
+#include "render/progressive_render.h"
+#include "server/http_error.h"
 
 namespace matlas::server {
 
@@ -28,6 +32,21 @@ public:
   /// prepared and HttpError(400) for an unknown scene.
   virtual Image render(const Eigen::VectorXd& w, const std::string& environment,
                        const std::string& object, int size) const = 0;
+
+  /// A refined full-size image of the material with weights w, and how far it has converged.
+  struct Refined {
+    Image image;
+    render::ProgressiveState state;
+  };
+  /// Refines the image of the point `point` (a key: the same key, the same refinement; its
+  /// weights are w) for about `seconds` more and returns it. `progress` hears every row of a
+  /// pass and may throw to cancel it (the refinement then stays as it was). Sources without
+  /// refinement answer 404; unknown scenes 400.
+  virtual Refined refine(const Eigen::VectorXd& /*w*/, const std::string& /*point*/,
+                         const std::string& /*environment*/, const std::string& /*object*/,
+                         double /*seconds*/, ProgressSink& /*progress*/ = null_progress()) const {
+    throw HttpError(404, "this server does not refine previews");
+  }
 };
 
 }  // namespace matlas::server

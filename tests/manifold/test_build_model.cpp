@@ -95,6 +95,26 @@ TEST_F(BuiltModel, RecordsTheHashOfEachSourcesValueBytes) {
   }
 }
 
+TEST_F(BuiltModel, ATableOfFewWeightsIsTheirWeightedSum) {
+  // Two non-zero weights of twelve (convex weights are sparse): Model::table reads only those.
+  const Model m = Model::open(dir / "m.matlas");
+  const BrdfTable a = read_merl(paths[2]), b = read_merl(paths[7]);
+  Eigen::VectorXd w = Eigen::VectorXd::Zero(m.count());
+  w[2] = 0.3;
+  w[7] = 0.7;
+  const BrdfTable t = m.table(w);
+  const std::size_t bins = t.bins();
+  double worst = 0;
+  for (std::size_t v = 0; v < t.size(); ++v) {
+    if (!m.kept(v)) continue;
+    const int c = static_cast<int>(v / bins);
+    const double expected = 0.3 * a.value(c, v % bins) + 0.7 * b.value(c, v % bins);
+    worst = std::max(worst, std::abs(t.value(c, v % bins) - expected) / (std::abs(expected) + 1e-3));
+    ASSERT_NEAR(t.value(c, v % bins), m.value(v, w), 1e-12 * (1 + std::abs(expected)));  // the dense path
+  }
+  EXPECT_LT(worst, 1e-5);
+}
+
 TEST_F(BuiltModel, InterpolationIsTheExplicitWeightedSumOfInputs) {
   const Model m = Model::open(dir / "m.matlas");
   std::vector<BrdfTable> inputs;

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "atlas/model_material.h"
 #include "brdf/catalog.h"
 #include "core/atomic_file.h"
 #include "formats/merl_file.h"
@@ -17,6 +18,8 @@
 #include "manifold/build.h"
 #include "manifold/material_set.h"
 #include "manifold/model.h"
+#include "render/render.h"
+#include "render/scene.h"
 #include "server/atlas_server.h"
 #include "server/basis_previews.h"
 #include "formats/fast_png.h"
@@ -137,6 +140,60 @@ TEST_F(ApiServerTest, PreviewIsTheImageBasisComposedAtTheWeightsOfX) {
   auto small = post("/api/preview", {{"x", mid}, {"size", 16}});
   ASSERT_TRUE(small);
   EXPECT_EQ(png_size(small->body), std::make_pair(16, 16));
+}
+
+TEST_F(ApiServerTest, RefinementAtRestAddsSamplesAndItsErrorFalls) {
+  const auto a = point(0), b = point(1);
+  const std::vector<double> mid = {0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])};
+  auto first = post("/api/preview/refine", {{"x", mid}, {"seconds", 0.05}});
+  ASSERT_TRUE(first);
+  ASSERT_EQ(first->status, 200) << first->body;
+  EXPECT_EQ(first->get_header_value("Content-Type"), "image/png");
+  EXPECT_EQ(png_size(first->body), std::make_pair(32, 32));  // the full preview size
+  const int first_spp = std::stoi(first->get_header_value("X-Matlas-Spp"));
+  EXPECT_GE(first_spp, 16);
+  int spp = first_spp;
+  double first_error = 0, error = 0;
+  bool converged = false;
+  for (int i = 0; i < 60 && !converged; ++i) {
+    auto r = post("/api/preview/refine", {{"x", mid}, {"seconds", 0.2}});
+    ASSERT_TRUE(r);
+    ASSERT_EQ(r->status, 200) << r->body;
+    const int now = std::stoi(r->get_header_value("X-Matlas-Spp"));
+    EXPECT_GT(now, spp);  // the same point: the same refinement, more samples
+    spp = now;
+    error = std::stod(r->get_header_value("X-Matlas-Error"));
+    if (first_error == 0) first_error = error;
+    converged = r->get_header_value("X-Matlas-Converged") == "1";
+  }
+  EXPECT_TRUE(converged) << spp << " spp, error " << error;
+  EXPECT_LE(error, 0.004);
+  EXPECT_LT(error, first_error);
+  // The refined image is the point's material: its mean over the object agrees with a direct
+  // render of the table at the database's sampling (independent samples, 256 spp).
+  const Eigen::VectorXd w = model_->weights(vec(mid));
+  const PreviewSource::Refined refined = previews_->refine(w, "test-direct", "constant", "sphere", 1.0);
+  render::SceneDescription desc;
+  desc.environment = "constant";
+  const render::Scene scene(desc);
+  render::RenderSettings rs;
+  rs.width = rs.height = 32;
+  rs.spp = 256;
+  rs.seed = 99;
+  const Image direct = render::render(scene, atlas::ModelTableMaterial(*model_, w), rs);
+  const std::vector<float> coverage = render::object_coverage(scene, rs);
+  for (int c = 0; c < 3; ++c) {
+    double r_sum = 0, d_sum = 0;
+    for (std::size_t p = 0; p < coverage.size(); ++p)
+      if (coverage[p] == 1.0f) r_sum += refined.image.rgb[3 * p + c], d_sum += direct.rgb[3 * p + c];
+    EXPECT_NEAR(r_sum / d_sum, 1.0, 0.02) << "channel " << c;
+  }
+  // Another point starts its own refinement.
+  auto other = post("/api/preview/refine", {{"x", a}, {"seconds", 0.05}});
+  ASSERT_TRUE(other);
+  EXPECT_LT(std::stoi(other->get_header_value("X-Matlas-Spp")), spp);
+  expect_error(post("/api/preview/refine", {{"x", mid}, {"seconds", 60}}), 400);
+  expect_error(post("/api/preview/refine", {{"x", mid}, {"env", "moon"}}), 400);
 }
 
 TEST_F(ApiServerTest, WeightsAtAMaterialPointSelectThatMaterial) {

@@ -57,6 +57,22 @@ export interface PreviewRequest {
   size?: number;
 }
 
+export interface RefineRequest {
+  x: Point;
+  env?: string;
+  object?: string;
+  seconds?: number;
+}
+
+/** A refined preview (POST /api/preview/refine) and how far it has converged. */
+export interface Refined {
+  blob: Blob;
+  spp: number;
+  /** Estimated relative RMS error inside the object; null after the first pass. */
+  error: number | null;
+  converged: boolean;
+}
+
 export interface WeightsRequest {
   x: Point;
   top?: number;
@@ -213,6 +229,16 @@ export const api = {
   model: (): Promise<ModelInfo> => fetch("api/model").then(check).then((r) => r.json()),
   preview: (x: Point, env: string, object: string, size: number, signal?: AbortSignal): Promise<Blob> =>
     post("api/preview", { x, env, object, size } satisfies PreviewRequest, signal).then((r) => r.blob()),
+  refine: async (x: Point, env: string, object: string, seconds: number, signal?: AbortSignal): Promise<Refined> => {
+    const r = await post("api/preview/refine", { x, env, object, seconds } satisfies RefineRequest, signal);
+    const error = Number(r.headers.get("X-Matlas-Error"));
+    return {
+      blob: await r.blob(),
+      spp: Number(r.headers.get("X-Matlas-Spp") ?? 0),
+      error: Number.isFinite(error) ? error : null,
+      converged: r.headers.get("X-Matlas-Converged") === "1",
+    };
+  },
   weights: (x: Point, top = 8): Promise<WeightsReply> =>
     post("api/weights", { x, top } satisfies WeightsRequest).then((r) => r.json()),
   interpolation: (): Promise<InterpolationData> => fetch("api/interpolation").then(check).then((r) => r.json()),

@@ -35,6 +35,11 @@ export interface PageState {
   shownScenes: string[];
   previews: number;
   latencies: number[];
+  /** Whether the preview keeps refining while the pointer rests (POST /api/preview/refine). */
+  refine: boolean;
+  /** The refined image shown over the preview (null: none, the basis image shows). */
+  refined: (ShownPreview & { spp: number; error: number | null; converged: boolean }) | null;
+  refinedImages: number;
   /** While the server prepares the current scene: how long the page has been waiting for it. */
   preparing: { env: string; object: string; attempts: number; waitedMs: number } | null;
   /** The image shown in the scene view (GET /api/gi), and how many it has shown. */
@@ -58,7 +63,8 @@ declare global {
 export function createStore(model: ModelInfo, map: LatentMap, env: string, object: string): PageStore {
   const store = new Store<PageState>({
     model, x: map.point.slice(), dragging: false, movedAt: 0, env, object, shown: null, shownScenes: [],
-    previews: 0, latencies: [], preparing: null, giShown: null, giImages: 0, lastWeights: null, projected: null, shortlist: [], map,
+    previews: 0, latencies: [], refine: true, refined: null, refinedImages: 0, preparing: null, giShown: null, giImages: 0,
+    lastWeights: null, projected: null, shortlist: [], map,
   });
   window.matlas = store.state;
   return store;

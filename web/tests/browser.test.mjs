@@ -108,6 +108,51 @@ test("dragging streams previews with one request in flight", async () => {
   console.log(`drag: ${lat.length} previews, pointer-to-image latency median ${q(0.5).toFixed(1)} ms, p90 ${q(0.9).toFixed(1)} ms, max ${lat[lat.length - 1].toFixed(1)} ms`);
 });
 
+test("at rest the preview refines: more samples, less error, over the basis image", async () => {
+  const box = await page.locator("#map").boundingBox();
+  await page.mouse.click(box.x + box.width * 0.45, box.y + box.height * 0.4);
+  await settled();
+  const basis = await imageBytes("#preview");
+  await page.waitForFunction(() => window.matlas.refined && window.matlas.refined.error !== null, null, { timeout: 30_000 });
+  const first = await page.evaluate(() => ({ ...window.matlas.refined }));
+  assert.deepEqual(first.x, await page.evaluate(() => window.matlas.x), "the refined image is of the current point");
+  assert.ok(await page.locator("#preview-refined").isVisible(), "the refined image is shown");
+  assert.match(await page.textContent("#preview-refine"), /(refining|converged) · \d+ spp · ±[\d.]+ %/);
+  await page.waitForFunction((spp) => window.matlas.refined && (window.matlas.refined.converged ||
+    window.matlas.refined.spp >= 4 * spp), first.spp, { timeout: 60_000 });
+  const later = await page.evaluate(() => ({ ...window.matlas.refined }));
+  assert.ok(later.spp > first.spp, `samples grew: ${first.spp} -> ${later.spp}`);
+  assert.ok(later.error < first.error, `the estimated error fell: ${first.error} -> ${later.error}`);
+  assert.deepEqual(await imageBytes("#preview"), basis, "the basis image underneath is unchanged (never mixed)");
+  assert.notDeepEqual(await imageBytes("#preview-refined"), basis);
+  await page.locator(".preview-card").screenshot({ path: join(results, "preview-refined.png") });
+  console.log(`refinement: ${first.spp} spp ±${(100 * first.error).toFixed(2)} % -> ${later.spp} spp ±${(100 * later.error).toFixed(2)} %`);
+});
+
+test("a drag drops the refined image and sends no refinement while the pointer moves", async () => {
+  await page.waitForFunction(() => window.matlas.refined !== null, null, { timeout: 30_000 });
+  const box = await page.locator("#map").boundingBox();
+  const sent = [];
+  const onRequest = (r) => r.url().endsWith("/api/preview/refine") && sent.push(performance.now());
+  await page.mouse.move(box.x + box.width * 0.45, box.y + box.height * 0.4);
+  await page.mouse.down();
+  await page.mouse.move(box.x + box.width * 0.47, box.y + box.height * 0.42);
+  await page.waitForFunction(() => window.matlas.refined === null, null, { timeout: 5_000 });
+  assert.ok(await page.locator("#preview-refined").isHidden(), "the refined image is gone at once");
+  page.on("request", onRequest);
+  for (let k = 0; k <= 20; k++) {
+    await page.mouse.move(box.x + box.width * (0.47 + 0.005 * k), box.y + box.height * 0.42);
+    await page.waitForTimeout(20);
+  }
+  page.off("request", onRequest);
+  assert.equal(sent.length, 0, "no refinement requested during the drag");
+  await page.mouse.up();
+  await settled();
+  await page.waitForFunction(() => window.matlas.refined !== null, null, { timeout: 30_000 });
+  assert.deepEqual(await page.evaluate(() => window.matlas.refined.x), await page.evaluate(() => window.matlas.x),
+    "after the drag the new point refines");
+});
+
 test("shift+drag and alt+arrows pan the map without moving the current point", async () => {
   const box = await page.locator("#map").boundingBox();
   const where = () => page.evaluate(() => ({ p: window.matlas.map.materialClientPosition(0), x: window.matlas.x.slice() }));

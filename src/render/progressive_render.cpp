@@ -1,0 +1,116 @@
+#include "render/progressive_render.h"
+
+#include <algorithm>
+#include <bit>
+#include <chrono>
+#include <cmath>
+
+#include "core/check.h"
+#include "core/error.h"
+
+namespace matlas::render {
+
+void ProgressiveSettings::validate() const {
+  render.validate();
+  if (!(target_error > 0) || !std::isfinite(target_error))
+    throw Error("progressive render: target_error must be positive, got " + std::to_string(target_error));
+  if (min_converged_spp < 1) throw Error("progressive render: min_converged_spp must be at least 1");
+  if (max_pass_spp < 1) throw Error("progressive render: max_pass_spp must be at least 1");
+  if (max_spp < render.spp)
+    throw Error("progressive render: max_spp (" + std::to_string(max_spp) + ") is below the first pass's spp (" +
+                std::to_string(render.spp) + ")");
+}
+
+ProgressiveRender::ProgressiveRender(std::shared_ptr<const Scene> scene, std::shared_ptr<const Material> material,
+                                     ProgressiveSettings settings)
+    : scene_(std::move(scene)), material_(std::move(material)), settings_(std::move(settings)) {
+  MATLAS_CHECK(scene_ && material_);
+  settings_.validate();
+  const std::vector<float> coverage = object_coverage(*scene_, settings_.render);
+  object_.resize(coverage.size());
+  bool any = false;
+  for (std::size_t i = 0; i < coverage.size(); ++i) any |= (object_[i] = coverage[i] >= 1.0f);
+  if (!any) std::fill(object_.begin(), object_.end(), true);  // no pixel sees only the object: measure all
+  for (auto& s : sum_) s.assign(coverage.size() * 3, 0.0);
+}
+
+ProgressiveState ProgressiveRender::state() const {
+  std::lock_guard lock(state_mutex_);
+  return state_;
+}
+
+Image ProgressiveRender::image() const {
+  std::lock_guard lock(state_mutex_);
+  Image out(settings_.render.width, settings_.render.height);
+  if (state_.spp == 0) return out;
+  const double inv = 1.0 / state_.spp;
+  for (std::size_t i = 0; i < out.rgb.size(); ++i) out.rgb[i] = static_cast<float>((sum_[0][i] + sum_[1][i]) * inv);
+  return out;
+}
+
+void ProgressiveRender::add_pass(const Image& pass, int spp, double seconds) {
+  std::lock_guard lock(state_mutex_);
+  MATLAS_CHECK_EQ(pass.rgb.size(), sum_[0].size());
+  const int h = half_spp_[0] <= half_spp_[1] ? 0 : 1;
+  auto& sum = sum_[h];
+  for (std::size_t i = 0; i < sum.size(); ++i) sum[i] += static_cast<double>(pass.rgb[i]) * spp;
+  half_spp_[h] += spp;
+  state_.spp += spp;
+  state_.seconds += seconds;
+  ++state_.passes;
+  update_error();
+}
+
+void ProgressiveRender::update_error() {
+  const double a = half_spp_[0], b = half_spp_[1];
+  if (a == 0 || b == 0) return;
+  double squares = 0, signal = 0;
+  for (std::size_t p = 0; p < object_.size(); ++p) {
+    if (!object_[p]) continue;
+    for (std::size_t c = 0; c < 3; ++c) {
+      const std::size_t i = p * 3 + c;
+      const double d = sum_[0][i] / a - sum_[1][i] / b;
+      const double mean = (sum_[0][i] + sum_[1][i]) / (a + b);
+      squares += d * d;
+      signal += mean * mean;
+    }
+  }
+  const double variance = squares * a * b / ((a + b) * (a + b));
+  state_.relative_error = signal > 0 ? std::sqrt(variance / signal) : (variance > 0 ? std::numeric_limits<double>::infinity() : 0.0);
+  state_.converged = state_.spp >= settings_.max_spp ||
+                     (state_.spp >= settings_.min_converged_spp && state_.relative_error <= settings_.target_error);
+}
+
+ProgressiveState ProgressiveRender::refine(double seconds, ProgressSink& progress) {
+  std::lock_guard refining(refining_);
+  const auto start = std::chrono::steady_clock::now();
+  const auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  for (bool first = true;; first = false) {
+    ProgressiveState now = state();
+    if (now.converged) return now;
+    // The next pass: the first pass's samples first; then what fits the time left at the rate so
+    // far (a power of two, at least the first pass's samples, at most doubling what is in and at
+    // most max_pass_spp).
+    int spp = settings_.render.spp;
+    if (now.spp > 0) {
+      const double per_spp = now.seconds / now.spp;
+      const double fits = (seconds - elapsed()) / std::max(per_spp, 1e-9);
+      const int limit = std::max(1, std::min({settings_.max_pass_spp, std::max(settings_.render.spp, now.spp),
+                                              settings_.max_spp - now.spp}));
+      const int least = std::min(settings_.render.spp, limit);  // passes are never smaller than the first
+      if (!first && fits < least) return now;                   // no time for another pass
+      spp = static_cast<int>(std::bit_floor(static_cast<unsigned>(std::clamp(fits, 1.0, static_cast<double>(limit)))));
+      spp = std::clamp(spp, least, limit);
+    }
+    RenderSettings s = settings_.render;
+    s.spp = spp;
+    s.seed = settings_.render.seed + 0x9E3779B97F4A7C15ull * static_cast<std::uint64_t>(now.passes);
+    const auto pass_start = std::chrono::steady_clock::now();
+    const Image pass = render(*scene_, *material_, s, progress);
+    const double pass_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - pass_start).count();
+    add_pass(pass, spp, pass_seconds);
+    if (elapsed() >= seconds) return state();
+  }
+}
+
+}  // namespace matlas::render

@@ -1,0 +1,90 @@
+// The refinement of the preview at rest (POST /api/preview/refine): a newer preview request from
+// the same client cancels the pass under way (409), one from another client does not.
+#include <atomic>
+#include <chrono>
+#include <future>
+#include <thread>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "server/atlas_server.h"
+#include "server/preview_generations.h"
+#include "server/preview_source.h"
+#include "small_model.h"
+#include "support/temp_dir.h"
+
+// Last: httplib.h defines a `_res` macro (from <resolv.h>) that breaks Eigen headers after it.
+#include <httplib.h>
+
+namespace matlas::server {
+namespace {
+
+TEST(PreviewGenerations, OnlyTheSameClientsNextPreviewSupersedes) {
+  PreviewGenerations g;
+  SupersededSink sink(g, "10.0.0.1", g.current("10.0.0.1"));
+  EXPECT_NO_THROW(sink.update("render", 1, 2));
+  g.advance("10.0.0.2");
+  EXPECT_NO_THROW(sink.update("render", 1, 2));
+  g.advance("10.0.0.1");
+  EXPECT_THROW(sink.update("render", 1, 2), SupersededSink::Superseded);
+  EXPECT_EQ(g.current("10.0.0.1"), 1u);
+  EXPECT_EQ(g.current("10.0.0.3"), 0u);
+}
+
+/// A preview source whose refinement reports progress for up to 20 s (until cancelled).
+class SlowRefineSource final : public PreviewSource {
+public:
+  std::vector<std::string> environments() const override { return {"constant"}; }
+  std::vector<std::string> objects() const override { return {"sphere"}; }
+  std::string default_environment() const override { return "constant"; }
+  std::string default_object() const override { return "sphere"; }
+  int size() const override { return 16; }
+  int drag_size() const override { return 8; }
+  ToneMap tone() const override { return {}; }
+  Image render(const Eigen::VectorXd&, const std::string&, const std::string&, int size) const override {
+    return Image(size, size);
+  }
+  Refined refine(const Eigen::VectorXd&, const std::string&, const std::string&, const std::string&, double,
+                 ProgressSink& progress) const override {
+    refining = true;
+    const auto start = std::chrono::steady_clock::now();
+    while (std::chrono::steady_clock::now() - start < std::chrono::seconds(20)) {
+      progress.update("render", 0, 1);
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    return Refined{Image(16, 16), {}};
+  }
+  mutable std::atomic<bool> refining{false};
+};
+
+TEST(PreviewRefinement, ANewPreviewFromTheSameClientCancelsTheRefinement) {
+  test::TempDir dir("matlas-refine");
+  const Model model = test::build_small_model(dir.path(), 4, 5);
+  auto source = std::make_shared<SlowRefineSource>();
+  ServerOptions so;
+  so.port = 0;
+  so.threads = 4;
+  AtlasServer server(model, source, so);
+  server.start();
+  const std::vector<double> x = {model.latent()(0, 0), model.latent()(0, 1)};
+  const std::string body = nlohmann::json{{"x", x}, {"seconds", 5}}.dump();
+
+  const auto started = std::chrono::steady_clock::now();
+  auto refine = std::async(std::launch::async, [&] {
+    httplib::Client c("127.0.0.1", server.port());
+    c.set_read_timeout(30, 0);
+    auto r = c.Post("/api/preview/refine", body, "application/json");
+    return r ? r->status : -1;
+  });
+  while (!source->refining) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  httplib::Client c("127.0.0.1", server.port());
+  auto preview = c.Post("/api/preview", nlohmann::json{{"x", x}}.dump(), "application/json");
+  ASSERT_TRUE(preview);
+  EXPECT_EQ(preview->status, 200);
+  EXPECT_EQ(refine.get(), 409);
+  EXPECT_LT(std::chrono::steady_clock::now() - started, std::chrono::seconds(10));
+}
+
+}  // namespace
+}  // namespace matlas::server
