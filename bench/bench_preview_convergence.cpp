@@ -1,11 +1,12 @@
 // Preview convergence at rest (docs/RENDERING.md "Refinement"): for named materials and midpoints
 // of a model, the error of the refined preview against a long reference as a function of render
-// time, for the refinement the server runs (render/progressive_render.h with the mixture fitted to
+// samples and render time, for the refinement the server runs (render/progressive_render.h with the mixture fitted to
 // the one material, as server/basis_previews.cpp does) and for the same passes with the database's
 // mixture (the sampling of the preview bases). Prints one row per refine step and, per point and
-// sampling, the time to reach 2 % and 1 %.
+// sampling, the samples and time to reach 2 % and 1 %. Samples do not depend on the machine's
+// load; times do (the first line gives the load average).
 //
-//   bench_preview_convergence MODEL ENV SIZE REFERENCE_SPP SECONDS POINT...
+//   bench_preview_convergence MODEL ENV SIZE REFERENCE_SPP MAX_SPP POINT...
 //
 // POINT is a material name or A+B (the latent midpoint of materials A and B). Errors are relative
 // RMS over the pixels that see only the object, all channels, normalised by the reference's RMS
@@ -17,6 +18,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <stdlib.h>  // getloadavg
 #include <ctime>
 #include <memory>
 #include <string>
@@ -66,7 +68,7 @@ Eigen::VectorXd point_of(const Model& model, const std::string& spec) {
 
 int main(int argc, char** argv) {
   if (argc < 7) {
-    std::fprintf(stderr, "usage: %s MODEL ENV SIZE REFERENCE_SPP SECONDS POINT...\n", argv[0]);
+    std::fprintf(stderr, "usage: %s MODEL ENV SIZE REFERENCE_SPP MAX_SPP POINT...\n", argv[0]);
     return 2;
   }
   const Model model = Model::open(argv[1]);
@@ -74,13 +76,15 @@ int main(int argc, char** argv) {
   desc.environment = argv[2];
   const auto scene = std::make_shared<const render::Scene>(desc);
   const int size = std::atoi(argv[3]), reference_spp = std::atoi(argv[4]);
-  const double seconds = std::atof(argv[5]);
+  const int max_spp = std::atoi(argv[5]);
 
   char date[32];
   const std::time_t now = std::time(nullptr);
   std::strftime(date, sizeof date, "%Y-%m-%d %H:%M", std::gmtime(&now));
-  std::printf("# %s UTC, %d threads, env %s, %dx%d, reference %d spp\n", date, static_cast<int>(worker_count()), argv[2], size, size,
-              reference_spp);
+  double load[3] = {0, 0, 0};
+  if (getloadavg(load, 3) < 0) load[0] = -1;
+  std::printf("# %s UTC, %d threads, load average %.1f, env %s, %dx%d, reference %d spp\n", date,
+              static_cast<int>(worker_count()), load[0], argv[2], size, size, reference_spp);
   std::printf("%-44s %-8s %8s %7s %10s %10s\n", "point", "sampling", "seconds", "spp", "error", "estimated");
 
   render::RenderSettings base;
@@ -117,18 +121,20 @@ int main(int argc, char** argv) {
       s.target_error = 1e-12;
       render::ProgressiveRender r(scene, material, s);
       double to2 = -1, to1 = -1;
-      while (r.state().seconds < seconds) {
+      int spp2 = -1, spp1 = -1;
+      while (r.state().spp < max_spp) {
         const render::ProgressiveState st = r.refine(0.25);
         const double measured = relative_rms(r.image(), ref, r.object_pixels());
         const double error = std::sqrt(std::max(0.0, measured * measured - ref_error * ref_error));
         const double t = st.seconds + table_seconds;
-        if (to2 < 0 && error <= 0.02) to2 = t;
-        if (to1 < 0 && error <= 0.01) to1 = t;
+        if (to2 < 0 && error <= 0.02) to2 = t, spp2 = st.spp;
+        if (to1 < 0 && error <= 0.01) to1 = t, spp1 = st.spp;
         std::printf("%-44s %-8s %8.2f %7d %10.5f %10.5f\n", spec.c_str(), fitted ? "own" : "database", t, st.spp, error,
                     st.relative_error);
       }
-      std::printf("# %s, %s mixture: 2 %% at %s s, 1 %% at %s s\n", spec.c_str(), fitted ? "own" : "database",
-                  to2 < 0 ? "never" : std::to_string(to2).c_str(), to1 < 0 ? "never" : std::to_string(to1).c_str());
+      std::printf("# %s, %s mixture: 2 %% at %d spp (%.1f s), 1 %% at %d spp (%.1f s); -1: not within %d spp\n",
+                  spec.c_str(), fitted ? "own" : "database", spp2, to2, spp1, to1, max_spp);
+      std::fflush(stdout);
     }
   }
   return 0;

@@ -13,6 +13,7 @@
 #include "manifold/model.h"
 #include "pathtrace/gi_basis.h"
 #include "pathtrace/model_bank.h"
+#include "render/auto_exposure.h"
 
 namespace matlas::cli {
 
@@ -103,6 +104,7 @@ struct GiArgs {
   std::string model, basis, part = "all";
   std::optional<std::string> at, material;
   ImageOptions image;
+  bool auto_exposure = false;
 };
 
 void run_gi(const GiArgs& a, const Io& io) {
@@ -116,7 +118,9 @@ void run_gi(const GiArgs& a, const Io& io) {
   const auto start = std::chrono::steady_clock::now();
   const Image image = basis.compose(w, a.part == "i1" ? pathtrace::GiBasis::Part::i1 : pathtrace::GiBasis::Part::all);
   const double ms = 1e3 * seconds_since(start);
-  write_image(a.image.output, image, a.image.tone.tone());
+  ToneMap tone = a.image.tone.tone();
+  if (a.auto_exposure) tone.exposure += render::auto_exposure(basis.compose(Eigen::VectorXd::Zero(model.count())));
+  write_image(a.image.output, image, tone);
   print(io.out, "composed %dx%d from %d materials in %.1f ms; wrote %s\n", image.width, image.height, basis.count(), ms,
               a.image.output.c_str());
 }
@@ -129,6 +133,9 @@ void add_gi_command(CLI::App& app, const Io& io) {
   cmd->add_option("--part", a->part, "all (I1 + interpolated I2) or i1")->capture_default_str();
   add_point_options(*cmd, a->at, a->material);
   add_image_options(*cmd, a->image);
+  cmd->add_flag("--auto-exposure", a->auto_exposure,
+                "Add the scene's automatic exposure (its log-average luminance with the mean material to middle "
+                "grey), as the browser's scene view does by default");
   cmd->callback([io, a] { run_gi(*a, io); });
 }
 

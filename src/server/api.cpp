@@ -16,6 +16,7 @@
 #include "manifold/model_metadata.h"
 #include "manifold/project.h"
 #include "pathtrace/gi_basis.h"
+#include "render/auto_exposure.h"
 #include "server/gi_scenes.h"
 #include "server/http_error.h"
 #include "server/preview_source.h"
@@ -175,24 +176,36 @@ Reply Api::preview(const std::string& body) {
   return r;
 }
 
+Reply Api::preview_status(const std::string& env_text, const std::string& object_text) const {
+  const nlohmann::json j = {{"env", env_text.empty() ? nlohmann::json() : nlohmann::json(env_text)},
+                            {"object", object_text.empty() ? nlohmann::json() : nlohmann::json(object_text)}};
+  const std::string env = parse_choice(j, "env", envs_, previews_->default_environment());
+  const std::string object = parse_choice(j, "object", objects_, previews_->default_object());
+  const PreviewSource::SceneStatus s = previews_->status(env, object);
+  nlohmann::json reply = {{"env", env}, {"object", object}, {"ready", s.ready}, {"progress", s.progress},
+                          {"stage", s.stage}, {"seconds", s.seconds}};
+  if (s.seconds_left >= 0) reply["seconds_left"] = s.seconds_left;
+  if (!s.error.empty()) reply["error"] = s.error;
+  Reply r = Reply::json(reply);
+  r.headers.emplace_back("Cache-Control", "no-store");
+  return r;
+}
+
 Reply Api::preview_refine(const std::string& body) {
   const auto j = parse_json_object(body);
   const Eigen::VectorXd x = parse_latent(j, "x", domain_);
   const std::string env = parse_choice(j, "env", envs_, previews_->default_environment());
   const std::string object = parse_choice(j, "object", objects_, previews_->default_object());
   const double seconds = parse_number(j, "seconds", 0.05, 5.0, 0.5);
-  // A newer preview request from the same client (the pointer moved) cancels the pass under
-  // way: the refinement stays as it was and this request gets 409.
+  // A newer preview request from the same client (the pointer moved, or the scene's basis image
+  // arrived) stops the pass under way: the answer is the refinement as it was, marked
+  // X-Matlas-Interrupted (200: an expected event, not an error).
   const std::string client = request_client();
-  const std::uint64_t generation = preview_generations_.current(client);
-  SupersededSink superseded(preview_generations_, client, generation);
+  SupersededSink superseded(preview_generations_, client, preview_generations_.current(client));
   PreviewSource::Refined refined;
-  try {
+  {
     auto slot = acquire(compute_);
-    superseded.update("queued", 0, 1);
     refined = previews_->refine(model_.weights(x), point_key(x), env, object, seconds, superseded);
-  } catch (const SupersededSink::Superseded&) {
-    throw HttpError(409, "superseded by a newer preview request");
   }
   Reply r = Reply::bytes(encode_png_fast(refined.image, previews_->tone()), kPng);
   const auto& st = refined.state;
@@ -205,6 +218,7 @@ Reply Api::preview_refine(const std::string& body) {
   r.headers.emplace_back("X-Matlas-Error", std::isfinite(st.relative_error) ? error : "unknown");
   r.headers.emplace_back("X-Matlas-Converged", st.converged ? "1" : "0");
   r.headers.emplace_back("X-Matlas-Seconds", secs);
+  if (refined.interrupted) r.headers.emplace_back("X-Matlas-Interrupted", "1");
   return r;
 }
 
@@ -419,13 +433,31 @@ Reply Api::reference_reply(const std::string& body, bool radiance) {
   return r;
 }
 
-Reply Api::gi(const std::string& scene_text, const std::string& x_text, const std::string& exposure_text) {
+double Api::gi_auto_exposure(const std::string& scene, const pathtrace::GiBasis& basis) {
+  std::lock_guard lock(gi_exposure_mutex_);
+  const auto it = gi_exposure_.find(scene);
+  if (it != gi_exposure_.end()) return it->second;
+  // The scene with the model's mean material (w = 0): one exposure for the whole map, so that
+  // dragging changes the material, not the brightness of the room.
+  const double e = render::auto_exposure(basis.compose(Eigen::VectorXd::Zero(model_.count())));
+  gi_exposure_.emplace(scene, e);
+  return e;
+}
+
+Reply Api::gi(const std::string& scene_text, const std::string& x_text, const std::string& exposure_text,
+              const std::string& tone_text) {
   if (!gi_ || gi_->scenes().empty())
     throw HttpError(404, "this server has no GI scenes: start it with --gi-basis FILE (from matlas gi-basis) "
                          "or --gi-scenes floor,box");
   const std::string scene = scene_text.empty() ? gi_->scenes().front() : scene_text;
   const Eigen::VectorXd x = parse_latent_text(x_text, "x", domain_);
-  const double exposure = exposure_text.empty() ? 0.0 : parse_number_text(exposure_text, "exposure", -16.0, 16.0);
+  const bool auto_exposure = exposure_text == "auto";
+  const double exposure = exposure_text.empty() || auto_exposure ? 0.0 : parse_number_text(exposure_text, "exposure", -16.0, 16.0);
+  ToneMap::Curve curve = gi_->tone().curve;
+  if (tone_text == "aces") curve = ToneMap::Curve::aces;
+  else if (tone_text == "reinhard") curve = ToneMap::Curve::reinhard;
+  else if (tone_text == "clamp") curve = ToneMap::Curve::clamp;
+  else if (!tone_text.empty()) throw bad_request("tone must be aces, reinhard or clamp, got " + quoted_excerpt(tone_text));
   const GiSceneState state = gi_->state(scene);  // matlas::Error (400) naming the offered scenes
   if (!state.error.empty()) throw HttpError(500, "the GI scene '" + scene + "' could not be traced: " + state.error);
   if (!state.basis) {
@@ -439,14 +471,18 @@ Reply Api::gi(const std::string& scene_text, const std::string& x_text, const st
     return r;
   }
   ToneMap tone = gi_->tone();
-  tone.exposure += exposure;
+  tone.curve = curve;
   std::string png;
   {
     auto slot = acquire(compute_);
+    tone.exposure += auto_exposure ? gi_auto_exposure(scene, *state.basis) : exposure;
     png = encode_png_fast(state.basis->compose(model_.weights(x)), tone);
   }
   Reply r = Reply::bytes(std::move(png), kPng);
   r.headers.emplace_back("Cache-Control", "no-store");
+  char used[32];
+  std::snprintf(used, sizeof used, "%.3f", tone.exposure);
+  r.headers.emplace_back("X-Matlas-Exposure", used);
   return r;
 }
 

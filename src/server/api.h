@@ -2,6 +2,7 @@
 // Api: the JSON API of the material browser (docs/API.md), independent of the HTTP library: each
 // endpoint takes the request body (and parameters) and returns a Reply. Invalid requests throw
 // HttpError with a 4xx status and a message; AtlasServer turns it into {"error": message}.
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -18,6 +19,10 @@
 #include "server/preview_generations.h"
 #include "server/realtime.h"
 #include "server/request_parsing.h"
+
+namespace matlas::pathtrace {
+class GiBasis;
+}
 
 namespace matlas::server {
 
@@ -39,6 +44,9 @@ public:
   Reply model_info() const;
   /// POST /api/preview {"x", "env", "object", "size"} -> PNG
   Reply preview(const std::string& body);
+  /// GET /api/preview/status?env=&object=: whether the scene's previews are ready, else how far
+  /// their preparation got (starts it; never 503)
+  Reply preview_status(const std::string& env, const std::string& object) const;
   /// POST /api/preview/refine {"x", "env", "object", "seconds"} -> PNG of the point refined for
   /// about `seconds` more (X-Matlas-Spp, X-Matlas-Error, X-Matlas-Converged, X-Matlas-Seconds)
   Reply preview_refine(const std::string& body);
@@ -74,8 +82,10 @@ public:
   /// POST /api/realtime/reference/radiance (same body) -> float32 RGBA before tone mapping
   Reply realtime_reference_radiance(const std::string& body);
 
-  /// GET /api/gi?scene=&x=&exposure= -> PNG: the scene view (503 while the scene is traced)
-  Reply gi(const std::string& scene, const std::string& x, const std::string& exposure);
+  /// GET /api/gi?scene=&x=&exposure=&tone= -> PNG: the scene view (503 while the scene is traced);
+  /// exposure "auto": the scene's automatic exposure (render/auto_exposure.h)
+  Reply gi(const std::string& scene, const std::string& x, const std::string& exposure,
+           const std::string& tone = "");
 
   const LatentDomain& domain() const { return domain_; }
   const ComputeGate& compute_gate() const { return compute_; }
@@ -86,6 +96,8 @@ private:
   std::string preview_png(const Eigen::VectorXd& w, const std::string& key, const std::string& env,
                           const std::string& object, int size);
   nlohmann::json top_weights(const Eigen::VectorXd& w, int count) const;
+  /// The automatic exposure of a GI scene with the mean material, computed once per scene.
+  double gi_auto_exposure(const std::string& scene, const pathtrace::GiBasis& basis);
 
   const Model& model_;
   PlausibilityProbe plausibility_;      ///< for one point (weights reply): 4096 sampled columns
@@ -104,6 +116,8 @@ private:
   PreviewGenerations preview_generations_;
   std::unique_ptr<Realtime> realtime_;
   std::shared_ptr<const GiScenes> gi_;
+  std::mutex gi_exposure_mutex_;
+  std::map<std::string, double> gi_exposure_;
 };
 
 }  // namespace matlas::server

@@ -298,9 +298,13 @@ struct AtlasServer::Impl {
         return api.project(req.body);
       });
     });
+    http.Get("/api/preview/status", [this](const httplib::Request& req, httplib::Response& res) {
+      serve_api(res, [&](Api& api) { return api.preview_status(req.get_param_value("env"), req.get_param_value("object")); });
+    });
     http.Get("/api/gi", [this](const httplib::Request& req, httplib::Response& res) {
       serve_api(res, [&](Api& api) {
-        return api.gi(req.get_param_value("scene"), req.get_param_value("x"), req.get_param_value("exposure"));
+        return api.gi(req.get_param_value("scene"), req.get_param_value("x"), req.get_param_value("exposure"),
+                      req.get_param_value("tone"));
       });
     });
     http.Get(R"(/api/thumbnail/(\d+))", [this](const httplib::Request& req, httplib::Response& res) {

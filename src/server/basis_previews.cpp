@@ -1,6 +1,7 @@
 #include "server/basis_previews.h"
 
 #include <algorithm>
+#include <chrono>
 #include <atomic>
 #include <cctype>
 #include <condition_variable>
@@ -64,6 +65,31 @@ struct BasisPreviews::Impl {
   mutable std::map<std::string, std::string> failed;
   mutable std::condition_variable cv;
   std::atomic<bool> stop{false};
+
+  /// The scene the worker prepares now: its progress as the render reports it.
+  struct Preparing {
+    std::string key;
+    std::string stage = "starting";
+    double progress = 0;
+    std::chrono::steady_clock::time_point started;
+  };
+  mutable Preparing preparing;
+
+  /// Records the worker's progress in `preparing` (under the mutex).
+  class PreparingSink final : public ProgressSink {
+  public:
+    explicit PreparingSink(const Impl& impl) : impl_(impl) {}
+    void update(const std::string& label, std::uint64_t done, std::uint64_t total) override {
+      std::lock_guard lock(impl_.mutex);
+      impl_.preparing.stage = label;
+      impl_.preparing.progress = total ? static_cast<double>(done) / static_cast<double>(total) : 0.0;
+    }
+    void message(const std::string&) override {}
+    void finish(const std::string&) override {}
+
+  private:
+    const Impl& impl_;
+  };
 
   /// Refinements (point, scene) and the scenes they render, least recently used dropped.
   struct Refinement {
@@ -201,8 +227,13 @@ struct BasisPreviews::Impl {
         queue.pop_front();
       }
       const std::string k = key(job.first, job.second);
+      {
+        std::lock_guard lock(mutex);
+        preparing = Preparing{k, "starting", 0.0, std::chrono::steady_clock::now()};
+      }
       try {
-        insert(k, build(job.first, job.second, null_progress()));
+        PreparingSink sink(*this);
+        insert(k, build(job.first, job.second, sink));
       } catch (const Cancelled&) {
         return;
       } catch (const std::exception& e) {
@@ -211,9 +242,46 @@ struct BasisPreviews::Impl {
       }
       std::lock_guard lock(mutex);
       queued.erase(k);
+      preparing = Preparing{};
+    }
+  }
+
+  /// Queues a scene for the worker unless it is queued already (under the mutex).
+  void enqueue(const std::string& env, const std::string& object) const {
+    if (queued.insert(key(env, object)).second) {
+      queue.emplace_back(env, object);
+      cv.notify_one();
     }
   }
 };
+
+BasisPreviews::SceneStatus BasisPreviews::status(const std::string& environment, const std::string& object) const {
+  auto& im = *impl_;
+  if (std::find(im.envs.begin(), im.envs.end(), environment) == im.envs.end() ||
+      std::find(im.objects.begin(), im.objects.end(), object) == im.objects.end())
+    throw HttpError(400, "no preview scene (" + quoted_excerpt(environment) + ", " + quoted_excerpt(object) + ")");
+  const std::string k = Impl::key(environment, object);
+  std::lock_guard lock(im.mutex);
+  if (im.loaded.contains(k)) return {};
+  SceneStatus s;
+  s.ready = false;
+  s.progress = 0;
+  if (const auto f = im.failed.find(k); f != im.failed.end()) {
+    s.error = f->second;
+    s.stage = "failed";
+    return s;
+  }
+  im.enqueue(environment, object);
+  if (im.preparing.key != k) {
+    s.stage = "waiting for another scene";
+    return s;
+  }
+  s.stage = im.preparing.stage;
+  s.progress = im.preparing.progress;
+  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - im.preparing.started).count();
+  if (s.progress >= 0.02 && s.seconds >= 1.0) s.seconds_left = s.seconds * (1.0 - s.progress) / s.progress;
+  return s;
+}
 
 BasisPreviews::Refined BasisPreviews::refine(const Eigen::VectorXd& w, const std::string& point,
                                              const std::string& environment, const std::string& object,
@@ -266,7 +334,9 @@ BasisPreviews::Refined BasisPreviews::refine(const Eigen::VectorXd& w, const std
   CancellableSink sink(progress, im.stop);
   try {
     const render::ProgressiveState state = refinement->refine(seconds, sink);
-    return Refined{refinement->image(), state};
+    return Refined{refinement->image(), state, false};
+  } catch (const Interrupt&) {
+    return Refined{refinement->image(), refinement->state(), true};
   } catch (const Cancelled&) {
     throw HttpError(503, "the server is shutting down");
   }
@@ -308,10 +378,7 @@ Image BasisPreviews::render(const Eigen::VectorXd& w, const std::string& environ
     } else if (const auto f = impl_->failed.find(k); f != impl_->failed.end()) {
       throw HttpError(500, "the preview scene (" + environment + ", " + object + ") failed: " + f->second);
     } else {
-      if (impl_->queued.insert(k).second) {
-        impl_->queue.emplace_back(environment, object);
-        impl_->cv.notify_one();
-      }
+      impl_->enqueue(environment, object);
       throw HttpError(503, "the preview scene (" + environment + ", " + object +
                                ") is being prepared; try again in a few seconds");
     }

@@ -66,6 +66,7 @@ public:
   ToneMap tone() const override;
   Image render(const Eigen::VectorXd& w, const std::string& environment, const std::string& object,
                int size) const override;
+  SceneStatus status(const std::string& environment, const std::string& object) const override;
   Refined refine(const Eigen::VectorXd& w, const std::string& point, const std::string& environment,
                  const std::string& object, double seconds, ProgressSink& progress = null_progress()) const override;
 

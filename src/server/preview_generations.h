@@ -9,6 +9,7 @@
 #include <unordered_map>
 
 #include "core/progress.h"
+#include "server/preview_source.h"
 
 namespace matlas::server {
 
@@ -24,14 +25,16 @@ private:
   std::unordered_map<std::string, std::uint64_t> counts_;
 };
 
-/// Throws Superseded from update() once `client` has sent a preview request after `generation`.
+/// Throws PreviewSource::Interrupt from update() once `client` has sent a preview request after
+/// `generation`.
 class SupersededSink final : public ProgressSink {
 public:
-  struct Superseded {};
   SupersededSink(const PreviewGenerations& generations, std::string client, std::uint64_t generation)
       : generations_(generations), client_(std::move(client)), generation_(generation) {}
   void update(const std::string&, std::uint64_t, std::uint64_t) override {
-    if (generations_.current(client_) != generation_) throw Superseded{};
+    if (superseded()) throw PreviewSource::Interrupt{};
+  }
+  bool superseded() const { return generations_.current(client_) != generation_;
   }
   void message(const std::string&) override {}
   void finish(const std::string&) override {}

@@ -33,15 +33,32 @@ public:
   virtual Image render(const Eigen::VectorXd& w, const std::string& environment,
                        const std::string& object, int size) const = 0;
 
+  /// Where a scene's previews stand: ready, or how far their preparation got (or why it failed).
+  struct SceneStatus {
+    bool ready = true;
+    double progress = 1.0;     ///< [0, 1]
+    std::string stage;         ///< what is being done, for people
+    double seconds = 0;        ///< since the preparation started
+    double seconds_left = -1;  ///< estimated from the rate so far; < 0: not known yet
+    std::string error;         ///< non-empty: the preparation failed
+  };
+  /// The status of an offered scene; asking for a scene not prepared yet starts preparing it (as
+  /// render() does) without answering 503. Unknown scenes: HttpError(400).
+  virtual SceneStatus status(const std::string& /*environment*/, const std::string& /*object*/) const { return {}; }
+
+  /// What a progress sink throws to stop a refinement's pass early: refine() then returns the
+  /// state as it was before that pass, with `interrupted` set.
+  struct Interrupt {};
   /// A refined full-size image of the material with weights w, and how far it has converged.
   struct Refined {
     Image image;
     render::ProgressiveState state;
+    bool interrupted = false;
   };
   /// Refines the image of the point `point` (a key: the same key, the same refinement; its
   /// weights are w) for about `seconds` more and returns it. `progress` hears every row of a
-  /// pass and may throw to cancel it (the refinement then stays as it was). Sources without
-  /// refinement answer 404; unknown scenes 400.
+  /// pass and may throw Interrupt to stop it (the refinement stays as it was before that pass).
+  /// Sources without refinement answer 404; unknown scenes 400.
   virtual Refined refine(const Eigen::VectorXd& /*w*/, const std::string& /*point*/,
                          const std::string& /*environment*/, const std::string& /*object*/,
                          double /*seconds*/, ProgressSink& /*progress*/ = null_progress()) const {

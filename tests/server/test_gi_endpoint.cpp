@@ -13,6 +13,7 @@
 #include "pathtrace/gi_basis.h"
 #include "pathtrace/scene_spec.h"
 #include "pathtrace/world.h"
+#include "render/auto_exposure.h"
 #include "server/atlas_server.h"
 #include "server/basis_previews.h"
 #include "server/gi_scenes.h"
@@ -140,6 +141,18 @@ TEST_F(GiEndpointTest, ASceneBeingTracedIs503WithProgressThenTheLibrarysComposit
   const auto a = get("/api/gi?scene=box&x=" + point_text(0)), b = get("/api/gi?scene=box&x=" + point_text(3));
   ASSERT_EQ(a->status, 200);
   EXPECT_NE(a->body, b->body);
+
+  // exposure=auto: the scene's key with the mean material (one value for every point), any tone curve.
+  const double key = render::auto_exposure(basis.compose(Eigen::VectorXd::Zero(model_->count())));
+  for (const auto& [name, curve] : {std::pair{"reinhard", ToneMap::Curve::reinhard}, std::pair{"aces", ToneMap::Curve::aces}}) {
+    const auto r = get("/api/gi?scene=box&exposure=auto&tone=" + std::string(name) + "&x=" + point_text(3));
+    ASSERT_TRUE(r);
+    ASSERT_EQ(r->status, 200) << r->body;
+    EXPECT_NEAR(std::stod(r->get_header_value("X-Matlas-Exposure")), key, 1e-3);
+    EXPECT_EQ(r->body, encode_png_fast(basis.compose(model_->weights(Eigen::Vector2d(std::stod(std::to_string(model_->latent()(3, 0))), std::stod(std::to_string(model_->latent()(3, 1)))))), ToneMap{curve, key}));
+  }
+  EXPECT_EQ(get("/api/gi?scene=box&tone=sepia&x=" + point_text(3))->status, 400);
+  EXPECT_EQ(get("/api/gi?scene=box&exposure=bright&x=" + point_text(3))->status, 400);
 }
 
 TEST_F(GiEndpointTest, AGivenBasisIsServedAtOnceAndOneOfAnotherModelIsRefused) {

@@ -1,8 +1,10 @@
 // The refinement of the preview at rest (POST /api/preview/refine): a newer preview request from
-// the same client cancels the pass under way (409), one from another client does not.
+// the same client interrupts the pass under way (200 with the state so far, X-Matlas-Interrupted),
+// one from another client does not.
 #include <atomic>
 #include <chrono>
 #include <future>
+#include <string>
 #include <thread>
 
 #include <gtest/gtest.h>
@@ -27,12 +29,12 @@ TEST(PreviewGenerations, OnlyTheSameClientsNextPreviewSupersedes) {
   g.advance("10.0.0.2");
   EXPECT_NO_THROW(sink.update("render", 1, 2));
   g.advance("10.0.0.1");
-  EXPECT_THROW(sink.update("render", 1, 2), SupersededSink::Superseded);
+  EXPECT_THROW(sink.update("render", 1, 2), PreviewSource::Interrupt);
   EXPECT_EQ(g.current("10.0.0.1"), 1u);
   EXPECT_EQ(g.current("10.0.0.3"), 0u);
 }
 
-/// A preview source whose refinement reports progress for up to 20 s (until cancelled).
+/// A preview source whose refinement reports progress for up to 20 s (until interrupted).
 class SlowRefineSource final : public PreviewSource {
 public:
   std::vector<std::string> environments() const override { return {"constant"}; }
@@ -49,16 +51,20 @@ public:
                  ProgressSink& progress) const override {
     refining = true;
     const auto start = std::chrono::steady_clock::now();
-    while (std::chrono::steady_clock::now() - start < std::chrono::seconds(20)) {
-      progress.update("render", 0, 1);
-      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    try {
+      while (std::chrono::steady_clock::now() - start < std::chrono::seconds(20)) {
+        progress.update("render", 0, 1);
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      }
+    } catch (const Interrupt&) {
+      return Refined{Image(16, 16), {}, true};
     }
-    return Refined{Image(16, 16), {}};
+    return Refined{Image(16, 16), {}, false};
   }
   mutable std::atomic<bool> refining{false};
 };
 
-TEST(PreviewRefinement, ANewPreviewFromTheSameClientCancelsTheRefinement) {
+TEST(PreviewRefinement, ANewPreviewFromTheSameClientInterruptsTheRefinement) {
   test::TempDir dir("matlas-refine");
   const Model model = test::build_small_model(dir.path(), 4, 5);
   auto source = std::make_shared<SlowRefineSource>();
@@ -75,14 +81,14 @@ TEST(PreviewRefinement, ANewPreviewFromTheSameClientCancelsTheRefinement) {
     httplib::Client c("127.0.0.1", server.port());
     c.set_read_timeout(30, 0);
     auto r = c.Post("/api/preview/refine", body, "application/json");
-    return r ? r->status : -1;
+    return r ? std::to_string(r->status) + " " + r->get_header_value("X-Matlas-Interrupted") : std::string("none");
   });
   while (!source->refining) std::this_thread::sleep_for(std::chrono::milliseconds(5));
   httplib::Client c("127.0.0.1", server.port());
   auto preview = c.Post("/api/preview", nlohmann::json{{"x", x}}.dump(), "application/json");
   ASSERT_TRUE(preview);
   EXPECT_EQ(preview->status, 200);
-  EXPECT_EQ(refine.get(), 409);
+  EXPECT_EQ(refine.get(), "200 1");
   EXPECT_LT(std::chrono::steady_clock::now() - started, std::chrono::seconds(10));
 }
 

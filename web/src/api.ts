@@ -57,6 +57,17 @@ export interface PreviewRequest {
   size?: number;
 }
 
+export interface PreviewStatus {
+  env: string;
+  object: string;
+  ready: boolean;
+  progress: number;
+  stage: string;
+  seconds: number;
+  seconds_left?: number;
+  error?: string;
+}
+
 export interface RefineRequest {
   x: Point;
   env?: string;
@@ -71,6 +82,8 @@ export interface Refined {
   /** Estimated relative RMS error inside the object; null after the first pass. */
   error: number | null;
   converged: boolean;
+  /** A newer preview request of this page stopped the pass: the image is the state before it. */
+  interrupted: boolean;
 }
 
 export interface WeightsRequest {
@@ -229,6 +242,9 @@ export const api = {
   model: (): Promise<ModelInfo> => fetch("api/model").then(check).then((r) => r.json()),
   preview: (x: Point, env: string, object: string, size: number, signal?: AbortSignal): Promise<Blob> =>
     post("api/preview", { x, env, object, size } satisfies PreviewRequest, signal).then((r) => r.blob()),
+  previewStatus: (env: string, object: string, signal?: AbortSignal): Promise<PreviewStatus> =>
+    fetch(`api/preview/status?env=${encodeURIComponent(env)}&object=${encodeURIComponent(object)}`, { signal })
+      .then(check).then((r) => r.json()),
   refine: async (x: Point, env: string, object: string, seconds: number, signal?: AbortSignal): Promise<Refined> => {
     const r = await post("api/preview/refine", { x, env, object, seconds } satisfies RefineRequest, signal);
     const error = Number(r.headers.get("X-Matlas-Error"));
@@ -237,6 +253,7 @@ export const api = {
       spp: Number(r.headers.get("X-Matlas-Spp") ?? 0),
       error: Number.isFinite(error) ? error : null,
       converged: r.headers.get("X-Matlas-Converged") === "1",
+      interrupted: r.headers.get("X-Matlas-Interrupted") === "1",
     };
   },
   weights: (x: Point, top = 8): Promise<WeightsReply> =>
@@ -266,8 +283,12 @@ export const api = {
   realtimeMesh: (name: string): Promise<ArrayBuffer> =>
     fetch(`api/realtime/mesh/${encodeURIComponent(name)}`).then(check).then((r) => r.arrayBuffer()),
   realtimeReference: (body: ReferenceRequest): Promise<Blob> => post("api/realtime/reference", body).then((r) => r.blob()),
-  gi: (scene: string, x: Point, signal?: AbortSignal): Promise<Blob> =>
-    fetch(`api/gi?scene=${encodeURIComponent(scene)}&x=${x.map(String).join(",")}`, { signal }).then(check).then((r) => r.blob()),
+  /** The scene view; `exposure` in stops or "auto" (the answer says which exposure it used). */
+  gi: async (scene: string, x: Point, exposure: number | "auto", tone: string, signal?: AbortSignal): Promise<{ blob: Blob; exposure: number }> => {
+    const r = await fetch(`api/gi?scene=${encodeURIComponent(scene)}&x=${x.map(String).join(",")}` +
+      `&exposure=${exposure}&tone=${encodeURIComponent(tone)}`, { signal }).then(check);
+    return { blob: await r.blob(), exposure: Number(r.headers.get("X-Matlas-Exposure") ?? 0) };
+  },
   thumbnailUrl: (index: number, env: string, object: string): string =>
     `api/thumbnail/${index}?env=${encodeURIComponent(env)}&object=${encodeURIComponent(object)}`,
 };

@@ -4,6 +4,7 @@ import { api } from "./api";
 import { $, fillSelect, fmtX, showBlob } from "./dom";
 import type { LatentMap } from "./map";
 import { retryWhileBusy } from "./retry";
+import { sceneReady } from "./scene-ready";
 import { moveTo, type PageStore } from "./state";
 import { setStatus } from "./status";
 
@@ -59,6 +60,7 @@ export function createPathTool(store: PageStore, map: LatentMap): void {
     const imgs = strip.querySelectorAll("img");
     const { env, object } = store.state;
     try {
+      await sceneReady(env, object, signal);
       for (let k = 0; k < samples.length && !signal.aborted; k++) {
         const blob = await retryWhileBusy((s) => api.preview(samples[k], env, object, 96, s), { signal });
         if (!signal.aborted) await showBlob(imgs[k], blob);

@@ -406,19 +406,35 @@ function recordPreviewRequests() {
   return { seen, stop: () => page.off("request", onRequest) };
 }
 
-test("a scene being prepared is retried with progress shown, then appears", async () => {
+test("a scene being prepared shows its progress and a first image of the point, then appears, without 503s", async () => {
   const { envs, default_object: object } = await page.evaluate(() => window.matlas.model.scenes);
   assert.ok(envs.length >= 3, `environments: ${envs}`);
-  const statuses = [];
-  const onResponse = (r) => r.url().endsWith("/api/preview") && statuses.push(r.status());
+  const statuses = [], polls = [];
+  const onResponse = (r) => {
+    if (r.url().endsWith("/api/preview")) statuses.push(r.status());
+    if (r.url().includes("/api/preview/status")) polls.push(r.status());
+  };
+  const consoleErrors = [];
+  const onConsole = (m) => m.type() === "error" && consoleErrors.push(m.text());
   page.on("response", onResponse);
+  page.on("console", onConsole);
+  const switched = performance.now();
   await page.selectOption("#env", envs[1]);
   await page.waitForFunction(() => !document.getElementById("preview-progress").hidden, null, { timeout: 10_000 });
   assert.match(await page.textContent("#preview-progress"), new RegExp(`preparing ${envs[1]} · ${object}`));
+  // A first image of the point in the new scene, rendered directly, before the scene's basis.
+  await page.waitForFunction((e) => window.matlas.refined?.env === e || window.matlas.shown?.env === e, envs[1], { timeout: 30_000 });
+  const firstImage = performance.now() - switched;
+  const refinedFirst = await page.evaluate((e) => window.matlas.refined?.env === e && window.matlas.shown?.env !== e, envs[1]);
   await page.locator(".preview-card").screenshot({ path: join(results, "scene-preparing.png") });
   await settledIn(envs[1], object);
+  const ready = performance.now() - switched;
   page.off("response", onResponse);
-  assert.ok(statuses.includes(503), `the server answered 503 first: ${statuses}`);
+  page.off("console", onConsole);
+  console.log(`scene switch: first image after ${firstImage.toFixed(0)} ms (${refinedFirst ? "refined, before the basis" : "the basis"}), basis after ${ready.toFixed(0)} ms, ${polls.length} status polls`);
+  assert.ok(!statuses.includes(503), `no 503 answered: ${statuses}`);
+  assert.ok(polls.length >= 1 && polls.every((s) => s === 200), `status polled: ${polls}`);
+  assert.deepEqual(consoleErrors, [], "no console errors from the wait");
   assert.equal(statuses[statuses.length - 1], 200);
   assert.ok(await page.locator("#preview-progress").isHidden(), "progress hidden once the image is there");
   assert.equal(await page.evaluate(() => window.matlas.preparing), null);

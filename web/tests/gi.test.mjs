@@ -102,7 +102,8 @@ test("the scene view shows the pixels of matlas gi at the same point", async () 
   const basisDir = `${model}.gi`;
   const basis = join(basisDir, readdirSync(basisDir).find((f) => f.startsWith("floor-") && f.endsWith(".safetensors")));
   const out = join(work, "gi-cli.png");
-  execFileSync(bin, ["gi", model, `--at=${x.join(",")}`, "--basis", basis, "-o", out], { stdio: "pipe" });
+  assert.equal(await page.isChecked("#gi-auto"), true, "automatic exposure by default");
+  execFileSync(bin, ["gi", model, `--at=${x.join(",")}`, "--basis", basis, "--auto-exposure", "-o", out], { stdio: "pipe" });
   const cli = await pixels(readFileSync(out).toString("base64"));
   const shown = await pixels(null);
   assert.deepEqual([shown.width, shown.height], [cli.width, cli.height]);
@@ -112,6 +113,36 @@ test("the scene view shows the pixels of matlas gi at the same point", async () 
   const mean = cli.data.reduce((a, v) => a + v, 0) / cli.data.length;
   assert.ok(mean > 5, `the image is not black (mean ${mean.toFixed(1)})`);
   await page.locator("#gi-view").screenshot({ path: join(results, "gi-cli.png") });
+});
+
+test("the exposure slider and tone curve change the scene view; auto comes back", async () => {
+  await giSettled("floor");
+  const autoImage = await pixels(null);
+  const autoStops = Number(await page.getAttribute("#gi", "data-exposure"));
+  assert.match(await page.textContent("#gi-exposure-value"), /^[+-]\d+\.\d\d$/);
+  const requests = [];
+  const onRequest = (r) => new URL(r.url()).pathname === "/api/gi" && requests.push(new URL(r.url()).searchParams);
+  page.on("request", onRequest);
+  const n0 = await page.evaluate(() => window.matlas.giImages);
+  await page.locator("#gi-exposure").fill(String(Math.round(autoStops) + 2));
+  await page.waitForFunction((n) => window.matlas.giImages > n && document.getElementById("gi").dataset.exposure !== undefined, n0);
+  await page.waitForFunction((e) => Number(document.getElementById("gi").dataset.exposure) === e, Math.round(autoStops) + 2);
+  assert.equal(await page.isChecked("#gi-auto"), false, "moving the slider turns auto off");
+  const brighter = await pixels(null);
+  const mean = (img) => img.data.reduce((a, v) => a + v, 0) / img.data.length;
+  assert.ok(mean(brighter) > mean(autoImage), `2 stops over auto is brighter: ${mean(autoImage).toFixed(1)} -> ${mean(brighter).toFixed(1)}`);
+  await page.selectOption("#gi-tone", "clamp");
+  await page.waitForFunction(() => [...document.querySelectorAll("#gi-tone")].length && true);
+  await page.waitForTimeout(300);
+  await page.check("#gi-auto");
+  await page.selectOption("#gi-tone", "aces");
+  await giSettled("floor");
+  await page.waitForFunction((e) => Number(document.getElementById("gi").dataset.exposure) === e, autoStops);
+  page.off("request", onRequest);
+  assert.ok(requests.some((q) => q.get("tone") === "clamp"), "the tone curve is sent");
+  assert.equal(requests[requests.length - 1].get("exposure"), "auto");
+  assert.deepEqual((await pixels(null)).data, autoImage.data, "auto and ACES again: the first image");
+  await page.locator("#gi-view").screenshot({ path: join(results, "gi-exposure.png") });
 });
 
 test("another scene shows another image", async () => {
