@@ -6,6 +6,7 @@ import { api } from "./api";
 import { $, download, fmtX, showBlob } from "./dom";
 import type { LatentMap } from "./map";
 import { retryWhileBusy } from "./retry";
+import { sceneReady } from "./scene-ready";
 import { materialAt, moveTo, type ListItem, type PageStore } from "./state";
 import { clearError, setStatus } from "./status";
 
@@ -58,12 +59,12 @@ export function createLibrary(store: PageStore, map: LatentMap): void {
     return tile;
   });
   library.replaceChildren(...tiles);
-  const setThumbs = () => {
-    const { env, object } = store.state;
+  const setThumbs = (env: string, object: string) => {
     tiles.forEach((t, i) => {
       const img = t.querySelector("img")!;
       img.dataset.index = String(i);
-      img.src = api.thumbnailUrl(i, env, object);
+      const url = api.thumbnailUrl(i, env, object);
+      if (img.getAttribute("src") !== url) img.src = url;
     });
   };
   function filter(): void {
@@ -76,7 +77,22 @@ export function createLibrary(store: PageStore, map: LatentMap): void {
     });
     $("library-count").textContent = shown === model.count ? `${model.count} materials` : `${shown} of ${model.count} match "${search.value.trim()}"`;
   }
-  setThumbs();
+  // A new scene's thumbnails once the server has it ready (polled, scene-ready.ts: no 503s);
+  // meanwhile the previous scene's stay (at first the default scene's).
+  let thumbRun: AbortController | null = null;
+  const showThumbs = async () => {
+    thumbRun?.abort();
+    const signal = (thumbRun = new AbortController()).signal;
+    const { env, object } = store.state;
+    try {
+      await sceneReady(env, object, signal);
+    } catch {
+      return;  // aborted by a newer scene, or the scene failed (the reference render says so)
+    }
+    if (!signal.aborted) setThumbs(env, object);
+  };
+  setThumbs(model.scenes.default_env, model.scenes.default_object);
+  void showThumbs();
   filter();
 
   // --- the current point: its material's name, or what it mixes -------------------------------
@@ -135,6 +151,7 @@ export function createLibrary(store: PageStore, map: LatentMap): void {
     compare.dataset.scene = `${env}/${object}`;
     compare.dataset.ready = "0";
     try {
+      if (list.length) await sceneReady(env, object, signal);  // polled, not retried into 503s (scene-ready.ts)
       for (let k = 0; k < list.length && !signal.aborted; k++) {
         const blob = await retryWhileBusy((s) => api.preview(list[k].x, env, object, size, s), { signal });
         if (signal.aborted) return;
@@ -148,7 +165,7 @@ export function createLibrary(store: PageStore, map: LatentMap): void {
   };
   store.on(["shortlist"], () => void renderList());
   store.on(["env", "object"], () => {
-    setThumbs();
+    void showThumbs();
     void renderList();
   });
   $("list-add").addEventListener("click", () => {

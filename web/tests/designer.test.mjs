@@ -337,6 +337,7 @@ async function webglPage(name, onPage = () => {}) {
   });
   const p = ctx.pages()[0] ?? (await ctx.newPage());
   p.on("pageerror", (e) => console.error("page error:", e));
+  p.setDefaultNavigationTimeout(120_000);  // software WebGL on a loaded 2-core machine
   await onPage(p);
   await p.goto(url);
   return { ctx, p };
@@ -407,7 +408,8 @@ test("at q = 3 points and labels fade with their distance from the slice; the le
   let ctx3;
   try {
     let p3;
-    ({ context: ctx3, page: p3 } = await openPage(work3, url3, { args: ["--disable-3d-apis"], viewport: { width: 1280, height: 800 } }));
+    ({ context: ctx3, page: p3 } = await openPage(work3, url3, { args: ["--disable-3d-apis"], viewport: { width: 1280, height: 800 },
+      onPage: (p) => p.setDefaultNavigationTimeout(120_000) }));
     const model = await p3.evaluate(() => window.matlas.model);
     assert.equal(model.dim, 3);
     // At material 0 (the page's start) its own marker is opaque.
