@@ -57,7 +57,8 @@ const sameX = (a, b) => a.length === b.length && a.every((v, d) => Math.abs(v - 
 before(async () => {
   ({ url, server } = await startDemo(work));
   // No WebGL here (the real-time view has its own contexts below): the view's error shows instead.
-  ({ context, page } = await openPage(work, url, { acceptDownloads: true, args: ["--disable-3d-apis"] }));
+  ({ context, page } = await openPage(work, url, { acceptDownloads: true, args: ["--disable-3d-apis"],
+    onPage: (p) => p.setDefaultNavigationTimeout(120_000) }));
 });
 
 after(async () => {
@@ -335,12 +336,17 @@ async function webglPage(name, onPage = () => {}) {
     executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium", headless: true,
     viewport: { width: 1280, height: 800 }, args: webglArgs,
   });
-  const p = ctx.pages()[0] ?? (await ctx.newPage());
-  p.on("pageerror", (e) => console.error("page error:", e));
-  p.setDefaultNavigationTimeout(120_000);  // software WebGL on a loaded 2-core machine
-  await onPage(p);
-  await p.goto(url);
-  return { ctx, p };
+  try {
+    const p = ctx.pages()[0] ?? (await ctx.newPage());
+    p.on("pageerror", (e) => console.error("page error:", e));
+    p.setDefaultNavigationTimeout(120_000);  // software WebGL on a loaded 2-core machine
+    await onPage(p);
+    await p.goto(url);
+    return { ctx, p };
+  } catch (e) {
+    await ctx.close();  // a browser left open would keep this test file from exiting
+    throw e;
+  }
 }
 
 test("the top bar's environment and object drive the real-time view unless it has its own scene", async () => {
@@ -405,11 +411,17 @@ test("at q = 3 points and labels fade with their distance from the slice; the le
   const work3 = join(work, "q3");
   mkdirSync(work3, { recursive: true });
   const { url: url3, server: server3 } = await startDemo(work3, ["-q", "3"]);
-  let ctx3;
+  // Its own browser, assigned before the page loads, so that a failed load still closes it.
+  const ctx3 = await chromium.launchPersistentContext(join(work3, "profile"), {
+    executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium", headless: true, viewport: { width: 1280, height: 800 },
+    args: ["--no-sandbox", "--disable-gpu", "--disable-3d-apis", "--no-first-run", "--disable-background-networking"],
+  });
   try {
-    let p3;
-    ({ context: ctx3, page: p3 } = await openPage(work3, url3, { args: ["--disable-3d-apis"], viewport: { width: 1280, height: 800 },
-      onPage: (p) => p.setDefaultNavigationTimeout(120_000) }));
+    const p3 = ctx3.pages()[0] ?? (await ctx3.newPage());
+    p3.on("pageerror", (e) => console.error("page error:", e));
+    p3.setDefaultNavigationTimeout(120_000);
+    await p3.goto(url3);
+    await p3.waitForFunction(() => window.matlas && window.matlas.previews >= 1, null, { timeout: 60_000 });
     const model = await p3.evaluate(() => window.matlas.model);
     assert.equal(model.dim, 3);
     // At material 0 (the page's start) its own marker is opaque.
@@ -439,7 +451,7 @@ test("at q = 3 points and labels fade with their distance from the slice; the le
     const bar = await p3.evaluate(() => { const t = document.querySelector(".map-card .toolbar"); return { sw: t.scrollWidth, cw: t.clientWidth, h: t.getBoundingClientRect().height }; });
     assert.ok(bar.sw <= bar.cw && bar.h <= 34, `the q = 3 toolbar (with the axes) stays on one line at 1280 px: ${JSON.stringify(bar)}`);
   } finally {
-    await ctx3?.close();
+    await ctx3.close();
     await stopServer(server3);
   }
 });
