@@ -259,8 +259,10 @@ export const api = {
   weights: (x: Point, top = 8): Promise<WeightsReply> =>
     post("api/weights", { x, top } satisfies WeightsRequest).then((r) => r.json()),
   interpolation: (): Promise<InterpolationData> => fetch("api/interpolation").then(check).then((r) => r.json()),
-  slice: (x: Point, phi_d: number): Promise<Blob> =>
-    post("api/slice", { x, phi_d } satisfies SliceRequest).then((r) => r.blob()),
+  /** The slice's PNG and its largest value (X-Matlas-Max: the top of the log colour scale). */
+  slice: (x: Point, phi_d: number): Promise<{ blob: Blob; max: number }> =>
+    post("api/slice", { x, phi_d } satisfies SliceRequest)
+      .then(async (r) => ({ blob: await r.blob(), max: Number(r.headers.get("X-Matlas-Max") ?? "NaN") })),
   lobe: (x: Point, theta_i: number): Promise<LobeReply> =>
     post("api/lobe", { x, theta_i, samples: 181 } satisfies LobeRequest).then((r) => r.json()),
   albedo: (x: Point): Promise<AlbedoReply> => post("api/albedo", { x }).then((r) => r.json()),

@@ -14,6 +14,7 @@ import {
   Tooltip,
 } from "chart.js";
 import type { AlbedoReply, LobeReply, WeightsReply } from "./api";
+import { niceStep } from "./map-geometry";
 
 Chart.register(
   BarController, BarElement, CategoryScale, Legend, LinearScale, LineController, LineElement,
@@ -66,6 +67,8 @@ export class LobeChart {
   private chart: Chart<"scatter", { x: number; y: number }[]>;
   logScale = true;
   private last: LobeReply | null = null;
+  /** The radius scale's rings of the last frame: BRDF values (sr^-1) and their radii in plot units. */
+  rings: { value: number; radius: number }[] = [];
 
   constructor(canvas: HTMLCanvasElement) {
     this.chart = new Chart(canvas, {
@@ -90,6 +93,29 @@ export class LobeChart {
         },
         plugins: { legend: { display: false }, tooltip: { enabled: false } },
       },
+      plugins: [{
+        // The radius scale: half rings at round BRDF values, labelled on the right.
+        id: "rings",
+        beforeDatasetsDraw: (chart) => {
+          const { ctx, scales: { x, y } } = chart;
+          ctx.save();
+          ctx.font = "10px system-ui, sans-serif";
+          ctx.textAlign = "left";
+          ctx.textBaseline = "bottom";
+          for (const ring of this.rings) {
+            const rx = x.getPixelForValue(ring.radius) - x.getPixelForValue(0);
+            const ry = y.getPixelForValue(0) - y.getPixelForValue(ring.radius);
+            ctx.strokeStyle = "rgba(255,255,255,0.16)";
+            ctx.beginPath();
+            ctx.ellipse(x.getPixelForValue(0), y.getPixelForValue(0), rx, ry, 0, Math.PI, 2 * Math.PI);
+            ctx.stroke();
+            // Labelled on the ground line at the back (the side light comes from, rarely drawn on).
+            ctx.fillStyle = "rgba(200,206,216,0.75)";
+            ctx.fillText(fmtRing(ring.value), x.getPixelForValue(0) - rx + 2, y.getPixelForValue(0) - 1);
+          }
+          ctx.restore();
+        },
+      }],
     });
   }
 
@@ -112,6 +138,14 @@ export class LobeChart {
       { x: -rmax * Math.sin(ti), y: rmax * Math.cos(ti) },
       { x: 0, y: 0 },
     ];
+    this.rings = this.logScale
+      ? [0.01, 0.1, 1, 10, 100, 1000].map((v) => ({ value: v, radius: radius(v) })).filter((g) => g.radius <= rmax * 1.02)
+      : (() => {
+        const fmax = rmax, step = niceStep(fmax / 3);
+        const out: { value: number; radius: number }[] = [];
+        for (let v = step; v <= fmax * 1.02; v += step) out.push({ value: v, radius: v });
+        return out;
+      })();
     const scales = this.chart.options.scales!;
     scales.x!.min = -rmax * 1.05;
     scales.x!.max = rmax * 1.05;
@@ -119,6 +153,8 @@ export class LobeChart {
     this.chart.update("none");
   }
 }
+
+const fmtRing = (v: number) => (v >= 1 ? String(Number(v.toPrecision(3))) : String(Number(v.toPrecision(2))));
 
 export class WeightsChart {
   private chart: Chart<"bar", number[], string>;
@@ -129,7 +165,14 @@ export class WeightsChart {
       data: { labels: [], datasets: [{ label: "weight", data: [], backgroundColor: [], borderWidth: 0 }] },
       options: {
         indexAxis: "y", responsive: true, maintainAspectRatio: false,
-        scales: { x: { type: "linear" }, y: { type: "category", ticks: { autoSkip: false } } },
+        scales: {
+          x: { type: "linear" },
+          // Long names shortened (the bar's tooltip has the whole name).
+          y: { type: "category", ticks: { autoSkip: false, callback(v) {
+            const name = String(this.getLabelForValue(Number(v)));
+            return name.length > 20 ? `${name.slice(0, 19)}…` : name;
+          } } },
+        },
         plugins: { legend: { display: false } },
       },
     });

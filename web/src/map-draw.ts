@@ -44,6 +44,8 @@ export interface MapFrame {
   readonly layer: MapLayerImage | null;
   readonly hovered: number | null;
   readonly view: ViewRect;
+  /** The latent points' bounding box (scales the distance from the slice when q > 2). */
+  readonly bounds: { min: number[]; max: number[] };
   toScreen(u: number, v: number): [number, number];
 }
 
@@ -55,6 +57,26 @@ export interface DrawnLabels {
   visibleMaterials: number;
   /** The hovered material's label box when it was drawn on hover only. */
   hoverLabel: { index: number; box: Box } | null;
+  /** Each material's marker opacity (1 for q = 2; q > 2: from its distance to the slice). */
+  alpha: number[];
+}
+
+/** Below this opacity (far from the displayed slice) a material gets no label unless hovered. */
+export const LABEL_ALPHA = 0.5;
+
+/**
+ * Opacity of material i's marker: 1 on the displayed plane, fading with the distance of its other
+ * coordinates from the current point's (each scaled by the latent points' extent on that axis):
+ * 0.1 + 0.9 exp(-(d / 0.15)^2), so 0.68 at a tenth of the extent, 0.25 at a fifth, 0.1 beyond.
+ */
+export function sliceAlpha(p: number[], x: number[], axes: [number, number], bounds: { min: number[]; max: number[] }): number {
+  let d2 = 0;
+  for (let d = 0; d < p.length; d++) {
+    if (d === axes[0] || d === axes[1]) continue;
+    const span = Math.max(bounds.max[d] - bounds.min[d], 1e-9);
+    d2 += ((p[d] - x[d]) / span) ** 2;
+  }
+  return 0.1 + 0.9 * Math.exp(-d2 / (0.15 * 0.15));
 }
 
 export class MapPainter {
@@ -62,7 +84,7 @@ export class MapPainter {
   private hatch: CanvasPattern | null = null;
 
   draw(m: MapFrame): DrawnLabels {
-    const out: DrawnLabels = { labelBoxes: [], visibleMaterials: 0, hoverLabel: null };
+    const out: DrawnLabels = { labelBoxes: [], visibleMaterials: 0, hoverLabel: null, alpha: [] };
     const c = m.canvas;
     const dpr = window.devicePixelRatio || 1;
     const r = c.getBoundingClientRect();
@@ -114,6 +136,7 @@ export class MapPainter {
     g.textBaseline = "middle";
     // Markers inside the canvas, and their decluttered labels.
     const visible: number[] = [], xs: number[] = [], ys: number[] = [];
+    out.alpha = m.latent.map((p) => (p.length > 2 ? sliceAlpha(p, m.point, m.axes, m.bounds) : 1));
     m.latent.forEach((p, i) => {
       const [sx, sy] = m.toScreen(p[a], p[b]);
       if (sx < -8 || sy < -8 || sx > r.width + 8 || sy > r.height + 8) return;
@@ -126,13 +149,17 @@ export class MapPainter {
     let boxes: (Box | null)[] = visible.map(() => null);
     if (m.showLabels) {
       const priority = isolation(xs, ys);
+      // Materials far from the displayed slice (q > 2) get no label: they would name what is not there.
       boxes = placeLabels(
-        visible.map((i, k) => ({ x: xs[k], y: ys[k], width: this.labelWidth(m, g, i), height: labelHeight, priority: priority[k] })),
+        visible.map((i, k) => ({ x: xs[k], y: ys[k], width: this.labelWidth(m, g, i), height: labelHeight,
+          priority: out.alpha[i] < LABEL_ALPHA ? -1e9 : priority[k] })),
         r.width, r.height, 7);
+      boxes = boxes.map((box, k) => (out.alpha[visible[k]] < LABEL_ALPHA ? null : box));
     }
     visible.forEach((i, k) => {
       const [sx, sy] = [xs[k], ys[k]];
       const [cr, cg, cb] = m.colors[i] ?? [200, 200, 200];
+      g.globalAlpha = i === m.hovered ? 1 : out.alpha[i];
       g.beginPath();
       g.arc(sx, sy, i === m.hovered ? 7 : 5, 0, 2 * Math.PI);
       g.fillStyle = `rgb(${cr},${cg},${cb})`;
@@ -141,6 +168,7 @@ export class MapPainter {
       g.strokeStyle = i === m.hovered ? "#ffffff" : "rgba(255,255,255,0.55)";
       g.stroke();
     });
+    g.globalAlpha = 1;
     visible.forEach((i, k) => {
       const box = boxes[k];
       if (!box) return;

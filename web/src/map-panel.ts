@@ -5,6 +5,7 @@ import { api, type MapRequest, type ModelInfo } from "./api";
 import { $ } from "./dom";
 import { LatestOnly } from "./latest";
 import { LatentMap, type ViewRect } from "./map";
+import { LABEL_ALPHA } from "./map-draw";
 import { setStatus } from "./status";
 
 /** A background layer, or none. */
@@ -87,24 +88,35 @@ export function createMapPanel(
   );
 
   const fade = model.uncertainty ?? { fade_from: 0.5, fade_to: 0.9 };
+  // What a point far from the data is depends on the interpolation: the GP's weights fall to zero
+  // (the database mean), convex weights still sum to 1 (a mix of the nearest materials).
+  const far = (model.interpolation ?? "gp") === "convex"
+    ? "a point there is a mix of the nearest materials (see Largest weights), not a measured one"
+    : "the model only has the database mean there";
   const showLegend = () => {
     const kind = layerSel.value;
     const item = (swatch: string, text: string) => `<span class="item"><span class="swatch ${swatch}"></span>${text}</span>`;
     $("legend-layer").innerHTML =
       kind === "albedo"
         ? item("fade", `albedo fades out from variance ${fade.fade_from}`) +
-          item("hatch", `no data here (variance &gt; ${fade.fade_to}): the model only has the database mean`)
+          item("hatch", `no data here (variance &gt; ${fade.fade_to}): ${far}`)
         : kind === "variance"
           ? item("variance", "predictive variance 0 (at the data) → 1 (far away)")
           : kind === "plausibility"
             ? item("red", "not physically plausible (negative values or albedo outside [0, 1])")
             : "";
   };
+  if (model.dim > 2) {
+    $("legend-far").textContent =
+      `q = ${model.dim}: points fade with their distance from the displayed slice (the other coordinates); faded points are not labelled`;
+  }
   showLegend();
   let labelText = "";
   map.onDrawn = () => {
     const shown = map.labelBoxes.length, n = map.visibleMaterials;
-    const text = !map.showLabels ? "" : shown < n ? `${shown} of ${n} labels shown: hover a point or zoom in for the others` : "";
+    const far = model.dim > 2 ? map.markerAlpha.filter((a) => a < LABEL_ALPHA).length : 0;
+    const text = !map.showLabels || shown >= n ? ""
+      : `${shown} of ${n} labels shown: ${far > 0 ? `${far} far from the slice, ` : ""}hover a point or zoom in for the others`;
     if (text !== labelText) $("label-count").textContent = labelText = text;
   };
 

@@ -40,6 +40,10 @@ export class LatentMap implements MapFrame {
   hoverLabel: { index: number; box: Box } | null = null;
   /** Called after each frame (the page updates its label count). */
   onDrawn: (() => void) | null = null;
+  /** Called after every change of the view (pan, zoom, fit), besides the page's layer refresh. */
+  readonly viewListeners: (() => void)[] = [];
+  /** Each material's marker opacity in the last frame (q > 2: its distance from the slice). */
+  markerAlpha: number[] = [];
   private readonly painter = new MapPainter();
   private dragging = false;
   /** Panning: the latent point held under the pointer. */
@@ -54,7 +58,7 @@ export class LatentMap implements MapFrame {
     readonly names: string[],
     readonly colors: [number, number, number][],
     private readonly domain: { min: number[]; max: number[] },
-    private readonly bounds: { min: number[]; max: number[] },
+    readonly bounds: { min: number[]; max: number[] },
     private readonly cb: MapCallbacks,
   ) {
     this.point = bounds.min.map((lo, i) => 0.5 * (lo + bounds.max[i]));
@@ -69,6 +73,25 @@ export class LatentMap implements MapFrame {
     canvas.addEventListener("dblclick", () => this.resetView(true));
     canvas.addEventListener("contextmenu", (e) => e.preventDefault());
     canvas.addEventListener("keydown", (e) => this.onKey(e));
+  }
+
+  /** The view's centre and half width in latent units (for the address bar). */
+  viewState(): { cx: number; cy: number; half: number } {
+    return { cx: this.cx, cy: this.cy, half: this.half };
+  }
+
+  /** Restores a view saved by viewState(). */
+  setViewState(v: { cx: number; cy: number; half: number }): void {
+    this.cx = v.cx;
+    this.cy = v.cy;
+    this.half = clamp(v.half, 1e-4, 1e4);
+    this.redraw();
+    this.notifyView();
+  }
+
+  private notifyView(): void {
+    this.cb.viewChanged(this.view);
+    for (const f of this.viewListeners) f();
   }
 
   get view(): ViewRect {
@@ -99,7 +122,7 @@ export class LatentMap implements MapFrame {
     this.cy = 0.5 * (lo[1] + hi[1]);
     this.half = 0.5 * Math.max(du, dv / this.aspect());
     this.redraw();
-    if (notify) this.cb.viewChanged(this.view);
+    if (notify) this.notifyView();
   }
 
   setAxes(axes: [number, number]): void {
@@ -148,6 +171,7 @@ export class LatentMap implements MapFrame {
       this.labelBoxes = drawn.labelBoxes;
       this.visibleMaterials = drawn.visibleMaterials;
       this.hoverLabel = drawn.hoverLabel;
+      this.markerAlpha = drawn.alpha;
       this.onDrawn?.();
     });
   }
@@ -246,7 +270,7 @@ export class LatentMap implements MapFrame {
     this.cy = v + (this.cy - v) * f;
     this.half = half;
     this.redraw();
-    this.cb.viewChanged(this.view);
+    this.notifyView();
   }
 
   /** Moves the view by (du, dv) in latent units. */
@@ -254,7 +278,7 @@ export class LatentMap implements MapFrame {
     this.cx += du;
     this.cy += dv;
     this.redraw();
-    this.cb.viewChanged(this.view);
+    this.notifyView();
   }
 
   private onKey(e: KeyboardEvent): void {

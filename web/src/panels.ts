@@ -4,6 +4,7 @@ import { api, type Plausibility } from "./api";
 import { AlbedoChart, LobeChart, WeightsChart } from "./charts";
 import { $, showBlob } from "./dom";
 import { LatestOnly } from "./latest";
+import { SlicePlot } from "./slice-plot";
 import type { PageStore } from "./state";
 import { clearError, setStatus } from "./status";
 
@@ -17,6 +18,10 @@ export function createPanels(store: PageStore): void {
   const lobeChart = new LobeChart($<HTMLCanvasElement>("lobe-chart"));
   const albedoChart = new AlbedoChart($<HTMLCanvasElement>("albedo-chart"));
   const phi = $<HTMLInputElement>("phi"), thetaI = $<HTMLInputElement>("theta-i");
+  const slicePlot = new SlicePlot($<HTMLCanvasElement>("slice-plot"));
+  const sliceImg = $<HTMLImageElement>("slice");
+  // For the tests and the console: the panels' scales as last drawn.
+  (window as unknown as { matlasPanels: unknown }).matlasPanels = { slice: slicePlot, lobe: lobeChart };
 
   const panels = new LatestOnly<number[], void>(
     async (x) => {
@@ -29,7 +34,8 @@ export function createPanels(store: PageStore): void {
       showPlausibility(w.plausibility);
       lobeChart.update(lobe);
       albedoChart.update(albedo);
-      await showBlob($<HTMLImageElement>("slice"), slice);
+      await showBlob(sliceImg, slice.blob);
+      slicePlot.show(sliceImg, slice.max);
     },
     () => clearError("panels"),
     (e) => setStatus(`panels: ${(e as Error).message}`, true, "panels"),

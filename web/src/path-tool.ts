@@ -15,6 +15,7 @@ export function createPathTool(store: PageStore, map: LatentMap): void {
   fillSelect(pathA, pathItems, "0");
   fillSelect(pathB, pathItems, String(Math.min(1, model.count - 1)));
   const pointOf = (v: string) => (v === "current" ? store.state.x.slice() : model.latent[Number(v)].slice());
+  const nameOf = (v: string) => (v === "current" ? "current point" : model.names[Number(v)]);
   let run: AbortController | null = null;
 
   const showPath = async () => {
@@ -40,7 +41,19 @@ export function createPathTool(store: PageStore, map: LatentMap): void {
         });
         const img = document.createElement("img");
         img.alt = btn.title;
-        btn.append(img);
+        // Its caption: where along the segment, and the ends' names.
+        const caption = document.createElement("span");
+        caption.className = "caption";
+        const t = (k / (steps - 1)).toFixed(2);
+        const end = k === 0 ? nameOf(pathA.value) : k === steps - 1 ? nameOf(pathB.value) : "";
+        caption.textContent = `t = ${t}`;
+        if (end) {
+          const b = document.createElement("b");
+          b.textContent = ` ${end}`;
+          caption.append(b);
+          caption.title = end;
+        }
+        btn.append(img, caption);
         return btn;
       }),
     );

@@ -1,7 +1,7 @@
-// The tools of the current point: go to a database material, download its MERL table or its
-// coordinates, and upload a .binary file to project it onto the map.
+// The tools of the current point: download its MERL table or its coordinates, and upload a
+// .binary file to project it onto the map (going to a material by name: library.ts).
 import { api } from "./api";
-import { $, download, fillSelect, fmtX } from "./dom";
+import { $, download, fmtX } from "./dom";
 import type { LatentMap } from "./map";
 import { moveTo, type PageStore } from "./state";
 import { setStatus } from "./status";
@@ -12,12 +12,6 @@ export function createPointTools(store: PageStore, map: LatentMap): void {
     map.setPoint(x);
     moveTo(store, x, false);
   };
-  const matSel = $<HTMLSelectElement>("material");
-  fillSelect(matSel, [{ value: "", label: "—" }, ...model.names.map((n, i) => ({ value: String(i), label: n }))], "");
-  matSel.addEventListener("change", () => {
-    if (matSel.value !== "") goTo(model.latent[Number(matSel.value)].slice());
-  });
-
   $("export-binary").addEventListener("click", async () => {
     try {
       setStatus("computing the table…");

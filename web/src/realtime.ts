@@ -13,7 +13,7 @@ import { LatestOnly } from "./latest";
 import { LocalWeights } from "./local-weights";
 import { RealtimeGl } from "./realtime-gl";
 import type { PageStore } from "./state";
-import { clearError, setStatus } from "./status";
+import { clearError } from "./status";
 
 /** What the tests and the benchmark read (window.matlasViewer). */
 export interface ViewerState {
@@ -27,6 +27,8 @@ export interface ViewerState {
   moveToFrameReduced: boolean[];
   env: string;
   object: string;
+  /** Whether the view has its own scene ("own scene"), else the top bar's. */
+  ownScene: boolean;
   /** Whether the weights are computed in the page (else asked of the server per move). */
   localWeights: boolean;
   loads: { coefficientsMs: number; environmentMs: Record<string, number> };
@@ -51,12 +53,126 @@ export function combineCoefficients(all: Float32Array, w: ArrayLike<number>, blo
   }
 }
 
-export async function createRealtimeView(store: PageStore): Promise<ViewerState> {
+/** Whether this browser gives a WebGL2 context (the viewer needs one). */
+function hasWebGl2(): boolean {
+  try {
+    return !!document.createElement("canvas").getContext("webgl2");
+  } catch {
+    return false;
+  }
+}
+
+/** GET api/realtime/coefficients, reporting the bytes received (Content-Length) as they come. */
+async function fetchCoefficients(onBytes: (got: number, total: number) => void): Promise<Float32Array> {
+  const r = await fetch("api/realtime/coefficients");
+  if (!r.ok || !r.body) return api.realtimeCoefficients();  // the error (or a body-less answer) as the client reports it
+  const total = Number(r.headers.get("Content-Length") ?? 0);
+  const parts: Uint8Array[] = [];
+  let got = 0;
+  const reader = r.body.getReader();
+  for (;;) {
+    const { done, value } = await reader.read();
+    if (done) break;
+    parts.push(value);
+    got += value.length;
+    onBytes(got, total);
+  }
+  const all = new Uint8Array(got);
+  let o = 0;
+  for (const p of parts) {
+    all.set(p, o);
+    o += p.length;
+  }
+  return new Float32Array(all.buffer, 0, got >> 2);
+}
+
+/**
+ * The card's own progress and errors: a bar with what is being waited for (and for how long),
+ * and an error box over the canvas (no WebGL2, coefficients or maps that failed), so that the card
+ * never says "loading" forever and its errors show where they happen.
+ */
+class CardStatus {
+  private readonly progress = $("rt-progress");
+  private readonly error = $("rt-error");
+  private timer = 0;
+
+  waiting(text: (seconds: number) => string, fraction: number | null = null): void {
+    const start = performance.now();
+    clearInterval(this.timer);
+    const show = () => {
+      this.progress.querySelector(".text")!.textContent = text((performance.now() - start) / 1000);
+    };
+    this.fraction(fraction);
+    show();
+    this.progress.hidden = false;
+    this.timer = window.setInterval(show, 500);
+  }
+
+  fraction(f: number | null): void {
+    const bar = this.progress.querySelector(".bar")!;
+    bar.classList.toggle("busy", f === null);
+    (bar.firstElementChild as HTMLElement).style.width = f === null ? "" : `${(100 * f).toFixed(1)}%`;
+  }
+
+  done(): void {
+    clearInterval(this.timer);
+    this.progress.hidden = true;
+  }
+
+  private source = "";
+
+  /** Shows `message` over the canvas; `source`: what a later success of the same kind clears. */
+  fail(message: string, source = "start"): void {
+    this.done();
+    this.error.textContent = message;
+    this.error.hidden = false;
+    this.source = source;
+    if (source === "start") {
+      // Nothing in the card can act: its controls say so by being disabled.
+      $("rt-info").textContent = "";
+      document.querySelectorAll<HTMLInputElement>(".realtime-card input, .realtime-card select, .realtime-card button")
+        .forEach((el) => (el.disabled = true));
+      document.querySelector(".realtime-card label.button")?.classList.add("disabled");
+    }
+  }
+
+  /** A success of `source` (or of anything, without it): its error is stale. */
+  clear(source?: string): void {
+    if (source === undefined || source === this.source) this.error.hidden = true;
+  }
+}
+
+/** The real-time card; its failures show in the card (never rejects: null when it cannot run). */
+export async function createRealtimeView(store: PageStore): Promise<ViewerState | null> {
+  const card = new CardStatus();
+  if (!hasWebGl2()) {
+    card.fail("The real-time view needs WebGL2, which this browser does not offer (disabled, or no GPU " +
+      "driver). The reference render beside it does not need it.");
+    return null;
+  }
+  try {
+    return await startRealtimeView(store, card);
+  } catch (e) {
+    card.fail(`The real-time view could not start: ${(e as Error).message}`);
+    return null;
+  }
+}
+
+async function startRealtimeView(store: PageStore, card: CardStatus): Promise<ViewerState> {
   const canvas = $<HTMLCanvasElement>("rt-canvas");
-  $("rt-info").textContent = "loading the coefficients (the server computes them from the model on first use)…";
+  $("rt-info").textContent = "";
+  card.waiting((t) => `the server computes the real-time coefficients of every material (once per model): ${t.toFixed(0)} s`);
   const t0 = performance.now();
-  const [info, all, interpolation] = await Promise.all([api.realtime(), api.realtimeCoefficients(),
-    api.interpolation().catch(() => null)]);
+  const interpolationP = api.interpolation().catch(() => null);
+  const info = await api.realtime();
+  card.waiting((t) => `loading the coefficients: ${t.toFixed(0)} s`, 0);
+  const all = await fetchCoefficients((got, total) => {
+    if (total > 0) card.fraction(got / total);
+  }).catch((e: Error) => {
+    throw new Error(`the coefficients failed to load (${e.message})`);
+  });
+  const interpolation = await interpolationP;
+  card.done();
   // ?weights=server asks the server per move, as without the endpoint (for comparisons).
   const local = interpolation && new URLSearchParams(location.search).get("weights") !== "server"
     ? new LocalWeights(interpolation) : null;
@@ -65,12 +181,15 @@ export async function createRealtimeView(store: PageStore): Promise<ViewerState>
   const block = info.theta_o_count * info.coefficients * 3;
   const point = new Float32Array(block);
   const state: ViewerState = {
-    info, gl, shownX: null, moveToFrame: [], moveToFrameReduced: [], env: "", object: "sphere", localWeights: !!local,
+    info, gl, shownX: null, moveToFrame: [], moveToFrameReduced: [], env: "", object: "sphere", ownScene: false, localWeights: !!local,
     loads: { coefficientsMs, environmentMs: {} },
   };
   window.matlasViewer = state;
-  $("rt-info").textContent =
-    `L = ${info.bands} · ${info.coefficients} lookups/pixel · ${info.materials} materials (${info.seconds.toFixed(1)} s on the server, ${Math.round(coefficientsMs)} ms to load)${local ? " · weights computed in the page" : ""}${gl.floatLinear ? "" : " · half-float textures"}`;
+  const rtInfo = $("rt-info");
+  rtInfo.textContent =
+    `L = ${info.bands} · ${info.coefficients} lookups/pixel · ready in ${(info.seconds + coefficientsMs / 1000).toFixed(1)} s${gl.floatLinear ? "" : " · half-float textures"}`;
+  rtInfo.title = `${info.materials} materials' coefficients: ${info.seconds.toFixed(1)} s on the server, ` +
+    `${Math.round(coefficientsMs)} ms to load${local ? "; weights computed in the page" : "; weights asked of the server"}`;
 
   // Map moves: the weights of the latest point, then the coefficients and a frame (drawn at once
   // while dragging).
@@ -80,17 +199,17 @@ export async function createRealtimeView(store: PageStore): Promise<ViewerState>
     movedAt = at;
     gl.setCoefficients(point, store.state.dragging);
     state.shownX = x;
+    card.clear("move");  // an earlier move's failure is stale
   };
   const weights = new LatestOnly<number[], number[]>(
-    (x) => api.weights(x, 0).then((r) => r.weights), show,
-    (e) => setStatus(`real-time view: ${(e as Error).message}`, true, "realtime"),
+    (x) => api.weights(x, 0).then((r) => r.weights), show, (e) => fail(e, "move"),
   );
   const request = (x: number[], at: number) => {
     if (!local) return weights.request(x, at);
     try {
       show(local.weights(x), x.slice(), at);
     } catch (e) {
-      setStatus(`real-time view: ${(e as Error).message}`, true, "realtime");
+      fail(e, "move");
     }
   };
   const median = (v: number[]) => {
@@ -107,11 +226,12 @@ export async function createRealtimeView(store: PageStore): Promise<ViewerState>
       }
       movedAt = 0;
     }
-    $("rt-fps").textContent = `${median(gl.frameTimes)} per frame · ${median(gl.fastFrameTimes)} while moving`;
+    $("rt-fps").textContent = `${median(gl.frameTimes)}/frame · ${median(gl.fastFrameTimes)} moving`;
+    $("rt-fps").title = "median frame time, at rest and while the point or camera moves";
   };
   store.on(["x"], (s) => request(s.x, s.movedAt));
 
-  // Environment: each one's maps are fetched once.
+  // Environment: each one's maps are fetched once (with progress in the card).
   const envs = new Map<string, EnvironmentAtlas>();
   const envSelect = $<HTMLSelectElement>("rt-env");
   const setEnv = async (name: string) => {
@@ -119,13 +239,19 @@ export async function createRealtimeView(store: PageStore): Promise<ViewerState>
     if (!atlas) {
       $("rt-info").dataset.loading = name;
       const start = performance.now();
-      atlas = await api.realtimeEnvironment(name);
+      card.waiting((t) => `loading the ${name} environment's maps: ${t.toFixed(0)} s`);
+      try {
+        atlas = await api.realtimeEnvironment(name);
+      } finally {
+        card.done();
+      }
       state.loads.environmentMs[name] = performance.now() - start;
       envs.set(name, atlas);
     }
     if (envSelect.value !== name) return;  // another one was chosen meanwhile
     gl.setEnvironment(atlas);
     state.env = name;
+    card.clear();
     clearError("realtime");
   };
   fillSelect(envSelect, info.environments.map((e) => ({ value: e, label: e })), store.state.env);
@@ -135,8 +261,7 @@ export async function createRealtimeView(store: PageStore): Promise<ViewerState>
   const objSelect = $<HTMLSelectElement>("rt-object");
   const meshes = new Map<string, Promise<import("three").Object3D>>();
   fillSelect(objSelect, ["sphere", ...info.objects.filter((o) => o !== "sphere")].map((o) => ({ value: o, label: o })), "sphere");
-  objSelect.addEventListener("change", () => {
-    const name = objSelect.value;
+  const setObject = (name: string) => {
     if (name === "sphere") {
       meshes.set(name, meshes.get(name) ?? Promise.resolve(RealtimeGl.sphere()));
     } else if (!meshes.has(name)) {
@@ -147,17 +272,42 @@ export async function createRealtimeView(store: PageStore): Promise<ViewerState>
       gl.setObject(o);
       state.object = name;
     }).catch(fail);
-  });
+  };
+  objSelect.addEventListener("change", () => setObject(objSelect.value));
+  const own = $<HTMLInputElement>("rt-own");
   $<HTMLInputElement>("rt-file").addEventListener("change", async (ev) => {
     const file = (ev.target as HTMLInputElement).files?.[0];
     if (!file) return;
     try {
-      gl.setObject(await RealtimeGl.meshFromGlb(await file.arrayBuffer()));
+      const mesh = await RealtimeGl.meshFromGlb(await file.arrayBuffer());
+      own.checked = true;  // a file of the user's: this view's own scene from now on
+      syncScene();
+      gl.setObject(mesh);
       state.object = file.name;
     } catch (e) {
       fail(new Error(`${file.name}: ${(e as Error).message} (Draco-compressed files are not supported)`));
     }
   });
+
+  // One set of scene controls: the top bar's environment and object drive this view too, unless
+  // the user turns on "own scene" (then its pickers apply; off again: back to the top bar's).
+  const syncScene = () => {
+    envSelect.disabled = objSelect.disabled = !own.checked;
+    state.ownScene = own.checked;
+    if (own.checked) return;
+    const { env, object } = store.state;
+    if (info.environments.includes(env) && envSelect.value !== env) {
+      envSelect.value = env;
+      setEnv(env).catch(fail);
+    }
+    const obj = object === "sphere" || info.objects.includes(object) ? object : "sphere";
+    if (objSelect.value !== obj || state.object !== obj) {
+      objSelect.value = obj;
+      setObject(obj);
+    }
+  };
+  own.addEventListener("change", syncScene);
+  store.on(["env", "object"], syncScene);
 
   const slider = (id: string, apply: (v: number) => void, fmt: (v: number) => string) => {
     const input = $<HTMLInputElement>(id);
@@ -177,11 +327,12 @@ export async function createRealtimeView(store: PageStore): Promise<ViewerState>
   slider("rt-bands", (v) => gl.setBands(v), (v) => `L = ${v}`);
   $("rt-reset").addEventListener("click", () => gl.resetCamera());
 
-  function fail(e: unknown): void {
-    setStatus(`real-time view: ${(e as Error).message}`, true, "realtime");
+  function fail(e: unknown, source = "scene"): void {
+    card.fail(`real-time view: ${(e as Error).message}`, source);
   }
 
   await setEnv(envSelect.value);
+  syncScene();
   request(store.state.x, performance.now());
   return state;
 }

@@ -12,6 +12,13 @@ export interface ShownPreview {
   object: string;
 }
 
+/** A material of the short list: a database material (index) or any point of the map. */
+export interface ListItem {
+  name: string;
+  x: number[];
+  index: number | null;
+}
+
 export interface PageState {
   model: ModelInfo;
   /** The current latent point. */
@@ -40,6 +47,8 @@ export interface PageState {
   giImages: number;
   lastWeights: WeightsReply | null;
   projected: { x: number[]; residual: number } | null;
+  /** The short list (compared side by side, exported together). */
+  shortlist: ListItem[];
   map: LatentMap;
 }
 
@@ -54,7 +63,8 @@ declare global {
 export function createStore(model: ModelInfo, map: LatentMap, env: string, object: string): PageStore {
   const store = new Store<PageState>({
     model, x: map.point.slice(), dragging: false, movedAt: 0, env, object, shown: null, shownScenes: [],
-    previews: 0, latencies: [], refine: true, refined: null, refinedImages: 0, preparing: null, giShown: null, giImages: 0, lastWeights: null, projected: null, map,
+    previews: 0, latencies: [], refine: true, refined: null, refinedImages: 0, preparing: null, giShown: null, giImages: 0,
+    lastWeights: null, projected: null, shortlist: [], map,
   });
   window.matlas = store.state;
   return store;
@@ -63,4 +73,10 @@ export function createStore(model: ModelInfo, map: LatentMap, env: string, objec
 /** Moves the current point (the map is told separately when the move did not come from it). */
 export function moveTo(store: PageStore, x: number[], dragging: boolean, at = performance.now()): void {
   store.update({ x: x.slice(), dragging, movedAt: at });
+}
+
+/** The database material at x (exactly its latent point), or null. */
+export function materialAt(state: PageState, x: number[] = state.x): number | null {
+  const i = state.model.latent.findIndex((p) => p.every((v, d) => Math.abs(v - x[d]) <= 1e-9 * (1 + Math.abs(v))));
+  return i < 0 ? null : i;
 }

@@ -195,6 +195,9 @@ test("the plausibility line and map layer describe the current point", async () 
 
 test("a map layer on its way keeps the previous one, says it is loading, and a newer one aborts it", async () => {
   await page.waitForFunction(() => window.matlas.map.layer !== null, null, { timeout: 20_000 });
+  // The layer the previous test asked for (debounced by 120 ms) has arrived: none is on its way.
+  await page.waitForTimeout(300);
+  await page.waitForSelector("#map-wrap:not(.layer-loading)", { timeout: 20_000 });
   const shown = await page.evaluate(() => window.matlas.map.layer.rect);
   // Hold every layer response until released.
   let release;
