@@ -15,28 +15,28 @@
 namespace matlas::render {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kProgressivePi = 3.14159265358979323846;
 
-std::shared_ptr<const Scene> furnace() {
+std::shared_ptr<const Scene> progressive_furnace() {
   SceneDescription d;
   d.constant_radiance = Rgb::Constant(1.0);
   return std::make_shared<const Scene>(d);
 }
 
-std::shared_ptr<const Scene> sky() {
+std::shared_ptr<const Scene> progressive_sky() {
   return std::make_shared<const Scene>(SceneDescription{}, std::nullopt, Environment(test::synthetic_environment()));
 }
 
-std::shared_ptr<const Material> white() {
-  return std::make_shared<FunctionMaterial>([](const Vec3&, const Vec3&) -> Rgb { return Rgb::Constant(1.0 / kPi); });
+std::shared_ptr<const Material> progressive_white() {
+  return std::make_shared<FunctionMaterial>([](const Vec3&, const Vec3&) -> Rgb { return Rgb::Constant(1.0 / kProgressivePi); });
 }
 
-std::shared_ptr<const Material> gold() {
+std::shared_ptr<const Material> progressive_gold() {
   return std::make_shared<FunctionMaterial>(
       [g = GgxConductor{Rgb(0.95, 0.64, 0.54), 0.15}](const Vec3& wi, const Vec3& wo) { return g(wi, wo); });
 }
 
-ProgressiveSettings small(int side, int first_spp, std::uint64_t seed = 1) {
+ProgressiveSettings progressive_settings(int side, int first_spp, std::uint64_t seed = 1) {
   ProgressiveSettings s;
   s.render.width = s.render.height = side;
   s.render.spp = first_spp;
@@ -45,7 +45,7 @@ ProgressiveSettings small(int side, int first_spp, std::uint64_t seed = 1) {
 }
 
 /// RMS over the object's pixels and channels of (a - b), relative to b's RMS there.
-double relative_rms(const Image& a, const Image& b, const std::vector<bool>& object) {
+double progressive_relative_rms(const Image& a, const Image& b, const std::vector<bool>& object) {
   double squares = 0, signal = 0;
   for (std::size_t p = 0; p < object.size(); ++p) {
     if (!object[p]) continue;
@@ -60,10 +60,10 @@ double relative_rms(const Image& a, const Image& b, const std::vector<bool>& obj
 
 TEST(ProgressiveRender, ConvergesToTheFurnaceImage) {
   // A white Lambertian under uniform radiance 1 reflects exactly 1 everywhere on the object.
-  ProgressiveSettings s = small(24, 4);
+  ProgressiveSettings s = progressive_settings(24, 4);
   s.target_error = 0.005;
   s.min_converged_spp = 16;
-  ProgressiveRender r(furnace(), white(), s);
+  ProgressiveRender r(progressive_furnace(), progressive_white(), s);
   ProgressiveState state;
   for (int i = 0; i < 200 && !state.converged; ++i) state = r.refine(0.05);
   ASSERT_TRUE(state.converged) << state.spp << " spp, error " << state.relative_error;
@@ -71,7 +71,7 @@ TEST(ProgressiveRender, ConvergesToTheFurnaceImage) {
   EXPECT_GE(state.spp, 16);
   Image exact(24, 24);
   std::fill(exact.rgb.begin(), exact.rgb.end(), 1.0f);
-  EXPECT_LT(relative_rms(r.image(), exact, r.object_pixels()), 3 * 0.005);
+  EXPECT_LT(progressive_relative_rms(r.image(), exact, r.object_pixels()), 3 * 0.005);
   // Once converged, refine adds nothing.
   const ProgressiveState again = r.refine(1.0);
   EXPECT_EQ(again.spp, state.spp);
@@ -82,24 +82,24 @@ TEST(ProgressiveRender, ErrorEstimateAgreesWithTheErrorAgainstAReference) {
   // A glossy conductor under a sky with a small sun: noisy at few samples. The reference is an
   // independent refinement (other seeds) with 64x the samples; its own error is removed in
   // quadrature.
-  ProgressiveSettings rs = small(24, 256, 777);
+  ProgressiveSettings rs = progressive_settings(24, 256, 777);
   rs.max_pass_spp = 256;
   rs.max_spp = 4096;
   rs.target_error = 1e-9;
-  ProgressiveRender reference(sky(), gold(), rs);
+  ProgressiveRender reference(progressive_sky(), progressive_gold(), rs);
   while (!reference.state().converged) reference.refine(10.0);
   ASSERT_EQ(reference.state().spp, 4096);
   const double reference_error = reference.state().relative_error;
 
-  ProgressiveSettings s = small(24, 16);
+  ProgressiveSettings s = progressive_settings(24, 16);
   s.max_pass_spp = 16;
   s.target_error = 1e-9;
-  ProgressiveRender r(sky(), gold(), s);
+  ProgressiveRender r(progressive_sky(), progressive_gold(), s);
   for (int pass = 0; pass < 4; ++pass) r.refine(0.0);  // one pass per call
   const ProgressiveState state = r.state();
   ASSERT_EQ(state.passes, 4);
   ASSERT_EQ(state.spp, 64);
-  const double measured = relative_rms(r.image(), reference.image(), r.object_pixels());
+  const double measured = progressive_relative_rms(r.image(), reference.image(), r.object_pixels());
   const double actual = std::sqrt(std::max(0.0, measured * measured - reference_error * reference_error));
   EXPECT_GT(state.relative_error, 0.005) << "the test scene must be noisy at 64 spp";
   EXPECT_GT(state.relative_error, 0.6 * actual);
@@ -110,11 +110,11 @@ TEST(ProgressiveRender, ErrorEstimateAgreesWithTheErrorAgainstAReference) {
 }
 
 TEST(ProgressiveRender, PassesGrowWithinTheTimeAndTheHalvesStayBalanced) {
-  ProgressiveSettings s = small(16, 4);
+  ProgressiveSettings s = progressive_settings(16, 4);
   s.target_error = 1e-9;
   s.max_spp = 256;
   s.max_pass_spp = 64;
-  ProgressiveRender r(sky(), gold(), s);
+  ProgressiveRender r(progressive_sky(), progressive_gold(), s);
   EXPECT_EQ(r.refine(0.0).spp, 4);  // the first pass is the settings' spp
   EXPECT_EQ(r.state().relative_error, std::numeric_limits<double>::infinity());  // one half only
   const ProgressiveState second = r.refine(0.0);
@@ -127,18 +127,18 @@ TEST(ProgressiveRender, PassesGrowWithinTheTimeAndTheHalvesStayBalanced) {
   EXPECT_EQ(state.spp, 256);
 }
 
-struct ThrowingSink final : ProgressSink {
+struct ProgressiveThrowingSink final : ProgressSink {
   void update(const std::string&, std::uint64_t, std::uint64_t) override { throw std::runtime_error("cancelled"); }
   void message(const std::string&) override {}
   void finish(const std::string&) override {}
 };
 
 TEST(ProgressiveRender, ACancelledPassLeavesTheStateAsItWas) {
-  ProgressiveRender r(sky(), gold(), small(16, 8));
+  ProgressiveRender r(progressive_sky(), progressive_gold(), progressive_settings(16, 8));
   r.refine(0.0);
   const Image before = r.image();
   const ProgressiveState state = r.state();
-  ThrowingSink cancel;
+  ProgressiveThrowingSink cancel;
   EXPECT_THROW(r.refine(1.0, cancel), std::runtime_error);
   EXPECT_EQ(r.state().spp, state.spp);
   EXPECT_EQ(r.state().passes, state.passes);
@@ -146,15 +146,15 @@ TEST(ProgressiveRender, ACancelledPassLeavesTheStateAsItWas) {
 }
 
 TEST(ProgressiveRender, InvalidSettingsAreRefused) {
-  ProgressiveSettings s = small(16, 8);
+  ProgressiveSettings s = progressive_settings(16, 8);
   s.target_error = 0;
-  EXPECT_THROW(ProgressiveRender(sky(), gold(), s), Error);
-  s = small(16, 64);
+  EXPECT_THROW(ProgressiveRender(progressive_sky(), progressive_gold(), s), Error);
+  s = progressive_settings(16, 64);
   s.max_spp = 32;
-  EXPECT_THROW(ProgressiveRender(sky(), gold(), s), Error);
-  s = small(16, 8);
+  EXPECT_THROW(ProgressiveRender(progressive_sky(), progressive_gold(), s), Error);
+  s = progressive_settings(16, 8);
   s.max_pass_spp = 0;
-  EXPECT_THROW(ProgressiveRender(sky(), gold(), s), Error);
+  EXPECT_THROW(ProgressiveRender(progressive_sky(), progressive_gold(), s), Error);
 }
 
 }  // namespace
