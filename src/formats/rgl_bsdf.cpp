@@ -204,24 +204,52 @@ std::string RglBsdf::summary() const {
   return s;
 }
 
+namespace {
+
+/// A pair of directions as the tensors see it: folded by the file's symmetry (reduction 2 or 4,
+/// as Mitsuba), wi's elevation and azimuth, and the half vector m with its unit coordinates (its
+/// azimuth relative to wi's for isotropic files).
+struct HalfVectorFrame {
+  Vec3 wi, wo, m;
+  double theta_i = 0, phi_i = 0;
+  double u_m[2] = {0, 0};
+};
+
+/// The reciprocal value closest, in least squares, to both orders of a measured pair: forward is
+/// f cos(theta_o) for (wi, wo), backward f cos(theta_i) for (wo, wi) (docs/RGL.md).
+Rgb reciprocal_value(const Rgb& forward, const Rgb& backward, double ci, double co) {
+  return (co * forward + ci * backward) / (ci * ci + co * co);
+}
+
+HalfVectorFrame half_vector_frame(const Vec3& wi_in, const Vec3& wo_in, int reduction, bool isotropic) {
+  HalfVectorFrame f;
+  f.wi = wi_in.normalized();
+  f.wo = wo_in.normalized();
+  if (reduction >= 2) {
+    const double sy = f.wi.y(), sx = reduction == 4 ? f.wi.x() : sy;
+    f.wi.x() = mulsign_neg(f.wi.x(), sx);
+    f.wi.y() = mulsign_neg(f.wi.y(), sy);
+    f.wo.x() = mulsign_neg(f.wo.x(), sx);
+    f.wo.y() = mulsign_neg(f.wo.y(), sy);
+  }
+  f.m = (f.wi + f.wo).normalized();
+  f.theta_i = elevation(f.wi);
+  f.phi_i = std::atan2(f.wi.y(), f.wi.x());
+  const double phi_m = std::atan2(f.m.y(), f.m.x());
+  f.u_m[0] = theta_to_unit(elevation(f.m));
+  f.u_m[1] = phi_to_unit(isotropic ? phi_m - f.phi_i : phi_m);
+  f.u_m[1] -= std::floor(f.u_m[1]);
+  return f;
+}
+
+}  // namespace
+
 Rgb RglBsdf::eval_cosine(const Vec3& wi_in, const Vec3& wo_in) const {
   if (!(wi_in.z() > 0.0) || !(wo_in.z() > 0.0) || !wi_in.allFinite() || !wo_in.allFinite()) return Rgb::Zero();
-  Vec3 wi = wi_in.normalized(), wo = wo_in.normalized();
-  if (reduction_ >= 2) {
-    const double sy = wi.y(), sx = reduction_ == 4 ? wi.x() : sy;
-    wi.x() = mulsign_neg(wi.x(), sx);
-    wi.y() = mulsign_neg(wi.y(), sy);
-    wo.x() = mulsign_neg(wo.x(), sx);
-    wo.y() = mulsign_neg(wo.y(), sy);
-  }
-  const Vec3 m = (wi + wo).normalized();
-  const double theta_i = elevation(wi), phi_i = std::atan2(wi.y(), wi.x());
-  const double theta_m = elevation(m), phi_m = std::atan2(m.y(), m.x());
-  const double u_wi[2] = {theta_to_unit(theta_i), phi_to_unit(phi_i)};
-  double u_m[2] = {theta_to_unit(theta_m), phi_to_unit(isotropic_ ? phi_m - phi_i : phi_m)};
-  u_m[1] -= std::floor(u_m[1]);
-
-  const ParamBlend blend = blend_params(phi_i_, phi_i, theta_i_, theta_i);
+  const HalfVectorFrame f = half_vector_frame(wi_in, wo_in, reduction_, isotropic_);
+  const double(&u_m)[2] = f.u_m;
+  const double u_wi[2] = {theta_to_unit(f.theta_i), phi_to_unit(f.phi_i)};
+  const ParamBlend blend = blend_params(phi_i_, f.phi_i, theta_i_, f.theta_i);
   const auto sample = vndf_.invert(u_m[0], u_m[1], blend);
   Rgb value;
   for (int c = 0; c < 3; ++c) {
@@ -287,27 +315,16 @@ RglBsdf::Sample RglBsdf::sample(const Vec3& wi_in, double u1, double u2) const {
 
 double RglBsdf::pdf(const Vec3& wi_in, const Vec3& wo_in) const {
   if (!(wi_in.z() > 0.0) || !(wo_in.z() > 0.0) || !wi_in.allFinite() || !wo_in.allFinite()) return 0.0;
-  Vec3 wi = wi_in.normalized(), wo = wo_in.normalized();
-  if (reduction_ >= 2) {
-    const double sy = wi.y(), sx = reduction_ == 4 ? wi.x() : sy;
-    wi.x() = mulsign_neg(wi.x(), sx);
-    wi.y() = mulsign_neg(wi.y(), sy);
-    wo.x() = mulsign_neg(wo.x(), sx);
-    wo.y() = mulsign_neg(wo.y(), sy);
-  }
-  const Vec3 m = (wi + wo).normalized();
-  const double theta_i = elevation(wi), phi_i = std::atan2(wi.y(), wi.x());
-  const double theta_m = elevation(m), phi_m = std::atan2(m.y(), m.x());
-  double u_m[2] = {theta_to_unit(theta_m), phi_to_unit(isotropic_ ? phi_m - phi_i : phi_m)};
-  u_m[1] -= std::floor(u_m[1]);
-  const ParamBlend blend = blend_params(phi_i_, phi_i, theta_i_, theta_i);
+  const HalfVectorFrame f = half_vector_frame(wi_in, wo_in, reduction_, isotropic_);
+  const double(&u_m)[2] = f.u_m;
+  const ParamBlend blend = blend_params(phi_i_, f.phi_i, theta_i_, f.theta_i);
   const double vndf_pdf = vndf_.eval(u_m[0], u_m[1], blend);
   double lum_pdf = 1.0;
   if (has_luminance_) {
     const auto s = vndf_.invert(u_m[0], u_m[1], blend);
     lum_pdf = luminance_.eval(s[0], s[1], blend);
   }
-  return vndf_pdf * lum_pdf / rgl_sampling_jacobian(u_m[0], std::sin(theta_m), wi.dot(m));
+  return vndf_pdf * lum_pdf / rgl_sampling_jacobian(u_m[0], std::sin(elevation(f.m)), f.wi.dot(f.m));
 }
 
 Rgb RglBsdf::eval(const Vec3& wi, const Vec3& wo) const {
@@ -318,17 +335,10 @@ Rgb RglBsdf::eval(const Vec3& wi, const Vec3& wo) const {
 Rgb RglBsdf::eval_reciprocal(const Vec3& wi_in, const Vec3& wo_in) const {
   if (!(wi_in.z() > 0.0) || !(wo_in.z() > 0.0) || !wi_in.allFinite() || !wo_in.allFinite()) return Rgb::Zero();
   const Vec3 wi = wi_in.normalized(), wo = wo_in.normalized();
-  const double ci = wi.z(), co = wo.z();
-  return (co * eval_cosine(wi, wo) + ci * eval_cosine(wo, wi)) / (ci * ci + co * co);
+  return reciprocal_value(eval_cosine(wi, wo), eval_cosine(wo, wi), wi.z(), wo.z());
 }
 
 namespace {
-
-/// The reciprocal value closest, in least squares, to both orders of a measured pair: forward is
-/// f cos(theta_o) for (wi, wo), backward f cos(theta_i) for (wo, wi) (docs/RGL.md).
-Rgb reciprocal_value(const Rgb& forward, const Rgb& backward, double ci, double co) {
-  return (co * forward + ci * backward) / (ci * ci + co * co);
-}
 
 /// Bins that end below this theta_h (0.2 rad, 11.5 deg: the first 32 of MERL's 90) hold the
 /// average of the reciprocal value over their theta_h x theta_d extent, not its value at the

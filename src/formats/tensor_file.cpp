@@ -187,6 +187,18 @@ Header parse_header(std::span<const std::byte> bytes, std::uint64_t file_size, c
   return header;
 }
 
+/// The header's fields with their data, each field's bytes (if any) filled by
+/// fill(destination, size, offset in the file).
+template <class Fill>
+std::vector<TensorField> filled_fields(Header header, Fill&& fill) {
+  for (std::size_t f = 0; f < header.fields.size(); ++f) {
+    TensorField& field = header.fields[f];
+    field.data.resize(field.count() * tensor_type_size(field.dtype));
+    if (!field.data.empty()) fill(field.data.data(), field.data.size(), header.offsets[f]);
+  }
+  return std::move(header.fields);
+}
+
 }  // namespace
 
 TensorFile TensorFile::parse(std::span<const std::byte> bytes, const fs::path& path) {
@@ -198,12 +210,9 @@ TensorFile TensorFile::parse(std::span<const std::byte> bytes, const fs::path& p
   }
   TensorFile file;
   file.path_ = path;
-  file.fields_ = std::move(header.fields);
-  for (std::size_t f = 0; f < file.fields_.size(); ++f) {
-    TensorField& field = file.fields_[f];
-    field.data.resize(field.count() * tensor_type_size(field.dtype));
-    if (!field.data.empty()) std::memcpy(field.data.data(), bytes.data() + header.offsets[f], field.data.size());
-  }
+  file.fields_ = filled_fields(std::move(header), [&](std::byte* data, std::size_t size, std::uint64_t offset) {
+    std::memcpy(data, bytes.data() + offset, size);
+  });
   return file;
 }
 
@@ -232,12 +241,9 @@ TensorFile TensorFile::read(const fs::path& path) {
     prefix = {};
     TensorFile file;
     file.path_ = path;
-    file.fields_ = std::move(header.fields);
-    for (std::size_t f = 0; f < file.fields_.size(); ++f) {
-      TensorField& field = file.fields_[f];
-      field.data.resize(field.count() * tensor_type_size(field.dtype));
-      read_exact_at(fd, path, field.data.data(), field.data.size(), header.offsets[f]);
-    }
+    file.fields_ = filled_fields(std::move(header), [&](std::byte* data, std::size_t size, std::uint64_t offset) {
+      read_exact_at(fd, path, data, size, offset);
+    });
     ::close(fd);
     return file;
   } catch (...) {

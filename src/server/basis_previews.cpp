@@ -104,6 +104,8 @@ struct BasisPreviews::Impl {
   };
   mutable std::map<std::string, RefinedScene> scenes;
   mutable std::uint64_t refine_clock = 0;
+  /// The database's sampling mixture (the bases'), fitted once: half of every refinement's.
+  render::SamplingMixture database_mixture;
   std::thread worker;
 
   Impl(const Model& m, BasisPreviewOptions o) : model(m), options(std::move(o)) {
@@ -126,6 +128,7 @@ struct BasisPreviews::Impl {
         }
       }
     }
+    database_mixture = atlas::model_render_settings(model, settings()).mixture;
     worker = std::thread([this] { work(); });
   }
 
@@ -323,7 +326,7 @@ BasisPreviews::Refined BasisPreviews::refine(const Eigen::VectorXd& w, const std
     settings.render.mixture = atlas::defensive_mixture(
         atlas::fit_sampling_mixture(render::MaterialList({material.get()}),
                                     atlas::SamplingFitOptions::for_sampler(settings.render.sampler)),
-        atlas::model_render_settings(im.model, settings.render).mixture);
+        im.database_mixture);
     settings.target_error = im.options.refine_target_error;
     auto made = std::make_shared<render::ProgressiveRender>(scene, material, settings);
     std::lock_guard lock(im.refine_mutex);
