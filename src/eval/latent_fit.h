@@ -1,7 +1,6 @@
 #pragma once
 // Latent placement and projection for the evaluation, on Gram matrices only: fitting the GP-LVM
 // to (a subset of) the materials and projecting a left-out material onto the fitted map.
-#include <functional>
 #include <memory>
 #include <span>
 #include <vector>
@@ -62,11 +61,5 @@ struct GramProjection {
 /// `starts` subset materials closest to h in that Gram. Deterministic.
 GramProjection project_in_gram(const LatentFit& fit, std::span<const int> subset,
                                const Eigen::MatrixXd& gram, int h, int starts = 3);
-
-/// Minimises f over R^d by Nelder-Mead from x0 with initial simplex size `step`; returns the best
-/// point. Exposed for tests.
-Eigen::VectorXd nelder_mead(const std::function<double(const Eigen::VectorXd&)>& f,
-                            Eigen::VectorXd x0, double step, int max_evaluations,
-                            double tolerance = 1e-10);
 
 }  // namespace matlas::eval

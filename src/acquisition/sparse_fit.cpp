@@ -1,0 +1,229 @@
+#include "acquisition/sparse_fit.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <string>
+
+#include <Eigen/Eigenvalues>
+
+#include "core/check.h"
+#include "core/error.h"
+#include "gp/nelder_mead.h"
+
+namespace matlas::acquisition {
+
+void SampleRows::add(int sample_index, const Eigen::Ref<const Eigen::MatrixXd>& values, const Eigen::Array3d& y,
+                     const Eigen::Array3d& s, double cosine_factor) {
+  MATLAS_CHECK_EQ(values.rows(), Eigen::Index{3});
+  const Eigen::Index r = rows(), n = values.cols();
+  MATLAS_CHECK(r == 0 || inputs.cols() == n, "the rows so far have another number of inputs");
+  inputs.conservativeResize(r + 3, n);
+  measured.conservativeResize(r + 3);
+  sigma.conservativeResize(r + 3);
+  cosine.conservativeResize(r + 3);
+  for (int c = 0; c < 3; ++c) {
+    inputs.row(r + c) = values.row(c);
+    measured(r + c) = y(c);
+    sigma(r + c) = s(c);
+    cosine(r + c) = cosine_factor;
+    sample.push_back(sample_index);
+    channel.push_back(c);
+  }
+}
+
+double transform_value(const LayoutTransform& transform, double f, double c) {
+  double g = f;
+  switch (transform.map) {
+    case LayoutTransform::Map::linear: break;
+    case LayoutTransform::Map::cube_root: g = std::cbrt(f); break;
+    case LayoutTransform::Map::log: g = std::copysign(std::log1p(100.0 * std::abs(f)), f); break;
+  }
+  return transform.cosine_weighted ? g * c : g;
+}
+
+namespace {
+
+/// The Cauchy loss's constant: 95 % efficiency on Gaussian residuals.
+constexpr double kCauchy = 2.385;
+
+double median_of(std::vector<double> v) {
+  if (v.empty()) return 0;
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  if (v.size() % 2) return *mid;
+  return 0.5 * (*mid + *std::max_element(v.begin(), mid));
+}
+
+/// The objective of one fit: transformed measurements and row scales fixed, x varying.
+struct Objective {
+  const MapView& map;
+  const SampleRows& rows;
+  const SparseFitOptions& options;
+  Eigen::VectorXd target;   // t(measured)
+  Eigen::VectorXd scale;    // s per row
+  mutable int evaluations = 0;
+
+  Eigen::VectorXd transformed(const Eigen::VectorXd& predicted) const {
+    Eigen::VectorXd t(predicted.size());
+    for (Eigen::Index r = 0; r < t.size(); ++r) t(r) = transform_value(options.transform, predicted(r), rows.cosine(r));
+    return t;
+  }
+  double loss_of_residual(const Eigen::VectorXd& residual) const {
+    double sum = 0;
+    for (Eigen::Index r = 0; r < residual.size(); ++r) {
+      const double u = residual(r) / scale(r);
+      sum += options.robust ? std::log1p(u * u / (kCauchy * kCauchy)) : u * u;
+    }
+    return sum;
+  }
+  double loss_of_prediction(const Eigen::VectorXd& predicted) const {
+    return loss_of_residual(transformed(predicted) - target);
+  }
+  double operator()(const Eigen::VectorXd& x) const {
+    ++evaluations;
+    return loss_of_prediction(rows.inputs * map.coefficients(x));
+  }
+};
+
+/// Nelder-Mead from the latent points of the inputs that explain the rows best alone, and from
+/// the centroid and `extra` points. Returns the best point.
+Eigen::VectorXd search(const Objective& objective, const std::vector<Eigen::VectorXd>& extra, double step, int starts,
+                       int evaluations) {
+  const Eigen::MatrixXd& X = objective.map.latent;
+  const Eigen::Index n = X.rows();
+  std::vector<double> alone(static_cast<std::size_t>(n));
+  for (Eigen::Index i = 0; i < n; ++i)
+    alone[static_cast<std::size_t>(i)] = objective.loss_of_prediction(objective.rows.inputs.col(i));
+  std::vector<int> order(static_cast<std::size_t>(n));
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return alone[static_cast<std::size_t>(a)] < alone[static_cast<std::size_t>(b)]; });
+  std::vector<Eigen::VectorXd> points = extra;
+  for (int k = 0; k < std::min<int>(starts, static_cast<int>(n)); ++k) points.push_back(X.row(order[static_cast<std::size_t>(k)]).transpose());
+  points.push_back(X.colwise().mean().transpose());
+  Eigen::VectorXd best;
+  double best_loss = std::numeric_limits<double>::infinity();
+  for (const auto& start : points) {
+    const Eigen::VectorXd x = gp::nelder_mead(objective, start, step, evaluations, 1e-9);
+    const double l = objective(x);
+    if (l < best_loss) best_loss = l, best = x;
+  }
+  return best;
+}
+
+}  // namespace
+
+SparseFit fit_rows(const MapView& map, const SampleRows& rows, const SparseFitOptions& options) {
+  const Eigen::Index n = map.latent.rows(), q = map.latent.cols(), R = rows.rows();
+  if (!map.coefficients) throw Error("sparse fit: the map has no coefficient function");
+  if (rows.inputs.rows() != R || rows.inputs.cols() != n || rows.sigma.size() != R || rows.cosine.size() != R)
+    throw Error("sparse fit: the sample rows (" + std::to_string(rows.inputs.rows()) + " x " +
+                std::to_string(rows.inputs.cols()) + ") do not match the map's " + std::to_string(n) + " inputs");
+  const int samples = R == 0 ? 0 : 1 + *std::max_element(rows.sample.begin(), rows.sample.end());
+  int distinct = 0;
+  {
+    std::vector<int> s = rows.sample;
+    std::sort(s.begin(), s.end());
+    distinct = static_cast<int>(std::unique(s.begin(), s.end()) - s.begin());
+  }
+  if (distinct < q + 1)
+    throw Error(std::to_string(distinct) + " measured sample" + (distinct == 1 ? "" : "s") +
+                " cannot place a point on a map of dimension " + std::to_string(q) + ": at least " +
+                std::to_string(q + 1) + " are needed (and 10 or more give a reliable fit)");
+
+  Objective objective{map, rows, options, {}, Eigen::VectorXd::Ones(R)};
+  objective.target = objective.transformed(rows.measured);
+  // Row scales: a given uncertainty carried into the transform's space (half the spread of
+  // t(y +- sigma)), else the robust scale tau, first a guess, then from a first fit's residuals.
+  std::vector<double> magnitudes;
+  for (Eigen::Index r = 0; r < R; ++r) magnitudes.push_back(std::abs(objective.target(r)));
+  const double typical = std::max(median_of(magnitudes), 1e-12);
+  std::vector<bool> known(static_cast<std::size_t>(R));
+  for (Eigen::Index r = 0; r < R; ++r) {
+    const double s = rows.sigma(r), y = rows.measured(r), c = rows.cosine(r);
+    known[static_cast<std::size_t>(r)] = s > 0;
+    if (s > 0)
+      objective.scale(r) = std::max(0.5 * std::abs(transform_value(options.transform, y + s, c) -
+                                                   transform_value(options.transform, y - s, c)),
+                                    1e-9 * typical);
+  }
+  const bool any_unknown = std::find(known.begin(), known.end(), false) != known.end();
+  auto set_tau = [&](double tau) {
+    for (Eigen::Index r = 0; r < R; ++r)
+      if (!known[static_cast<std::size_t>(r)]) objective.scale(r) = tau;
+  };
+
+  double extent = 0;
+  for (Eigen::Index d = 0; d < q; ++d) extent += map.latent.col(d).maxCoeff() - map.latent.col(d).minCoeff();
+  extent = std::max(extent / static_cast<double>(q), 1e-3);
+  const double step = 0.05 * extent;
+  const int evaluations = options.evaluations > 0 ? options.evaluations : 150 * static_cast<int>(q + 1);
+
+  double tau = 0.05 * typical;
+  set_tau(tau);
+  Eigen::VectorXd x = search(objective, {}, step, options.starts, evaluations);
+  if (any_unknown) {
+    const Eigen::VectorXd residual = objective.transformed(rows.inputs * map.coefficients(x)) - objective.target;
+    std::vector<double> absolute;
+    for (Eigen::Index r = 0; r < R; ++r)
+      if (!known[static_cast<std::size_t>(r)]) absolute.push_back(std::abs(residual(r)));
+    tau = std::max({1.4826 * median_of(absolute), 1e-3 * typical, 1e-12});
+    set_tau(tau);
+    x = search(objective, {x}, step, options.starts, evaluations);
+  }
+
+  SparseFit fit;
+  fit.x = x;
+  fit.coefficients = map.coefficients(x);
+  fit.predicted = rows.inputs * fit.coefficients;
+  fit.residual = objective.transformed(fit.predicted) - objective.target;
+  fit.loss = objective.loss_of_residual(fit.residual);
+  fit.scale = any_unknown ? tau : 0;
+  fit.variance = map.variance ? map.variance(x) : 0;
+  fit.weight.resize(R);
+  for (Eigen::Index r = 0; r < R; ++r) {
+    const double u = fit.residual(r) / objective.scale(r);
+    fit.weight(r) = options.robust ? 1.0 / (1.0 + u * u / (kCauchy * kCauchy)) : 1.0;
+  }
+  fit.input_loss.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) fit.input_loss(i) = objective.loss_of_prediction(rows.inputs.col(i));
+  fit.input_loss.minCoeff(&fit.best_input);
+  // Outliers: samples all of whose rows weigh less than 0.1.
+  std::vector<double> heaviest(static_cast<std::size_t>(samples), 0.0);
+  for (Eigen::Index r = 0; r < R; ++r) {
+    auto& h = heaviest[static_cast<std::size_t>(rows.sample[static_cast<std::size_t>(r)])];
+    h = std::max(h, fit.weight(r));
+  }
+  for (int s = 0; s < samples; ++s)
+    if (std::count(rows.sample.begin(), rows.sample.end(), s) > 0 && heaviest[static_cast<std::size_t>(s)] < 0.1)
+      fit.outliers.push_back(s);
+
+  // Covariance of x: Gauss-Newton on the weighted, scaled residuals (central differences),
+  // times their spread; directions the samples do not constrain get a large variance.
+  const double h = 1e-4 * extent;
+  Eigen::MatrixXd J(R, q);
+  for (Eigen::Index d = 0; d < q; ++d) {
+    Eigen::VectorXd a = x, b = x;
+    a(d) += h;
+    b(d) -= h;
+    J.col(d) = (objective.transformed(rows.inputs * map.coefficients(a)) -
+                objective.transformed(rows.inputs * map.coefficients(b))) / (2 * h);
+  }
+  for (Eigen::Index r = 0; r < R; ++r) J.row(r) *= std::sqrt(fit.weight(r)) / objective.scale(r);
+  double spread = 0;
+  for (Eigen::Index r = 0; r < R; ++r) {
+    const double u = fit.residual(r) / objective.scale(r);
+    spread += fit.weight(r) * u * u;
+  }
+  spread /= static_cast<double>(std::max<Eigen::Index>(R - q, 1));
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(J.transpose() * J);
+  const Eigen::VectorXd lambda = eigen.eigenvalues();
+  const double floor = std::max(lambda.maxCoeff(), 1e-300) * 1e-12;
+  const Eigen::VectorXd inverse = lambda.unaryExpr([&](double l) { return 1.0 / std::max(l, floor); });
+  fit.latent_covariance = spread * eigen.eigenvectors() * inverse.asDiagonal() * eigen.eigenvectors().transpose();
+  fit.evaluations = objective.evaluations;
+  return fit;
+}
+
+}  // namespace matlas::acquisition
