@@ -55,6 +55,7 @@ MapView model_map(const Model& model) {
   map.latent = model.latent();
   map.coefficients = [&model](const Eigen::VectorXd& x) { return gp::affine_coefficients(model.weights(x)); };
   map.variance = [&model](const Eigen::VectorXd& x) { return model.variance(x); };
+  map.metric = model.convex_metric();
   return map;
 }
 
@@ -66,7 +67,9 @@ ModelFit fit_samples(const Model& model, const std::vector<MeasuredSample>& samp
   ModelFit out;
   const SampleRows rows = model_rows(model, measured, &out.unusable);
   out.fit = fit_rows(model_map(model), rows, options);
-  out.weights = model.weights(out.fit.x);
+  // A combination's raw coefficients sum to 1: as the model's weights they give the same table in
+  // either mode (m = (1 - sum w) mean + sum w_i z_i).
+  out.weights = out.fit.combined ? out.fit.coefficients : model.weights(out.fit.x);
   // Report samples by their own indices in `samples`, not the measured subset's.
   std::vector<int> index;
   for (std::size_t s = 0; s < samples.size(); ++s)

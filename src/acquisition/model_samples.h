@@ -29,7 +29,9 @@ MapView model_map(const Model& model);
 /// What a fit of a model answers, beside SparseFit: the weights and table of the point.
 struct ModelFit {
   SparseFit fit;
-  Eigen::VectorXd weights;           ///< the model's weights at fit.x (Model::weights)
+  /// The model's weights of the answer (Model::table of them is the fitted table): Model::weights
+  /// at fit.x, or the combination's coefficients when the combination stage was chosen.
+  Eigen::VectorXd weights;
   std::vector<std::string> unusable; ///< samples without rows (see model_rows)
 };
 /// Fits measured samples (the unmeasured ones are ignored) on the model. Throws matlas::Error

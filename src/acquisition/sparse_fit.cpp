@@ -6,10 +6,12 @@
 #include <numeric>
 #include <string>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
 #include "core/check.h"
 #include "core/error.h"
+#include "gp/convex_weights.h"
 #include "gp/nelder_mead.h"
 
 namespace matlas::acquisition {
@@ -85,6 +87,107 @@ struct Objective {
     ++evaluations;
     return loss_of_prediction(rows.inputs * map.coefficients(x));
   }
+  /// The loss of the rows where `mask` is set.
+  double loss_on(const Eigen::VectorXd& predicted, const std::vector<bool>& mask) const {
+    double sum = 0;
+    for (Eigen::Index r = 0; r < predicted.size(); ++r) {
+      if (!mask[static_cast<std::size_t>(r)]) continue;
+      const double u = (transform_value(options.transform, predicted(r), rows.cosine(r)) - target(r)) / scale(r);
+      sum += options.robust ? std::log1p(u * u / (kCauchy * kCauchy)) : u * u;
+    }
+    return sum;
+  }
+  /// dt/df at f for row r (cube root: bounded near 0 by `floor`).
+  double slope(double f, Eigen::Index r, double floor) const {
+    const double c = options.transform.cosine_weighted ? rows.cosine(r) : 1.0;
+    switch (options.transform.map) {
+      case LayoutTransform::Map::linear: return c;
+      case LayoutTransform::Map::cube_root: {
+        const double a = std::max(std::abs(f), floor);
+        return c / (3.0 * std::cbrt(a * a));
+      }
+      case LayoutTransform::Map::log: return c * 100.0 / (1.0 + 100.0 * std::abs(f));
+    }
+    return c;
+  }
+};
+
+/// The combination stage on the rows in `mask`: Gauss-Newton with the loss's weights on
+/// loss(c) + lambda (c - anchor)^T A (c - anchor) over the simplex, from `anchor`.
+struct CombinationFit {
+  const Objective& objective;
+  const Eigen::MatrixXd& A;
+  double floor;  // of the cube root's slope
+
+  double total(const Eigen::VectorXd& c, const Eigen::VectorXd& anchor, double lambda, const std::vector<bool>& mask) const {
+    const Eigen::VectorXd d = c - anchor;
+    return objective.loss_on(objective.rows.inputs * c, mask) + lambda * d.dot(A * d);
+  }
+  /// The Gauss-Newton curvature of the loss at c over the rows in mask (n x n), and the matching
+  /// right-hand side for the step's quadratic programme.
+  void linearise(const Eigen::VectorXd& c, const std::vector<bool>& mask, Eigen::MatrixXd& H, Eigen::VectorXd& rhs) const {
+    const SampleRows& rows = objective.rows;
+    const Eigen::VectorXd predicted = rows.inputs * c;
+    const Eigen::Index n = c.size();
+    Eigen::MatrixXd J(rows.rows(), n);
+    Eigen::VectorXd b(rows.rows()), omega(rows.rows());
+    for (Eigen::Index r = 0; r < rows.rows(); ++r) {
+      if (!mask[static_cast<std::size_t>(r)]) {
+        J.row(r).setZero();
+        b(r) = 0;
+        omega(r) = 0;
+        continue;
+      }
+      const double s = objective.scale(r);
+      const double u = (transform_value(objective.options.transform, predicted(r), rows.cosine(r)) - objective.target(r)) / s;
+      J.row(r) = rows.inputs.row(r) * (objective.slope(predicted(r), r, floor) / s);
+      b(r) = J.row(r).dot(c) - u;  // u(c') ~ J c' - b
+      // Cauchy: the IRLS weight of log(1 + u^2 / k^2) is 1 / (k^2 + u^2); least squares: 1.
+      omega(r) = objective.options.robust ? 1.0 / (kCauchy * kCauchy + u * u) : 1.0;
+    }
+    H = J.transpose() * omega.asDiagonal() * J;
+    rhs = J.transpose() * omega.cwiseProduct(b);
+  }
+  Eigen::VectorXd solve(const Eigen::VectorXd& anchor, double lambda, const std::vector<bool>& mask, int iterations = 10) const {
+    Eigen::VectorXd c = anchor;
+    double value = total(c, anchor, lambda, mask);
+    const Eigen::Index n = c.size();
+    for (int it = 0; it < iterations; ++it) {
+      Eigen::MatrixXd H;
+      Eigen::VectorXd rhs;
+      linearise(c, mask, H, rhs);
+      H += lambda * A;
+      rhs += lambda * (A * anchor);
+      // The minimiser of the step's quadratic on the plane sum c = 1, then its projection onto
+      // the simplex in H's metric (the same minimiser over the simplex).
+      const Eigen::LDLT<Eigen::MatrixXd> ldlt(H);
+      const Eigen::VectorXd g = ldlt.solve(rhs), h1 = ldlt.solve(Eigen::VectorXd::Ones(n));
+      const Eigen::VectorXd on_plane = g + h1 * ((1.0 - g.sum()) / h1.sum());
+      if (!on_plane.allFinite()) break;
+      const Eigen::VectorXd proposal = gp::ConvexProjection(H, 1e-12).project(on_plane);
+      double step = 1;
+      bool moved = false;
+      for (int k = 0; k < 6; ++k, step *= 0.5) {
+        const Eigen::VectorXd next = c + step * (proposal - c);
+        const double v = total(next, anchor, lambda, mask);
+        if (v < value) {
+          moved = (next - c).lpNorm<1>() > 1e-9;
+          c = next;
+          value = v;
+          break;
+        }
+      }
+      if (!moved) break;
+    }
+    return c;
+  }
+  /// lambda for a relative strength gamma: gamma times the loss's curvature over A's, at c.
+  double lambda_of(double gamma, const Eigen::VectorXd& c, const std::vector<bool>& mask) const {
+    Eigen::MatrixXd H;
+    Eigen::VectorXd rhs;
+    linearise(c, mask, H, rhs);
+    return gamma * H.trace() / std::max(A.trace(), 1e-300);
+  }
 };
 
 /// Nelder-Mead from the latent points of the inputs that explain the rows best alone, and from
@@ -110,6 +213,47 @@ Eigen::VectorXd search(const Objective& objective, const std::vector<Eigen::Vect
     if (l < best_loss) best_loss = l, best = x;
   }
   return best;
+}
+
+/// The combination stage's choice: 5-fold cross-validation over the samples of the strengths
+/// gamma in {0.01, 0.1, 1, 10} and infinity (the map point, refitted per fold from x by one local
+/// search), then the winner on all samples.
+void choose_combination(const Objective& objective, const MapView& map, const Eigen::VectorXd& x, double step,
+                        int evaluations, double typical, int distinct, SparseFit& fit) {
+  const SampleRows& rows = objective.rows;
+  const Eigen::Index R = rows.rows();
+  // Folds by sample: the samples' distinct ids in order, dealt round-robin.
+  std::vector<int> ids = rows.sample;
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  const int folds = std::min(5, distinct);
+  auto fold_of = [&](Eigen::Index r) {
+    return static_cast<int>(std::lower_bound(ids.begin(), ids.end(), rows.sample[static_cast<std::size_t>(r)]) - ids.begin()) % folds;
+  };
+  // The cube root's slope is bounded where a value is below 1e-3 of the typical magnitude
+  // (in physical units: the typical transformed value undone roughly).
+  const double floor = 1e-9 + 1e-3 * std::pow(typical, 3.0);
+  const CombinationFit stage{objective, map.metric, floor};
+  const std::vector<double> gammas{0.01, 0.1, 1, 10};
+  std::vector<double> held_out(gammas.size() + 1, 0.0);  // the last: the map point
+  for (int f = 0; f < folds; ++f) {
+    std::vector<bool> train(static_cast<std::size_t>(R)), test(static_cast<std::size_t>(R));
+    for (Eigen::Index r = 0; r < R; ++r) (fold_of(r) == f ? test : train)[static_cast<std::size_t>(r)] = true;
+    auto train_loss = [&](const Eigen::VectorXd& p) { return objective.loss_on(rows.inputs * map.coefficients(p), train); };
+    const Eigen::VectorXd xf = gp::nelder_mead(train_loss, x, step, evaluations, 1e-9);
+    const Eigen::VectorXd anchor = map.coefficients(xf);
+    held_out.back() += objective.loss_on(rows.inputs * anchor, test);
+    for (std::size_t g = 0; g < gammas.size(); ++g) {
+      const Eigen::VectorXd c = stage.solve(anchor, stage.lambda_of(gammas[g], anchor, train), train);
+      held_out[g] += objective.loss_on(rows.inputs * c, test);
+    }
+  }
+  const auto best = static_cast<std::size_t>(std::min_element(held_out.begin(), held_out.end()) - held_out.begin());
+  if (best == gammas.size()) return;  // the map point predicts held-out samples best
+  const std::vector<bool> all(static_cast<std::size_t>(R), true);
+  fit.coefficients = stage.solve(fit.map_coefficients, stage.lambda_of(gammas[best], fit.map_coefficients, all), all);
+  fit.combination_strength = gammas[best];
+  fit.combined = true;
 }
 
 }  // namespace
@@ -160,9 +304,12 @@ SparseFit fit_rows(const MapView& map, const SampleRows& rows, const SparseFitOp
   const double step = 0.05 * extent;
   const int evaluations = options.evaluations > 0 ? options.evaluations : 150 * static_cast<int>(q + 1);
 
+  // A coarse search from every start, then (with the robust scale found) a fine one from where
+  // it ended.
   double tau = 0.05 * typical;
   set_tau(tau);
-  Eigen::VectorXd x = search(objective, {}, step, options.starts, evaluations);
+  Eigen::VectorXd x = search(objective, {}, step, options.starts, evaluations / 3);
+  x = gp::nelder_mead(objective, x, step, evaluations, 1e-9);
   if (any_unknown) {
     const Eigen::VectorXd residual = objective.transformed(rows.inputs * map.coefficients(x)) - objective.target;
     std::vector<double> absolute;
@@ -170,12 +317,16 @@ SparseFit fit_rows(const MapView& map, const SampleRows& rows, const SparseFitOp
       if (!known[static_cast<std::size_t>(r)]) absolute.push_back(std::abs(residual(r)));
     tau = std::max({1.4826 * median_of(absolute), 1e-3 * typical, 1e-12});
     set_tau(tau);
-    x = search(objective, {x}, step, options.starts, evaluations);
+    x = gp::nelder_mead(objective, x, step, evaluations, 1e-9);
   }
 
   SparseFit fit;
   fit.x = x;
-  fit.coefficients = map.coefficients(x);
+  fit.map_coefficients = map.coefficients(x);
+  fit.coefficients = fit.map_coefficients;
+  fit.combination_strength = std::numeric_limits<double>::infinity();
+  if (options.combination && map.metric.rows() == n && distinct >= 4)
+    choose_combination(objective, map, x, step, evaluations, typical, distinct, fit);
   fit.predicted = rows.inputs * fit.coefficients;
   fit.residual = objective.transformed(fit.predicted) - objective.target;
   fit.loss = objective.loss_of_residual(fit.residual);

@@ -18,6 +18,16 @@
 // Nelder-Mead (gp/nelder_mead.h: the weights have kinks in the convex mode) from the latent
 // points of the best inputs and the centroid. Cost: one evaluation is w(x) (O(n^2)) plus a
 // (3K x n) product.
+//
+// Then, when the map has a metric, the combination stage: a material off the map is better
+// explained by a convex combination c of all inputs than by the map's point, and samples can say
+// so once there are enough of them. It minimises
+//     loss(c) + lambda (c - c_x)^T A (c - c_x)   over c >= 0, sum c = 1,
+// (c_x the map point's coefficients, A the map's metric: the data-space distance of the two
+// tables) by Gauss-Newton with the loss's weights (each step a quadratic programme on the
+// simplex, gp/convex_weights.h, then a backtracking line search on the true objective). lambda
+// is chosen by 5-fold cross-validation over the samples from a grid that includes infinity (the
+// map point itself): the combination is used only where held-out samples are predicted better.
 #include <functional>
 #include <vector>
 
@@ -49,6 +59,9 @@ struct MapView {
   std::function<Eigen::VectorXd(const Eigen::VectorXd&)> coefficients;
   /// The GP predictive variance at x (0 at the data, towards 1 far from it); may be empty.
   std::function<double(const Eigen::VectorXd&)> variance;
+  /// n x n metric of the combination stage (the data's Gram over its mean diagonal plus a ridge,
+  /// gp::ConvexProjection::metric); empty: no combination stage.
+  Eigen::MatrixXd metric;
 };
 
 struct SparseFitOptions {
@@ -57,11 +70,19 @@ struct SparseFitOptions {
   bool robust = true;        ///< Cauchy loss (false: least squares)
   int starts = 5;            ///< inputs whose latent points start a search (plus the centroid)
   int evaluations = 0;       ///< per start; 0 = 150 (q + 1)
+  bool combination = true;   ///< the combination stage (when the map has a metric)
 };
 
 struct SparseFit {
   Eigen::VectorXd x;             ///< the latent point
-  Eigen::VectorXd coefficients;  ///< raw coefficients of m(x) over the inputs (sum 1)
+  /// Raw coefficients of the answer over the inputs (sum 1): the map point's, or the combination
+  /// stage's when it was chosen.
+  Eigen::VectorXd coefficients;
+  Eigen::VectorXd map_coefficients;  ///< the map point's raw coefficients
+  /// The combination stage's strength lambda relative to the loss's curvature (infinity: the map
+  /// point was kept), and the held-out loss per sample of the choice.
+  double combination_strength = 0;
+  bool combined = false;
   Eigen::VectorXd predicted;     ///< R: m(x) at the rows (1/sr)
   Eigen::VectorXd residual;      ///< R: t(predicted) - t(measured), in the transform's space
   Eigen::VectorXd weight;        ///< R: the loss's weight of each row (1: inlier, towards 0: outlier)

@@ -2,6 +2,7 @@
 // (exact interpolation, reciprocity, albedo linearity, plausibility over the map, perceptual
 // distance along latent paths, leave-one-out against PCA and the nearest material, layout
 // transforms) and writes an HTML report with the data as CSV/JSON (docs/EVALUATION.md).
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -9,8 +10,11 @@
 #include <unistd.h>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "cli/commands.h"
 #include "cli/print.h"
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/file_io.h"
 #include "core/progress.h"
@@ -18,6 +22,7 @@
 #include "eval/manifold_quality.h"
 #include "eval/model_checks.h"
 #include "eval/report.h"
+#include "eval/sparse_study.h"
 #include "manifold/build.h"
 #include "manifold/model_metadata.h"
 
@@ -39,6 +44,9 @@ struct EvaluateArgs {
   int map_resolution = 32;
   int model_dim = 2;
   bool skip_study = false;
+  bool sparse = false;
+  std::vector<int> sparse_counts{5, 10, 20, 40, 80};
+  int candidates = 1500;
   bool skip_checks = false;
   std::string interpolation = "convex";
   bool quiet = false;
@@ -100,6 +108,44 @@ void print_summary(const eval::StudyResult* study, const eval::ModelChecks* chec
   }
 }
 
+/// `evaluate --sparse`: the leave-one-out study of sparse reconstruction only.
+void run_sparse_evaluation(const EvaluateArgs& a, const MaterialSet& set, TerminalProgress& progress, const Io& io) {
+  eval::SparseStudyOptions so;
+  so.counts = a.sparse_counts;
+  so.dim = a.model_dim;
+  so.materials = a.materials;
+  so.candidates = a.candidates;
+  if (!a.layouts.empty()) so.layout = LayoutTransform::parse(a.layouts.front());
+  if (interpolation_from_string(a.interpolation) == Interpolation::gp) so.fit.convex_ridge = 0;
+  if (!a.quiet)
+    print(io.err, "sparse reconstruction: %zu materials, each left out in turn (q = %d, %s)\n", set.size(), so.dim,
+          so.layout.to_string().c_str());
+  const eval::SparseStudy study = eval::run_sparse_study(set, so, progress);
+  const fs::path out = a.output;
+  std::error_code ec;
+  fs::create_directories(out, ec);
+  if (ec) throw file_error(out, "cannot create the report folder: " + ec.message());
+  nlohmann::json j = eval::sparse_study_json(study);
+  j["command"] = a.command_line;
+  write_file_atomic(out / "sparse.json", j.dump(1));
+  std::string csv = "method,count,mean,median,ridge\n";
+  for (const auto& r : study.results)
+    csv += r.method + "," + std::to_string(r.count) + "," + std::to_string(r.mean) + "," + std::to_string(r.median) + "," +
+           (r.method.rfind("pca", 0) == 0 ? std::to_string(r.ridge) : std::string()) + "\n";
+  write_file_atomic(out / "sparse.csv", csv);
+  print(io.out, "wrote %s\n  cube-root distance to the left-out table (mean over %zu materials, maps of %d inputs, q = %d)\n",
+        (out / "sparse.json").string().c_str(), study.materials.size(), study.inputs, study.dim);
+  print(io.out, "  %5s %15s %15s %15s %15s\n", "K", "matlas-planned", "matlas-random", "pca-condition", "pca-random");
+  for (int c : a.sparse_counts)
+    print(io.out, "  %5d %15.4f %15.4f %15.4f %15.4f\n", c, study.find("matlas-planned", c).mean,
+          study.find("matlas-random", c).mean, study.find("pca-condition", c).mean, study.find("pca-random", c).mean);
+  print(io.out, "  nearest other material (reference): %.4f\n", study.nearest_input);
+  print(io.out, "  robustness at K = %d: clean %.4f, %d%% of samples x10: %.4f (robust), %.4f (least squares)\n",
+        study.robustness_count, study.clean, 10, study.corrupted, study.corrupted_least_squares);
+  print(io.out, "  one fit at K = %d: %.3f s; the study: %.0f s\n", *std::max_element(a.sparse_counts.begin(), a.sparse_counts.end()),
+        study.fit_seconds, study.seconds);
+}
+
 void run_evaluate(const EvaluateArgs& a, const Io& io) {
   TerminalProgress progress(!a.quiet);
   const fs::path input = a.input, out = a.output;
@@ -132,6 +178,12 @@ void run_evaluate(const EvaluateArgs& a, const Io& io) {
     const std::vector<fs::path> sources = model_sources(*model);
     if (!sources.empty()) set = std::make_unique<MaterialSet>(MaterialSet::open(sources));
     else notes = "The model's source files are not available: only the checks of the model itself were run.";
+  }
+
+  if (a.sparse) {
+    if (!set) throw file_error(input, "--sparse needs the database: a folder, or a model whose source files are present");
+    run_sparse_evaluation(a, *set, progress, io);
+    return;
   }
 
   std::unique_ptr<eval::StudyResult> study;
@@ -203,6 +255,15 @@ void add_evaluate_command(CLI::App& app, const Io& io) {
                   "convex (default) or gp")
       ->capture_default_str();
   cmd->add_flag("--no-study", args->skip_study, "Skip items 5-7 (paths, leave-one-out, layouts)");
+  cmd->add_flag("--sparse", args->sparse,
+                "Only the sparse-reconstruction study (docs/ACQUISITION.md): each material left out, K samples at "
+                "planned and random directions fitted on the map without it, against PCA (Nielsen et al. 2015); "
+                "writes sparse.json and sparse.csv. Uses --materials, --model-dim (q), --interpolation and the first "
+                "of --layouts");
+  cmd->add_option("--sparse-counts", args->sparse_counts, "--sparse: sample counts K")
+      ->delimiter(',')->check(CLI::Range(1, 1000))->capture_default_str();
+  cmd->add_option("--candidates", args->candidates, "--sparse: candidate directions (a random subset of the plan's lattice)")
+      ->check(CLI::Range(10, 100000))->capture_default_str();
   cmd->add_flag("--no-checks", args->skip_checks, "Skip items 1-4 (checks of a model)");
   cmd->add_flag("--quiet", args->quiet, "No progress output");
   cmd->callback([io, args, cmd] {

@@ -70,13 +70,42 @@ TEST(SparseFit, AMaterialOffTheMapIsBoundedByItsProjection) {
     SparseFitOptions linear;
     linear.transform = LayoutTransform{};
     linear.robust = false;
+    linear.combination = false;  // the map point alone (a combination of inputs can do better)
     const double dense = test::acquisition_error(m.table(fit_samples(m, every_bin(truth), linear).weights), truth, m);
     EXPECT_GE(dense, p.relative_error * (1 - 1e-6));
     EXPECT_LT(dense, 1.1 * p.relative_error + 1e-5) << a << "," << b << " projection " << p.relative_error;
-    const double sparse = test::acquisition_error(m.table(fit_samples(m, test::sample_table(truth, 40, 7), {}).weights), truth, m);
+    SparseFitOptions map_only;
+    map_only.combination = false;
+    const double sparse = test::acquisition_error(m.table(fit_samples(m, test::sample_table(truth, 40, 7), map_only).weights), truth, m);
     EXPECT_GE(sparse, p.relative_error * (1 - 1e-6));
     EXPECT_LT(sparse, 4 * p.relative_error + 1e-3) << a << "," << b << " projection " << p.relative_error;
   }
+}
+
+TEST(SparseFit, ACombinationOfInputsIsChosenWhereHeldOutSamplesSayItPredictsBetter) {
+  const Model& m = *AcquisitionModel::get().model;
+  // Half of input 1 and half of input 10: off the q = 2 map, inside the inputs' hull.
+  const BrdfTable a = read_merl(AcquisitionModel::get().paths[1]), b = read_merl(AcquisitionModel::get().paths[10]);
+  BrdfTable truth = a;
+  for (std::size_t v = 0; v < truth.size(); ++v) {
+    const int c = static_cast<int>(v / truth.bins());
+    truth.set_value(c, v % truth.bins(), 0.5 * (a.value(c, v % truth.bins()) + b.value(c, v % truth.bins())));
+  }
+  const auto samples = test::sample_table(truth, 60, 4);
+  SparseFitOptions map_only;
+  map_only.combination = false;
+  const ModelFit on_map = fit_samples(m, samples, map_only);
+  const ModelFit combined = fit_samples(m, samples, {});
+  ASSERT_TRUE(combined.fit.combined);
+  EXPECT_TRUE(std::isfinite(combined.fit.combination_strength));
+  EXPECT_GE(combined.fit.coefficients.minCoeff(), -1e-12);  // convex
+  EXPECT_NEAR(combined.fit.coefficients.sum(), 1, 1e-9);
+  const double e_map = test::acquisition_error(m.table(on_map.weights), truth, m);
+  const double e_combined = test::acquisition_error(m.table(combined.weights), truth, m);
+  EXPECT_LT(e_combined, 0.5 * e_map) << e_map;
+  // Samples of an input itself: the map point (exact) predicts as well as anything.
+  const ModelFit input = fit_samples(m, test::sample_table(a, 30, 2), {});
+  EXPECT_LT(test::acquisition_error(m.table(input.weights), a, m), 1e-3);
 }
 
 TEST(SparseFit, TenPercentOfSamplesCorruptedTenfoldBarelyMoveTheFit) {
