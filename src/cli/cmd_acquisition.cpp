@@ -111,6 +111,8 @@ void run_fit_samples(const FitArgs& a, const Io& io) {
                  {"loss", options.robust ? "cauchy" : "least-squares"},
                  {"scale", fit.scale},
                  {"best_input", model.names()[static_cast<std::size_t>(fit.best_input)]},
+                 {"combined", fit.combined},
+                 {"combination_strength", fit.combined ? json(fit.combination_strength) : json(nullptr)},
                  {"weights", weights},
                  {"samples", samples},
                  {"outlier_lines", outlier_lines},
@@ -140,6 +142,11 @@ void run_fit_samples(const FitArgs& a, const Io& io) {
                 "  best single input %s\n  largest residual  %.4g (%s space)\n",
         x.c_str(), s.c_str(), fit.variance, model.names()[static_cast<std::size_t>(fit.best_input)].c_str(), worst,
         options.transform.to_string().c_str());
+  if (fit.combined)
+    print(io.out, "  table             a convex combination of %zu inputs near the point (held-out samples preferred it "
+                  "to the map point; strength %g)\n", weights.size(), fit.combination_strength);
+  else
+    print(io.out, "  table             the map point's (held-out samples preferred it to a free combination)\n");
   if (!outlier_lines.empty()) {
     std::string lines;
     for (int l : outlier_lines) lines += (lines.empty() ? "" : ", ") + where(file, l);
@@ -150,7 +157,7 @@ void run_fit_samples(const FitArgs& a, const Io& io) {
   if (static_cast<int>(measured.size()) < 2 * model.dim() + 4)
     print(io.out, "  note: %zu samples pin a point of a %d-dimensional map down loosely; 10 or more are better\n",
           measured.size(), model.dim());
-  if (!a.output.empty()) print(io.out, "  table             %s\n", a.output.c_str());
+  if (!a.output.empty()) print(io.out, "  written           %s\n", a.output.c_str());
 }
 
 // ---- sample-plan
