@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <numeric>
 #include <string>
@@ -148,7 +149,7 @@ struct CombinationFit {
     H = J.transpose() * omega.asDiagonal() * J;
     rhs = J.transpose() * omega.cwiseProduct(b);
   }
-  Eigen::VectorXd solve(const Eigen::VectorXd& anchor, double lambda, const std::vector<bool>& mask, int iterations = 10) const {
+  Eigen::VectorXd solve(const Eigen::VectorXd& anchor, double lambda, const std::vector<bool>& mask, int iterations = 6) const {
     Eigen::VectorXd c = anchor;
     double value = total(c, anchor, lambda, mask);
     const Eigen::Index n = c.size();
@@ -208,15 +209,15 @@ Eigen::VectorXd search(const Objective& objective, const std::vector<Eigen::Vect
   Eigen::VectorXd best;
   double best_loss = std::numeric_limits<double>::infinity();
   for (const auto& start : points) {
-    const Eigen::VectorXd x = gp::nelder_mead(objective, start, step, evaluations, 1e-9);
+    const Eigen::VectorXd x = gp::nelder_mead(std::cref(objective), start, step, evaluations, 1e-9);
     const double l = objective(x);
     if (l < best_loss) best_loss = l, best = x;
   }
   return best;
 }
 
-/// The combination stage's choice: 5-fold cross-validation over the samples of the strengths
-/// gamma in {0.01, 0.1, 1, 10} and infinity (the map point, refitted per fold from x by one local
+/// The combination stage's choice: 4-fold cross-validation over the samples of the strengths
+/// gamma in {0.01, 0.1, 1} and infinity (the map point, refitted per fold from x by one local
 /// search), then the winner on all samples.
 void choose_combination(const Objective& objective, const MapView& map, const Eigen::VectorXd& x, double step,
                         int evaluations, double typical, int distinct, SparseFit& fit) {
@@ -226,7 +227,7 @@ void choose_combination(const Objective& objective, const MapView& map, const Ei
   std::vector<int> ids = rows.sample;
   std::sort(ids.begin(), ids.end());
   ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
-  const int folds = std::min(5, distinct);
+  const int folds = std::min(4, distinct);
   auto fold_of = [&](Eigen::Index r) {
     return static_cast<int>(std::lower_bound(ids.begin(), ids.end(), rows.sample[static_cast<std::size_t>(r)]) - ids.begin()) % folds;
   };
@@ -234,13 +235,13 @@ void choose_combination(const Objective& objective, const MapView& map, const Ei
   // (in physical units: the typical transformed value undone roughly).
   const double floor = 1e-9 + 1e-3 * std::pow(typical, 3.0);
   const CombinationFit stage{objective, map.metric, floor};
-  const std::vector<double> gammas{0.01, 0.1, 1, 10};
+  const std::vector<double> gammas{0.01, 0.1, 1};
   std::vector<double> held_out(gammas.size() + 1, 0.0);  // the last: the map point
   for (int f = 0; f < folds; ++f) {
     std::vector<bool> train(static_cast<std::size_t>(R)), test(static_cast<std::size_t>(R));
     for (Eigen::Index r = 0; r < R; ++r) (fold_of(r) == f ? test : train)[static_cast<std::size_t>(r)] = true;
     auto train_loss = [&](const Eigen::VectorXd& p) { return objective.loss_on(rows.inputs * map.coefficients(p), train); };
-    const Eigen::VectorXd xf = gp::nelder_mead(train_loss, x, step, evaluations, 1e-9);
+    const Eigen::VectorXd xf = gp::nelder_mead(train_loss, x, step, evaluations / 3, 1e-9);
     const Eigen::VectorXd anchor = map.coefficients(xf);
     held_out.back() += objective.loss_on(rows.inputs * anchor, test);
     for (std::size_t g = 0; g < gammas.size(); ++g) {
@@ -309,7 +310,7 @@ SparseFit fit_rows(const MapView& map, const SampleRows& rows, const SparseFitOp
   double tau = 0.05 * typical;
   set_tau(tau);
   Eigen::VectorXd x = search(objective, {}, step, options.starts, evaluations / 3);
-  x = gp::nelder_mead(objective, x, step, evaluations, 1e-9);
+  x = gp::nelder_mead(std::cref(objective), x, step, evaluations, 1e-9);
   if (any_unknown) {
     const Eigen::VectorXd residual = objective.transformed(rows.inputs * map.coefficients(x)) - objective.target;
     std::vector<double> absolute;
@@ -317,7 +318,7 @@ SparseFit fit_rows(const MapView& map, const SampleRows& rows, const SparseFitOp
       if (!known[static_cast<std::size_t>(r)]) absolute.push_back(std::abs(residual(r)));
     tau = std::max({1.4826 * median_of(absolute), 1e-3 * typical, 1e-12});
     set_tau(tau);
-    x = gp::nelder_mead(objective, x, step, evaluations, 1e-9);
+    x = gp::nelder_mead(std::cref(objective), x, step, evaluations, 1e-9);
   }
 
   SparseFit fit;

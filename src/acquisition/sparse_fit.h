@@ -26,7 +26,7 @@
 // (c_x the map point's coefficients, A the map's metric: the data-space distance of the two
 // tables) by Gauss-Newton with the loss's weights (each step a quadratic programme on the
 // simplex, gp/convex_weights.h, then a backtracking line search on the true objective). lambda
-// is chosen by 5-fold cross-validation over the samples from a grid that includes infinity (the
+// is chosen by 4-fold cross-validation over the samples from a grid that includes infinity (the
 // map point itself): the combination is used only where held-out samples are predicted better.
 #include <functional>
 #include <vector>

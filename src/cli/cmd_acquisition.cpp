@@ -1,6 +1,7 @@
 // Sparse measurements: fit-samples (a full table from a handful of samples) and sample-plan (which
 // directions to measure). docs/ACQUISITION.md.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <memory>
@@ -61,11 +62,13 @@ void run_fit_samples(const FitArgs& a, const Io& io) {
   options.transform = acquisition::model_transform(model);
   options.robust = !a.least_squares;
   acquisition::ModelFit result;
+  const auto start = std::chrono::steady_clock::now();
   try {
     result = acquisition::fit_samples(model, file.samples, options);
   } catch (const Error& e) {
     throw file_error(a.samples, e.what());
   }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const acquisition::SparseFit& fit = result.fit;
   const std::vector<MeasuredSample> measured = file.measured();
 
@@ -118,7 +121,8 @@ void run_fit_samples(const FitArgs& a, const Io& io) {
                  {"outlier_lines", outlier_lines},
                  {"unusable", result.unusable},
                  {"skipped", file.skipped},
-                 {"evaluations", fit.evaluations}};
+                 {"evaluations", fit.evaluations},
+                 {"seconds", seconds}};
   for (Eigen::Index i = 0; i < fit.latent_covariance.rows(); ++i) report["latent_covariance"].push_back(vector_of(fit.latent_covariance.row(i).transpose()));
 
   if (!a.output.empty()) {
