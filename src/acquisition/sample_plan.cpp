@@ -17,13 +17,13 @@ PlanCandidates plan_candidates(const MerlDims& dims, int theta_h_step, int theta
   if (theta_h_step == 0) theta_h_step = std::max(1, dims.theta_h / 30);
   if (theta_d_step == 0) theta_d_step = std::max(1, dims.theta_d / 18);
   if (phi_d_step == 0) phi_d_step = std::max(1, dims.phi_d / 18);
-  const double cos85 = std::cos(85.0 * 3.14159265358979323846 / 180.0);
+  const double cos80 = std::cos(80.0 * 3.14159265358979323846 / 180.0);
   PlanCandidates out;
   for (int i = 0; i < dims.theta_h; i += theta_h_step)
     for (int j = 0; j < dims.theta_d; j += theta_d_step)
       for (int k = 0; k < dims.phi_d; k += phi_d_step) {
         const DirectionPair d = from_half_diff(bin_centre(dims, i, j, k));
-        if (d.wi.z() <= cos85 || d.wo.z() <= cos85) continue;
+        if (d.wi.z() <= cos80 || d.wo.z() <= cos80) continue;
         MeasuredSample s;
         s.wi = d.wi;
         s.wo = d.wo;
@@ -64,6 +64,19 @@ Plan plan_directions(const PlanSpace& space, const Eigen::VectorXd& material_wei
   for (Eigen::Index c = 0; c < C; ++c) row_cosine.segment(3 * c, 3).setConstant(space.cosine(c));
   // Weighted, centred inputs at the candidates, and their leading components G = G0 V_r.
   Eigen::MatrixXd G0 = transformed_rows(space.values, row_cosine, options.transform);
+  // Measurement noise grows with each row's magnitude (a device's error is partly a share of what
+  // it reads): sigma_r = noise x sqrt(rms_r x typical), rms_r the row's RMS over the inputs and
+  // typical the RMS of all rows, so a row 100x brighter than typical is 10x noisier. Rows are
+  // whitened by it: bright rows (specular peaks, where the inputs differ most in absolute terms)
+  // no longer take every pick from dim rows that tell the materials apart as well, and dim rows
+  // (grazing, dark) do not take them all either.
+  auto row_rms = [&](const Eigen::MatrixXd& T) { return Eigen::VectorXd((T.array().square().matrix() * p).cwiseSqrt()); };
+  const Eigen::VectorXd rms = row_rms(G0);
+  const double typical = std::max(std::sqrt(rms.squaredNorm() / static_cast<double>(rms.size())), 1e-300);
+  auto row_noise = [&](const Eigen::MatrixXd& T) {
+    return Eigen::VectorXd(options.noise * (row_rms(T).cwiseMax(1e-3 * typical) * typical).cwiseSqrt());
+  };
+  const Eigen::VectorXd sigma = row_noise(G0);
   const Eigen::VectorXd mu = G0 * p;
   G0 = (G0.colwise() - mu) * sqrt_p.asDiagonal();
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(G0.transpose() * G0);
@@ -73,9 +86,10 @@ Plan plan_directions(const PlanSpace& space, const Eigen::VectorXd& material_wei
   while (r < std::min<Eigen::Index>(options.rank, n) && lambda(n - 1 - r) > 1e-10 * top) ++r;
   r = std::max<Eigen::Index>(r, 1);
   const Eigen::MatrixXd V = eigen.eigenvectors().rightCols(r);
-  const Eigen::MatrixXd G = G0 * V;  // 3C x r; the prior of a is N(0, I)
-  const double total = G.squaredNorm();
-  const double sigma2 = std::max(options.noise * options.noise * total / static_cast<double>(3 * C), 1e-300);
+  const Eigen::MatrixXd G_raw = G0 * V;  // 3C x r; the prior of a is N(0, I)
+  const Eigen::MatrixXd G = sigma.cwiseInverse().asDiagonal() * G_raw;  // whitened: unit noise
+  const double total = G_raw.squaredNorm();
+  const double sigma2 = 1.0;
 
   // The posterior of a in information form, Lambda = I + sum of H^T H / sigma^2 over the observed
   // rows H, and P = Lambda^-1 from its Cholesky factor (Lambda >= I: well conditioned; the
@@ -90,10 +104,11 @@ Plan plan_directions(const PlanSpace& space, const Eigen::VectorXd& material_wei
   if (measured && measured->rows() > 0) {
     Eigen::MatrixXd M = transformed_rows(measured->inputs, measured->cosine, options.transform);
     const Eigen::VectorXd mu_m = M * p;
-    M = ((M.colwise() - mu_m) * sqrt_p.asDiagonal()) * V;
+    const Eigen::VectorXd sigma_m = row_noise(M);
+    M = sigma_m.cwiseInverse().asDiagonal() * (((M.colwise() - mu_m) * sqrt_p.asDiagonal()) * V);
     condition(M);
   }
-  const Eigen::MatrixXd GtG = G.transpose() * G;
+  const Eigen::MatrixXd GtG = G_raw.transpose() * G_raw;
   Plan plan;
   std::vector<bool> taken(static_cast<std::size_t>(C), false);
   for (int c : excluded)

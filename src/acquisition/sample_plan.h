@@ -5,9 +5,10 @@
 // In the layout's space the inputs' values at the candidate directions are a random vector
 // t = mu + G a (a ~ N(0, I_r)): G holds the r leading principal components of the inputs (each
 // weighted by p_i, uniform for a fresh plan), so a material of the database is one draw. A
-// measurement of candidate c observes its three rows G_c a with noise sigma^2 I. The plan picks,
+// measurement of candidate c observes its three rows G_c a with noise that grows with each row's
+// magnitude (as the square root: between a share of the value and a constant). The plan picks,
 // one direction at a time, the candidate with the largest information gain
-//     log det(I_3 + G_c P G_c^T / sigma^2)
+//     log det(I_3 + Sigma_c^-1/2 G_c P G_c^T Sigma_c^-1/2)
 // (P the posterior covariance of a given the directions chosen so far, updated by Woodbury),
 // i.e. the direction where the materials still in play disagree most in the directions not yet
 // pinned down. This is the map's version of the condition-number design of Nielsen et al. 2015
@@ -29,13 +30,13 @@
 namespace matlas::acquisition {
 
 /// Candidate directions: bin centres of the MERL grid on a stratified lattice with theta_i and
-/// theta_o below 85 degrees (grazing directions are rarely measurable).
+/// theta_o below 80 degrees (grazing directions are rarely measurable).
 struct PlanCandidates {
   std::vector<MeasuredSample> directions;  ///< C unmeasured direction pairs (phi_h = 0)
   std::vector<std::size_t> bins;           ///< C flat bin indices
 };
 /// Every theta_h_step-th theta_h bin, theta_d_step-th theta_d bin and phi_d_step-th phi_d bin
-/// (starting at the first), kept where both directions are above the 85-degree cone. A step of 0
+/// (starting at the first), kept where both directions are within 80 degrees of the normal. A step of 0
 /// gives about 30, 18 and 18 positions (3, 5 and 10 on MERL's 90 x 90 x 180 grid: about 5,000
 /// candidates), and every bin of grids that small.
 PlanCandidates plan_candidates(const MerlDims& dims, int theta_h_step = 0, int theta_d_step = 0,
@@ -50,8 +51,8 @@ struct PlanSpace {
 struct PlanOptions {
   LayoutTransform transform{LayoutTransform::Map::cube_root, true};
   int rank = 40;       ///< principal components kept (at most n - 1)
-  /// Measurement noise, relative to the inputs' RMS spread per row in the transform's space.
-  double noise = 0.1;
+  /// Measurement noise in the transform's space, relative to sqrt(row RMS x typical RMS).
+  double noise = 0.05;
 };
 
 struct Plan {

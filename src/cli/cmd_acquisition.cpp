@@ -17,6 +17,7 @@
 #include "core/error.h"
 #include "core/file_io.h"
 #include "formats/merl_file.h"
+#include "formats/rgl_bsdf.h"
 #include "formats/sample_file.h"
 #include "manifold/export.h"
 
@@ -166,7 +167,7 @@ void run_fit_samples(const FitArgs& a, const Io& io) {
 
 // ---- sample-plan
 struct PlanArgs {
-  std::string model, output, given;
+  std::string model, output, given, simulate;
   int count = 20;
   bool skip_invalid = false;
 };
@@ -174,6 +175,7 @@ struct PlanArgs {
 void run_sample_plan(const PlanArgs& a, const Io& io) {
   std::vector<fs::path> inputs{a.model};
   if (!a.given.empty()) inputs.push_back(a.given);
+  if (!a.simulate.empty()) inputs.push_back(a.simulate);
   refuse_output_among_inputs(a.output, inputs);
   const Model model = Model::open(a.model);
   std::vector<MeasuredSample> measured;
@@ -184,7 +186,16 @@ void run_sample_plan(const PlanArgs& a, const Io& io) {
   }
   acquisition::PlanOptions options;
   options.transform = acquisition::model_transform(model);
-  const acquisition::ModelPlan plan = acquisition::plan_samples(model, a.count, measured, options);
+  acquisition::ModelPlan plan = acquisition::plan_samples(model, a.count, measured, options);
+  if (!a.simulate.empty()) {  // a simulated measurement: the table's values at the plan's bins
+    const BrdfTable table = read_brdf(a.simulate);
+    if (!(table.dims() == model.dims())) throw file_error(a.simulate, "its grid is not the model's");
+    for (auto& s : plan.directions) {
+      const std::size_t bin = bin_of(table.dims(), s.wi, s.wo);
+      for (int c = 0; c < 3; ++c) s.value[c] = std::max(table.value(c, bin), 0.0);
+      s.measured = true;
+    }
+  }
   std::vector<std::string> comment{
       "matlas sample-plan: " + std::to_string(plan.directions.size()) + " directions to measure for " +
           fs::path(a.model).filename().string() + " (" + std::to_string(model.count()) + " materials, q = " +
@@ -192,8 +203,9 @@ void run_sample_plan(const PlanArgs& a, const Io& io) {
       plan.conditioned_on > 0 ? "the next directions given the " + std::to_string(plan.conditioned_on) +
                                     " samples measured in " + a.given
                               : "a fresh plan, best first: measure the rows in order",
-      "fill in r,g,b (BRDF values, 1/sr; or quantity 'ratio' for f cos(theta_i)) and, if known, sigma_r,g,b; then "
-      "matlas fit-samples MODEL THIS_FILE -o OUT.binary"};
+      a.simulate.empty() ? "fill in r,g,b (BRDF values, 1/sr; or quantity 'ratio' for f cos(theta_i)) and, if known, "
+                           "sigma_r,g,b; then matlas fit-samples MODEL THIS_FILE -o OUT.binary"
+                         : "values simulated from " + a.simulate + " (its bins at these directions)"};
   write_file_atomic(a.output, format_samples_csv(plan.directions, comment));
   print(io.out, "%s: %zu directions%s\n  %3s %8s %8s %8s %8s %9s %10s\n", a.output.c_str(), plan.directions.size(),
         plan.conditioned_on > 0 ? (" given " + std::to_string(plan.conditioned_on) + " measured samples").c_str() : "",
@@ -231,6 +243,9 @@ void add_acquisition_commands(CLI::App& app, const Io& io) {
     cmd->add_option("-o,--output", a->output, "The plan (CSV)")->required();
     cmd->add_option("--given", a->given, "Samples measured so far (CSV or JSON): plan the next directions");
     cmd->add_flag("--skip-invalid", a->skip_invalid, "Skip invalid rows of --given instead of failing");
+    cmd->add_option("--simulate", a->simulate,
+                    "Fill the plan with this table's values (.binary or .bsdf): a simulated measurement, to try "
+                    "the pipeline on a known material");
     cmd->callback([io, a] { run_sample_plan(*a, io); });
   }
 }

@@ -272,6 +272,9 @@ SparseStudy run_sparse_study(const MaterialSet& set, const SparseStudyOptions& o
   const Clock::time_point start = Clock::now();
   if (options.counts.empty() || *std::min_element(options.counts.begin(), options.counts.end()) < 1)
     throw Error("sparse study: sample counts must be at least 1");
+  if (*std::min_element(options.counts.begin(), options.counts.end()) < options.dim + 1)
+    throw Error("sparse study: every K must be at least q + 1 = " + std::to_string(options.dim + 1) +
+                " (a map of dimension q needs that many samples)");
   if (options.outlier_share <= 0 || options.outlier_share > 0.5) throw Error("sparse study: outlier share must be in (0, 0.5]");
   const StudyData d = gather(set, options, progress);
   const auto n = static_cast<int>(set.size());

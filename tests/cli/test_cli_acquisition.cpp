@@ -71,6 +71,18 @@ TEST_F(CliAcquisition, APlanFilledWithAnInputsValuesFitsBackToThatInput) {
   EXPECT_EQ(report["x"].size(), 2u);
   EXPECT_EQ(report["latent_covariance"].size(), 2u);
 
+  // --simulate fills the plan with a table's values: the same file as filled by hand.
+  const auto simulated = test::call_matlas({"sample-plan", model(), "-k", "8", "--simulate", paths_[3].string(), "-o",
+                                            (out / "simulated.csv").string()});
+  ASSERT_EQ(simulated.code, 0) << simulated.err;
+  const SampleFile sim = parse_samples(read_file(out / "simulated.csv"), "simulated.csv");
+  const SampleFile by_hand = parse_samples(read_file(out / "measured.csv"), "measured.csv");
+  ASSERT_EQ(sim.samples.size(), by_hand.samples.size());
+  for (std::size_t k = 0; k < sim.samples.size(); ++k) {
+    EXPECT_TRUE(sim.samples[k].measured);
+    EXPECT_LT((sim.samples[k].value - by_hand.samples[k].value).abs().maxCoeff(), 1e-6);
+  }
+
   // The next directions given those measurements are new ones.
   const auto next = test::call_matlas({"sample-plan", model(), "-k", "2", "--given", (out / "measured.csv").string(), "-o",
                                        (out / "next.csv").string()});
