@@ -11,7 +11,7 @@ seconds="${1:-45}"
 cxx="$(command -v clang++-14 || command -v clang++ || true)"
 [[ -n "$cxx" ]] || { echo "fuzz: clang is missing: run scripts/setup.sh" >&2; exit 1; }
 # MATLAS_FUZZ_TARGETS narrows the list (api needs the whole library built again with clang).
-read -r -a targets <<< "${MATLAS_FUZZ_TARGETS:-merl model request api mesh scene bsdf coefficients basis}"
+read -r -a targets <<< "${MATLAS_FUZZ_TARGETS:-merl model request api mesh scene bsdf coefficients basis samples}"
 # MATLAS_CMAKE_ARGS: as in setup.sh (CI: a unity build).
 # shellcheck disable=SC2086
 # -O1: fuzzing needs coverage and sanitizers more than speed, and the build is faster.
