@@ -60,10 +60,16 @@ Reply Api::fit_samples(const std::string& file_text, const std::string& robust) 
   if (!robust.empty() && robust != "0" && robust != "1") throw bad_request("robust must be 0 or 1, got " + quoted_excerpt(robust));
   const SampleFile file = parse_upload(file_text);
   const std::vector<MeasuredSample> measured = file.measured();
-  if (measured.empty())
-    throw bad_request(std::string(kUploadName) + ": no measured samples (" + std::to_string(file.samples.size()) +
-                      " rows without r, g, b" + (file.skipped.empty() ? "" : ", " + std::to_string(file.skipped.size()) +
-                      " invalid rows skipped: " + file.skipped.front()) + ")");
+  if (measured.empty()) {
+    std::string why;
+    if (!file.samples.empty())
+      why = std::to_string(file.samples.size()) + " row" + (file.samples.size() == 1 ? " has" : "s have") +
+            " no r, g, b (a plan not filled in?)";
+    if (!file.skipped.empty())
+      why += (why.empty() ? "" : "; ") + std::to_string(file.skipped.size()) + " invalid row" +
+             (file.skipped.size() == 1 ? "" : "s") + " skipped, e.g. " + file.skipped.front();
+    throw bad_request(std::string(kUploadName) + ": no measured samples to fit: " + why);
+  }
   acquisition::SparseFitOptions options;
   options.transform = acquisition::model_transform(model_);
   options.robust = robust != "0";
