@@ -23,6 +23,9 @@ namespace py = pybind11;
 using namespace pybind11::literals;
 
 namespace matlas {
+
+py::array table_to_array(BrdfTable&& source, bool physical);  // python/module.cpp
+
 namespace {
 
 using Rows = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
@@ -161,7 +164,8 @@ py::dict fit_dict(const Model& model, const std::vector<MeasuredSample>& samples
   return py::dict("x"_a = f.x, "weights"_a = fit.weights, "coefficients"_a = f.coefficients, "variance"_a = f.variance,
                   "latent_covariance"_a = f.latent_covariance, "residual"_a = residual, "predicted"_a = predicted,
                   "weight"_a = weight, "outliers"_a = outliers, "is_outlier"_a = is_outlier, "best_input"_a = best,
-                  "best_index"_a = f.best_input, "input_loss"_a = f.input_loss, "loss"_a = f.loss, "scale"_a = f.scale,
+                  "best_index"_a = f.best_input, "input_loss"_a = f.input_loss, "combined"_a = f.combined,
+                  "map_coefficients"_a = f.map_coefficients, "combination_strength"_a = f.combination_strength, "loss"_a = f.loss, "scale"_a = f.scale,
                   "used"_a = static_cast<int>(rows.rows() / 3), "unusable"_a = rows_named(fit.unusable),
                   "transform"_a = options.transform.to_string(), "evaluations"_a = f.evaluations);
 }
@@ -211,12 +215,30 @@ void bind_acquisition(py::module_& m) {
       "rgb: (K, 3) values, BRDF f (quantity='brdf') or f cos(theta_i) (quantity='ratio'); a row of NaN\n"
       "is a direction not measured (ignored); sigma: None, a number, (K,) or (K, 3) uncertainties (0:\n"
       "unknown). robust: Cauchy loss (False: least squares), in the layout's space of the model.\n"
-      "Returns a dict: x (q,), weights (n,) (Model.table(x) is the fitted table), coefficients,\n"
+      "Returns a dict: x (q,), weights (n,) (Model.table_for_weights(weights) is the fitted table;\n"
+      "Model.table(x) too unless combined: the combination stage found a convex mix of the inputs\n"
+      "off the map that explains the samples better), combined, map_coefficients, coefficients,\n"
       "variance, latent_covariance (q, q), residual / predicted / weight (K, 3) per sample and\n"
       "channel (NaN for rows not fitted), outliers (row indices), is_outlier (K,), best_input\n"
       "(name), best_index, input_loss (n,), loss, scale, used, unusable, transform, evaluations.\n"
       "A row below the horizon, not finite or negative raises ValueError naming it; fewer usable\n"
       "samples than q + 1 raise matlas.Error.");
+  model.def(
+      "table_for_weights",
+      [](const Model& s, const Eigen::VectorXd& w, bool physical) {
+        if (w.size() != s.count() || !w.allFinite())
+          throw py::value_error("weights must be " + std::to_string(s.count()) + " finite numbers (one per input)");
+        BrdfTable t;
+        {
+          py::gil_scoped_release release;
+          t = s.table(w);
+        }
+        return table_to_array(std::move(t), physical);
+      },
+      "weights"_a, "physical"_a = true,
+      "The table of given weights over the inputs (as Model.weights returns, or fit_samples' weights,\n"
+      "which are a combination of inputs off the map when its 'combined' is True): a (3, theta_h,\n"
+      "theta_d, phi_d) array like Model.table.");
   model.def(
       "evaluate",
       [](const Model& s, const Eigen::VectorXd& x, const py::object& wi_arg, const py::object& wo_arg) {

@@ -36,12 +36,8 @@ namespace matlas {
 
 void bind_acquisition(py::module_& m);  // python/acquisition.cpp
 
-namespace {
-
-using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
-
 /// Hands a table to numpy without copying: the array owns the table through a capsule. With
-/// `physical`, values are converted in place (missing -> NaN).
+/// `physical`, values are converted in place (missing -> NaN). Also used by python/acquisition.cpp.
 py::array table_to_array(BrdfTable&& source, bool physical) {
   auto* t = new BrdfTable(std::move(source));
   py::capsule owner(t, [](void* p) { delete static_cast<BrdfTable*>(p); });
@@ -59,6 +55,10 @@ py::array table_to_array(BrdfTable&& source, bool physical) {
   return py::array(py::dtype::of<double>(), {py::ssize_t{3}, py::ssize_t{d.theta_h}, py::ssize_t{d.theta_d}, py::ssize_t{d.phi_d}},
                    {s * d.theta_h * d.theta_d * d.phi_d, s * d.theta_d * d.phi_d, s * d.phi_d, s}, t->stored().data(), owner);
 }
+
+namespace {
+
+using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
 /// A (3, theta_h, theta_d, phi_d) array (or its flat 3 * bins form for the standard grid) as a
 /// table. Physical values: NaN or negative means missing. Infinite values, and values beyond what

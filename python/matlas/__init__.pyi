@@ -40,6 +40,9 @@ class SampleFit(TypedDict):
     is_outlier: npt.NDArray[np.bool_]
     best_input: Optional[str]
     best_index: int
+    combined: bool  # the fitted table is a convex mix of the inputs off the map (weights)
+    map_coefficients: npt.NDArray[np.float64]
+    combination_strength: float
     input_loss: npt.NDArray[np.float64]
     loss: float
     scale: float
@@ -119,6 +122,8 @@ class Model:
         robust: bool = True,
     ) -> SampleFit:
         """The map point that best explains (K, 3) measurements; ValueError names a bad row."""
+    def table_for_weights(self, weights: npt.ArrayLike, physical: bool = True) -> _Table:
+        """The table of weights over the inputs (fit_samples' weights: the fitted table)."""
     def evaluate(self, x: npt.ArrayLike, wi: npt.ArrayLike, wo: npt.ArrayLike) -> npt.NDArray[np.float64]:
         """(K, 3) f(wi, wo) of m(x) by nearest-bin lookup."""
     def sample_plan(self, k: int, measured: Optional[dict[str, Any]] = None) -> SamplePlan:

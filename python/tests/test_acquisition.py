@@ -37,9 +37,14 @@ def test_samples_of_an_input_land_on_it(model):
     assert fit["latent_covariance"].shape == (model.q, model.q)
     assert fit["outliers"] == [] and not fit["is_outlier"].any()
     assert fit["weights"].shape == (model.n,)
-    # The table of the point is the input's (within the fit's tolerance).
-    t, ref = model.table(fit["x"]), model.material_table(5)
+    # The fitted table is the input's (within the fit's tolerance), and the table at x unless the
+    # combination stage chose a mix off the map.
+    t, ref = model.table_for_weights(fit["weights"]), model.material_table(5)
     assert np.nanmax(np.abs(t - ref)) <= 0.05 * np.nanmax(np.abs(ref))
+    if not fit["combined"]:
+        np.testing.assert_allclose(t, model.table(fit["x"]), rtol=1e-9, atol=1e-12)
+    with pytest.raises(ValueError, match="one per input"):
+        model.table_for_weights(np.ones(model.n + 1))
 
 
 def test_a_corrupted_sample_is_an_outlier_and_ratios_convert(model):

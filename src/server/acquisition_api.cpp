@@ -136,6 +136,7 @@ Reply Api::fit_samples(const std::string& file_text, const std::string& robust) 
                       {"latent_sigma", sigma},
                       {"weights", top_weights(fit.weights, std::min(shown, 16))},
                       {"best_input", best},
+                      {"combined", f.combined},
                       {"samples", samples},
                       {"used", static_cast<int>(samples.size())},
                       {"outliers", static_cast<int>(f.outliers.size())},

@@ -105,6 +105,7 @@ TEST_F(AcquisitionEndpoints, SamplesOfAMaterialLandOnItsLatentPoint) {
   EXPECT_EQ(j["samples"][0]["line"], 3);  // one comment line and the header before it
   EXPECT_LT(j["rms_residual"].get<double>(), 1e-3);
   EXPECT_EQ(j["weights"][0]["index"], 3);
+  EXPECT_TRUE(j["combined"].is_boolean());
   ASSERT_EQ(j["covariance"].size(), 2u);
   ASSERT_EQ(j["covariance"][0].size(), 2u);
   ASSERT_EQ(j["latent_sigma"].size(), 2u);

@@ -198,6 +198,8 @@ export interface FitSamplesReply {
   latent_sigma: MaybeNumber[];
   weights: TopWeight[];
   best_input: BestInput | null;
+  /** The fitted table is a convex combination of the inputs off the map (weights); x is the map's point. */
+  combined: boolean;
   samples: FitSample[];
   used: number;
   outliers: number;

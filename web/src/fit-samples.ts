@@ -69,6 +69,8 @@ export function createFitSamples(store: PageStore, map: LatentMap, project: (fil
         r.outliers ? "warn" : ""),
       row("best input", r.best_input?.name ?? "–"),
       row("mix", r.weights.slice(0, 3).map((w) => `${w.name} ${w.weight.toFixed(2)}`).join(" · ") || "–"),
+      ...(r.combined ? [row("off the map", "the samples are explained better by this mix of inputs than by any map point; " +
+        "the views show the map point x it was pulled towards (.binary exports that point, not the mix)", "warn")] : []),
       row("x", `(${fmtX(r.x)}) ± (${r.latent_sigma.map((s, d) => twoSigma(s, extent[d])).join(", ")}) (2σ)`),
     ];
     const problems = [...r.skipped, ...r.unusable];
