@@ -1,7 +1,8 @@
 // The `matlas` Python module (pybind11): models, building, MERL/RGL files and the evaluation's
-// distances. Tables cross the boundary as float64 numpy arrays of shape (3, theta_h, theta_d,
-// phi_d), channel-major like MERL files: physical values with NaN where nothing was measured
-// (default), or MERL's stored units with -1 (physical=False), bit-exact with the files.
+// distances (sparse samples: python/acquisition.cpp). Tables cross the boundary as float64 numpy
+// arrays of shape (3, theta_h, theta_d, phi_d), channel-major like MERL files: physical values
+// with NaN where nothing was measured (default), or MERL's stored units with -1 (physical=False),
+// bit-exact with the files.
 // python/matlas/__init__.pyi documents the API.
 #include <chrono>
 #include <cstdio>
@@ -32,12 +33,11 @@ using namespace pybind11::literals;
 namespace fs = std::filesystem;
 
 namespace matlas {
-namespace {
 
-using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
+void bind_acquisition(py::module_& m);  // python/acquisition.cpp
 
 /// Hands a table to numpy without copying: the array owns the table through a capsule. With
-/// `physical`, values are converted in place (missing -> NaN).
+/// `physical`, values are converted in place (missing -> NaN). Also used by python/acquisition.cpp.
 py::array table_to_array(BrdfTable&& source, bool physical) {
   auto* t = new BrdfTable(std::move(source));
   py::capsule owner(t, [](void* p) { delete static_cast<BrdfTable*>(p); });
@@ -55,6 +55,10 @@ py::array table_to_array(BrdfTable&& source, bool physical) {
   return py::array(py::dtype::of<double>(), {py::ssize_t{3}, py::ssize_t{d.theta_h}, py::ssize_t{d.theta_d}, py::ssize_t{d.phi_d}},
                    {s * d.theta_h * d.theta_d * d.phi_d, s * d.theta_d * d.phi_d, s * d.phi_d, s}, t->stored().data(), owner);
 }
+
+namespace {
+
+using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
 /// A (3, theta_h, theta_d, phi_d) array (or its flat 3 * bins form for the standard grid) as a
 /// table. Physical values: NaN or negative means missing. Infinite values, and values beyond what
@@ -406,6 +410,8 @@ truncated, corrupted or not a model.)doc")
         "The evaluation's distances between two tables (arrays or file paths): the cosine-weighted cube-root\n"
         "distance (Fores et al. 2012) and the cosine-weighted RMSE, over values measured in both, as a dict\n"
         "{cbrt_cosine, cosine_rmse, values}.");
+
+  bind_acquisition(m);
 
   py::class_<RglBsdf>(m, "RglBsdf", "An RGL measured material (.bsdf file), evaluated as the reference implementation does.")
       .def(py::init([](const fs::path& path) { return RglBsdf::read(path); }), "path"_a)

@@ -17,9 +17,13 @@ from __future__ import annotations
 
 import json as _json
 
-from ._matlas import Error, Model, RglBsdf, blas_kernels, brdf_distance, build, read_merl, write_merl
+import numpy as _np
 
-__all__ = ["Error", "Model", "RglBsdf", "blas_kernels", "brdf_distance", "build", "read_merl", "write_merl", "read_brdf"]
+from ._matlas import (Error, Model, RglBsdf, blas_kernels, brdf_distance, build, parse_samples, read_merl,
+                      read_samples, write_merl)
+
+__all__ = ["Error", "Model", "RglBsdf", "blas_kernels", "brdf_distance", "build", "directions", "parse_samples",
+           "read_merl", "read_samples", "write_merl", "read_brdf"]
 
 #: read_merl reads RGL .bsdf files too (resampled onto the MERL grid); this name says so.
 read_brdf = read_merl
@@ -38,3 +42,12 @@ def _repr(self: Model) -> str:
 
 
 Model.__repr__ = _repr  # type: ignore[assignment]
+
+
+def directions(theta, phi):
+    """Unit directions (K, 3) in the surface's frame (normal +z) from angles in degrees, as sample
+    files read theta_i, phi_i (or theta_o, phi_o): (sin t cos p, sin t sin p, cos t)."""
+    t = _np.radians(_np.asarray(theta, dtype=float))
+    p = _np.radians(_np.asarray(phi, dtype=float))
+    t, p = _np.broadcast_arrays(_np.atleast_1d(t), _np.atleast_1d(p))
+    return _np.stack([_np.sin(t) * _np.cos(p), _np.sin(t) * _np.sin(p), _np.cos(t)], axis=-1)

@@ -27,6 +27,52 @@ class Distance(TypedDict):
     cosine_rmse: float
     values: int
 
+class SampleFit(TypedDict):
+    x: npt.NDArray[np.float64]
+    weights: npt.NDArray[np.float64]
+    coefficients: npt.NDArray[np.float64]
+    variance: float
+    latent_covariance: npt.NDArray[np.float64]  # (q, q)
+    residual: npt.NDArray[np.float64]  # (K, 3), NaN for rows not fitted
+    predicted: npt.NDArray[np.float64]
+    weight: npt.NDArray[np.float64]
+    outliers: list[int]
+    is_outlier: npt.NDArray[np.bool_]
+    best_input: Optional[str]
+    best_index: int
+    combined: bool  # the fitted table is a convex mix of the inputs off the map (weights)
+    map_coefficients: npt.NDArray[np.float64]
+    combination_strength: float
+    input_loss: npt.NDArray[np.float64]
+    loss: float
+    scale: float
+    used: int
+    unusable: list[str]
+    transform: str
+    evaluations: int
+
+class SamplePlan(TypedDict):
+    wi: npt.NDArray[np.float64]  # (k, 3)
+    wo: npt.NDArray[np.float64]
+    theta_i: npt.NDArray[np.float64]  # (k,) degrees
+    phi_i: npt.NDArray[np.float64]
+    theta_o: npt.NDArray[np.float64]
+    phi_o: npt.NDArray[np.float64]
+    gain: list[float]
+    remaining: list[float]
+    conditioned_on: int
+    csv: str
+
+class Samples(TypedDict):
+    wi: npt.NDArray[np.float64]  # (K, 3) unit directions
+    wo: npt.NDArray[np.float64]
+    rgb: npt.NDArray[np.float64]  # (K, 3) BRDF values, NaN where not measured
+    sigma: npt.NDArray[np.float64]  # (K, 3), 0: unknown
+    measured: npt.NDArray[np.bool_]
+    line: npt.NDArray[np.int32]
+    skipped: list[str]
+    json: bool
+
 class Model:
     """A built material map (.matlas file), opened read-only (memory-mapped)."""
     def __init__(self, path: _Path) -> None: ...
@@ -66,6 +112,22 @@ class Model:
     def albedo_curve(self, x: npt.ArrayLike) -> npt.NDArray[np.float64]:
         """(90, 3) directional albedo at view angles 0.5, 1.5, ... 89.5 degrees."""
     def project(self, table: Union[_Table, _Path], physical: bool = True, starts: int = 5) -> Projection: ...
+    def fit_samples(
+        self,
+        wi: npt.ArrayLike,
+        wo: npt.ArrayLike,
+        rgb: npt.ArrayLike,
+        sigma: Optional[npt.ArrayLike] = None,
+        quantity: str = "brdf",
+        robust: bool = True,
+    ) -> SampleFit:
+        """The map point that best explains (K, 3) measurements; ValueError names a bad row."""
+    def table_for_weights(self, weights: npt.ArrayLike, physical: bool = True) -> _Table:
+        """The table of weights over the inputs (fit_samples' weights: the fitted table)."""
+    def evaluate(self, x: npt.ArrayLike, wi: npt.ArrayLike, wo: npt.ArrayLike) -> npt.NDArray[np.float64]:
+        """(K, 3) f(wi, wo) of m(x) by nearest-bin lookup."""
+    def sample_plan(self, k: int, measured: Optional[dict[str, Any]] = None) -> SamplePlan:
+        """The k directions to measure (given `measured`, as read_samples returns: the next ones)."""
     def _table_seconds(self, x: npt.ArrayLike, repeats: int = 5) -> float: ...
 
 class RglBsdf:
@@ -97,6 +159,10 @@ def build(
 def blas_kernels() -> str:
     """The OpenBLAS kernels builds and queries run on ("SkylakeX", "Haswell", "Prescott", ...)."""
     ...
+def read_samples(path: _Path, skip_invalid: bool = False) -> Samples: ...
+def parse_samples(text: str, name: str = "samples", skip_invalid: bool = False) -> Samples: ...
+def directions(theta: npt.ArrayLike, phi: npt.ArrayLike) -> npt.NDArray[np.float64]:
+    """(K, 3) unit directions from angles in degrees (normal +z)."""
 def read_merl(path: _Path, physical: bool = True) -> _Table: ...
 def read_brdf(path: _Path, physical: bool = True) -> _Table: ...
 def write_merl(path: _Path, table: npt.ArrayLike, physical: bool = True, allow_nonstandard_dims: bool = False) -> None: ...

@@ -68,6 +68,12 @@ public:
   Reply export_merl(const std::string& body);
   /// POST /api/project: a MERL .binary file as the body -> its latent point and residual
   Reply project(const std::string& file_bytes);
+  /// POST /api/fit-samples: a sample file (CSV or JSON, formats/sample_file.h) as the body -> the
+  /// latent point that explains it, its covariance, weights and the residual of every sample
+  /// (server/acquisition_api.cpp); `robust` "0" fits by least squares
+  Reply fit_samples(const std::string& file_text, const std::string& robust = "");
+  /// POST /api/sample-plan?k=K: the K directions to measure next (the body: samples so far, or empty)
+  Reply sample_plan(const std::string& file_text, const std::string& k);
 
   /// GET /api/realtime: the real-time viewer's shapes and basis (JSON)
   Reply realtime_info();

@@ -187,7 +187,9 @@ struct AtlasServer::Impl {
   }
 
   std::size_t body_limit(const httplib::Request& req) const {
-    return req.path == "/api/project" ? options.max_upload_bytes + (64u << 10) : kMaxJsonBody;
+    if (req.path == "/api/project") return options.max_upload_bytes + (64u << 10);
+    if (req.path == "/api/fit-samples" || req.path == "/api/sample-plan") return kMaxSampleBody + (64u << 10);
+    return kMaxJsonBody;
   }
 
   /// Before the body is read: its size limit, the multipart boundary, the upload slots.
@@ -212,7 +214,8 @@ struct AtlasServer::Impl {
       GuardedHttpServer::close_after_response();
       return false;
     }
-    if (req.path == "/api/project" && req.method == "POST") {
+    const bool file_upload = req.path == "/api/project" || req.path == "/api/fit-samples" || req.path == "/api/sample-plan";
+    if (file_upload && req.method == "POST") {
       const std::string type = req.get_header_value("Content-Type");
       if (type.rfind("multipart/form-data", 0) == 0 && type.find("boundary=") == std::string::npos) {
         // Read the body anyway (it is within the limit), so that the client gets this reply
@@ -223,6 +226,8 @@ struct AtlasServer::Impl {
                              "(expected multipart/form-data; boundary=...); or send the file as the raw body");
         return false;
       }
+    }
+    if (req.path == "/api/project" && req.method == "POST") {
       if (uploads.fetch_add(1) >= options.max_uploads) {
         uploads.fetch_sub(1);
         res.set_header("Retry-After", "1");
@@ -297,6 +302,18 @@ struct AtlasServer::Impl {
         }
         return api.project(req.body);
       });
+    });
+    // Sample files: the raw body (CSV or JSON text), or a multipart form's field "file".
+    auto upload_text = [](const httplib::Request& req) {
+      if (!req.is_multipart_form_data()) return req.body;
+      if (!req.has_file("file")) throw bad_request("the multipart upload has no field \"file\"");
+      return req.get_file_value("file").content;
+    };
+    http.Post("/api/fit-samples", [this, upload_text](const httplib::Request& req, httplib::Response& res) {
+      serve_api(res, [&](Api& api) { return api.fit_samples(upload_text(req), req.get_param_value("robust")); });
+    });
+    http.Post("/api/sample-plan", [this, upload_text](const httplib::Request& req, httplib::Response& res) {
+      serve_api(res, [&](Api& api) { return api.sample_plan(upload_text(req), req.get_param_value("k")); });
     });
     http.Get("/api/preview/status", [this](const httplib::Request& req, httplib::Response& res) {
       serve_api(res, [&](Api& api) { return api.preview_status(req.get_param_value("env"), req.get_param_value("object")); });

@@ -25,6 +25,9 @@ struct LatentDomain {
 
 /// Largest JSON request body (413 above): a request is a few numbers; 64 KiB leaves room.
 inline constexpr std::size_t kMaxJsonBody = 64u << 10;
+/// Largest sample file (POST /api/fit-samples, /api/sample-plan; 413 above): a few thousand
+/// measurements as CSV or JSON.
+inline constexpr std::size_t kMaxSampleBody = 1u << 20;
 /// Deepest nesting of arrays and objects accepted in a JSON request (400 deeper).
 inline constexpr std::size_t kMaxJsonDepth = 16;
 

@@ -197,6 +197,45 @@ TEST_F(HostileRequests, LongValuesAreNotEchoed) {
   }
 }
 
+// ---- 12. Sample files (POST /api/fit-samples, /api/sample-plan): whatever the upload holds, a
+// 4xx with a JSON message, and the server lives on
+TEST_F(HostileRequests, HostileSampleFilesGet4xx) {
+  Live live;
+  const std::string header = "theta_i,phi_i,theta_o,phi_o,r,g,b\n";
+  std::string wide = header;
+  for (int i = 0; i < 50000; ++i) wide += "1,";
+  const std::vector<std::string> bodies = {
+      std::string(200000, '[') + std::string(200000, ']'),
+      "{\"samples\":" + std::string(5000, '[') + "}",
+      header + std::string("10,0,10,0,1,1,1") + std::string(1, '\0') + "\n",
+      header + "10,0,10,0,\xff\xfe,1,1\n",
+      header + "1e999,0,10,0,1,1,1\n",
+      header + "10,0,10,0,-1,1,1\n",
+      header + "nan,0,10,0,1,1,1\n",
+      wide,
+      std::string(300000, ',') + "\n",
+      "theta_i\n" + std::string(1000, '\n'),
+      "{\"samples\":[{\"wi\":[0,0,1],\"wo\":\"x\",\"rgb\":[1,1,1]}]}",
+      "{\"samples\":[{\"wi\":[0,0,1],\"wo\":[0,0,1],\"rgb\":[1e308,1e308,1e308]}]}"};
+  for (const std::string path : {"/api/fit-samples", "/api/sample-plan?k=3"}) {
+    for (const auto& body : bodies) {
+      const HttpReply r = raw_request(live.port(), post(path, body));
+      // A plan skips invalid rows and plans afresh (200); a fit needs valid samples.
+      EXPECT_GE(r.status, path == std::string("/api/fit-samples") ? 400 : 200) << path << " " << body.substr(0, 60);
+      EXPECT_LT(r.status, 500) << path << " " << body.substr(0, 60) << ": " << r.body;
+      EXPECT_NO_THROW(json::parse(r.body)) << r.body.substr(0, 200);
+      ASSERT_TRUE(live.alive()) << "the server died on " << path << " " << body.substr(0, 60);
+    }
+  }
+  for (const std::string k : {"-1", "101", "99999999999999999999", "%FF", "1.5"})
+    EXPECT_EQ(raw_request(live.port(), post("/api/sample-plan?k=" + k, "")).status, 400) << k;
+  const HttpReply multipart = raw_request(
+      live.port(), "POST /api/fit-samples HTTP/1.1\r\nHost: x\r\nConnection: close\r\nContent-Type: multipart/form-data\r\n"
+                   "Content-Length: 4\r\n\r\nabcd");
+  EXPECT_EQ(multipart.status, 400) << multipart.body;
+  ASSERT_TRUE(live.alive());
+}
+
 // ---- 11. Fairness: one address flooding the heavy slot does not starve another
 TEST_F(HostileRequests, AFloodFromOneAddressDoesNotStarveAnother) {
   ServerOptions so;

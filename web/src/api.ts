@@ -167,6 +167,68 @@ export interface ProjectReply {
   top: TopWeight[];
 }
 
+/** A number the server could not compute (JSON null), e.g. a covariance the samples leave undetermined. */
+export type MaybeNumber = number | null;
+
+export interface BestInput {
+  index: number;
+  name: string;
+}
+
+/** One measured sample of an uploaded file as the fit sees it (values in 1/sr, residuals in the layout's space). */
+export interface FitSample {
+  line: number;
+  theta_i: number;
+  phi_i: number;
+  theta_o: number;
+  phi_o: number;
+  rgb: Rgb;
+  predicted: Rgb;
+  residual: Rgb;
+  weight: Rgb;
+  outlier: boolean;
+}
+
+/** POST /api/fit-samples: where a sample file lands on the map (docs/API.md). */
+export interface FitSamplesReply {
+  x: Point;
+  variance: number;
+  /** q x q covariance of x, rows. */
+  covariance: MaybeNumber[][];
+  latent_sigma: MaybeNumber[];
+  weights: TopWeight[];
+  best_input: BestInput | null;
+  /** The fitted table is a convex combination of the inputs off the map (weights); x is the map's point. */
+  combined: boolean;
+  samples: FitSample[];
+  used: number;
+  outliers: number;
+  rms_residual: number;
+  scale: number;
+  transform: string;
+  skipped: string[];
+  unusable: string[];
+}
+
+export interface PlannedDirection {
+  theta_i: number;
+  phi_i: number;
+  theta_o: number;
+  phi_o: number;
+  wi: number[];
+  wo: number[];
+  gain: number;
+}
+
+/** POST /api/sample-plan: the directions to measure, and the plan as a sample file (CSV). */
+export interface SamplePlanReply {
+  directions: PlannedDirection[];
+  remaining: number[];
+  conditioned_on: number;
+  skipped: string[];
+  csv: string;
+}
+
 export interface RealtimeCamera {
   position: number[];
   target: number[];
@@ -270,6 +332,16 @@ export const api = {
   exportMerl: (x: Point): Promise<Blob> => post("api/export", { x }).then((r) => r.blob()),
   project: (file: Blob): Promise<ProjectReply> =>
     fetch("api/project", { method: "POST", headers: { "Content-Type": "application/octet-stream" }, body: file })
+      .then(check)
+      .then((r) => r.json()),
+  /** A sample file (CSV or JSON text) fitted on the map. */
+  fitSamples: (file: Blob): Promise<FitSamplesReply> =>
+    fetch("api/fit-samples", { method: "POST", headers: { "Content-Type": "text/csv" }, body: file })
+      .then(check)
+      .then((r) => r.json()),
+  /** The k directions to measure (given the samples of `file`, if any). */
+  samplePlan: (k: number, file?: Blob): Promise<SamplePlanReply> =>
+    fetch(`api/sample-plan?k=${k}`, { method: "POST", headers: { "Content-Type": "text/csv" }, body: file ?? "" })
       .then(check)
       .then((r) => r.json()),
   realtime: (): Promise<RealtimeInfo> => fetch("api/realtime").then(check).then((r) => r.json()),

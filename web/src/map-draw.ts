@@ -1,6 +1,6 @@
 // MapPainter: draws one frame of the latent map on its canvas (background layer and "no data
-// here" hatching, grid, path, markers, decluttered labels, the projected upload, the current
-// point) and says which labels it drew. It keeps the label widths and the hatch pattern between
+// here" hatching, grid, path, markers, decluttered labels, the projected upload, the fitted
+// samples with their uncertainty ellipse, the current point) and says which labels it drew. It keeps the label widths and the hatch pattern between
 // frames; the LatentMap (map.ts) owns the view and the interaction.
 import { isolation, overlaps, placeLabels, type Box } from "./labels";
 import { fmt, niceStep } from "./map-geometry";
@@ -15,6 +15,36 @@ export interface ViewRect {
 export interface MapMarker {
   x: number[];
   label: string;
+}
+
+/** A fitted sample file: its point and the 2-sigma ellipse of its latent covariance. */
+export interface FitMarker {
+  x: number[];
+  /** q x q covariance of x (null entries: undetermined); the displayed plane's 2 x 2 block is drawn. */
+  covariance: (number | null)[][];
+  label: string;
+}
+
+/** The fit's ellipse as drawn: centre and semi-axes in CSS pixels (2 sigma), axis angle in radians. */
+export interface DrawnEllipse {
+  cx: number;
+  cy: number;
+  rx: number;
+  ry: number;
+  angle: number;
+}
+
+/**
+ * The 2-sigma ellipse of the (a, b) block of a covariance, in latent units: semi-axes 2 sqrt(lambda)
+ * of the block's eigenvalues and the angle of the first axis; null when the block is not finite.
+ */
+export function sigmaEllipse(cov: (number | null)[][], a: number, b: number): { r1: number; r2: number; angle: number } | null {
+  const saa = cov[a]?.[a], sbb = cov[b]?.[b], sab = cov[a]?.[b];
+  if (saa == null || sbb == null || sab == null || ![saa, sbb, sab].every(Number.isFinite)) return null;
+  const mean = 0.5 * (saa + sbb), diff = 0.5 * (saa - sbb);
+  const root = Math.hypot(diff, sab);
+  const l1 = Math.max(mean + root, 0), l2 = Math.max(mean - root, 0);
+  return { r1: 2 * Math.sqrt(l1), r2: 2 * Math.sqrt(l2), angle: 0.5 * Math.atan2(2 * sab, saa - sbb) };
 }
 
 export interface MapPath {
@@ -41,6 +71,7 @@ export interface MapFrame {
   readonly showLabels: boolean;
   readonly path: MapPath | null;
   readonly projected: MapMarker | null;
+  readonly fitted: FitMarker | null;
   readonly layer: MapLayerImage | null;
   readonly hovered: number | null;
   readonly view: ViewRect;
@@ -59,6 +90,8 @@ export interface DrawnLabels {
   hoverLabel: { index: number; box: Box } | null;
   /** Each material's marker opacity (1 for q = 2; q > 2: from its distance to the slice). */
   alpha: number[];
+  /** The fitted samples' ellipse, when one is shown. */
+  fitEllipse: DrawnEllipse | null;
 }
 
 /** Below this opacity (far from the displayed slice) a material gets no label unless hovered. */
@@ -84,7 +117,7 @@ export class MapPainter {
   private hatch: CanvasPattern | null = null;
 
   draw(m: MapFrame): DrawnLabels {
-    const out: DrawnLabels = { labelBoxes: [], visibleMaterials: 0, hoverLabel: null, alpha: [] };
+    const out: DrawnLabels = { labelBoxes: [], visibleMaterials: 0, hoverLabel: null, alpha: [], fitEllipse: null };
     const c = m.canvas;
     const dpr = window.devicePixelRatio || 1;
     const r = c.getBoundingClientRect();
@@ -206,6 +239,8 @@ export class MapPainter {
       }
     }
 
+    if (m.fitted) out.fitEllipse = this.drawFit(m, g, m.fitted, out.labelBoxes.map((l) => l.box));
+
     const [px, py] = m.toScreen(m.point[a], m.point[b]);
     g.strokeStyle = "#ffffff";
     g.lineWidth = 2;
@@ -220,6 +255,52 @@ export class MapPainter {
     g.moveTo(px, py + 5); g.lineTo(px, py + 14);
     g.stroke();
     return out;
+  }
+
+  /** The fitted samples: a 2-sigma ellipse (filled lightly) around an orange triangle, and its label. */
+  private drawFit(m: MapFrame, g: CanvasRenderingContext2D, f: FitMarker, labels: Box[]): DrawnEllipse {
+    const [a, b] = m.axes;
+    const [sx, sy] = m.toScreen(f.x[a], f.x[b]);
+    const [ux] = m.toScreen(f.x[a] + 1, f.x[b]);
+    const scale = ux - sx;  // CSS pixels per latent unit (the same on both axes)
+    const e = sigmaEllipse(f.covariance, a, b);
+    // An axis longer than the data's extent says "not pinned down along this direction" (the table
+    // barely changes along it): drawn up to that length, not across the whole canvas.
+    const cap = Math.max(m.bounds.max[a] - m.bounds.min[a], m.bounds.max[b] - m.bounds.min[b]) * scale;
+    const drawn: DrawnEllipse = {
+      cx: sx, cy: sy, rx: e ? Math.min(e.r1 * scale, cap) : 0, ry: e ? Math.min(e.r2 * scale, cap) : 0, angle: e ? e.angle : 0,
+    };
+    g.save();
+    if (e) {
+      g.beginPath();
+      // Latent y points up, screen y down: the angle flips.
+      g.ellipse(sx, sy, Math.max(drawn.rx, 1.5), Math.max(drawn.ry, 1.5), -drawn.angle, 0, 2 * Math.PI);
+      g.fillStyle = "rgba(255, 159, 67, 0.18)";
+      g.fill();
+      g.strokeStyle = "#ff9f43";
+      g.lineWidth = 1.5;
+      g.setLineDash([5, 3]);
+      g.stroke();
+      g.setLineDash([]);
+    }
+    g.beginPath();
+    g.moveTo(sx, sy - 8);
+    g.lineTo(sx + 7, sy + 5);
+    g.lineTo(sx - 7, sy + 5);
+    g.closePath();
+    g.fillStyle = "#ff9f43";
+    g.strokeStyle = "#0b0c0f";
+    g.lineWidth = 1.5;
+    g.fill();
+    g.stroke();
+    const w = g.measureText(f.label).width;
+    const box = { x0: sx + 10, y0: sy + 3, x1: sx + 10 + w, y1: sy + 17 };
+    if (!labels.some((l) => overlaps(l, box))) {
+      g.fillStyle = "#ff9f43";
+      g.fillText(f.label, sx + 10, sy + 10);
+    }
+    g.restore();
+    return drawn;
   }
 
   private labelWidth(m: MapFrame, g: CanvasRenderingContext2D, i: number): number {

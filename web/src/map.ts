@@ -1,16 +1,18 @@
 // LatentMap: the canvas showing one plane of the latent space: the database materials as labelled
-// points, an optional background layer image, the current point, a path segment and an uploaded
-// (projected) material. Pointer: click or drag to move the current point; Shift+drag, or drag
+// points, an optional background layer image, the current point, a path segment, an uploaded
+// (projected) material and fitted samples with their uncertainty ellipse. Pointer: click or drag to move the current point; Shift+drag, or drag
 // with the middle or right button, pans the view; wheel zooms around the cursor; double-click
 // resets the view. Keyboard (canvas focused): arrows move the point (Shift: 5x), Alt+arrows pan,
 // +/- zoom, 0 resets the view. Labels are decluttered (labels.ts): those that would overlap are
 // hidden, shown on hover, and come back as zooming in spreads the markers. Where the albedo layer
 // is transparent (far from the data) a hatched grey says "no data here".
 import type { Box } from "./labels";
-import { MapPainter, type MapFrame, type MapLayerImage, type MapMarker, type MapPath, type ViewRect } from "./map-draw";
+import {
+  MapPainter, type DrawnEllipse, type FitMarker, type MapFrame, type MapLayerImage, type MapMarker, type MapPath, type ViewRect,
+} from "./map-draw";
 import { clamp, coreBox, MARGIN } from "./map-geometry";
 
-export type { MapMarker, ViewRect } from "./map-draw";
+export type { FitMarker, MapMarker, ViewRect } from "./map-draw";
 
 export interface MapCallbacks {
   /** The current point moved (dragging: the pointer is still down). */
@@ -25,6 +27,10 @@ export class LatentMap implements MapFrame {
   showLabels = true;
   path: MapPath | null = null;
   projected: MapMarker | null = null;
+  /** A fitted sample file (fit-samples.ts): its point and covariance. */
+  fitted: FitMarker | null = null;
+  /** The fit's ellipse as the last frame drew it (for the page and tests). */
+  fitEllipse: DrawnEllipse | null = null;
 
   private cx = 0;
   private cy = 0;
@@ -172,6 +178,7 @@ export class LatentMap implements MapFrame {
       this.visibleMaterials = drawn.visibleMaterials;
       this.hoverLabel = drawn.hoverLabel;
       this.markerAlpha = drawn.alpha;
+      this.fitEllipse = drawn.fitEllipse;
       this.onDrawn?.();
     });
   }

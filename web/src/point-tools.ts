@@ -1,7 +1,9 @@
-// The tools of the current point: download its MERL table or its coordinates, and upload a
-// .binary file to project it onto the map (going to a material by name: library.ts).
+// The tools of the current point: download its MERL table or its coordinates, upload a .binary
+// file to project it onto the map, and fit sample files (fit-samples.ts; going to a material by
+// name: library.ts).
 import { api } from "./api";
 import { $, download, fmtX } from "./dom";
+import { createFitSamples } from "./fit-samples";
 import type { LatentMap } from "./map";
 import { moveTo, type PageStore } from "./state";
 import { setStatus } from "./status";
@@ -29,10 +31,7 @@ export function createPointTools(store: PageStore, map: LatentMap): void {
     download(new Blob([JSON.stringify(body, null, 2)], { type: "application/json" }), "matlas-point.json");
   });
 
-  $<HTMLInputElement>("upload").addEventListener("change", async (e) => {
-    const input = e.target as HTMLInputElement;
-    const file = input.files?.[0];
-    if (!file) return;
+  const project = async (file: File) => {
     setStatus(`projecting ${file.name}…`);
     try {
       const reply = await api.project(file);
@@ -42,8 +41,18 @@ export function createPointTools(store: PageStore, map: LatentMap): void {
       setStatus(`${file.name}: x = (${fmtX(reply.x)}), relative residual ${reply.residual.toPrecision(3)}`);
     } catch (err) {
       setStatus(`upload: ${(err as Error).message}`, true, "upload");
+    }
+  };
+  $<HTMLInputElement>("upload").addEventListener("change", async (e) => {
+    const input = e.target as HTMLInputElement;
+    const file = input.files?.[0];
+    if (!file) return;
+    try {
+      await project(file);
     } finally {
       input.value = "";
     }
   });
+  // Sparse samples (and files dropped on the map): fit-samples.ts.
+  createFitSamples(store, map, project);
 }

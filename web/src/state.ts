@@ -1,6 +1,6 @@
 // The page's typed state (one Store, web/src/store.ts), also exposed as window.matlas for the
 // browser tests and for debugging in the console.
-import type { ModelInfo, WeightsReply } from "./api";
+import type { FitSamplesReply, ModelInfo, WeightsReply } from "./api";
 import type { LatentMap } from "./map";
 import { Store } from "./store";
 
@@ -47,6 +47,10 @@ export interface PageState {
   giImages: number;
   lastWeights: WeightsReply | null;
   projected: { x: number[]; residual: number } | null;
+  /** The last sample file fitted on the map (fit-samples.ts). */
+  fitted: { file: string; reply: FitSamplesReply } | null;
+  /** The last measurement plan downloaded. */
+  plan: { k: number; conditionedOn: number } | null;
   /** The short list (compared side by side, exported together). */
   shortlist: ListItem[];
   map: LatentMap;
@@ -64,7 +68,7 @@ export function createStore(model: ModelInfo, map: LatentMap, env: string, objec
   const store = new Store<PageState>({
     model, x: map.point.slice(), dragging: false, movedAt: 0, env, object, shown: null, shownScenes: [],
     previews: 0, latencies: [], refine: true, refined: null, refinedImages: 0, preparing: null, giShown: null, giImages: 0,
-    lastWeights: null, projected: null, shortlist: [], map,
+    lastWeights: null, projected: null, fitted: null, plan: null, shortlist: [], map,
   });
   window.matlas = store.state;
   return store;

@@ -125,6 +125,16 @@ test("a live server answers every endpoint as the schema says", async () => {
   const projected = await expectAnswer("POST", "api/project", readFileSync(join(db, `${model.names[2]}.binary`)),
     "application/octet-stream");
   assert.equal(projected.nearest.index, 2);
+  // Sparse samples: a fresh plan, and a fit of samples read off material 2's lobe.
+  const plan = await expectAnswer("POST", "api/sample-plan?k=4", "", "text/csv");
+  assert.equal(plan.directions.length, 4);
+  const lobe = await expectAnswer("POST", "api/lobe", { x: model.latent[2], theta_i: 30, samples: 19 });
+  const rows = lobe.theta_o.map((to, j) => [30, 180, Math.abs(to), to >= 0 ? 0 : 180, ...lobe.rgb[j]])
+    .filter((r) => r[2] < 80 && r.slice(4).every((v) => v > 0));
+  const fitted = await expectAnswer("POST", "api/fit-samples",
+    ["theta_i,phi_i,theta_o,phi_o,r,g,b", ...rows.map((r) => r.join(","))].join("\n"), "text/csv");
+  assert.equal(fitted.used, rows.length);
+  assert.equal(fitted.covariance.length, model.dim);
   // The real-time viewer's data: shapes agree with the payloads.
   const rt = await expectAnswer("GET", "api/realtime");
   // Per view angle: the (L + 1)(L + 2)/2 rotated-ZH terms, then one weight per sharp lobe.

@@ -13,7 +13,9 @@
 // the slice's colour scale is the server's maximum, the lobe's rings, the path's captions; search
 // goes to a material and the name goes once the point moves; the database grid goes to a material;
 // the short list compares materials in the same scene (the server's images) and exports their
-// tables; the address bar restores a view; at q = 3 points fade away from the displayed slice.
+// tables; the address bar restores a view; a sample file lands on its material with an
+// uncertainty ellipse and a fit panel, a plan downloads, a bad file shows its error (screenshot
+// web-fit-samples.png); at q = 3 points fade away from the displayed slice.
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
 import { mkdtempSync, mkdirSync, readFileSync, rmSync } from "node:fs";
@@ -403,6 +405,76 @@ test("the real-time card shows progress while the coefficients load and an error
     release();
     await ctx.close();
   }
+});
+
+// --- sparse samples (issue 30) -------------------------------------------------------------------
+
+test("a sample file lands on its material with an uncertainty ellipse and a fit panel; a bad file shows its error", async () => {
+  await page.setViewportSize({ width: 1280, height: 800 });
+  const pageErrors = [];
+  const onError = (e) => pageErrors.push(String(e));
+  page.on("pageerror", onError);
+  const model = await page.evaluate(() => window.matlas.model);
+  const k = 3;
+  // Samples of material k through the API: its lobes in the plane of incidence (wi on the -x side,
+  // phi_i = 180; theta_o > 0 on the mirror side, phi_o = 0) at a few incident angles.
+  const lines = ["# samples of " + model.names[k], "theta_i,phi_i,theta_o,phi_o,r,g,b"];
+  for (const ti of [10, 25, 40, 55, 70]) {
+    const lobe = JSON.parse((await api("api/lobe", { x: model.latent[k], theta_i: ti, samples: 19 })).bytes);
+    lobe.theta_o.forEach((to, j) => {
+      // With 5 % noise (deterministic), so that the fit has an uncertainty to show.
+      const noise = 1 + 0.05 * Math.sin(12.9898 * (lines.length + 1) + 78.233 * ti);
+      if (Math.abs(to) < 80 && lobe.rgb[j].every((v) => v > 0))
+        lines.push([ti, 180, Math.abs(to), to >= 0 ? 0 : 180, ...lobe.rgb[j].map((v) => v * noise)].join(","));
+    });
+  }
+  assert.ok(lines.length > 20, `${lines.length - 2} samples`);
+  await page.setInputFiles("#samples-upload", { name: "measured.csv", mimeType: "text/csv", buffer: Buffer.from(lines.join("\n") + "\n") });
+  await page.waitForFunction(() => window.matlas.fitted !== null && window.matlas.map.fitEllipse !== null, null, { timeout: 30_000 });
+  const s = await page.evaluate(() => {
+    const m = window.matlas.map, f = window.matlas.fitted.reply;
+    const [a, b] = m.axes;
+    return { reply: f, x: window.matlas.x, ellipse: m.fitEllipse, at: m.toScreen(f.x[a], f.x[b]) };
+  });
+  assert.equal(s.reply.best_input.index, k, JSON.stringify(s.reply.best_input));
+  const extent = model.bounds.max.map((v, d) => v - model.bounds.min[d]);
+  s.reply.x.forEach((v, d) => assert.ok(Math.abs(v - model.latent[k][d]) < 0.05 * extent[d], `x[${d}] = ${v} vs ${model.latent[k][d]}`));
+  assert.equal(s.reply.used, lines.length - 2);
+  assert.ok(sameX(s.x, s.reply.x), "the current point moved to the fit");
+  assert.ok(Math.abs(s.ellipse.cx - s.at[0]) < 0.5 && Math.abs(s.ellipse.cy - s.at[1]) < 0.5, "the ellipse is centred on the fit");
+  assert.ok(s.ellipse.rx >= s.ellipse.ry && s.ellipse.ry > 0, `the noise leaves an uncertainty: ${JSON.stringify(s.ellipse)}`);
+  const panel = page.locator("#fit-panel");
+  assert.ok(await panel.isVisible());
+  const text = await panel.textContent();
+  for (const word of ["measured.csv", `${s.reply.used} samples used`, "outlier", "residual", model.names[k]])
+    assert.ok(text.includes(word), `the fit panel says "${word}": ${text}`);
+  await page.waitForFunction(() => window.matlas.shown && window.matlas.shown.x.every((v, d) => v === window.matlas.x[d]), null, { timeout: 30_000 });
+  await page.screenshot({ path: join(results, "web-fit-samples.png") });
+
+  // "plan…" downloads the next directions given the samples fitted, as a sample file.
+  const [download] = await Promise.all([page.waitForEvent("download"), page.click("#sample-plan")]);
+  const csv = readFileSync(await download.path(), "utf8").trim().split("\n").filter((l) => !l.startsWith("#"));
+  assert.match(csv[0], /^theta_i,phi_i,theta_o,phi_o/);
+  assert.equal(csv.length - 1, 10);
+  assert.equal(new Set(csv.slice(1)).size, 10, "distinct directions");
+  assert.equal((await page.evaluate(() => window.matlas.plan)).conditionedOn, s.reply.used);
+
+  // A file whose only row is below the horizon: the parser's message in the panel and the status line.
+  await page.setInputFiles("#samples-upload", { name: "bad.csv", mimeType: "text/csv",
+    buffer: Buffer.from("theta_i,phi_i,theta_o,phi_o,r,g,b\n95,0,10,0,0.1,0.1,0.1\n") });
+  await page.waitForFunction(() => document.getElementById("fit-panel").classList.contains("failed"), null, { timeout: 10_000 });
+  const error = await page.locator("#fit-panel .fit-error").textContent();
+  assert.match(error, /line 2/);
+  assert.match(error, /horizon/);
+  assert.match(await page.locator("#status").textContent(), /line 2/);
+  assert.equal(await page.evaluate(() => window.matlas.fitted), null);
+  assert.equal(await page.evaluate(() => window.matlas.map.fitted), null, "no marker for a failed fit");
+  await page.locator(".map-card").screenshot({ path: join(results, "web-fit-samples-error.png") });
+  await page.click("#fit-close");
+  assert.ok(!(await panel.isVisible()));
+  page.off("pageerror", onError);
+  assert.deepEqual(pageErrors, [], "no uncaught error in the page");
+  await page.setViewportSize({ width: 1440, height: 1000 });
 });
 
 // --- q > 2: distance from the displayed slice ---------------------------------------------------
