@@ -170,6 +170,23 @@ void SafetensorsWriter::append(const void* data, std::size_t bytes) {
   growing_end_ += bytes;
 }
 
+void SafetensorsWriter::skip(std::size_t bytes) {
+  if (!file_ || !reserved_ || current_growing_ >= tensors_.size())
+    throw Error("SafetensorsWriter::skip without an open growing tensor (internal error)");
+  file_->skip(bytes);
+  growing_end_ += bytes;
+}
+
+std::uint64_t SafetensorsWriter::append_offset() const {
+  if (!file_ || !reserved_) throw Error("SafetensorsWriter::append_offset without a reserved header (internal error)");
+  return 8 + reserved_ + growing_end_;
+}
+
+const fs::path& SafetensorsWriter::temporary() const {
+  if (!file_) throw Error("SafetensorsWriter::temporary before begin (internal error)");
+  return file_->temporary();
+}
+
 void SafetensorsWriter::end_growing() {
   if (!file_ || current_growing_ >= tensors_.size())
     throw Error("SafetensorsWriter::end_growing without an open growing tensor (internal error)");

@@ -71,6 +71,14 @@ public:
   void write_tensor(const std::string& name, const void* data, std::size_t bytes);
   /// Appends rows to the current growing tensor (reserved-header mode).
   void append(const void* data, std::size_t bytes);
+  /// Counts `bytes` of the current growing tensor as appended without writing them: another
+  /// process writes them into temporary() at append_offset() (a distributed build's ranks)
+  /// before commit().
+  void skip(std::size_t bytes);
+  /// The file offset of the next appended byte (reserved-header mode).
+  std::uint64_t append_offset() const;
+  /// The temporary file being written (renamed into place by commit()).
+  const std::filesystem::path& temporary() const;
   /// Closes the current growing tensor: its first dimension is the number of rows appended.
   void end_growing();
   /// Checks that every declared byte was written, then renames the file into place.

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <string>
 
+#include "core/communicator.h"
 #include "core/progress.h"
 #include "gp/optimize.h"
 #include "manifold/gram.h"
@@ -71,7 +72,16 @@ struct BuildReport {
 };
 
 /// Builds a model and writes it atomically to `output`.
+///
+/// With a communicator of P > 1 ranks (`mpirun -np P matlas build`; every rank calls this with
+/// the same set, options and output, on storage every rank sees), rank r reads only its share of
+/// the column blocks of every file (gram.h's PassShare), the ranks add up their Gram matrices and
+/// albedo curves (gram_reduce.h) and write their data into the one model file (data_shares.h);
+/// rank 0 places the latent points and writes the rest. The model is the single-process one but
+/// for rounding in the Gram sums (and what follows from them) and the source hashes (of the
+/// ranks' byte ranges). An error on any rank is thrown on every rank.
 BuildReport build_model(const MaterialSet& set, const BuildOptions& options,
-                        const std::filesystem::path& output, ProgressSink& progress = null_progress());
+                        const std::filesystem::path& output, ProgressSink& progress = null_progress(),
+                        Communicator& comm = serial_communicator());
 
 }  // namespace matlas
