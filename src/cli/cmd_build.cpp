@@ -99,7 +99,10 @@ void run_build(const BuildArgs& a, const Io& io) {
   const BuildReport r = build_model(set, o, a.output, progress, comm);
   if (!comm.is_root()) return;
   print(io.out, "wrote %s\n", a.output.c_str());
-  if (comm.size() > 1) print(io.out, "  ranks            %d (MPI): the pass split by column blocks\n", comm.size());
+  if (comm.size() > 1)
+    print(io.out, "  ranks            %d (MPI), the pass split by column blocks; rank 0: its share %.2f s, waiting "
+                  "for the others %.2f s, Gram sums and gathers %.2f s, the ranks' data placed %.2f s\n",
+          comm.size(), r.share_seconds, r.wait_seconds, r.reduce_seconds, r.place_seconds);
   print(io.out, "  materials        %zu, q = %d, layout %s, optimiser %s, interpolation %s\n", set.size(), a.dim,
               o.layout.to_string().c_str(), gp::to_string(o.optimize.method), to_string(o.interpolation));
   print(io.out, "  columns          %zu kept, %zu dropped (not measured in every material)\n",

@@ -182,6 +182,20 @@ std::uint64_t SafetensorsWriter::append_offset() const {
   return 8 + reserved_ + growing_end_;
 }
 
+std::uint64_t SafetensorsWriter::tensor_offset(const std::string& name) {
+  if (!file_ || !reserved_) throw Error("SafetensorsWriter::tensor_offset without a reserved header (internal error)");
+  return 8 + reserved_ + tensor(name).begin;
+}
+
+void SafetensorsWriter::written_elsewhere(const std::string& name) {
+  if (!file_ || !reserved_) throw Error("SafetensorsWriter::written_elsewhere without a reserved header (internal error)");
+  TensorInfo& t = tensor(name);
+  const auto index = static_cast<std::size_t>(&t - tensors_.data());
+  if (growing_[index]) throw file_error(file_->target(), "tensor '" + name + "' is growing (internal error)");
+  if (!done_[index]) written_ += t.bytes();
+  done_[index] = true;
+}
+
 const fs::path& SafetensorsWriter::temporary() const {
   if (!file_) throw Error("SafetensorsWriter::temporary before begin (internal error)");
   return file_->temporary();

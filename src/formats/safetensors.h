@@ -77,6 +77,12 @@ public:
   void skip(std::size_t bytes);
   /// The file offset of the next appended byte (reserved-header mode).
   std::uint64_t append_offset() const;
+  /// The file offset of a tensor's first byte (reserved-header mode; a growing tensor's once it is
+  /// the current one or closed).
+  std::uint64_t tensor_offset(const std::string& name);
+  /// Counts fixed tensor `name` as written: another process wrote it into temporary() at
+  /// tensor_offset(name).
+  void written_elsewhere(const std::string& name);
   /// The temporary file being written (renamed into place by commit()).
   const std::filesystem::path& temporary() const;
   /// Closes the current growing tensor: its first dimension is the number of rows appended.

@@ -3,6 +3,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <ctime>
 #include <iomanip>
 #include <memory>
@@ -144,27 +145,53 @@ std::vector<std::int32_t> column_map(const std::vector<bool>& kept) {
   return map;
 }
 
-/// A distributed build's data (data_shares.h): rank 0 tells the others the model's temporary file
-/// and where rank 1's share starts, and counts their bytes as appended; rank r > 0 copies its
-/// share there, after the shares of ranks 1..r-1.
-void place_data_shares(SafetensorsWriter& writer, AtomicFile* share_file,
-                       const std::vector<std::uint64_t>& kept_per_rank, std::size_t column_bytes, Communicator& comm) {
-  std::string place;  // "OFFSET PATH" on rank 0
-  if (comm.is_root()) place = std::to_string(writer.append_offset()) + " " + writer.temporary().string();
+/// A distributed build's slices of the model (data_shares.h): rank 0 tells the others the model's
+/// temporary file, where rank 1's data starts and where value_column starts; rank r > 0 copies
+/// its data after the data of ranks 1..r-1; every rank writes its means and its part of the
+/// value-to-column map. Rank 0 counts what the others write as written.
+void place_slices(SafetensorsWriter& writer, AtomicFile* share_file, const GramResult& g,
+                  const std::vector<std::uint64_t>& kept_per_rank, std::size_t column_bytes, Communicator& comm) {
+  std::string place;  // "DATA_OFFSET VALUE_COLUMN_OFFSET PATH" on rank 0
+  if (comm.is_root())
+    place = std::to_string(writer.append_offset()) + " " + std::to_string(writer.tensor_offset(model_format::kValueColumn)) +
+            " " + writer.temporary().string();
   comm.broadcast(place);
   run_collectively(comm, [&] {
-    const std::size_t space = place.find(' ');
-    MATLAS_CHECK(space != std::string::npos, "the model's temporary file and offset");
-    std::uint64_t offset = std::stoull(place.substr(0, space));
-    const fs::path model = place.substr(space + 1);
-    std::uint64_t others = 0;
-    for (std::size_t r = 1; r < kept_per_rank.size(); ++r) {
+    std::istringstream in(place);
+    std::uint64_t offset = 0, value_column = 0;
+    in >> offset >> value_column;
+    in.get();
+    std::string path;
+    std::getline(in, path);
+    MATLAS_CHECK(!in.fail() && !path.empty(), "the model's temporary file and offsets");
+    const fs::path model = path;
+    const auto rank = static_cast<std::size_t>(comm.rank());
+    std::uint64_t kept_before = 0, others = 0;
+    for (std::size_t r = 0; r < kept_per_rank.size(); ++r) {
+      if (r < rank) kept_before += kept_per_rank[r];
+      if (r == 0) continue;  // rank 0's data is in place (appended during the pass)
       const std::uint64_t bytes = kept_per_rank[r] * column_bytes;
-      if (static_cast<int>(r) == comm.rank()) copy_share_into(share_file->temporary(), bytes, model, offset);
+      if (r == rank) copy_share_into(share_file->temporary(), bytes, model, offset);
       offset += bytes;
       others += bytes;
     }
-    if (comm.is_root()) writer.skip(others);
+    // After the data, the mean: float32 per kept column, this rank's after the ranks before it.
+    const std::uint64_t mean_offset = offset + kept_before * 4u;
+    const Eigen::VectorXf mean_f = g.mean.cast<float>();
+    if (mean_f.size() > 0) write_into(model, mean_offset, mean_f.data(), static_cast<std::size_t>(mean_f.size()) * 4u);
+    std::vector<std::int32_t> columns(g.end_value - g.first_value, -1);
+    auto next = static_cast<std::int32_t>(kept_before);
+    for (std::size_t v = g.first_value; v < g.end_value; ++v)
+      if (g.kept[v]) columns[v - g.first_value] = next++;
+    if (!columns.empty())
+      write_into(model, value_column + g.first_value * 4u, columns.data(), columns.size() * 4u);
+    if (comm.is_root()) {
+      writer.skip(others);
+      writer.end_growing();
+      writer.skip(g.kept_columns * 4u);
+      writer.end_growing();
+      writer.written_elsewhere(model_format::kValueColumn);
+    }
   });
 }
 
@@ -174,10 +201,14 @@ void finish_model(const MaterialSet& set, const BuildOptions& options, const Gra
                   SafetensorsWriter& writer, json& meta, BuildReport& report,
                   std::chrono::steady_clock::time_point t0, ProgressSink& progress, int ranks) {
   const int q = options.dim;
-  writer.end_growing();
-  const Eigen::VectorXf mean_f = g.mean.cast<float>();
-  writer.append(mean_f.data(), static_cast<std::size_t>(mean_f.size()) * 4u);
-  writer.end_growing();
+  const bool slices_placed = ranks > 1;  // mean and value_column written by the ranks (place_slices)
+  Eigen::VectorXf mean_f;
+  if (!slices_placed) {
+    writer.end_growing();
+    mean_f = g.mean.cast<float>();
+    writer.append(mean_f.data(), static_cast<std::size_t>(mean_f.size()) * 4u);
+    writer.end_growing();
+  }
   report.pass_seconds = seconds_since(t0);
   reject_duplicates(set, g.gram);
   progress.message("kept " + std::to_string(g.kept_columns) + " of " +
@@ -201,7 +232,18 @@ void finish_model(const MaterialSet& set, const BuildOptions& options, const Gra
   // The small tensors, the metadata, then commit (the data went to disk during the pass, with
   // direct I/O where the file system has it).
   t0 = std::chrono::steady_clock::now();
-  const std::vector<std::int32_t> columns = column_map(g.kept);
+  std::vector<std::int32_t> columns;
+  if (slices_placed) {  // read back for the checksum
+    const auto mean_bytes = read_from(writer.temporary(), writer.tensor_offset(model_format::kMean), g.kept_columns * 4u);
+    mean_f.resize(static_cast<Eigen::Index>(g.kept_columns));
+    std::memcpy(mean_f.data(), mean_bytes.data(), mean_bytes.size());
+    const auto column_bytes = read_from(writer.temporary(), writer.tensor_offset(model_format::kValueColumn),
+                                        set.value_count() * 4u);
+    columns.resize(set.value_count());
+    std::memcpy(columns.data(), column_bytes.data(), column_bytes.size());
+  } else {
+    columns = column_map(g.kept);
+  }
   using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   const RowMajor latent_rows = report.optimization.latent;
   const RowMajor gram_rows = g.gram;
@@ -212,7 +254,7 @@ void finish_model(const MaterialSet& set, const BuildOptions& options, const Gra
   writer.write_tensor(model_format::kLayoutGram, layout_gram_rows.data(),
                       static_cast<std::size_t>(layout_gram_rows.size()) * 8u);
   writer.write_tensor(model_format::kAlbedo, albedo_rows.data(), static_cast<std::size_t>(albedo_rows.size()) * 8u);
-  writer.write_tensor(model_format::kValueColumn, columns.data(), columns.size() * 4u);
+  if (!slices_placed) writer.write_tensor(model_format::kValueColumn, columns.data(), columns.size() * 4u);
 
   Xxh3Hasher small_hash;
   for (const auto& [ptr, bytes] :
@@ -301,9 +343,17 @@ BuildReport build_model(const MaterialSet& set, const BuildOptions& options, con
     }
   });
   GramResult g;
+  auto lap = std::chrono::steady_clock::now();
+  const auto since_lap = [&lap] {
+    const double seconds = seconds_since(lap);
+    lap = std::chrono::steady_clock::now();
+    return seconds;
+  };
   run_collectively(comm, [&] {
     g = accumulate_gram(set, options.layout, options.block_columns, progress, data.get(), {comm.rank(), comm.size()});
+    report.share_seconds = since_lap();
   });
+  report.wait_seconds = since_lap();
   std::vector<std::uint64_t> kept_per_rank;
   run_collectively(comm, [&] { kept_per_rank = reduce_gram(g, !options.layout.is_identity(), comm); });
   auto [error2, norm2] = data->error_sums();
@@ -312,7 +362,9 @@ BuildReport build_model(const MaterialSet& set, const BuildOptions& options, con
     comm.sum(sums);
     error2 = sums[0];
     norm2 = sums[1];
-    place_data_shares(writer, share_file.get(), kept_per_rank, set.size() * dtype_size(storage), comm);
+    report.reduce_seconds = since_lap();
+    place_slices(writer, share_file.get(), g, kept_per_rank, set.size() * dtype_size(storage), comm);
+    report.place_seconds = since_lap();
   }
   report.storage_relative_error = norm2 > 0 ? std::sqrt(error2 / norm2) : 0.0;
   report.kept_columns = g.kept_columns;

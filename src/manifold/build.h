@@ -69,6 +69,10 @@ struct BuildReport {
   PassSteps pass_steps;  ///< where the pass's time went
   /// Relative L2 error of the stored (rounded) data against the double data: float32 or float16.
   double storage_relative_error = 0;
+  /// A distributed build's pass on this rank: its share, waiting for the other ranks to finish
+  /// theirs, adding up the Grams and gathering on rank 0, placing the ranks' data in the model
+  /// (each rank copies its share; rank 0 waits for them).
+  double share_seconds = 0, wait_seconds = 0, reduce_seconds = 0, place_seconds = 0;
 };
 
 /// Builds a model and writes it atomically to `output`.

@@ -149,7 +149,7 @@ TEST_F(MpiBuild, TwoRanksWriteTheSingleProcessModel) {
   args[3] = split.string();
   r = mpirun(2, args);
   ASSERT_EQ(r.code, 0) << r.out;
-  EXPECT_NE(r.out.find("ranks            2 (MPI)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("ranks            2 (MPI), the pass split by column blocks"), std::string::npos) << r.out;
   EXPECT_EQ(std::count_if(fs::directory_iterator(dir_->path()), fs::directory_iterator{},
                           [](const fs::directory_entry& e) { return e.path().filename().string().find(".tmp-") !=
                                                                         std::string::npos ||
