@@ -37,3 +37,22 @@ for name in sorted(a):
     scale = np.max(np.abs(x.astype(np.float64))) if x.size else 0.0
     print(f"{name:12s} {str(x.shape):18s} bitwise {'yes' if identical else 'no ':3s}  max |a-b| {d:.3e}"
           f"  relative to max |a| {d / scale if scale else 0:.3e}")
+
+# The latent layout up to rotation (the likelihood and the priors depend only on distances): the
+# pairwise distances, and the log-likelihood each build reached.
+def distances(x):
+    return np.sqrt(((x[:, None, :] - x[None, :, :]) ** 2).sum(-1))
+
+
+da, db = distances(a["latent"]), distances(b["latent"])
+print(f"latent pairwise distances: max |a-b| {np.max(np.abs(da - db)):.3e}  relative to max {np.max(np.abs(da - db)) / np.max(da):.3e}")
+
+
+def metadata(path):
+    with open(path, "rb") as f:
+        (length,) = struct.unpack("<Q", f.read(8))
+        return json.loads(json.loads(f.read(length))["__metadata__"]["matlas"])
+
+
+la, lb = metadata(sys.argv[1])["log_likelihood"], metadata(sys.argv[2])["log_likelihood"]
+print(f"log-likelihood: {la:.10g} vs {lb:.10g} (relative difference {abs(la - lb) / abs(la):.2e})")

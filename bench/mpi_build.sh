@@ -30,8 +30,8 @@ mpirun -np "$ranks" --oversubscribe sh -c '/usr/bin/time -f "%e %M %U %S" -o "$0
 t0=$(now); mpirun -np "$ranks" --oversubscribe "$exe" build "$db" -o "$out/split2.matlas" --dim 5 --quiet > /dev/null; t1=$(now)
 mpirun_wall=$(echo "$t1 - $t0" | bc -l)
 
-echo "== single process"; grep -E "time|reading" "$out/single.log"
-echo "== $ranks ranks (rank 0's report)"; grep -E "time|reading" "$out/split.log"
+echo "== single process"; grep -E "time |reading " "$out/single.log"
+echo "== $ranks ranks (rank 0's report)"; grep -E "ranks |time |reading " "$out/split.log"
 printf 'raw read of the inputs (cat, %d files):         %.2f s\n' "${#files[@]}" "$raw"
 printf 'raw read of one rank'"'"'s share (dd, %d MB/file): %.2f s\n' "$share_mb" "$raw_share"
 read -r wall rss user sys < "$out/time.single"
