@@ -75,9 +75,9 @@ public:
   /// process writes them into temporary() at append_offset() (a distributed build's ranks)
   /// before commit().
   void skip(std::size_t bytes);
-  /// The file offset of the next appended byte (reserved-header mode).
+  /// The file offset of the next appended byte (reserved-header mode, after begin()).
   std::uint64_t append_offset() const;
-  /// The file offset of a tensor's first byte (reserved-header mode; a growing tensor's once it is
+  /// The file offset of a tensor's first byte (reserved-header mode, after begin(); a growing tensor's once it is
   /// the current one or closed).
   std::uint64_t tensor_offset(const std::string& name);
   /// Counts fixed tensor `name` as written: another process wrote it into temporary() at
