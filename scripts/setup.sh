@@ -12,6 +12,7 @@ packages=(
   liblbfgspp-dev libtinyexr-dev libopenexr-dev libdraco-dev libstb-dev libembree-dev libtbb-dev
   libtinygltf-dev
   libgtest-dev libbenchmark-dev
+  libopenmpi-dev openmpi-bin
   python3-dev python3-pybind11 python3-numpy python3-pytest python3-setuptools python3-pip
   clang-14 libclang-rt-14-dev
   nodejs npm chromium fonts-dejavu-core libjs-chart.js

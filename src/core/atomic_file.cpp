@@ -218,7 +218,13 @@ void AtomicFile::write_at(std::uint64_t offset, const void* data, std::size_t by
 }
 
 void AtomicFile::skip(std::uint64_t bytes) {
-  if (direct_) throw file_error(target_, "skip() after direct appends (internal error)");
+  if (direct_) {
+    // The direct appends stop before the hole (its bytes come from elsewhere, e.g. another rank
+    // of a distributed build) and resume at the first aligned offset after it.
+    const auto tail = direct_->finish();
+    write_all_at(fd_, target_, tail.data(), tail.size(), direct_->tail_offset());
+    direct_.reset();
+  }
   position_ += bytes;
 }
 

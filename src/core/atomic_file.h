@@ -42,7 +42,8 @@ public:
   void write(const std::string& text) { write(text.data(), text.size()); }
   /// Writes at an absolute offset outside the appended range (e.g. into a hole left by skip()).
   void write_at(std::uint64_t offset, const void* data, std::size_t bytes);
-  /// Advances the append position, leaving a hole to be filled with write_at().
+  /// Advances the append position, leaving a hole to be filled with write_at() (or by another
+  /// process writing into temporary()). After direct appends, the staged ones are written first.
   void skip(std::uint64_t bytes);
   /// Bytes appended (or skipped) so far.
   std::uint64_t position() const { return position_; }

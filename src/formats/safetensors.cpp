@@ -166,8 +166,29 @@ void SafetensorsWriter::write_tensor(const std::string& name, const void* data, 
 void SafetensorsWriter::append(const void* data, std::size_t bytes) {
   if (!file_ || !reserved_ || current_growing_ >= tensors_.size())
     throw Error("SafetensorsWriter::append without an open growing tensor (internal error)");
-  file_->write(data, bytes);
+  if (data) file_->write(data, bytes);
+  else file_->skip(bytes);  // skip(): written by another process
   growing_end_ += bytes;
+}
+
+void SafetensorsWriter::skip(std::size_t bytes) { append(nullptr, bytes); }
+
+std::uint64_t SafetensorsWriter::append_offset() const { return 8 + reserved_ + growing_end_; }
+
+std::uint64_t SafetensorsWriter::tensor_offset(const std::string& name) { return 8 + reserved_ + tensor(name).begin; }
+
+void SafetensorsWriter::written_elsewhere(const std::string& name) {
+  TensorInfo& t = tensor(name);
+  const auto index = static_cast<std::size_t>(&t - tensors_.data());
+  if (!file_ || !reserved_ || growing_[index])
+    throw Error("SafetensorsWriter::written_elsewhere: '" + name + "' is growing or not begun (internal error)");
+  if (!done_[index]) written_ += t.bytes();
+  done_[index] = true;
+}
+
+const fs::path& SafetensorsWriter::temporary() const {
+  if (!file_) throw Error("SafetensorsWriter::temporary before begin (internal error)");
+  return file_->temporary();
 }
 
 void SafetensorsWriter::end_growing() {

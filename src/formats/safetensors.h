@@ -71,6 +71,20 @@ public:
   void write_tensor(const std::string& name, const void* data, std::size_t bytes);
   /// Appends rows to the current growing tensor (reserved-header mode).
   void append(const void* data, std::size_t bytes);
+  /// Counts `bytes` of the current growing tensor as appended without writing them: another
+  /// process writes them into temporary() at append_offset() (a distributed build's ranks)
+  /// before commit().
+  void skip(std::size_t bytes);
+  /// The file offset of the next appended byte (reserved-header mode, after begin()).
+  std::uint64_t append_offset() const;
+  /// The file offset of a tensor's first byte (reserved-header mode, after begin(); a growing tensor's once it is
+  /// the current one or closed).
+  std::uint64_t tensor_offset(const std::string& name);
+  /// Counts fixed tensor `name` as written: another process wrote it into temporary() at
+  /// tensor_offset(name).
+  void written_elsewhere(const std::string& name);
+  /// The temporary file being written (renamed into place by commit()).
+  const std::filesystem::path& temporary() const;
   /// Closes the current growing tensor: its first dimension is the number of rows appended.
   void end_growing();
   /// Checks that every declared byte was written, then renames the file into place.

@@ -1,14 +1,19 @@
 #include "manifold/build.h"
 
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <ctime>
 #include <iomanip>
+#include <memory>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "brdf/albedo.h"
+#include "core/atomic_file.h"
+#include "core/check.h"
 #include "core/error.h"
 #include "core/file_io.h"
 #include "core/hash.h"
@@ -17,7 +22,9 @@
 #include "gp/likelihood.h"
 #include "gp/posterior.h"
 #include "manifold/column_blocks.h"
+#include "manifold/data_shares.h"
 #include "manifold/data_writer.h"
+#include "manifold/gram_reduce.h"
 #include "manifold/model_format.h"
 
 namespace matlas {
@@ -138,54 +145,71 @@ std::vector<std::int32_t> column_map(const std::vector<bool>& kept) {
   return map;
 }
 
-}  // namespace
-
-BuildOptions BuildOptions::paper_preset() {
-  BuildOptions o;
-  o.nugget = 1e-4;
-  o.layout = LayoutTransform{LayoutTransform::Map::linear, false};
-  o.prior = gp::LatentPrior{};
-  o.optimize.method = gp::Optimizer::hooke_jeeves;
-  o.optimize.starts = 1;
-  o.interpolation = Interpolation::gp;
-  return o;
+/// A distributed build's slices of the model (data_shares.h): rank 0 tells the others the model's
+/// temporary file, where rank 1's data starts and where value_column starts; rank r > 0 copies
+/// its data after the data of ranks 1..r-1; every rank writes its means and its part of the
+/// value-to-column map. Rank 0 counts what the others write as written.
+void place_slices(SafetensorsWriter& writer, AtomicFile* share_file, const GramResult& g,
+                  const std::vector<std::uint64_t>& kept_per_rank, std::size_t column_bytes, Communicator& comm) {
+  std::string place;  // "DATA_OFFSET VALUE_COLUMN_OFFSET PATH" on rank 0
+  if (comm.is_root())
+    place = std::to_string(writer.append_offset()) + " " + std::to_string(writer.tensor_offset(model_format::kValueColumn)) +
+            " " + writer.temporary().string();
+  comm.broadcast(place);
+  run_collectively(comm, [&] {
+    std::istringstream in(place);
+    std::uint64_t offset = 0, value_column = 0;
+    in >> offset >> value_column;
+    in.get();
+    std::string path;
+    std::getline(in, path);
+    MATLAS_CHECK(!in.fail() && !path.empty(), "the model's temporary file and offsets");
+    const fs::path model = path;
+    const auto rank = static_cast<std::size_t>(comm.rank());
+    std::uint64_t kept_before = 0, others = 0;
+    for (std::size_t r = 0; r < kept_per_rank.size(); ++r) {
+      if (r < rank) kept_before += kept_per_rank[r];
+      if (r == 0) continue;  // rank 0's data is in place (appended during the pass)
+      const std::uint64_t bytes = kept_per_rank[r] * column_bytes;
+      if (r == rank) copy_share_into(share_file->temporary(), bytes, model, offset);
+      offset += bytes;
+      others += bytes;
+    }
+    // After the data, the mean: float32 per kept column, this rank's after the ranks before it.
+    const std::uint64_t mean_offset = offset + kept_before * 4u;
+    const Eigen::VectorXf mean_f = g.mean.cast<float>();
+    if (mean_f.size() > 0) write_into(model, mean_offset, mean_f.data(), static_cast<std::size_t>(mean_f.size()) * 4u);
+    std::vector<std::int32_t> columns(g.end_value - g.first_value, -1);
+    auto next = static_cast<std::int32_t>(kept_before);
+    for (std::size_t v = g.first_value; v < g.end_value; ++v)
+      if (g.kept[v]) columns[v - g.first_value] = next++;
+    if (!columns.empty())
+      write_into(model, value_column + g.first_value * 4u, columns.data(), columns.size() * 4u);
+    if (comm.is_root()) {
+      writer.skip(others);
+      writer.end_growing();
+      writer.skip(g.kept_columns * 4u);
+      writer.end_growing();
+      writer.written_elsewhere(model_format::kValueColumn);
+    }
+  });
 }
 
-BuildReport build_model(const MaterialSet& set, const BuildOptions& options, const fs::path& output,
-                        ProgressSink& progress) {
-  validate(set, options);
-  reject_output_among_inputs(set, output);
-  BuildReport report;
-  const auto n = static_cast<Eigen::Index>(set.size());
+/// Rank 0's rest of a build after the pass: the mean, the latent placement, the small tensors and
+/// the metadata, then commit.
+void finish_model(const MaterialSet& set, const BuildOptions& options, const GramResult& g,
+                  SafetensorsWriter& writer, json& meta, BuildReport& report,
+                  std::chrono::steady_clock::time_point t0, ProgressSink& progress, int ranks) {
   const int q = options.dim;
-  const DType storage = options.storage == Storage::f16 ? DType::F16 : DType::F32;
-
-  // The model file: fixed-size tensors first (written at the end), then the data and the mean,
-  // whose sizes are known after the pass. The header is written last, into reserved space.
-  SafetensorsWriter writer;
-  writer.declare(model_format::kLatent, DType::F64, {n, q});
-  writer.declare(model_format::kGram, DType::F64, {n, n});
-  writer.declare(model_format::kLayoutGram, DType::F64, {n, n});
-  writer.declare(model_format::kAlbedo, DType::F64, {n, kAlbedoAngles, 3});
-  writer.declare(model_format::kValueColumn, DType::I32, {static_cast<std::int64_t>(set.value_count())});
-  writer.declare_growing(model_format::kData, storage, {n});
-  writer.declare_growing(model_format::kMean, DType::F32, {});
-
-  // One pass: mask, mean, Gram matrices, albedo curves, hashes, and the data written as it goes.
-  auto t0 = std::chrono::steady_clock::now();
-  json meta = model_metadata_skeleton(set, options, storage);
-  writer.begin(output, header_reserve(meta));
-  DataWriter data(writer, set.size(), storage);
-  const GramResult g = accumulate_gram(set, options.layout, options.block_columns, progress, &data);
-  writer.end_growing();
-  const Eigen::VectorXf mean_f = g.mean.cast<float>();
-  writer.append(mean_f.data(), static_cast<std::size_t>(mean_f.size()) * 4u);
-  writer.end_growing();
+  const bool slices_placed = ranks > 1;  // mean and value_column written by the ranks (place_slices)
+  Eigen::VectorXf mean_f;
+  if (!slices_placed) {
+    writer.end_growing();
+    mean_f = g.mean.cast<float>();
+    writer.append(mean_f.data(), static_cast<std::size_t>(mean_f.size()) * 4u);
+    writer.end_growing();
+  }
   report.pass_seconds = seconds_since(t0);
-  report.pass_steps = g.steps;
-  report.storage_relative_error = data.relative_error();
-  report.kept_columns = g.kept_columns;
-  report.dropped_columns = set.value_count() - g.kept_columns;
   reject_duplicates(set, g.gram);
   progress.message("kept " + std::to_string(g.kept_columns) + " of " +
                    std::to_string(set.value_count()) + " columns (" +
@@ -208,7 +232,18 @@ BuildReport build_model(const MaterialSet& set, const BuildOptions& options, con
   // The small tensors, the metadata, then commit (the data went to disk during the pass, with
   // direct I/O where the file system has it).
   t0 = std::chrono::steady_clock::now();
-  const std::vector<std::int32_t> columns = column_map(g.kept);
+  std::vector<std::int32_t> columns;
+  if (slices_placed) {  // read back for the checksum
+    const auto mean_bytes = read_from(writer.temporary(), writer.tensor_offset(model_format::kMean), g.kept_columns * 4u);
+    mean_f.resize(static_cast<Eigen::Index>(g.kept_columns));
+    std::memcpy(mean_f.data(), mean_bytes.data(), mean_bytes.size());
+    const auto column_bytes = read_from(writer.temporary(), writer.tensor_offset(model_format::kValueColumn),
+                                        set.value_count() * 4u);
+    columns.resize(set.value_count());
+    std::memcpy(columns.data(), column_bytes.data(), column_bytes.size());
+  } else {
+    columns = column_map(g.kept);
+  }
   using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   const RowMajor latent_rows = report.optimization.latent;
   const RowMajor gram_rows = g.gram;
@@ -219,7 +254,7 @@ BuildReport build_model(const MaterialSet& set, const BuildOptions& options, con
   writer.write_tensor(model_format::kLayoutGram, layout_gram_rows.data(),
                       static_cast<std::size_t>(layout_gram_rows.size()) * 8u);
   writer.write_tensor(model_format::kAlbedo, albedo_rows.data(), static_cast<std::size_t>(albedo_rows.size()) * 8u);
-  writer.write_tensor(model_format::kValueColumn, columns.data(), columns.size() * 4u);
+  if (!slices_placed) writer.write_tensor(model_format::kValueColumn, columns.data(), columns.size() * 4u);
 
   Xxh3Hasher small_hash;
   for (const auto& [ptr, bytes] :
@@ -232,7 +267,15 @@ BuildReport build_model(const MaterialSet& set, const BuildOptions& options, con
     small_hash.update(ptr, bytes);
   const std::uint64_t small_checksum = small_hash.digest();
 
-  for (std::size_t i = 0; i < set.size(); ++i) meta["sources"][i]["xxh3_64"] = hex64(g.hashes[i]);
+  for (std::size_t i = 0; i < set.size(); ++i) {
+    if (ranks == 1) {
+      meta["sources"][i]["xxh3_64"] = hex64(g.hashes[i]);
+    } else {  // no rank read the whole file: the hash of the ranks' hashes of their byte ranges
+      meta["sources"][i].erase("xxh3_64");
+      meta["sources"][i]["xxh3_64_of_parts"] = hex64(g.hashes[i]);
+    }
+  }
+  if (ranks > 1) meta["distributed"] = {{"ranks", ranks}, {"block_columns", options.block_columns}};
   meta["log_likelihood"] = report.log_likelihood;
   meta["optimizer"] = {{"method", gp::to_string(options.optimize.method)},
                        {"iterations", report.optimization.iterations},
@@ -246,6 +289,93 @@ BuildReport build_model(const MaterialSet& set, const BuildOptions& options, con
   writer.add_metadata(model_format::kMetadataKey, meta.dump());
   writer.commit();
   report.finish_seconds = seconds_since(t0);
+}
+
+}  // namespace
+
+BuildOptions BuildOptions::paper_preset() {
+  BuildOptions o;
+  o.nugget = 1e-4;
+  o.layout = LayoutTransform{LayoutTransform::Map::linear, false};
+  o.prior = gp::LatentPrior{};
+  o.optimize.method = gp::Optimizer::hooke_jeeves;
+  o.optimize.starts = 1;
+  o.interpolation = Interpolation::gp;
+  return o;
+}
+
+BuildReport build_model(const MaterialSet& set, const BuildOptions& options, const fs::path& output,
+                        ProgressSink& progress, Communicator& comm) {
+  const bool root = comm.is_root(), split = comm.size() > 1;
+  BuildReport report;
+  const auto n = static_cast<Eigen::Index>(set.size());
+  const int q = options.dim;
+  const DType storage = options.storage == Storage::f16 ? DType::F16 : DType::F32;
+
+  // The model file: fixed-size tensors first (written at the end), then the data and the mean,
+  // whose sizes are known after the pass. The header is written last, into reserved space.
+  SafetensorsWriter writer;
+  writer.declare(model_format::kLatent, DType::F64, {n, q});
+  writer.declare(model_format::kGram, DType::F64, {n, n});
+  writer.declare(model_format::kLayoutGram, DType::F64, {n, n});
+  writer.declare(model_format::kAlbedo, DType::F64, {n, kAlbedoAngles, 3});
+  writer.declare(model_format::kValueColumn, DType::I32, {static_cast<std::int64_t>(set.value_count())});
+  writer.declare_growing(model_format::kData, storage, {n});
+  writer.declare_growing(model_format::kMean, DType::F32, {});
+
+  // One pass: mask, mean, Gram matrices, albedo curves, hashes, and the data written as it goes
+  // (rank 0's share into the model, another rank's into a file of its own, data_shares.h).
+  auto t0 = std::chrono::steady_clock::now();
+  json meta = model_metadata_skeleton(set, options, storage);
+  std::unique_ptr<AtomicFile> share_file;
+  std::unique_ptr<DataWriter> data;
+  run_collectively(comm, [&] {
+    validate(set, options);
+    reject_output_among_inputs(set, output);
+    if (root) {
+      writer.begin(output, header_reserve(meta));
+      data = std::make_unique<DataWriter>(writer, set.size(), storage);
+    } else {
+      share_file = std::make_unique<AtomicFile>(data_share_path(output, comm.rank()));
+      data = std::make_unique<DataWriter>(
+          [file = share_file.get()](const void* bytes, std::size_t count) { file->write(bytes, count); }, set.size(),
+          storage);
+    }
+  });
+  GramResult g;
+  auto lap = std::chrono::steady_clock::now();
+  const auto since_lap = [&lap] {
+    const double seconds = seconds_since(lap);
+    lap = std::chrono::steady_clock::now();
+    return seconds;
+  };
+  run_collectively(comm, [&] {
+    g = accumulate_gram(set, options.layout, options.block_columns, progress, data.get(), {comm.rank(), comm.size()});
+    report.share_seconds = since_lap();
+  });
+  report.wait_seconds = since_lap();
+  std::vector<std::uint64_t> kept_per_rank;
+  run_collectively(comm, [&] { kept_per_rank = reduce_gram(g, !options.layout.is_identity(), comm); });
+  auto [error2, norm2] = data->error_sums();
+  if (split) {
+    std::array<double, 2> sums{error2, norm2};
+    comm.sum(sums);
+    error2 = sums[0];
+    norm2 = sums[1];
+    report.reduce_seconds = since_lap();
+    place_slices(writer, share_file.get(), g, kept_per_rank, set.size() * dtype_size(storage), comm);
+    report.place_seconds = since_lap();
+  }
+  report.storage_relative_error = norm2 > 0 ? std::sqrt(error2 / norm2) : 0.0;
+  report.kept_columns = g.kept_columns;
+  report.dropped_columns = set.value_count() - g.kept_columns;
+  report.pass_steps = g.steps;
+  if (!root) {  // rank 0 places the latent points and writes the rest; the others wait for it
+    run_collectively(comm, [] {});
+    report.pass_seconds = seconds_since(t0);
+    return report;
+  }
+  run_collectively(comm, [&] { finish_model(set, options, g, writer, meta, report, t0, progress, comm.size()); });
   return report;
 }
 

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <string>
 
+#include "core/communicator.h"
 #include "core/progress.h"
 #include "gp/optimize.h"
 #include "manifold/gram.h"
@@ -68,10 +69,23 @@ struct BuildReport {
   PassSteps pass_steps;  ///< where the pass's time went
   /// Relative L2 error of the stored (rounded) data against the double data: float32 or float16.
   double storage_relative_error = 0;
+  /// A distributed build's pass on this rank: its share, waiting for the other ranks to finish
+  /// theirs, adding up the Grams and gathering on rank 0, placing the ranks' data in the model
+  /// (each rank copies its share; rank 0 waits for them).
+  double share_seconds = 0, wait_seconds = 0, reduce_seconds = 0, place_seconds = 0;
 };
 
 /// Builds a model and writes it atomically to `output`.
+///
+/// With a communicator of P > 1 ranks (`mpirun -np P matlas build`; every rank calls this with
+/// the same set, options and output, on storage every rank sees), rank r reads only its share of
+/// the column blocks of every file (gram.h's PassShare), the ranks add up their Gram matrices and
+/// albedo curves (gram_reduce.h) and write their data into the one model file (data_shares.h);
+/// rank 0 places the latent points and writes the rest. The model is the single-process one but
+/// for rounding in the Gram sums (and what follows from them) and the source hashes (of the
+/// ranks' byte ranges). An error on any rank is thrown on every rank.
 BuildReport build_model(const MaterialSet& set, const BuildOptions& options,
-                        const std::filesystem::path& output, ProgressSink& progress = null_progress());
+                        const std::filesystem::path& output, ProgressSink& progress = null_progress(),
+                        Communicator& comm = serial_communicator());
 
 }  // namespace matlas

@@ -77,7 +77,9 @@ __attribute__((target("avx2,fma"))) void transpose_full_tile_avx2(const double* 
 }  // namespace
 
 DataWriter::DataWriter(SafetensorsWriter& writer, std::size_t n, DType storage)
-    : writer_(writer), n_(n), storage_(storage) {}
+    : DataWriter([&writer](const void* data, std::size_t bytes) { writer.append(data, bytes); }, n, storage) {}
+
+DataWriter::DataWriter(Sink sink, std::size_t n, DType storage) : sink_(std::move(sink)), n_(n), storage_(storage) {}
 
 void DataWriter::prepare(const ColumnBlock& block) {
   const std::size_t tiles = (block.count + kTile - 1) / kTile;
@@ -127,8 +129,8 @@ void DataWriter::finish(const ColumnBlock&) {
     error2_ += e;
     norm2_ += v;
   }
-  if (storage_ == DType::F16) writer_.append(out_f16_.data(), out_f16_.size() * 2u);
-  else writer_.append(out_f32_.data(), out_f32_.size() * 4u);
+  if (storage_ == DType::F16) sink_(out_f16_.data(), out_f16_.size() * 2u);
+  else sink_(out_f32_.data(), out_f32_.size() * 4u);
 }
 
 double DataWriter::relative_error() const { return norm2_ > 0 ? std::sqrt(error2_ / norm2_) : 0.0; }

@@ -4,6 +4,7 @@
 // measures the storage rounding error.
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -14,8 +15,12 @@ namespace matlas {
 
 class DataWriter final : public RawBlockVisitor {
 public:
+  /// Where each block's bytes go, in order: the model's growing "data" tensor, or (a rank of a
+  /// distributed build other than 0) a file of the rank's share, copied into the model later.
+  using Sink = std::function<void(const void* data, std::size_t bytes)>;
   /// Appends to the current growing tensor of `writer`; n materials; storage F32 or F16.
   DataWriter(SafetensorsWriter& writer, std::size_t n, DType storage);
+  DataWriter(Sink sink, std::size_t n, DType storage);
 
   void prepare(const ColumnBlock& block) override;
   void visit(const ColumnBlock& block, std::size_t first, std::size_t last) override;
@@ -23,12 +28,14 @@ public:
 
   /// Relative L2 error of the stored values against the double inputs so far.
   double relative_error() const;
+  /// Its parts, sum (stored - x)^2 and sum x^2 (a distributed build adds them up over the ranks).
+  std::pair<double, double> error_sums() const { return {error2_, norm2_}; }
 
   /// Columns per transposed tile; each tile's kept columns are found in prepare().
   static constexpr std::size_t kTile = 64;
 
 private:
-  SafetensorsWriter& writer_;
+  Sink sink_;
   std::size_t n_;
   DType storage_;
   std::vector<std::size_t> tile_start_;  ///< first output column of each tile

@@ -4,6 +4,7 @@
 #include <chrono>
 
 #include "brdf/albedo_operator.h"
+#include "core/communicator.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "manifold/block_centring.h"
@@ -56,9 +57,11 @@ std::vector<AlbedoEntry> albedo_entries(const SparseOperator& op, std::size_t bi
 /// the last-level cache between the steps.
 class Pass {
 public:
-  Pass(const MaterialSet& set, const LayoutTransform& layout, std::size_t block_columns, RawBlockVisitor* raw)
+  Pass(const MaterialSet& set, const LayoutTransform& layout, std::size_t block_columns, RawBlockVisitor* raw,
+       PassShare share)
       : set_(set), layout_(layout), raw_(raw), n_(set.size()), bins_(set.dims().bins()),
         total_(set.value_count()), step_(std::max<std::size_t>(1, std::min(block_columns, total_))),
+        blocks_(share_of((total_ + step_ - 1) / step_, share.part, share.parts)), whole_(share.parts == 1),
         groups_((n_ + kReadRows - 1) / kReadRows), separate_layout_(!layout.is_identity()),
         albedo_op_(albedo_operator(set.dims(), kAlbedoAngles)),
         cosine_(layout.cosine_weighted ? bin_cosine_factors(set.dims()) : std::vector<double>{}), hashers_(n_),
@@ -70,26 +73,30 @@ public:
         albedo_centred_(RowMajor::Zero(static_cast<Eigen::Index>(n_), kAlbedoAngles * 3)),
         albedo_of_mean_(Eigen::RowVectorXd::Zero(kAlbedoAngles * 3)) {
     result_.kept.assign(total_, false);
-    mean_.reserve(total_);
+    result_.first_value = std::min(total_, first_of(blocks_.first));
+    result_.end_value = std::min(total_, first_of(blocks_.second));
+    mean_.reserve(result_.end_value - result_.first_value);
   }
 
   /// Block b+1 is read while block b's products are computed, in the same parallel region: the
   /// reads (uniform tasks) fill the gaps the uneven product tasks leave on the cores, and the
   /// pass has two barriers per block instead of three.
   GramResult run(ProgressSink& progress) {
-    const std::size_t blocks = (total_ + step_ - 1) / step_;
-    ProgressTask task(progress, "reading the inputs", blocks);
+    const auto [b0, blocks] = blocks_;
+    ProgressTask task(progress, whole_ ? "reading the inputs" : "reading this rank's share of the inputs",
+                      blocks - b0);
+    if (b0 == blocks) return finish();  // a share with no block (more ranks than blocks)
     auto start = std::chrono::steady_clock::now();
     const auto lap = [&start](double& seconds) {
       const auto now = std::chrono::steady_clock::now();
       seconds += std::chrono::duration<double>(now - start).count();
       start = now;
     };
-    begin_read(0);
-    parallel_for_each(0, groups_, [&](std::size_t g) { read_group(0, g); });
-    end_read(0);
+    begin_read(b0);
+    parallel_for_each(0, groups_, [&](std::size_t g) { read_group(b0, g); });
+    end_read(b0);
     lap(result_.steps.read);
-    for (std::size_t b = 0; b < blocks; ++b) {
+    for (std::size_t b = b0; b < blocks; ++b) {
       const ColumnBlock block{first_of(b), count_of(b), values_, kept_};
       const KeptRuns runs = kept_runs(kept_.data(), block.count, RawBlockVisitor::kSweepColumns);
       sweep(block, runs);
@@ -123,9 +130,11 @@ private:
   void read_group(std::size_t b, std::size_t g) {
     const std::size_t first = first_of(b), count = count_of(b);
     const std::size_t r0 = g * kReadRows, r1 = std::min(n_, r0 + kReadRows);
-    if (b % kPrefetchBlocks == 0)
-      for (std::size_t i = r0; i < r1; ++i)
-        set_.file(i).prefetch(first + kPrefetchBlocks * step_, kPrefetchBlocks * step_);
+    if ((b - blocks_.first) % kPrefetchBlocks == 0) {  // not past the share: another rank reads that
+      const std::size_t ahead = std::min(first + kPrefetchBlocks * step_, result_.end_value);
+      const std::size_t until = std::min(ahead + kPrefetchBlocks * step_, result_.end_value);
+      for (std::size_t i = r0; i < r1 && ahead < until; ++i) set_.file(i).prefetch(ahead, until - ahead);
+    }
     read_block_rows(set_, first, count, r0, r1, values_, hashers_.data(),
                     {group_sums_.data() + g * step_, group_kept_.data() + g * step_});
   }
@@ -202,8 +211,7 @@ private:
 
   GramResult finish() {
     result_.kept_columns = mean_.size();
-    if (result_.kept_columns == 0)
-      throw Error("no column is measured in every material: the inputs have no common measurements");
+    if (whole_) require_kept_columns(result_);
     result_.hashes = hashers_.digests();
     result_.albedo = albedo_centred_.rowwise() + albedo_of_mean_;
     result_.mean = Eigen::Map<const Eigen::VectorXd>(mean_.data(), static_cast<Eigen::Index>(mean_.size()));
@@ -215,7 +223,10 @@ private:
   const MaterialSet& set_;
   const LayoutTransform layout_;
   RawBlockVisitor* const raw_;
-  const std::size_t n_, bins_, total_, step_, groups_;
+  const std::size_t n_, bins_, total_, step_;
+  const std::pair<std::size_t, std::size_t> blocks_;  ///< the share's blocks [first, second)
+  const bool whole_;                                  ///< the share is the whole pass
+  const std::size_t groups_;
   const bool separate_layout_;
   const SparseOperator albedo_op_;
   const std::vector<double> cosine_;  ///< per bin, when cosine-weighted
@@ -239,8 +250,13 @@ private:
 }  // namespace
 
 GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout, std::size_t block_columns,
-                           ProgressSink& progress, RawBlockVisitor* raw) {
-  return Pass(set, layout, block_columns, raw).run(progress);
+                           ProgressSink& progress, RawBlockVisitor* raw, PassShare share) {
+  return Pass(set, layout, block_columns, raw, share).run(progress);
+}
+
+void require_kept_columns(const GramResult& g) {
+  if (g.kept_columns == 0)
+    throw Error("no column is measured in every material: the inputs have no common measurements");
 }
 
 }  // namespace matlas

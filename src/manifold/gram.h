@@ -24,13 +24,16 @@ struct PassSteps {
 };
 
 struct GramResult {
-  std::vector<bool> kept;         ///< per value index: every material measured
+  /// The value indices this result covers, [first_value, end_value): all of them, or one rank's
+  /// share of a distributed pass (PassShare), whose sums the ranks then add up (gram_reduce.h).
+  std::size_t first_value = 0, end_value = 0;
+  std::vector<bool> kept;         ///< per value index: every material measured (false outside the share)
   std::size_t kept_columns = 0;
   Eigen::VectorXd mean;           ///< per kept column, in value-index order
   Eigen::MatrixXd gram;           ///< n x n centred Gram of the linear data
   Eigen::MatrixXd layout_gram;    ///< n x n centred Gram of the transformed data
   Eigen::MatrixXd albedo;         ///< n x (kAlbedoAngles * 3) directional albedo curves of the kept data
-  std::vector<std::uint64_t> hashes;  ///< xxh3-64 of each input file's value bytes
+  std::vector<std::uint64_t> hashes;  ///< xxh3-64 of each input file's value bytes (of the share's bytes)
   PassSteps steps;
 };
 
@@ -51,10 +54,22 @@ struct RawBlockVisitor {
   virtual void finish(const ColumnBlock&) {}
 };
 
+/// Which blocks of the pass this process reads: share `part` of `parts` contiguous shares of the
+/// blocks (a distributed build: one share per rank). The default is the whole pass.
+struct PassShare {
+  int part = 0, parts = 1;
+};
+
 /// One streaming pass over the set, block_columns columns of all materials at a time (a block
 /// and what is derived from it are meant to stay in the last-level cache between the pass's
-/// steps). Results do not depend on the number of threads.
+/// steps). Results do not depend on the number of threads. The blocks are the same whatever the
+/// share, so a share's means and raw blocks are exactly those of the whole pass; its Gram
+/// matrices and albedo curves are partial sums. Throws when the whole pass (not a share) keeps
+/// no column.
 GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout, std::size_t block_columns,
-                           ProgressSink& progress, RawBlockVisitor* raw = nullptr);
+                           ProgressSink& progress, RawBlockVisitor* raw = nullptr, PassShare share = {});
+
+/// Throws matlas::Error when no column is kept (the inputs have no common measurements).
+void require_kept_columns(const GramResult& g);
 
 }  // namespace matlas

@@ -112,6 +112,46 @@ TEST(GramPass, MatchesTheDefinitionsForEveryLayout) {
   }
 }
 
+// A distributed build's shares (one per rank): concatenated, their masks and means are the whole
+// pass's exactly, and their Gram matrices and albedo curves add up to the whole's to rounding.
+TEST(GramPass, SharesAddUpToTheWholePass) {
+  TempDir dir;
+  const auto paths = database_with_gaps(dir / "db", 6);
+  const MaterialSet set = MaterialSet::open(paths);
+  const LayoutTransform layout = LayoutTransform::parse("cosine-cbrt");
+  const std::size_t block = 700;
+  const GramResult whole = accumulate_gram(set, layout, block, null_progress());
+  const std::size_t blocks = (set.value_count() + block - 1) / block;
+  for (const int parts : {2, 3, static_cast<int>(blocks) + 2}) {  // the last: ranks without a block
+    SCOPED_TRACE(std::to_string(parts) + " shares");
+    GramResult sum;
+    std::vector<bool> kept;
+    std::vector<double> mean;
+    std::size_t next = 0;
+    for (int part = 0; part < parts; ++part) {
+      GramResult g = accumulate_gram(set, layout, block, null_progress(), nullptr, {part, parts});
+      EXPECT_EQ(g.first_value, next);
+      next = g.end_value;
+      for (std::size_t v = g.first_value; v < g.end_value; ++v) kept.push_back(g.kept[v]);
+      mean.insert(mean.end(), g.mean.data(), g.mean.data() + g.mean.size());
+      if (part == 0) {
+        sum = std::move(g);
+      } else {
+        sum.gram += g.gram;
+        sum.layout_gram += g.layout_gram;
+        sum.albedo += g.albedo;
+      }
+    }
+    EXPECT_EQ(next, set.value_count());
+    EXPECT_EQ(kept, whole.kept);
+    ASSERT_EQ(mean.size(), static_cast<std::size_t>(whole.mean.size()));
+    EXPECT_EQ(Eigen::Map<const Eigen::VectorXd>(mean.data(), whole.mean.size()), whole.mean);  // bitwise
+    EXPECT_LT((sum.gram - whole.gram).norm(), 1e-13 * whole.gram.norm());
+    EXPECT_LT((sum.layout_gram - whole.layout_gram).norm(), 1e-6 * whole.layout_gram.norm());
+    EXPECT_LT((sum.albedo - whole.albedo).norm(), 1e-13 * whole.albedo.norm());
+  }
+}
+
 TEST(KeptRuns, SplitAtRangeBoundariesAndCompact) {
   const std::vector<std::uint8_t> kept = {1, 1, 0, 1, 1, 1, 1, 0, 0, 1};
   const KeptRuns r = kept_runs(kept.data(), kept.size(), 4);

@@ -1,0 +1,55 @@
+#pragma once
+// Communicator: what a pass split across processes needs from its peers, without naming the
+// engine. A build run by `mpirun -np P matlas build` gives every rank (process) a contiguous share
+// of the column blocks; the ranks then add up their partial sums, gather their pieces on rank 0
+// and agree on errors through this interface. The library only sees this header: the MPI
+// implementation lives in the command (cli/mpi_world.h, compiled only when MPI is found), and a
+// single process uses serial_communicator(), for which every operation is the identity.
+//
+// Every operation is collective: every rank calls it, in the same order, with the same sizes
+// where a size is given.
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace matlas {
+
+class Communicator {
+public:
+  virtual ~Communicator() = default;
+  /// This process's rank, 0 <= rank() < size().
+  virtual int rank() const = 0;
+  virtual int size() const = 0;
+  /// Element-wise sum over the ranks, in place, on every rank (MPI_Allreduce in double).
+  virtual void sum(std::span<double> values) = 0;
+  /// Every rank's value, in rank order, on every rank.
+  virtual std::vector<std::uint64_t> all_gather(std::uint64_t value) = 0;
+  /// The concatenation of every rank's bytes in rank order, on rank 0; empty on the others.
+  virtual std::vector<std::byte> gather(std::span<const std::byte> bytes) = 0;
+  /// Rank 0's text, on every rank.
+  virtual void broadcast(std::string& text) = 0;
+  /// Error agreement: every rank gives its error message ("" when it succeeded) and gets back
+  /// the message of the lowest failing rank, prefixed with that rank ("" when none failed).
+  /// Waits without spinning: a rank that finished its share early leaves the cores to the others.
+  virtual std::string first_error(const std::string& message) = 0;
+
+  bool is_root() const { return rank() == 0; }
+};
+
+/// The communicator of one process alone (rank 0 of 1).
+Communicator& serial_communicator();
+
+/// Runs `step` on this rank, then agrees with the others: when any rank failed, every rank
+/// throws (this rank's own exception where it failed, else a matlas::Error with the lowest
+/// failing rank's message), so that no rank is left waiting in a later collective.
+void run_collectively(Communicator& comm, const std::function<void()>& step);
+
+/// Rank `part`'s contiguous share [first, last) of `items` items split into `parts` nearly equal
+/// shares (the first shares take one more item when they do not divide evenly).
+std::pair<std::size_t, std::size_t> share_of(std::size_t items, int part, int parts);
+
+}  // namespace matlas

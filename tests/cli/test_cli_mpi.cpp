@@ -1,0 +1,205 @@
+// `mpirun -np 2 matlas build` (issue 31): the distributed build against the single-process one on
+// generated data (data, mean and mask bitwise; Gram matrices and albedo curves to rounding; the
+// latent points to the optimiser's tolerance), and a bad file read by one rank only failing both
+// ranks with the file's name, no hang and no file left behind. Skipped where CMake found no MPI.
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include "core/communicator.h"
+#include "formats/merl_file.h"
+#include "formats/safetensors.h"
+#include "formats/synth_database.h"
+#include "support/temp_dir.h"
+
+namespace matlas {
+namespace {
+
+namespace fs = std::filesystem;
+
+#ifdef MATLAS_MPIEXEC
+constexpr bool kHaveMpi = true;
+constexpr const char* kMpiexec = MATLAS_MPIEXEC;
+#else
+constexpr bool kHaveMpi = false;
+constexpr const char* kMpiexec = "";
+#endif
+
+/// Small grid (16 x 16 x 32: 24576 values per file) in blocks of 512 columns: 48 blocks, 24 per rank.
+constexpr MerlDims kDims{16, 16, 32};
+constexpr std::size_t kBlockColumns = 512;
+constexpr std::size_t kValues = 3 * 16 * 16 * 32;
+
+struct Result {
+  int code = -1;
+  std::string out;
+};
+
+/// Runs `PROGRAM ARGS...` with a time limit (a hang fails the test instead of blocking it).
+Result run_process(const std::string& program, const std::vector<std::string>& args, int seconds = 60) {
+  test::TempDir tmp("matlas-mpi-out");
+  const fs::path out = tmp.path() / "out.txt";
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const int fd = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    ::dup2(fd, 1);
+    ::dup2(fd, 2);
+    // CI runs as root, which Open MPI refuses unless told.
+    ::setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+    ::setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+    ::setenv("OMPI_MCA_rmaps_base_oversubscribe", "1", 1);
+    std::vector<std::string> copy = args;
+    std::string exe = program;
+    std::vector<char*> argv{exe.data()};
+    for (auto& a : copy) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    ::alarm(static_cast<unsigned>(seconds));
+    ::execv(exe.c_str(), argv.data());
+    ::_exit(127);
+  }
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  Result r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  std::ifstream in(out);
+  r.out.assign(std::istreambuf_iterator<char>(in), {});
+  return r;
+}
+
+Result matlas(const std::vector<std::string>& args) { return run_process(MATLAS_EXE, args); }
+
+Result mpirun(int ranks, const std::vector<std::string>& args) {
+  std::vector<std::string> all{"-np", std::to_string(ranks), "--oversubscribe", MATLAS_EXE};
+  all.insert(all.end(), args.begin(), args.end());
+  return run_process(kMpiexec, all, 90);
+}
+
+/// Overwrites value index v of a MERL file (the stored, unscaled double).
+void poke_value(const fs::path& file, std::size_t v, double value) {
+  std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
+  f.seekp(static_cast<std::streamoff>(MerlFile::kHeaderBytes + v * sizeof(double)));
+  f.write(reinterpret_cast<const char*>(&value), sizeof value);
+  ASSERT_TRUE(f.good()) << file;
+}
+
+std::vector<fs::path> files_of(const fs::path& dir) {
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(dir)) files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+/// max |a - b| over two tensors of doubles, and max |a|.
+std::pair<double, double> difference(const SafetensorsFile& a, const SafetensorsFile& b, const std::string& name) {
+  const auto x = a.view<double>(name, DType::F64), y = b.view<double>(name, DType::F64);
+  EXPECT_EQ(x.size(), y.size()) << name;
+  double d = 0, m = 0;
+  for (std::size_t k = 0; k < std::min(x.size(), y.size()); ++k) {
+    d = std::max(d, std::abs(x[k] - y[k]));
+    m = std::max(m, std::abs(x[k]));
+  }
+  return {d, m};
+}
+
+bool same_bytes(const SafetensorsFile& a, const SafetensorsFile& b, const std::string& name) {
+  const TensorInfo* x = a.find(name);
+  const TensorInfo* y = b.find(name);
+  return x && y && x->bytes() == y->bytes() && std::memcmp(a.bytes(*x), b.bytes(*y), x->bytes()) == 0;
+}
+
+class MpiBuild : public ::testing::Test {
+protected:
+  static void SetUpTestSuite() {
+    if (!kHaveMpi) return;
+    dir_ = new test::TempDir("matlas-mpi");
+    const auto files = write_database(db(), random_catalog(12, 3), null_progress(), kDims);
+    // Columns that one material lacks, in either rank's share: the shares keep different counts,
+    // so rank 1's data starts where rank 0's kept columns end, not at half the file.
+    for (const std::size_t v : {std::size_t{5}, std::size_t{600}, std::size_t{601}, std::size_t{7000},
+                                std::size_t{13000}, std::size_t{20000}})
+      poke_value(files[3], v, -1.0);
+  }
+  static void TearDownTestSuite() { delete dir_; }
+  void SetUp() override {
+    if (!kHaveMpi) GTEST_SKIP() << "built without MPI (Debian: libopenmpi-dev openmpi-bin)";
+  }
+  static fs::path db() { return dir_->path() / "db"; }
+  static inline test::TempDir* dir_ = nullptr;
+};
+
+TEST_F(MpiBuild, TwoRanksWriteTheSingleProcessModel) {
+  const fs::path single = dir_->path() / "single.matlas", split = dir_->path() / "split.matlas";
+  const std::vector<std::string> flags{"--quiet", "--block-columns", std::to_string(kBlockColumns)};
+  std::vector<std::string> args{"build", db().string(), "-o", single.string()};
+  args.insert(args.end(), flags.begin(), flags.end());
+  Result r = matlas(args);
+  ASSERT_EQ(r.code, 0) << r.out;
+  args[3] = split.string();
+  r = mpirun(2, args);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("ranks            2 (MPI), the pass split by column blocks"), std::string::npos) << r.out;
+  EXPECT_EQ(std::count_if(fs::directory_iterator(dir_->path()), fs::directory_iterator{},
+                          [](const fs::directory_entry& e) { return e.path().filename().string().find(".tmp-") !=
+                                                                        std::string::npos ||
+                                                                    e.path().filename().string().find(".rank-") !=
+                                                                        std::string::npos; }),
+            0);
+
+  const SafetensorsFile a = SafetensorsFile::open(single), b = SafetensorsFile::open(split);
+  // The data is not reduced: every rank writes its blocks' values as one process would.
+  for (const char* name : {"data", "mean", "value_column"}) EXPECT_TRUE(same_bytes(a, b, name)) << name;
+  EXPECT_EQ(a.find("data")->shape, b.find("data")->shape);
+  EXPECT_EQ(static_cast<std::size_t>(a.find("data")->shape[0]), kValues - 6);  // the 6 dropped columns
+  // Sums of the ranks' partial sums: the same to rounding (double).
+  for (const char* name : {"gram", "layout_gram", "albedo"}) {
+    const auto [d, m] = difference(a, b, name);
+    std::cout << name << ": max |single - mpi| " << d << " (" << d / m << " of the largest entry)\n";
+    EXPECT_LE(d, 1e-13 * m) << name;
+  }
+  // The latent placement from Grams equal to rounding: the same optimum, to the optimiser's
+  // stopping tolerance (not bitwise: L-BFGS amplifies the last bits until it stops).
+  const auto [d, m] = difference(a, b, "latent");
+  std::cout << "latent: max |single - mpi| " << d << " (" << d / m << " of the largest coordinate)\n";
+  EXPECT_LE(d, 1e-2 * m);
+  const std::string meta = b.metadata().at("matlas");
+  EXPECT_NE(meta.find("\"distributed\""), std::string::npos);
+  EXPECT_NE(meta.find("xxh3_64_of_parts"), std::string::npos);
+}
+
+TEST_F(MpiBuild, ABadFileInOneRanksShareFailsEveryRankNamingIt) {
+  const fs::path bad = dir_->path() / "bad";
+  fs::create_directories(bad);
+  for (const fs::path& f : files_of(db())) fs::copy_file(f, bad / f.filename());
+  const fs::path broken = files_of(bad)[5];
+  poke_value(broken, 20000, std::numeric_limits<double>::quiet_NaN());  // in rank 1's share only
+  const fs::path out = dir_->path() / "bad.matlas";
+  const Result r = mpirun(2, {"build", bad.string(), "-o", out.string(), "--quiet", "--block-columns",
+                              std::to_string(kBlockColumns)});
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find(broken.filename().string()), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("rank 1 of 2"), std::string::npos) << r.out;  // rank 0 tells whose failure it was
+  EXPECT_FALSE(fs::exists(out));
+  for (const auto& e : fs::directory_iterator(dir_->path()))
+    EXPECT_EQ(e.path().filename().string().find("bad.matlas"), std::string::npos) << e.path();  // no temporaries
+}
+
+TEST_F(MpiBuild, OtherCommandsRefuseToRunOnSeveralRanks) {
+  const Result r = mpirun(2, {"info", files_of(db())[0].string()});
+  EXPECT_NE(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("only `matlas build` splits its work across MPI ranks"), std::string::npos) << r.out;
+}
+
+}  // namespace
+}  // namespace matlas
