@@ -3,13 +3,13 @@
 # MATERIAL of the database DB, the map is built without it (q = 2), the plan's first K directions
 # are "measured" on the left-out table (sample-plan --simulate) and fitted (fit-samples); the
 # measured table and the fits are rendered on a sphere in the studio environment.
-#   bench/sparse_pictures.sh DB OUTDIR "10 40" MATERIAL...
+#   bench/sparse_pictures.sh DB OUTDIR "10 40" MATERIAL...   (MATLAS=path: another matlas binary)
 # Writes OUTDIR/MATERIAL-measured.png, OUTDIR/MATERIAL-fit-K.png and the fit reports.
 set -euo pipefail
 db="$1" out="$2" counts="$3"
 shift 3
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-matlas="$here/build/matlas"
+matlas="${MATLAS:-$here/build/matlas}"
 mkdir -p "$out"
 render=(--width 256 --height 256 --spp 128 --seed 1)
 for material in "$@"; do

@@ -40,7 +40,7 @@ struct SparseStudyOptions {
   double outlier_factor = 10;
   /// The PCA baseline's ridge: each K reports the best of these (mean error over materials), a
   /// choice made with the answers, in the baseline's favour.
-  std::vector<double> pca_ridges{1e-3, 1e-2, 1e-1, 1, 10};
+  std::vector<double> pca_ridges{1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1};
   int pca_condition_components = 20;  ///< components in the condition number (at most K of them)
   unsigned seed = 1;
 };

@@ -107,7 +107,7 @@ SampleFile finish(const std::vector<RawRow>& rows, const std::string& name, bool
   }
   if (!problems.empty() && !options.skip_invalid) {
     std::string message = std::to_string(problems.size()) + " invalid sample" + (problems.size() == 1 ? "" : "s") +
-                          " (skip them with --skip-invalid):";
+                          " (to skip them: --skip-invalid, or skip_invalid=True in Python):";
     for (std::size_t k = 0; k < std::min(problems.size(), kListedProblems); ++k) message += "\n  " + problems[k];
     if (problems.size() > kListedProblems)
       message += "\n  ... and " + std::to_string(problems.size() - kListedProblems) + " more";
