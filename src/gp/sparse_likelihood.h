@@ -13,6 +13,7 @@
 // which gives the value the dense evaluation gives: it too drops pairs beyond the cutoff.
 #include <Eigen/Core>
 #include <cstdint>
+#include <vector>
 
 #include "gp/kernel.h"
 #include "gp/likelihood.h"
@@ -64,8 +65,15 @@ public:
   /// Converts a normalised value to L (as LikelihoodEvaluator::to_log_likelihood).
   double to_log_likelihood(double normalized_value) const;
 
+  /// The blocks of the exact local covariance (PITC): a partition of 0..n-1. K~ = Q +
+  /// blockdiag_b(C_bb - Q_bb) + delta I. Singletons (the default) give FITC; one block of all
+  /// items gives the exact K whatever the inducing points. Throws matlas::Error unless a partition.
+  void set_blocks(std::vector<std::vector<Eigen::Index>> blocks);
+  const std::vector<std::vector<Eigen::Index>>& blocks() const { return blocks_; }
+
 private:
-  void apply_inverse(const Eigen::MatrixXd& M, Eigen::MatrixXd& out) const;  // out = K~^-1 M
+  void apply_inverse(const Eigen::MatrixXd& M, Eigen::MatrixXd& out) const;        // out = K~^-1 M
+  void apply_block_inverse(const Eigen::MatrixXd& M, Eigen::MatrixXd& out) const;  // out = Lambda^-1 M
 
   Eigen::MatrixXd Y_;  // S~ factor, n x r
   double eps_ = 0;     // S~ residual per diagonal entry
@@ -74,7 +82,8 @@ private:
   double beta_ = 1, repulsion_ = 0, radius_ = 0.1, precision_ = 0, jitter_ = 1e-8;
   // Workspaces: C_nm, L_m^-1, V = L_m^-1 C_mn, Lambda^-1, U (K~^-1 = Lambda^-1 - U U^T), B = K~^-1 Y.
   Eigen::MatrixXd Cnm_, Cmm_, Lminv_, V_, A_, U_, B_, Pt_, H1_, H2_, W_;
-  Eigen::VectorXd lambda_inv_;
+  std::vector<std::vector<Eigen::Index>> blocks_;
+  std::vector<Eigen::MatrixXd> block_inv_, block_cov_;  // L_b^-1 (lower) and C_bb per block
 };
 
 /// The repulsive prior lambda sum_{i<j, u_ij < 40} log(1 - e^{-u_ij} + 1e-12), u_ij =
@@ -85,5 +94,7 @@ double sparse_repulsion(const Eigen::MatrixXd& X, double repulsion, double radiu
 /// m points of X chosen by farthest-point sampling (the first is the point nearest the centroid),
 /// so that the inducing points cover the latent points; m is capped at n. Deterministic.
 Eigen::MatrixXd farthest_point_subset(const Eigen::MatrixXd& X, int m);
+/// The rows of X that farthest_point_subset picks, in its order.
+std::vector<Eigen::Index> farthest_point_indices(const Eigen::MatrixXd& X, int m);
 
 }  // namespace matlas::gp

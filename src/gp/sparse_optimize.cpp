@@ -30,12 +30,15 @@ struct SparseLineSearchFailed {};
 /// exact likelihood).
 class SparseRun {
 public:
+  /// tied: the inducing points are the rows `tied` of X (moved with them); else Z0 is free.
   SparseRun(SparseLikelihoodEvaluator& evaluator, const Eigen::MatrixXd& X0, const Eigen::MatrixXd& Z0,
-            const OptimizeOptions& o, ProgressSink& sink)
-      : evaluator_(evaluator), options_(o), sink_(sink), n_(X0.rows()), m_(Z0.rows()), q_(X0.cols()) {
-    best_.resize((n_ + m_) * q_);
-    best_ << Eigen::Map<const Eigen::VectorXd>(X0.data(), X0.size()), Eigen::Map<const Eigen::VectorXd>(Z0.data(), Z0.size());
-    best_value_ = evaluator_.normalized(X0, Z0);
+            std::vector<Eigen::Index> tied, const OptimizeOptions& o, ProgressSink& sink)
+      : evaluator_(evaluator), options_(o), sink_(sink), tied_(std::move(tied)), n_(X0.rows()),
+        m_(tied_.empty() ? Z0.rows() : static_cast<Eigen::Index>(tied_.size())), q_(X0.cols()) {
+    best_.resize((tied_.empty() ? n_ + m_ : n_) * q_);
+    best_.head(n_ * q_) = Eigen::Map<const Eigen::VectorXd>(X0.data(), X0.size());
+    if (tied_.empty()) best_.tail(m_ * q_) = Eigen::Map<const Eigen::VectorXd>(Z0.data(), Z0.size());
+    best_value_ = evaluator_.normalized(X0, inducing(best_));
     initial_value_ = best_value_;
     evaluations_ = 1;
     history_.push_back(best_value_);
@@ -44,7 +47,11 @@ public:
 
   Eigen::MatrixXd latent(const Eigen::VectorXd& x) const { return Eigen::Map<const Eigen::MatrixXd>(x.data(), n_, q_); }
   Eigen::MatrixXd inducing(const Eigen::VectorXd& x) const {
-    return Eigen::Map<const Eigen::MatrixXd>(x.data() + n_ * q_, m_, q_);
+    if (tied_.empty()) return Eigen::Map<const Eigen::MatrixXd>(x.data() + n_ * q_, m_, q_);
+    const Eigen::Map<const Eigen::MatrixXd> X(x.data(), n_, q_);
+    Eigen::MatrixXd Z(m_, q_);
+    for (Eigen::Index k = 0; k < m_; ++k) Z.row(k) = X.row(tied_[static_cast<std::size_t>(k)]);
+    return Z;
   }
   const Eigen::VectorXd& best() const { return best_; }
   double best_value() const { return best_value_; }
@@ -55,7 +62,13 @@ public:
     const double value = evaluator_.normalized(latent(x), inducing(x), &gX_, &gZ_);
     ++evaluations_;
     grad.resize(x.size());
-    grad << -Eigen::Map<const Eigen::VectorXd>(gX_.data(), gX_.size()), -Eigen::Map<const Eigen::VectorXd>(gZ_.data(), gZ_.size());
+    if (tied_.empty()) {
+      grad << -Eigen::Map<const Eigen::VectorXd>(gX_.data(), gX_.size()),
+          -Eigen::Map<const Eigen::VectorXd>(gZ_.data(), gZ_.size());
+    } else {  // an inducing point moves with its latent point
+      for (Eigen::Index k = 0; k < m_; ++k) gX_.row(tied_[static_cast<std::size_t>(k)]) += gZ_.row(k);
+      grad = -Eigen::Map<const Eigen::VectorXd>(gX_.data(), gX_.size());
+    }
     if (value > best_value_) {
       best_value_ = value;
       best_ = x;
@@ -110,6 +123,7 @@ private:
   SparseLikelihoodEvaluator& evaluator_;
   const OptimizeOptions& options_;
   ProgressSink& sink_;
+  std::vector<Eigen::Index> tied_;
   Eigen::Index n_, m_, q_;
   Eigen::VectorXd best_;
   Eigen::MatrixXd gX_, gZ_;
@@ -214,8 +228,9 @@ Eigen::MatrixXd sparse_pca_initialization(const SparseProblem& p, int q, int ind
   return best_scale_factor(value, X, unit * 1e-3, unit * 1e3) * X;
 }
 
-OptimizeResult optimize_sparse_latent(const SparseProblem& p, const Eigen::MatrixXd& X0, int inducing,
+OptimizeResult optimize_sparse_latent(const SparseProblem& p, const Eigen::MatrixXd& X0, const SparseOptions& s,
                                       const OptimizeOptions& o, ProgressSink& sink, Eigen::MatrixXd* inducing_out) {
+  const int inducing = s.inducing;
   if (o.method != Optimizer::lbfgs) throw Error("the sparse latent optimisation runs L-BFGS only");
   if (inducing < 1) throw Error("optimize_sparse_latent: need at least one inducing point");
   if (!X0.allFinite() || X0.cols() == 0) throw Error("optimize_sparse_latent: X0 must be finite with q >= 1");
@@ -240,7 +255,14 @@ OptimizeResult optimize_sparse_latent(const SparseProblem& p, const Eigen::Matri
     }
     if (o.starts > 1) sink.message("start " + std::to_string(k + 1) + "/" + std::to_string(o.starts));
     const Eigen::MatrixXd Xk = (sparse_start_scale(k) * (X0.rowwise() - centroid)).rowwise() + centroid;
-    SparseRun run(evaluator, Xk, farthest_point_subset(Xk, inducing), one, sink);
+    std::vector<Eigen::Index> chosen = farthest_point_indices(Xk, inducing);
+    Eigen::MatrixXd Z0;
+    if (s.free_inducing) {
+      Z0.resize(static_cast<Eigen::Index>(chosen.size()), Xk.cols());
+      for (std::size_t j = 0; j < chosen.size(); ++j) Z0.row(static_cast<Eigen::Index>(j)) = Xk.row(chosen[j]);
+      chosen.clear();
+    }
+    SparseRun run(evaluator, Xk, Z0, std::move(chosen), one, sink);
     Eigen::MatrixXd Z;
     std::string reason;
     if (evaluator.to_log_likelihood(run.best_value()) >= o.target_value) reason = "target value reached";

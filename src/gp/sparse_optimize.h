@@ -16,6 +16,11 @@ namespace matlas::gp {
 struct SparseOptions {
   int inducing = 0;  ///< m; 0 = exact optimisation (the default)
   int rank = 64;     ///< r of S ~= Y Y^T + residual (the rest of the trace spread evenly)
+  /// false (the default): the inducing points are m of the latent points (chosen by
+  /// farthest_point_indices at the start) and move with them; true: free variables optimised
+  /// alongside (Titsias & Lawrence's choice; with FITC it lets the layout drift from the exact
+  /// likelihood's, docs/GP.md).
+  bool free_inducing = false;
   bool enabled() const { return inducing > 0; }
 };
 
@@ -28,13 +33,13 @@ SparseProblem sparse_problem(const LikelihoodProblem& p, int rank);
 /// objective with `inducing` inducing points chosen among them (farthest_point_subset).
 Eigen::MatrixXd sparse_pca_initialization(const SparseProblem& p, int q, int inducing);
 
-/// Maximises the sparse objective over X and the inducing points Z from X0 and Z0 =
-/// farthest_point_subset(X0, inducing), with L-BFGS (LBFGSpp, the same stopping rules as
+/// Maximises the sparse objective over X (and the inducing points Z when s.free_inducing) from X0,
+/// the inducing points being the rows farthest_point_indices(X0, s.inducing) of X, with L-BFGS (LBFGSpp, the same stopping rules as
 /// optimize_latent's L-BFGS; Hooke-Jeeves is refused). Starts after the first are X0 scaled about
 /// its centroid as optimize_latent's, run one after the other. The result's value and history are
 /// the sparse objective in log-likelihood units (to_log_likelihood); *inducing_out receives the
 /// winning Z. Throws matlas::Error for a malformed problem or options.
-OptimizeResult optimize_sparse_latent(const SparseProblem& p, const Eigen::MatrixXd& X0, int inducing,
+OptimizeResult optimize_sparse_latent(const SparseProblem& p, const Eigen::MatrixXd& X0, const SparseOptions& s,
                                       const OptimizeOptions& o, ProgressSink& sink,
                                       Eigen::MatrixXd* inducing_out = nullptr);
 

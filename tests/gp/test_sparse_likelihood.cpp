@@ -57,6 +57,38 @@ TEST(SparseLikelihood, GradientMatchesFiniteDifferences) {
   expect_gradient_matches(e, X, Z);
 }
 
+TEST(SparseLikelihood, GradientMatchesWithBlocks) {
+  LikelihoodProblem p = test::problem_for(random_low_rank_data(30, 30, 4, 17));
+  p.prior = LatentPrior{0.5, 0.3, 0.1, 1.0};
+  SparseProblem s = sparse_of(p, 5);
+  s.kernel.nugget = 1e-2;
+  SparseLikelihoodEvaluator e(s);
+  std::vector<std::vector<Eigen::Index>> blocks(4);
+  for (Eigen::Index i = 0; i < 30; ++i) blocks[static_cast<std::size_t>((i * 7) % 4)].push_back(i);
+  blocks.push_back({blocks[0].back()});
+  blocks[0].pop_back();
+  e.set_blocks(blocks);
+  expect_gradient_matches(e, random_points(30, 2, 18, 0.8), random_points(7, 2, 19, 0.8));
+}
+
+TEST(SparseLikelihood, OneBlockIsTheExactObjective) {
+  LikelihoodProblem p = test::problem_for(random_low_rank_data(40, 30, 4, 27));
+  p.prior = LatentPrior::spread();
+  const Eigen::MatrixXd X = random_points(40, 2, 28, 1.2);
+  LikelihoodEvaluator exact(p);
+  Eigen::MatrixXd g_exact, gX, gZ;
+  const double l_exact = exact.normalized(X, &g_exact);
+  SparseLikelihoodEvaluator sparse(sparse_of(p, 40));
+  std::vector<Eigen::Index> all(40);
+  for (Eigen::Index i = 0; i < 40; ++i) all[static_cast<std::size_t>(i)] = i;
+  sparse.set_blocks({all});
+  const double l = sparse.normalized(X, random_points(6, 2, 29), &gX, &gZ);
+  EXPECT_NEAR(l, l_exact, 1e-8 * std::abs(l_exact));
+  EXPECT_LT((gX - g_exact).cwiseAbs().maxCoeff(), 1e-6 * g_exact.cwiseAbs().maxCoeff());
+  EXPECT_LT(gZ.cwiseAbs().maxCoeff(), 1e-6 * g_exact.cwiseAbs().maxCoeff());  // Q cancels
+  EXPECT_THROW(sparse.set_blocks({{0, 1}, {1, 2}}), Error);
+}
+
 TEST(SparseLikelihood, GradientMatchesWithoutResidualInThreeDimensions) {
   const LikelihoodProblem p = test::problem_for(random_low_rank_data(25, 12, 3, 9));
   SparseProblem s = sparse_of(p, 25);
@@ -132,7 +164,7 @@ TEST(SparseLikelihood, RejectsMalformedInput) {
   OptimizeOptions hj;
   hj.method = Optimizer::hooke_jeeves;
   s.data.residual = 0;
-  EXPECT_THROW(optimize_sparse_latent(s, random_points(10, 2, 1), 3, hj, null_progress()), Error);
+  EXPECT_THROW(optimize_sparse_latent(s, random_points(10, 2, 1), SparseOptions{3, 3}, hj, null_progress()), Error);
 }
 
 /// RMS distance between two layouts after the best similarity transform (orthogonal Procrustes
@@ -161,7 +193,7 @@ TEST(SparseOptimize, AgreesWithTheExactOptimisationOnASmallProblem) {
   const SparseProblem s = sparse_problem(p, 20);
   const Eigen::MatrixXd X0s = sparse_pca_initialization(s, 2, 40);
   Eigen::MatrixXd inducing;
-  const OptimizeResult sparse = optimize_sparse_latent(s, X0s, 40, o, null_progress(), &inducing);
+  const OptimizeResult sparse = optimize_sparse_latent(s, X0s, SparseOptions{40, 20}, o, null_progress(), &inducing);
   EXPECT_EQ(inducing.rows(), 40);
   LikelihoodEvaluator e(p);
   const double l0 = e.normalized(X0), le = e.normalized(exact.latent), ls = e.normalized(sparse.latent);
