@@ -180,6 +180,12 @@ std::string run_sparse_lbfgs(SparseRun& run, const OptimizeOptions& o) {
   }
 }
 
+Eigen::MatrixXd gather_rows(const Eigen::MatrixXd& X, const std::vector<Eigen::Index>& rows) {
+  Eigen::MatrixXd out(static_cast<Eigen::Index>(rows.size()), X.cols());
+  for (std::size_t k = 0; k < rows.size(); ++k) out.row(static_cast<Eigen::Index>(k)) = X.row(rows[k]);
+  return out;
+}
+
 /// Scale factor of start k, as optimize_latent's: 1, 2^-1/2, 2^1/2, 2^-1, 2^1, ...
 double sparse_start_scale(int k) {
   if (k == 0) return 1.0;
@@ -188,6 +194,29 @@ double sparse_start_scale(int k) {
 }
 
 }  // namespace
+
+std::vector<std::vector<Eigen::Index>> local_blocks(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Z, int max_block) {
+  if (max_block < 1) throw Error("sparse blocks: the block size must be >= 1");
+  if (Z.rows() == 0 || Z.cols() != X.cols()) throw Error("sparse blocks: need inducing points of the latent dimension");
+  std::vector<std::vector<Eigen::Index>> cells(static_cast<std::size_t>(Z.rows()));
+  for (Eigen::Index i = 0; i < X.rows(); ++i) {
+    Eigen::Index nearest = 0;
+    (Z.rowwise() - X.row(i)).rowwise().squaredNorm().minCoeff(&nearest);
+    cells[static_cast<std::size_t>(nearest)].push_back(i);
+  }
+  std::vector<std::vector<Eigen::Index>> blocks;
+  for (std::vector<Eigen::Index>& cell : cells) {
+    if (cell.empty()) continue;
+    std::stable_sort(cell.begin(), cell.end(), [&](Eigen::Index a, Eigen::Index b) { return X(a, 0) < X(b, 0); });
+    const std::size_t size = static_cast<std::size_t>(max_block);
+    const std::size_t runs = (cell.size() + size - 1) / size;
+    for (std::size_t r = 0; r < runs; ++r) {  // runs of equal length, not a full run and a remnant
+      const std::size_t begin = r * cell.size() / runs, end = (r + 1) * cell.size() / runs;
+      blocks.emplace_back(cell.begin() + static_cast<std::ptrdiff_t>(begin), cell.begin() + static_cast<std::ptrdiff_t>(end));
+    }
+  }
+  return blocks;
+}
 
 SparseProblem sparse_problem(const LikelihoodProblem& p, int rank) {
   SparseProblem s;
@@ -198,7 +227,7 @@ SparseProblem sparse_problem(const LikelihoodProblem& p, int rank) {
   return s;
 }
 
-Eigen::MatrixXd sparse_pca_initialization(const SparseProblem& p, int q, int inducing) {
+Eigen::MatrixXd sparse_pca_initialization(const SparseProblem& p, int q, int inducing, int block) {
   SparseLikelihoodEvaluator evaluator(p);  // validates the problem
   if (q < 1) throw Error("sparse_pca_initialization: latent dimension must be >= 1 (got " + std::to_string(q) + ")");
   if (inducing < 1) throw Error("sparse_pca_initialization: need at least one inducing point");
@@ -220,6 +249,7 @@ Eigen::MatrixXd sparse_pca_initialization(const SparseProblem& p, int q, int ind
   const double rms = std::sqrt(X.squaredNorm() / static_cast<double>(n));
   if (!(rms > 0)) return X;
   const Eigen::MatrixXd Z = farthest_point_subset(X, inducing);  // scales with X
+  evaluator.set_blocks(local_blocks(X, Z, block));
   const auto value = [&](const Eigen::MatrixXd& aX) {
     const double a = aX.norm() / X.norm();
     return evaluator.normalized(aX, a * Z);
@@ -262,6 +292,7 @@ OptimizeResult optimize_sparse_latent(const SparseProblem& p, const Eigen::Matri
       for (std::size_t j = 0; j < chosen.size(); ++j) Z0.row(static_cast<Eigen::Index>(j)) = Xk.row(chosen[j]);
       chosen.clear();
     }
+    evaluator.set_blocks(local_blocks(Xk, s.free_inducing ? Z0 : gather_rows(Xk, chosen), s.block));
     SparseRun run(evaluator, Xk, Z0, std::move(chosen), one, sink);
     Eigen::MatrixXd Z;
     std::string reason;

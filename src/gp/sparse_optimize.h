@@ -4,6 +4,7 @@
 // thousand materials, where the exact likelihood's O(n^3) evaluation is too slow
 // (docs/GP.md, "Sparse latent optimisation").
 #include <Eigen/Core>
+#include <vector>
 
 #include "core/progress.h"
 #include "gp/optimize.h"
@@ -21,6 +22,9 @@ struct SparseOptions {
   /// alongside (Titsias & Lawrence's choice; with FITC it lets the layout drift from the exact
   /// likelihood's, docs/GP.md).
   bool free_inducing = false;
+  /// The largest block of exact local covariance (PITC): the points nearest each inducing point at
+  /// the start, split into runs of at most `block` points along the first coordinate. 1 = FITC.
+  int block = 64;
   bool enabled() const { return inducing > 0; }
 };
 
@@ -28,13 +32,20 @@ struct SparseOptions {
 /// columns, kernel and priors.
 SparseProblem sparse_problem(const LikelihoodProblem& p, int rank);
 
+/// A partition of the rows of X into blocks: each point goes to its nearest row of Z (Voronoi
+/// cells), and a cell of more than max_block points is split into runs of at most max_block along
+/// the first coordinate. Throws matlas::Error for max_block < 1.
+std::vector<std::vector<Eigen::Index>> local_blocks(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Z, int max_block);
+
 /// PCA initialisation as pca_initialization: the q leading columns of the data factor (signs fixed
 /// so the largest-magnitude entry is positive), scaled by the factor maximising the sparse
-/// objective with `inducing` inducing points chosen among them (farthest_point_subset).
-Eigen::MatrixXd sparse_pca_initialization(const SparseProblem& p, int q, int inducing);
+/// objective with `inducing` inducing points chosen among them (farthest_point_subset) and blocks
+/// of at most `block` points (local_blocks).
+Eigen::MatrixXd sparse_pca_initialization(const SparseProblem& p, int q, int inducing, int block = 64);
 
 /// Maximises the sparse objective over X (and the inducing points Z when s.free_inducing) from X0,
-/// the inducing points being the rows farthest_point_indices(X0, s.inducing) of X, with L-BFGS (LBFGSpp, the same stopping rules as
+/// the inducing points being the rows farthest_point_indices(X0, s.inducing) of X and the blocks
+/// those of local_blocks(X0, inducing points, s.block), with L-BFGS (LBFGSpp, the same stopping rules as
 /// optimize_latent's L-BFGS; Hooke-Jeeves is refused). Starts after the first are X0 scaled about
 /// its centroid as optimize_latent's, run one after the other. The result's value and history are
 /// the sparse objective in log-likelihood units (to_log_likelihood); *inducing_out receives the

@@ -209,7 +209,7 @@ BuildReport build_model(const MaterialSet& set, const BuildOptions& options, con
   problem.prior = options.prior;
   if (options.sparse.enabled()) {
     const gp::SparseProblem sparse = gp::sparse_problem(problem, options.sparse.rank);
-    const Eigen::MatrixXd x0 = gp::sparse_pca_initialization(sparse, q, options.sparse.inducing);
+    const Eigen::MatrixXd x0 = gp::sparse_pca_initialization(sparse, q, options.sparse.inducing, options.sparse.block);
     report.optimization = gp::optimize_sparse_latent(sparse, x0, options.sparse,
                                                      BuildOptions::resolved(options.optimize, q), progress);
   } else {
