@@ -35,6 +35,7 @@ struct BuildArgs {
   double convex_ridge = kDefaults.convex_ridge;
   int sparse_inducing = kDefaults.sparse.inducing;
   int sparse_rank = kDefaults.sparse.rank;
+  int sparse_block = kDefaults.sparse.block;
   std::string preset;
   bool quiet = false;
 };
@@ -72,6 +73,7 @@ void run_build(const BuildArgs& a, const Io& io) {
   o.optimize.starts = a.starts;  // 0: BuildOptions::default_starts
   o.sparse.inducing = a.sparse_inducing;
   o.sparse.rank = a.sparse_rank;
+  o.sparse.block = a.sparse_block;
   if (a.storage == "f16") o.storage = Storage::f16;
   else if (a.storage != "f32") throw Error("--storage must be f32 or f16, got '" + a.storage + "'");
   o.block_columns = a.block_columns;
@@ -146,6 +148,10 @@ void add_build_command(CLI::App& app, const Io& io) {
       ->capture_default_str();
   cmd->add_option("--sparse-rank", args->sparse_rank,
                   "Rank of the data term of the sparse optimisation (the rest of the trace spread evenly)")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
+  cmd->add_option("--sparse-block", args->sparse_block,
+                  "Largest block of exact local covariance in the sparse optimisation (1: FITC)")
       ->check(CLI::Range(1, 100000))
       ->capture_default_str();
   cmd->add_option("--tolerance", args->tolerance, "Optimiser relative tolerance")

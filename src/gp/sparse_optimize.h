@@ -24,7 +24,7 @@ struct SparseOptions {
   bool free_inducing = false;
   /// The largest block of exact local covariance (PITC): the points nearest each inducing point at
   /// the start, split into runs of at most `block` points along the first coordinate. 1 = FITC.
-  int block = 64;
+  int block = 1;
   bool enabled() const { return inducing > 0; }
 };
 
@@ -41,7 +41,7 @@ std::vector<std::vector<Eigen::Index>> local_blocks(const Eigen::MatrixXd& X, co
 /// so the largest-magnitude entry is positive), scaled by the factor maximising the sparse
 /// objective with `inducing` inducing points chosen among them (farthest_point_subset) and blocks
 /// of at most `block` points (local_blocks).
-Eigen::MatrixXd sparse_pca_initialization(const SparseProblem& p, int q, int inducing, int block = 64);
+Eigen::MatrixXd sparse_pca_initialization(const SparseProblem& p, int q, int inducing, int block = 1);
 
 /// Maximises the sparse objective over X (and the inducing points Z when s.free_inducing) from X0,
 /// the inducing points being the rows farthest_point_indices(X0, s.inducing) of X and the blocks

@@ -47,8 +47,8 @@ void validate(const MaterialSet& set, const BuildOptions& o) {
     throw Error("--nugget must be in (0, 1], got " + std::to_string(o.nugget));
   if (!(o.convex_ridge > 0.0) || !std::isfinite(o.convex_ridge))
     throw Error("--convex-ridge must be finite and > 0, got " + std::to_string(o.convex_ridge));
-  if (o.sparse.inducing < 0 || (o.sparse.enabled() && o.sparse.rank < 1))
-    throw Error("--sparse-inducing must be >= 0 and --sparse-rank >= 1");
+  if (o.sparse.inducing < 0 || (o.sparse.enabled() && (o.sparse.rank < 1 || o.sparse.block < 1)))
+    throw Error("--sparse-inducing must be >= 0, --sparse-rank and --sparse-block >= 1");
   if (o.sparse.enabled() && o.optimize.method != gp::Optimizer::lbfgs)
     throw Error("--sparse-inducing needs the lbfgs optimizer");
   const MerlDims& g = set.dims();
@@ -124,7 +124,10 @@ json model_metadata_skeleton(const MaterialSet& set, const BuildOptions& options
       {"interpolation", {{"mode", to_string(options.interpolation)}, {"ridge", options.convex_ridge}}},
       {"latent_optimization",
        options.sparse.enabled()
-           ? json{{"method", "sparse"}, {"inducing", options.sparse.inducing}, {"rank", options.sparse.rank}}
+           ? json{{"method", "sparse"},
+                  {"inducing", options.sparse.inducing},
+                  {"rank", options.sparse.rank},
+                  {"block", options.sparse.block}}
            : json{{"method", "exact"}}},
       {"albedo", albedo_rule_description()},
       {"sources", sources},

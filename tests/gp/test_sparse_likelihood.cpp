@@ -191,24 +191,31 @@ TEST(SparseOptimize, AgreesWithTheExactOptimisationOnASmallProblem) {
   o.tolerance = 1e-6;
   const OptimizeResult exact = optimize_latent(p, X0, o, null_progress());
   const SparseProblem s = sparse_problem(p, 20);
-  const Eigen::MatrixXd X0s = sparse_pca_initialization(s, 2, 40);
-  Eigen::MatrixXd inducing;
-  const OptimizeResult sparse = optimize_sparse_latent(s, X0s, SparseOptions{40, 20}, o, null_progress(), &inducing);
-  EXPECT_EQ(inducing.rows(), 40);
   LikelihoodEvaluator e(p);
-  const double l0 = e.normalized(X0), le = e.normalized(exact.latent), ls = e.normalized(sparse.latent);
-  // The sparse optimum, judged by the exact objective, gains most of what the exact optimum gains.
-  EXPECT_GT((ls - l0) / (le - l0), 0.9) << "exact " << le << " sparse " << ls << " start " << l0;
+  const double l0 = e.normalized(X0), le = e.normalized(exact.latent);
   // The likelihood is multimodal (q = 2): the sparse optimum need not be next to the exact
-  // optimiser's, but it is next to an exact local maximum: the exact optimisation started there
-  // barely moves it (here 0.06 of the RMS radius and 3 % of the gain; the exact and sparse
-  // layouts from the PCA start differ by 0.57, another basin, and the sparse one is the better of
-  // the two by the exact likelihood: 716 against 706, from -179 at the start).
-  const OptimizeResult refined = optimize_latent(p, sparse.latent, o, null_progress());
-  EXPECT_LT(procrustes_distance(refined.latent, sparse.latent), 0.2);
-  EXPECT_LT(e.normalized(refined.latent) - ls, 0.1 * (le - l0));
-  // And the sparse objective approximates the exact one at the sparse optimum (relative to L's gain).
-  EXPECT_LT(std::abs(e.to_log_likelihood(ls) - sparse.value), 0.2 * std::abs(exact.value - e.to_log_likelihood(l0)));
+  // optimiser's (the layouts differ by about 0.6 of the RMS radius here, another basin), but it is
+  // next to an exact local maximum: the exact optimisation started there moves it by 0.07 (FITC)
+  // and 0.06 (PITC) of the RMS radius. By the exact likelihood (start -179, exact optimum 706) the
+  // FITC layout reaches 474 (its exact refinement 659), the PITC one 716 (refined 740).
+  struct Variant {
+    int block;
+    double min_gain, max_refinement_gain;
+  };
+  for (const Variant v : {Variant{1, 0.6, 0.3}, Variant{64, 0.9, 0.1}}) {
+    SCOPED_TRACE("block " + std::to_string(v.block));
+    SparseOptions options{40, 20};
+    options.block = v.block;
+    const Eigen::MatrixXd X0s = sparse_pca_initialization(s, 2, 40, v.block);
+    Eigen::MatrixXd inducing;
+    const OptimizeResult sparse = optimize_sparse_latent(s, X0s, options, o, null_progress(), &inducing);
+    EXPECT_EQ(inducing.rows(), 40);
+    const double ls = e.normalized(sparse.latent);
+    EXPECT_GT((ls - l0) / (le - l0), v.min_gain) << "exact " << le << " sparse " << ls << " start " << l0;
+    const OptimizeResult refined = optimize_latent(p, sparse.latent, o, null_progress());
+    EXPECT_LT(procrustes_distance(refined.latent, sparse.latent), 0.15);
+    EXPECT_LT(e.normalized(refined.latent) - ls, v.max_refinement_gain * (le - l0));
+  }
 }
 
 }  // namespace
