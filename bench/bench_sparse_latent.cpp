@@ -2,7 +2,7 @@
 // on a generated latent problem: n latent points T uniform in [-2, 2]^2, data of 64 smooth
 // features a_k sin(w_k . t + phi_k) (a_k = e^{-k/16}, w_k ~ N(0, 1.5^2 I)) plus isotropic noise of
 // 2 % of the trace, so S = Y Y^T + e I is known exactly without an n x n matrix.
-//   bench_sparse_latent eval [M]            cost of one evaluation with gradient, sparse at
+//   bench_sparse_latent eval [M [N]]         cost of one evaluation with gradient, sparse at
 //                                           n = 1000, 3000, 10000 and exact at 1000 (and 3000)
 //   bench_sparse_latent optimize N M [R]    a whole sparse placement (start + L-BFGS) at n = N
 //   bench_sparse_latent accuracy N R M...   exact and sparse placements of the same problem: time,
@@ -116,11 +116,12 @@ double median_seconds(int reps, F&& f) {
   return t[t.size() / 2];
 }
 
-int run_eval(int m) {
+int run_eval(int m, int only_n) {
   std::printf("one evaluation with gradient (processor time), q = 2, m = %d inducing points, r = 64\n", m);
   std::printf("%7s %12s %12s %12s\n", "n", "exact ms", "sparse ms", "exact/sparse");
   double exact_1000 = 0;
   for (int n : {1000, 3000, 10000}) {
+    if (only_n > 0 && n != only_n) continue;
     const Generated g = generate(n);
     const Eigen::MatrixXd X = g.truth * 0.8;
     const Eigen::MatrixXd Z = gp::farthest_point_subset(X, m);
@@ -272,7 +273,7 @@ int main(int argc, char** argv) {
   const std::string mode = argc > 1 ? argv[1] : "eval";
   const auto arg = [&](int i, int fallback) { return argc > i ? std::stoi(argv[i]) : fallback; };
   try {
-    if (mode == "eval") return run_eval(arg(2, 100));
+    if (mode == "eval") return run_eval(arg(2, 100), arg(3, 0));
     if (mode == "optimize") return run_optimize(arg(2, 10000), arg(3, 100), arg(4, 64));
     if (mode == "accuracy") {
       std::vector<int> ms;

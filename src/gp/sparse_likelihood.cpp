@@ -339,12 +339,17 @@ double sparse_repulsion(const Eigen::MatrixXd& X, double repulsion, double radiu
     for (std::size_t k = 0; k < count; ++k) logs[k] = kSparseBarrierFloor - e[k];
     log_in_place(logs.data(), count);
     for (std::size_t k = 0; k < count; ++k) sum += logs[k];
-    if (gradient != nullptr) {
+    if (gradient != nullptr) {  // raw loops: Eigen's dynamic columns cost more than the pair itself
+      const double* x = Xt.data();
+      double* g = gt.data();
       for (std::size_t k = 0; k < count; ++k) {
         const double f = scale * (1.0 + e[k]) / (kSparseBarrierFloor - e[k]);
-        const Eigen::Index i = first[k], j = second[k];
-        gt.col(i) += f * (Xt.col(i) - Xt.col(j));
-        gt.col(j) -= f * (Xt.col(i) - Xt.col(j));
+        const Eigen::Index i = first[k] * q, j = second[k] * q;
+        for (Eigen::Index d = 0; d < q; ++d) {
+          const double step = f * (x[i + d] - x[j + d]);
+          g[i + d] += step;
+          g[j + d] -= step;
+        }
       }
     }
     first.clear();
@@ -356,7 +361,11 @@ double sparse_repulsion(const Eigen::MatrixXd& X, double repulsion, double radiu
     for (std::size_t b = a + 1; b < order.size(); ++b) {
       const Eigen::Index j = order[b];
       if (Xt(0, j) - Xt(0, i) > slab) break;
-      const double d2 = (Xt.col(i) - Xt.col(j)).squaredNorm();
+      double d2 = 0.0;
+      for (Eigen::Index d = 0; d < q; ++d) {
+        const double diff = Xt(d, i) - Xt(d, j);
+        d2 += diff * diff;
+      }
       if (!(d2 < cutoff)) continue;
       first.push_back(i);
       second.push_back(j);
