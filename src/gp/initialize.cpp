@@ -12,9 +12,10 @@ namespace matlas::gp {
 namespace {
 
 // Normalised log-likelihood of a * X; -inf where K is not positive definite (never for nugget > 0).
-double scaled_value(LikelihoodEvaluator& evaluator, const Eigen::MatrixXd& X, double log_a) {
+double scaled_value(const std::function<double(const Eigen::MatrixXd&)>& value, const Eigen::MatrixXd& X,
+                    double log_a) {
   try {
-    return evaluator.normalized(std::exp(log_a) * X);
+    return value(std::exp(log_a) * X);
   } catch (const Error&) {
     return -std::numeric_limits<double>::infinity();
   }
@@ -23,6 +24,11 @@ double scaled_value(LikelihoodEvaluator& evaluator, const Eigen::MatrixXd& X, do
 }  // namespace
 
 double best_scale_factor(LikelihoodEvaluator& evaluator, const Eigen::MatrixXd& X, double a_min, double a_max) {
+  return best_scale_factor([&evaluator](const Eigen::MatrixXd& Y) { return evaluator.normalized(Y); }, X, a_min, a_max);
+}
+
+double best_scale_factor(const std::function<double(const Eigen::MatrixXd&)>& evaluator, const Eigen::MatrixXd& X,
+                         double a_min, double a_max) {
   if (!(a_min > 0) || !(a_max > a_min)) throw Error("best_scale_factor: need 0 < a_min < a_max");
   // Coarse scan: the likelihood of a scaled point set is smooth in log a but need not be
   // unimodal over many decades, so bracket the best grid point first.

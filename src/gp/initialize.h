@@ -1,6 +1,7 @@
 #pragma once
 // PCA initialisation of the latent points.
 #include <Eigen/Core>
+#include <functional>
 
 #include "gp/likelihood.h"
 
@@ -17,5 +18,9 @@ Eigen::MatrixXd pca_initialization(const LikelihoodProblem& p, int q);
 /// The scan-and-golden-section search used above: the factor a > 0 maximising the likelihood of
 /// a * X, searched on log a within [a_min, a_max]. Exposed for tests and diagnostics.
 double best_scale_factor(LikelihoodEvaluator& evaluator, const Eigen::MatrixXd& X, double a_min, double a_max);
+/// The same search for any objective value(a X) (the sparse objective's initialisation); a value
+/// that throws matlas::Error counts as -infinity.
+double best_scale_factor(const std::function<double(const Eigen::MatrixXd&)>& value, const Eigen::MatrixXd& X,
+                         double a_min, double a_max);
 
 }  // namespace matlas::gp

@@ -54,6 +54,10 @@ void validate(const MaterialSet& set, const BuildOptions& o) {
     throw Error("--nugget must be in (0, 1], got " + std::to_string(o.nugget));
   if (!(o.convex_ridge > 0.0) || !std::isfinite(o.convex_ridge))
     throw Error("--convex-ridge must be finite and > 0, got " + std::to_string(o.convex_ridge));
+  if (o.sparse.inducing < 0 || (o.sparse.enabled() && (o.sparse.rank < 1 || o.sparse.block < 1)))
+    throw Error("--sparse-inducing must be >= 0, --sparse-rank and --sparse-block >= 1");
+  if (o.sparse.enabled() && o.optimize.method != gp::Optimizer::lbfgs)
+    throw Error("--sparse-inducing needs the lbfgs optimizer");
   const MerlDims& g = set.dims();
   if (!model_format::is_model_grid(g.theta_h, g.theta_d, g.phi_d))
     throw file_error(set.file(0).path(), "grid " + g.to_string() +
@@ -125,6 +129,13 @@ json model_metadata_skeleton(const MaterialSet& set, const BuildOptions& options
         {"precision", options.prior.precision},
         {"complexity_weight", options.prior.complexity_weight}}},
       {"interpolation", {{"mode", to_string(options.interpolation)}, {"ridge", options.convex_ridge}}},
+      {"latent_optimization",
+       options.sparse.enabled()
+           ? json{{"method", "sparse"},
+                  {"inducing", options.sparse.inducing},
+                  {"rank", options.sparse.rank},
+                  {"block", options.sparse.block}}
+           : json{{"method", "exact"}}},
       {"albedo", albedo_rule_description()},
       {"sources", sources},
   };
@@ -223,8 +234,15 @@ void finish_model(const MaterialSet& set, const BuildOptions& options, const Gra
   problem.columns = static_cast<double>(g.kept_columns);
   problem.kernel = gp::Kernel{1.0, options.nugget};
   problem.prior = options.prior;
-  const Eigen::MatrixXd x0 = gp::pca_initialization(problem, q);
-  report.optimization = gp::optimize_latent(problem, x0, BuildOptions::resolved(options.optimize, q), progress);
+  if (options.sparse.enabled()) {
+    const gp::SparseProblem sparse = gp::sparse_problem(problem, options.sparse.rank);
+    const Eigen::MatrixXd x0 = gp::sparse_pca_initialization(sparse, q, options.sparse.inducing, options.sparse.block);
+    report.optimization = gp::optimize_sparse_latent(sparse, x0, options.sparse,
+                                                     BuildOptions::resolved(options.optimize, q), progress);
+  } else {
+    const Eigen::MatrixXd x0 = gp::pca_initialization(problem, q);
+    report.optimization = gp::optimize_latent(problem, x0, BuildOptions::resolved(options.optimize, q), progress);
+  }
   report.log_likelihood = report.optimization.value;
   report.optimize_seconds = seconds_since(t0);
   const gp::GpPosterior posterior(report.optimization.latent, problem.kernel);  // checks K is PD

@@ -14,6 +14,7 @@
 #include "core/communicator.h"
 #include "core/progress.h"
 #include "gp/optimize.h"
+#include "gp/sparse_optimize.h"
 #include "manifold/gram.h"
 #include "manifold/interpolation.h"
 #include "manifold/material_set.h"
@@ -33,6 +34,10 @@ struct BuildOptions {
   gp::LatentPrior prior = gp::LatentPrior::spread();
   /// Optimiser and its limits; starts 0 (the default) means default_starts(dim).
   gp::OptimizeOptions optimize = default_optimize();
+  /// The sparse latent optimisation (`--sparse-inducing M`, `--sparse-rank R`; docs/GP.md, "Sparse
+  /// latent optimisation"): off by default (the exact likelihood); for databases past a few thousand
+  /// materials, where an exact evaluation costs O(n^3). Never switched on automatically.
+  gp::SparseOptions sparse{};
   /// Interpolation mode stored in the model (queries may override it).
   Interpolation interpolation = Interpolation::convex;
   /// Relative ridge of the convex mode's metric (gp/convex_weights.h).

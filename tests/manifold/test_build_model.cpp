@@ -217,6 +217,30 @@ TEST(BuildModel, IsDeterministicAndIndependentOfBlockSize) {
   EXPECT_EQ(a.latent(), Model::open(dir / "c.matlas").latent());
 }
 
+TEST(BuildModel, SparseLatentOptimisationWithAllPointsInducingIsTheExactOne) {
+  TempDir dir;
+  test::write_database(dir / "db", 10);
+  const MaterialSet set = MaterialSet::open({dir / "db"});
+  BuildOptions exact = small_options();
+  exact.optimize.starts = 1;
+  build_model(set, exact, dir / "exact.matlas");
+  BuildOptions sparse = exact;
+  sparse.sparse = gp::SparseOptions{10, 10};  // m = n, r = n: the exact objective
+  sparse.sparse.block = 1;
+  build_model(set, sparse, dir / "sparse.matlas");
+  const Model a = Model::open(dir / "exact.matlas"), b = Model::open(dir / "sparse.matlas");
+  EXPECT_EQ(a.metadata()["latent_optimization"]["method"], "exact");
+  EXPECT_EQ(b.metadata()["latent_optimization"]["method"], "sparse");
+  EXPECT_EQ(b.metadata()["latent_optimization"]["inducing"], 10);
+  EXPECT_NEAR(b.metadata()["log_likelihood"].get<double>(), a.metadata()["log_likelihood"].get<double>(),
+              1e-4 * std::abs(a.metadata()["log_likelihood"].get<double>()));
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < i; ++j)
+      EXPECT_NEAR((a.latent().row(i) - a.latent().row(j)).norm(), (b.latent().row(i) - b.latent().row(j)).norm(), 2e-2);
+  sparse.optimize.method = gp::Optimizer::hooke_jeeves;
+  EXPECT_THROW(build_model(set, sparse, dir / "hj.matlas"), Error);
+}
+
 TEST(BuildModel, ResultDoesNotDependOnFileOrderOrDataScale) {
   TempDir dir;
   auto paths = test::write_database(dir / "db", 8);
