@@ -133,12 +133,11 @@ py::dict fit_dict(const Model& model, const std::vector<MeasuredSample>& samples
   options.transform = acquisition::model_transform(model);
   options.robust = robust;
   acquisition::ModelFit fit;
-  acquisition::SampleRows rows;
   {
     py::gil_scoped_release release;
     fit = acquisition::fit_samples(model, measured, options);
-    rows = acquisition::model_rows(model, measured);
   }
+  const acquisition::SampleRows& rows = fit.rows;
   const acquisition::SparseFit& f = fit.fit;
   const auto K = static_cast<Eigen::Index>(samples.size());
   const double nan = std::nan("");
@@ -170,13 +169,6 @@ py::dict fit_dict(const Model& model, const std::vector<MeasuredSample>& samples
                   "transform"_a = options.transform.to_string(), "evaluations"_a = f.evaluations);
 }
 
-/// Degrees of unit directions: (theta, phi) with phi in [0, 360).
-std::pair<double, double> angles(const Vec3& w) {
-  constexpr double kDegrees = 180.0 / 3.14159265358979323846;
-  double phi = std::atan2(w.y(), w.x()) * kDegrees;
-  if (phi < 0) phi += 360.0;
-  return {std::acos(std::clamp(w.z(), -1.0, 1.0)) * kDegrees, phi >= 360.0 ? 0.0 : phi};
-}
 
 /// A sample file as arrays (what read_samples and parse_samples return).
 py::dict file_dict(const SampleFile& file) {
@@ -290,8 +282,8 @@ void bind_acquisition(py::module_& m) {
           const MeasuredSample& d = plan.directions[static_cast<std::size_t>(r)];
           wi.row(r) = d.wi.transpose();
           wo.row(r) = d.wo.transpose();
-          const auto [ti, pi] = angles(d.wi);
-          const auto [to, po] = angles(d.wo);
+          const auto [ti, pi] = direction_angles(d.wi);
+          const auto [to, po] = direction_angles(d.wo);
           theta_phi.row(r) << ti, pi, to, po;
         }
         return py::dict("wi"_a = wi, "wo"_a = wo, "theta_i"_a = Eigen::VectorXd(theta_phi.col(0)),

@@ -65,8 +65,8 @@ ModelFit fit_samples(const Model& model, const std::vector<MeasuredSample>& samp
     if (s.measured) measured.push_back(s);
   if (measured.empty()) throw Error("no measured samples (every row's r, g, b is empty)");
   ModelFit out;
-  const SampleRows rows = model_rows(model, measured, &out.unusable);
-  out.fit = fit_rows(model_map(model), rows, options);
+  out.rows = model_rows(model, measured, &out.unusable);
+  out.fit = fit_rows(model_map(model), out.rows, options);
   // A combination's raw coefficients sum to 1: as the model's weights they give the same table in
   // either mode (m = (1 - sum w) mean + sum w_i z_i).
   out.weights = out.fit.combined ? out.fit.coefficients : model.weights(out.fit.x);

@@ -33,6 +33,9 @@ struct ModelFit {
   /// at fit.x, or the combination's coefficients when the combination stage was chosen.
   Eigen::VectorXd weights;
   std::vector<std::string> unusable; ///< samples without rows (see model_rows)
+  /// The rows fitted (SparseFit's per-row figures follow them); `sample` indexes the measured
+  /// samples among those given, in order.
+  SampleRows rows;
 };
 /// Fits measured samples (the unmeasured ones are ignored) on the model. Throws matlas::Error
 /// when fewer than q + 1 usable samples remain.

@@ -28,17 +28,11 @@ namespace {
 using nlohmann::json;
 namespace fs = std::filesystem;
 
-constexpr double kDegrees = 180.0 / 3.14159265358979323846;
-
 json vector_of(const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
 
 json angles_of(const MeasuredSample& s) {
-  auto theta = [](const Vec3& w) { return std::acos(std::clamp(w.z(), -1.0, 1.0)) * kDegrees; };
-  auto phi = [](const Vec3& w) {
-    const double p = std::atan2(w.y(), w.x()) * kDegrees;
-    return p < 0 ? p + 360 : p;
-  };
-  return {{"theta_i", theta(s.wi)}, {"phi_i", phi(s.wi)}, {"theta_o", theta(s.wo)}, {"phi_o", phi(s.wo)}};
+  const DirectionAngles i = direction_angles(s.wi), o = direction_angles(s.wo);
+  return {{"theta_i", i.theta}, {"phi_i", i.phi}, {"theta_o", o.theta}, {"phi_o", o.phi}};
 }
 
 std::string where(const SampleFile& file, int line) { return (file.json ? "sample " : "line ") + std::to_string(line); }
@@ -76,8 +70,7 @@ void run_fit_samples(const FitArgs& a, const Io& io) {
   // Per sample: measured and predicted RGB, the residual in the fit's space, the rows' weight.
   json samples = json::array();
   std::vector<int> row_of(measured.size(), -1);
-  // fit_samples fits the measured samples in order; rows hold their indices into `measured`.
-  const acquisition::SampleRows rows = acquisition::model_rows(model, measured);
+  const acquisition::SampleRows& rows = result.rows;  // sample: an index into `measured`
   for (Eigen::Index r = 0; r < rows.rows(); r += 3) row_of[static_cast<std::size_t>(rows.sample[static_cast<std::size_t>(r)])] = static_cast<int>(r);
   double worst = 0;
   for (std::size_t s = 0; s < measured.size(); ++s) {

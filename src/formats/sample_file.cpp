@@ -318,21 +318,21 @@ SampleFile read_samples(const std::filesystem::path& path, const SampleReadOptio
   return parse_samples(read_file(path), path.string(), options);
 }
 
+DirectionAngles direction_angles(const Vec3& w) {
+  double phi = std::atan2(w.y(), w.x()) / kDegree;
+  if (phi < 0) phi += 360;
+  if (phi >= 360) phi = 0;
+  return {std::acos(std::clamp(w.z(), -1.0, 1.0)) / kDegree, phi};
+}
+
 std::string format_samples_csv(const std::vector<MeasuredSample>& samples, const std::vector<std::string>& comment) {
   std::string out;
   for (const auto& c : comment) out += "# " + c + "\n";
   out += "theta_i,phi_i,theta_o,phi_o,quantity,r,g,b,sigma_r,sigma_g,sigma_b\n";
   char buf[256];
-  auto angles = [](const Vec3& w) {
-    const double theta = std::acos(std::clamp(w.z(), -1.0, 1.0)) / kDegree;
-    double phi = std::atan2(w.y(), w.x()) / kDegree;
-    if (phi < 0) phi += 360;
-    return std::pair{theta, phi};
-  };
   for (const auto& s : samples) {
-    const auto [ti, pi] = angles(s.wi);
-    const auto [to, po] = angles(s.wo);
-    std::snprintf(buf, sizeof buf, "%.6f,%.6f,%.6f,%.6f,brdf", ti, pi, to, po);
+    const DirectionAngles i = direction_angles(s.wi), o = direction_angles(s.wo);
+    std::snprintf(buf, sizeof buf, "%.6f,%.6f,%.6f,%.6f,brdf", i.theta, i.phi, o.theta, o.phi);
     out += buf;
     if (s.measured) {
       std::snprintf(buf, sizeof buf, ",%.9g,%.9g,%.9g", s.value[0], s.value[1], s.value[2]);

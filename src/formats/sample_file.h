@@ -59,6 +59,12 @@ SampleFile read_samples(const std::filesystem::path& path, const SampleReadOptio
 SampleFile parse_samples(const std::string& text, const std::string& name,
                          const SampleReadOptions& options = {});
 
+/// A unit direction's angles in degrees: theta from the normal +z, phi in [0, 360).
+struct DirectionAngles {
+  double theta = 0, phi = 0;
+};
+DirectionAngles direction_angles(const Vec3& w);
+
 /// The CSV of a measurement plan (or of samples): theta_i,phi_i,theta_o,phi_o in degrees with
 /// quantity "brdf", r,g,b and sigma_r,sigma_g,sigma_b (empty for samples not measured), preceded
 /// by `comment` lines (each prefixed "# "). Angles are written with 6 decimals (a direction to

@@ -42,16 +42,6 @@ SampleFile parse_upload(const std::string& text) {
   }
 }
 
-/// Degrees of a unit direction: theta from the normal, phi in [0, 360).
-std::pair<double, double> angles(const Vec3& w) {
-  constexpr double kDegrees = 180.0 / 3.14159265358979323846;
-  const double theta = std::acos(std::clamp(w.z(), -1.0, 1.0)) * kDegrees;
-  double phi = std::atan2(w.y(), w.x()) * kDegrees;
-  if (phi < 0) phi += 360.0;
-  if (phi >= 360.0) phi = 0.0;
-  return {theta, phi};
-}
-
 }  // namespace
 
 Reply Api::fit_samples(const std::string& file_text, const std::string& robust) {
@@ -74,7 +64,6 @@ Reply Api::fit_samples(const std::string& file_text, const std::string& robust) 
   options.transform = acquisition::model_transform(model_);
   options.robust = robust != "0";
   acquisition::ModelFit fit;
-  acquisition::SampleRows rows;
   {
     auto slot = acquire(heavy_);
     try {
@@ -84,8 +73,8 @@ Reply Api::fit_samples(const std::string& file_text, const std::string& robust) 
     } catch (const Error& e) {
       throw HttpError(422, std::string("the samples cannot be fitted: ") + e.what());
     }
-    rows = acquisition::model_rows(model_, measured);
   }
+  const acquisition::SampleRows& rows = fit.rows;
   const acquisition::SparseFit& f = fit.fit;
   if (rows.rows() != f.residual.size()) throw HttpError(500, "the fit's rows do not match the samples");
 
@@ -104,8 +93,8 @@ Reply Api::fit_samples(const std::string& file_text, const std::string& robust) 
       sum2 += f.residual[c] * f.residual[c];
     }
     const bool outlier = std::find(f.outliers.begin(), f.outliers.end(), static_cast<int>(s)) != f.outliers.end();
-    const auto [theta_i, phi_i] = angles(measured[s].wi);
-    const auto [theta_o, phi_o] = angles(measured[s].wo);
+    const auto [theta_i, phi_i] = direction_angles(measured[s].wi);
+    const auto [theta_o, phi_o] = direction_angles(measured[s].wo);
     samples.push_back({{"line", measured[s].line},
                        {"theta_i", theta_i}, {"phi_i", phi_i}, {"theta_o", theta_o}, {"phi_o", phi_o},
                        {"rgb", value}, {"predicted", predicted}, {"residual", residual}, {"weight", weight},
@@ -173,8 +162,8 @@ Reply Api::sample_plan(const std::string& file_text, const std::string& k_text) 
   nlohmann::json directions = nlohmann::json::array();
   for (std::size_t d = 0; d < plan.directions.size(); ++d) {
     const MeasuredSample& s = plan.directions[d];
-    const auto [theta_i, phi_i] = angles(s.wi);
-    const auto [theta_o, phi_o] = angles(s.wo);
+    const auto [theta_i, phi_i] = direction_angles(s.wi);
+    const auto [theta_o, phi_o] = direction_angles(s.wo);
     directions.push_back({{"theta_i", theta_i}, {"phi_i", phi_i}, {"theta_o", theta_o}, {"phi_o", phi_o},
                           {"wi", vec3_json(s.wi)}, {"wo", vec3_json(s.wo)},
                           {"gain", d < plan.plan.gain.size() ? plan.plan.gain[d] : 0.0}});

@@ -56,16 +56,6 @@ inline std::vector<MeasuredSample> sample_table(const BrdfTable& table, int coun
 }
 
 /// Relative L2 distance of two tables over the model's kept values.
-inline double acquisition_error(const BrdfTable& a, const BrdfTable& b, const Model& m) {
-  double e = 0, n = 0;
-  for (std::size_t v = 0; v < a.size(); ++v) {
-    if (!m.kept(v)) continue;
-    const int c = static_cast<int>(v / a.bins());
-    const double x = a.value(c, v % a.bins()), y = b.value(c, v % a.bins());
-    e += (x - y) * (x - y);
-    n += y * y;
-  }
-  return std::sqrt(e / n);
-}
+inline double acquisition_error(const BrdfTable& a, const BrdfTable& b, const Model& m) { return relative_l2(a, b, m); }
 
 }  // namespace matlas::test

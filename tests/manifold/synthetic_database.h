@@ -1,12 +1,14 @@
 #pragma once
 // Small synthetic databases for manifold tests: tables on a reduced grid, each a smooth function
 // of a hidden 2D parameter (so a low-dimensional manifold exists), written as MERL files.
+#include <cmath>
 #include <filesystem>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "formats/merl_file.h"
+#include "manifold/model.h"
 
 namespace matlas::test {
 
@@ -46,6 +48,19 @@ inline std::vector<std::filesystem::path> write_database(const std::filesystem::
     write_merl(paths.back(), t, /*allow_nonstandard_dims=*/true);
   }
   return paths;
+}
+
+/// Relative L2 distance of table a from table b over the values the model keeps.
+inline double relative_l2(const BrdfTable& a, const BrdfTable& b, const Model& m) {
+  double e = 0, n = 0;
+  for (std::size_t v = 0; v < a.size(); ++v) {
+    if (!m.kept(v)) continue;
+    const int c = static_cast<int>(v / a.bins());
+    const double x = a.value(c, v % a.bins()), y = b.value(c, v % a.bins());
+    e += (x - y) * (x - y);
+    n += y * y;
+  }
+  return std::sqrt(e / n);
 }
 
 }  // namespace matlas::test

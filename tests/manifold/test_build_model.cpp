@@ -31,17 +31,7 @@ BuildOptions small_options(int q = 2) {
 
 using test::error_of;
 
-double relative_l2(const BrdfTable& a, const BrdfTable& b, const Model& m) {
-  double e = 0, n = 0;
-  for (std::size_t v = 0; v < a.size(); ++v) {
-    if (!m.kept(v)) continue;
-    const int c = static_cast<int>(v / a.bins());
-    const double x = a.value(c, v % a.bins()), y = b.value(c, v % a.bins());
-    e += (x - y) * (x - y);
-    n += y * y;
-  }
-  return std::sqrt(e / n);
-}
+using test::relative_l2;
 
 class BuiltModel : public ::testing::Test {
 protected:
