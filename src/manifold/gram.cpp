@@ -82,7 +82,8 @@ public:
   /// reads (uniform tasks) fill the gaps the uneven product tasks leave on the cores, and the
   /// pass has two barriers per block instead of three.
   GramResult run(ProgressSink& progress) {
-    const auto [b0, blocks] = blocks_;
+    const std::size_t b0 = blocks_.first;  // not a structured binding: clang 14 cannot capture one
+    const std::size_t blocks = blocks_.second;
     ProgressTask task(progress, whole_ ? "reading the inputs" : "reading this rank's share of the inputs",
                       blocks - b0);
     if (b0 == blocks) return finish();  // a share with no block (more ranks than blocks)
