@@ -1,29 +1,21 @@
 #include "gp/sparse_optimize.h"
 
-#include <LBFGS.h>
-
 #include <Eigen/Eigenvalues>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <exception>
-#include <limits>
 #include <string>
 #include <vector>
 
 #include "core/error.h"
 #include "gp/initialize.h"
+#include "gp/lbfgs_driver.h"
 
 namespace matlas::gp {
 
 namespace {
 
-/// Ends the sparse run early (not a std::exception, so that LBFGSpp does not swallow it).
-struct SparseStop {
-  std::string reason;
-};
-/// A line search that did not improve (or threw): restart from the best point.
-struct SparseLineSearchFailed {};
+using detail::StopRequested;
 
 /// The bookkeeping of one start: -l and its gradient for LBFGSpp over x = [vec X; vec Z], the best
 /// point, the history, progress lines and the limits (as detail::OptimizationRun does for the
@@ -53,12 +45,12 @@ public:
     for (Eigen::Index k = 0; k < m_; ++k) Z.row(k) = X.row(tied_[static_cast<std::size_t>(k)]);
     return Z;
   }
-  const Eigen::VectorXd& best() const { return best_; }
+  const Eigen::VectorXd& best_point() const { return best_; }
   double best_value() const { return best_value_; }
   double initial_value() const { return initial_value_; }
 
   double operator()(const Eigen::VectorXd& x, Eigen::VectorXd& grad) {
-    if (options_.time_limit_seconds > 0 && elapsed() > options_.time_limit_seconds) throw SparseStop{"time limit reached"};
+    if (options_.time_limit_seconds > 0 && elapsed() > options_.time_limit_seconds) throw StopRequested{"time limit reached"};
     const double value = evaluator_.normalized(latent(x), inducing(x), &gX_, &gZ_);
     ++evaluations_;
     grad.resize(x.size());
@@ -74,7 +66,7 @@ public:
       best_ = x;
       if (evaluator_.to_log_likelihood(best_value_) >= options_.target_value) {
         history_.push_back(best_value_);
-        throw SparseStop{"target value reached"};
+        throw StopRequested{"target value reached"};
       }
     }
     return -value;
@@ -84,12 +76,12 @@ public:
     ++iterations_;
     history_.push_back(best_value_);
     report(false);
-    if (iterations_ >= options_.max_iterations) throw SparseStop{"iteration limit reached"};
+    if (iterations_ >= options_.max_iterations) throw StopRequested{"iteration limit reached"};
     constexpr int kWindow = 3;
     if (iterations_ >= kWindow) {
       const double before = history_[history_.size() - 1 - kWindow];
       if (best_value_ - before <= options_.tolerance * std::max(1.0, std::abs(best_value_)))
-        throw SparseStop{"converged: relative improvement below tolerance"};
+        throw StopRequested{"converged: relative improvement below tolerance"};
     }
   }
 
@@ -134,50 +126,8 @@ private:
   std::chrono::steady_clock::time_point last_report_{};
 };
 
-/// LBFGSpp's strong-Wolfe line search with the per-iteration hook and the guard of
-/// optimize_lbfgs.cpp: a worse point or an exception becomes SparseLineSearchFailed.
-template <typename Scalar>
-class SparseGuardedLineSearch {
-public:
-  using Vector = Eigen::Matrix<Scalar, Eigen::Dynamic, 1>;
-
-  template <typename Foo>
-  static void LineSearch(Foo& f, Scalar& fx, Vector& x, Vector& grad, Scalar& step, const Vector& drt,
-                         const Vector& xp, const LBFGSpp::LBFGSParam<Scalar>& param) {
-    const Scalar fx_start = fx;
-    try {
-      LBFGSpp::LineSearchNocedalWright<Scalar>::LineSearch(f, fx, x, grad, step, drt, xp, param);
-    } catch (const std::exception&) {
-      throw SparseLineSearchFailed{};
-    }
-    if (!(fx < fx_start) || !std::isfinite(fx)) throw SparseLineSearchFailed{};
-    f.end_iteration();
-  }
-};
-
 std::string run_sparse_lbfgs(SparseRun& run, const OptimizeOptions& o) {
-  LBFGSpp::LBFGSParam<double> param;
-  param.m = 20;
-  param.epsilon = o.tolerance * std::max(1.0, std::abs(run.initial_value()));
-  param.epsilon_rel = 0;
-  param.past = 0;
-  param.max_iterations = 0;
-  param.linesearch = LBFGSpp::LBFGS_LINESEARCH_BACKTRACKING_STRONG_WOLFE;
-  param.max_linesearch = 40;
-  for (;;) {
-    Eigen::VectorXd x = run.best();
-    const double restart_value = run.best_value();
-    LBFGSpp::LBFGSSolver<double, SparseGuardedLineSearch> solver(param);
-    double fx = 0;
-    try {
-      solver.minimize(run, x, fx);
-      return "converged: gradient norm below tolerance";
-    } catch (const SparseStop& stop) {
-      return stop.reason;
-    } catch (const SparseLineSearchFailed&) {
-      if (!(run.best_value() > restart_value)) return "converged: the line search cannot improve L";
-    }
-  }
+  return detail::run_restarting_lbfgs(run, o.tolerance, run.initial_value());
 }
 
 Eigen::MatrixXd gather_rows(const Eigen::MatrixXd& X, const std::vector<Eigen::Index>& rows) {
