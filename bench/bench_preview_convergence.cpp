@@ -15,13 +15,17 @@
 // there: sqrt(sum (image - reference)^2 / sum reference^2), with the reference's own error (its
 // two-halves estimate) removed in quadrature. "estimated" is the refinement's own estimate
 // (ProgressiveState::relative_error, the same normalisation), which the server reports.
-// Time is the render time of the passes plus, for the first row, the table's build.
+// Time is the render time of the passes plus, for the first row, the table's build. "denoised" is
+// the same image denoised from its two halves (ProgressiveRender::denoised, render/denoise.h:
+// biased), its error against the reference, its own estimate and the denoiser's seconds.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <stdlib.h>  // getloadavg
 #include <ctime>
+#include <filesystem>
+#include <fstream>
 #include <memory>
 #include <string>
 #include <vector>
@@ -88,7 +92,8 @@ int main(int argc, char** argv) {
   if (getloadavg(load, 3) < 0) load[0] = -1;
   std::printf("# %s UTC, %d threads, load average %.1f, env %s, %dx%d, reference %d spp\n", date,
               static_cast<int>(worker_count()), load[0], argv[2], size, size, reference_spp);
-  std::printf("%-44s %-8s %8s %7s %10s %10s\n", "point", "sampling", "seconds", "spp", "error", "estimated");
+  std::printf("%-44s %-8s %8s %7s %10s %10s %10s %10s %8s\n", "point", "sampling", "seconds", "spp", "error", "estimated",
+              "denoised", "d.estim.", "d.sec");
 
   render::RenderSettings base;
   base.width = base.height = size;
@@ -110,12 +115,30 @@ int main(int argc, char** argv) {
     rs.render.seed = 1000003;
     rs.max_spp = reference_spp;
     rs.target_error = 1e-12;
-    render::ProgressiveRender reference(scene, material, rs);
-    while (!reference.state().converged) reference.refine(60.0);
-    const Image ref = reference.image();
-    const double ref_error = reference.state().relative_error;
-    std::printf("%-44s %-8s %8.2f %7d %10s %10.5f\n", spec.c_str(), "ref", reference.state().seconds, reference_spp, "-",
-                ref_error);
+    // MATLAS_BENCH_REFERENCE_CACHE=DIR keeps the references (EXR + error) for later runs.
+    Image ref;
+    double ref_error = 0;
+    const char* cache_dir = std::getenv("MATLAS_BENCH_REFERENCE_CACHE");
+    const std::string cache = cache_dir == nullptr ? std::string()
+                                                   : std::string(cache_dir) + "/" + spec + "-" + argv[2] + "-" +
+                                                         std::to_string(size) + "-" + std::to_string(reference_spp);
+    if (!cache.empty() && std::filesystem::exists(cache + ".exr")) {
+      ref = read_image(cache + ".exr");
+      std::ifstream(cache + ".txt") >> ref_error;
+      std::printf("%-44s %-8s %8s %7d %10s %10.5f\n", spec.c_str(), "ref", "cached", reference_spp, "-", ref_error);
+    } else {
+      render::ProgressiveRender reference(scene, material, rs);
+      while (!reference.state().converged) reference.refine(60.0);
+      ref = reference.image();
+      ref_error = reference.state().relative_error;
+      std::printf("%-44s %-8s %8.2f %7d %10s %10.5f\n", spec.c_str(), "ref", reference.state().seconds, reference_spp,
+                  "-", ref_error);
+      if (!cache.empty()) {
+        write_exr(cache + ".exr", ref);
+        std::ofstream(cache + ".txt") << ref_error << "\n";
+      }
+    }
+    std::fflush(stdout);
 
     const render::SamplingMixture defensive = atlas::defensive_mixture(own, database);
     for (const char* sampling : {"server", "own", "database"}) {
@@ -126,8 +149,8 @@ int main(int argc, char** argv) {
       s.render.mixture = which == "server" ? defensive : which == "own" ? own : database;
       s.target_error = 1e-12;
       render::ProgressiveRender r(scene, material, s);
-      double to2 = -1, to1 = -1;
-      int spp2 = -1, spp1 = -1;
+      double to2 = -1, to1 = -1, dto2 = -1, dto1 = -1;
+      int spp2 = -1, spp1 = -1, dspp2 = -1, dspp1 = -1;
       while (r.state().spp < max_spp) {
         const render::ProgressiveState st = r.refine(0.25);
         const double measured = relative_rms(r.image(), ref, r.object_pixels());
@@ -135,11 +158,37 @@ int main(int argc, char** argv) {
         const double t = st.seconds + table_seconds;
         if (to2 < 0 && error <= 0.02) to2 = t, spp2 = st.spp;
         if (to1 < 0 && error <= 0.01) to1 = t, spp1 = st.spp;
-        std::printf("%-44s %-8s %8.2f %7d %10.5f %10.5f\n", spec.c_str(), sampling, t, st.spp, error,
-                    st.relative_error);
+        // The denoised image (render/denoise.h), its error against the reference and its cost.
+        const auto d0 = std::chrono::steady_clock::now();
+        const render::DenoiseResult den = r.denoised();
+        const double dsec = std::chrono::duration<double>(std::chrono::steady_clock::now() - d0).count();
+        const double dmeasured = relative_rms(den.image, ref, r.object_pixels());
+        const double derror = std::sqrt(std::max(0.0, dmeasured * dmeasured - ref_error * ref_error));
+        if (dto2 < 0 && derror <= 0.02) dto2 = t + dsec, dspp2 = st.spp;
+        if (dto1 < 0 && derror <= 0.01) dto1 = t + dsec, dspp1 = st.spp;
+        std::printf("%-44s %-8s %8.2f %7d %10.5f %10.5f %10.5f %10.5f %8.3f\n", spec.c_str(), sampling, t, st.spp, error,
+                    st.relative_error, derror, den.relative_error, dsec);
+        std::fflush(stdout);
+        // MATLAS_BENCH_DENOISE_SWEEP=1: the denoiser's settings over a grid at 32, 64, 128 and 256 spp.
+        if (std::getenv("MATLAS_BENCH_DENOISE_SWEEP") != nullptr && (st.spp == 32 || st.spp == 64 || st.spp == 128 || st.spp == 256)) {
+          for (int search : {4, 6, 9, 12})
+            for (int patch : {1, 2})
+              for (double strength : {0.45, 1.0, 1.5, 2.5}) {
+                render::DenoiseSettings ds;
+                ds.search_radius = search;
+                ds.patch_radius = patch;
+                ds.strength = strength;
+                const double m = relative_rms(r.denoised(ds).image, ref, r.object_pixels());
+                std::printf("sweep %s %d spp  search %2d patch %d strength %.2f  error %.5f\n", spec.c_str(), st.spp,
+                            search, patch, strength, std::sqrt(std::max(0.0, m * m - ref_error * ref_error)));
+              }
+          std::fflush(stdout);
+        }
       }
       std::printf("# %s, %s mixture: 2 %% at %d spp (%.1f s), 1 %% at %d spp (%.1f s); -1: not within %d spp\n",
                   spec.c_str(), sampling, spp2, to2, spp1, to1, max_spp);
+      std::printf("# %s, %s mixture, denoised: 2 %% at %d spp (%.1f s), 1 %% at %d spp (%.1f s)\n", spec.c_str(), sampling,
+                  dspp2, dto2, dspp1, dto1);
       std::fflush(stdout);
     }
   }

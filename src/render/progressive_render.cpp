@@ -28,8 +28,12 @@ ProgressiveRender::ProgressiveRender(std::shared_ptr<const Scene> scene, std::sh
   settings_.validate();
   const std::vector<float> coverage = object_coverage(*scene_, settings_.render);
   object_.resize(coverage.size());
+  region_.resize(coverage.size());
   bool any = false;
-  for (std::size_t i = 0; i < coverage.size(); ++i) any |= (object_[i] = coverage[i] >= 1.0f);
+  for (std::size_t i = 0; i < coverage.size(); ++i) {
+    any |= (object_[i] = coverage[i] >= 1.0f);
+    region_[i] = coverage[i] >= 1.0f ? 1 : coverage[i] <= 0.0f ? 2 : 0;
+  }
   if (!any) std::fill(object_.begin(), object_.end(), true);  // no pixel sees only the object: measure all
   for (auto& s : sum_) s.assign(coverage.size() * 3, 0.0);
 }
@@ -41,11 +45,35 @@ ProgressiveState ProgressiveRender::state() const {
 
 Image ProgressiveRender::image() const {
   std::lock_guard lock(state_mutex_);
+  return mean_locked();
+}
+
+Image ProgressiveRender::mean_locked() const {
   Image out(settings_.render.width, settings_.render.height);
   if (state_.spp == 0) return out;
   const double inv = 1.0 / state_.spp;
   for (std::size_t i = 0; i < out.rgb.size(); ++i) out.rgb[i] = static_cast<float>((sum_[0][i] + sum_[1][i]) * inv);
   return out;
+}
+
+DenoiseResult ProgressiveRender::denoised(const DenoiseSettings& settings) const {
+  Image halves[2];
+  double samples[2];
+  {
+    std::lock_guard lock(state_mutex_);
+    if (half_spp_[0] == 0 || half_spp_[1] == 0) {
+      DenoiseResult plain;
+      plain.image = mean_locked();
+      plain.relative_error = state_.relative_error;
+      return plain;
+    }
+    for (int h = 0; h < 2; ++h) {
+      halves[h] = Image(settings_.render.width, settings_.render.height);
+      samples[h] = half_spp_[h];
+      for (std::size_t i = 0; i < halves[h].rgb.size(); ++i) halves[h].rgb[i] = static_cast<float>(sum_[h][i] / samples[h]);
+    }
+  }
+  return denoise_halves(halves[0], halves[1], samples[0], samples[1], region_, object_, settings);
 }
 
 void ProgressiveRender::add_pass(const Image& pass, int spp, double seconds) {

@@ -23,6 +23,7 @@
 
 #include "core/progress.h"
 #include "formats/image_io.h"
+#include "render/denoise.h"
 #include "render/material.h"
 #include "render/render.h"
 #include "render/scene.h"
@@ -70,10 +71,15 @@ public:
   ProgressiveState state() const;
   /// The mean of every pass so far (a black image before the first).
   Image image() const;
+  /// The mean denoised from its two halves (render/denoise.h: biased, consistent), with the noise
+  /// it estimates left; the object, the background and the partially covered silhouette (left as
+  /// it is) are not mixed. Before both halves have samples: image() and an infinite error.
+  DenoiseResult denoised(const DenoiseSettings& settings = {}) const;
   /// Per pixel, whether it sees only the object (where the error is measured).
   const std::vector<bool>& object_pixels() const { return object_; }
 
 private:
+  Image mean_locked() const;  ///< image(), with state_mutex_ held
   void add_pass(const Image& pass, int spp, double seconds);
   void update_error();
 
@@ -81,6 +87,7 @@ private:
   std::shared_ptr<const Material> material_;
   ProgressiveSettings settings_;
   std::vector<bool> object_;
+  std::vector<std::uint8_t> region_;  ///< for the denoiser: 1 object only, 2 no object, 0 silhouette
   std::mutex refining_;         ///< held by the thread that renders a pass
   mutable std::mutex state_mutex_;  ///< guards the sums and the state
   std::vector<double> sum_[2];  ///< per half: the sum of spp x pass image

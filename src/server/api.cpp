@@ -197,6 +197,7 @@ Reply Api::preview_refine(const std::string& body) {
   const std::string env = parse_choice(j, "env", envs_, previews_->default_environment());
   const std::string object = parse_choice(j, "object", objects_, previews_->default_object());
   const double seconds = parse_number(j, "seconds", 0.05, 5.0, 0.5);
+  const bool denoise = parse_flag(j, "denoise", false);
   // A newer preview request from the same client (the pointer moved, or the scene's basis image
   // arrived) stops the pass under way: the answer is the refinement as it was, marked
   // X-Matlas-Interrupted (200: an expected event, not an error).
@@ -205,7 +206,7 @@ Reply Api::preview_refine(const std::string& body) {
   PreviewSource::Refined refined;
   {
     auto slot = acquire(compute_);
-    refined = previews_->refine(model_.weights(x), point_key(x), env, object, seconds, superseded);
+    refined = previews_->refine(model_.weights(x), point_key(x), env, object, seconds, denoise, superseded);
   }
   Reply r = Reply::bytes(encode_png_fast(refined.image, previews_->tone()), kPng);
   const auto& st = refined.state;
@@ -219,6 +220,11 @@ Reply Api::preview_refine(const std::string& body) {
   r.headers.emplace_back("X-Matlas-Converged", st.converged ? "1" : "0");
   r.headers.emplace_back("X-Matlas-Seconds", secs);
   if (refined.interrupted) r.headers.emplace_back("X-Matlas-Interrupted", "1");
+  if (refined.denoised) {
+    std::snprintf(error, sizeof error, "%.6g", refined.denoised_error);
+    r.headers.emplace_back("X-Matlas-Denoised", "1");
+    r.headers.emplace_back("X-Matlas-Denoised-Error", error);
+  }
   return r;
 }
 

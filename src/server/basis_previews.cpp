@@ -288,7 +288,7 @@ BasisPreviews::SceneStatus BasisPreviews::status(const std::string& environment,
 
 BasisPreviews::Refined BasisPreviews::refine(const Eigen::VectorXd& w, const std::string& point,
                                              const std::string& environment, const std::string& object,
-                                             double seconds, ProgressSink& progress) const {
+                                             double seconds, bool denoise, ProgressSink& progress) const {
   auto& im = *impl_;
   if (std::find(im.envs.begin(), im.envs.end(), environment) == im.envs.end() ||
       std::find(im.objects.begin(), im.objects.end(), object) == im.objects.end())
@@ -339,14 +339,24 @@ BasisPreviews::Refined BasisPreviews::refine(const Eigen::VectorXd& w, const std
     drop_least_used(im.scenes, 2);
   }
   CancellableSink sink(progress, im.stop);
+  Refined out;
   try {
-    const render::ProgressiveState state = refinement->refine(seconds, sink);
-    return Refined{refinement->image(), state, false};
+    out.state = refinement->refine(seconds, sink);
   } catch (const Interrupt&) {
-    return Refined{refinement->image(), refinement->state(), true};
+    out.state = refinement->state();
+    out.interrupted = true;
   } catch (const Cancelled&) {
     throw HttpError(503, "the server is shutting down");
   }
+  if (denoise && out.state.passes >= 2) {
+    render::DenoiseResult d = refinement->denoised();
+    out.image = std::move(d.image);
+    out.denoised = true;
+    out.denoised_error = d.relative_error;
+  } else {
+    out.image = refinement->image();
+  }
+  return out;
 }
 
 BasisPreviews::BasisPreviews(const Model& model, BasisPreviewOptions options)

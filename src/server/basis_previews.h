@@ -68,7 +68,8 @@ public:
                int size) const override;
   SceneStatus status(const std::string& environment, const std::string& object) const override;
   Refined refine(const Eigen::VectorXd& w, const std::string& point, const std::string& environment,
-                 const std::string& object, double seconds, ProgressSink& progress = null_progress()) const override;
+                 const std::string& object, double seconds, bool denoise,
+                 ProgressSink& progress = null_progress()) const override;
 
 private:
   struct Impl;

@@ -3,6 +3,7 @@
 // weights w(x), for one of the offered environments and objects. The renderer-backed source is
 // BasisPreviews (server/basis_previews.h): per scene an image basis, composed linearly, and a
 // progressive render of the point the user rests on.
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -52,16 +53,19 @@ public:
   /// A refined full-size image of the material with weights w, and how far it has converged.
   struct Refined {
     Image image;
-    render::ProgressiveState state;
+    render::ProgressiveState state;  ///< of the plain mean (its error estimate is unbiased)
     bool interrupted = false;
+    bool denoised = false;           ///< image is the mean denoised (render/denoise.h: biased)
+    double denoised_error = std::numeric_limits<double>::infinity();  ///< its noise estimate
   };
   /// Refines the image of the point `point` (a key: the same key, the same refinement; its
-  /// weights are w) for about `seconds` more and returns it. `progress` hears every row of a
-  /// pass and may throw Interrupt to stop it (the refinement stays as it was before that pass).
+  /// weights are w) for about `seconds` more and returns it, denoised if `denoise`. `progress`
+  /// hears every row of a pass and may throw Interrupt to stop it (the refinement stays as it was
+  /// before that pass).
   /// Sources without refinement answer 404; unknown scenes 400.
   virtual Refined refine(const Eigen::VectorXd& /*w*/, const std::string& /*point*/,
                          const std::string& /*environment*/, const std::string& /*object*/,
-                         double /*seconds*/, ProgressSink& /*progress*/ = null_progress()) const {
+                         double /*seconds*/, bool /*denoise*/, ProgressSink& /*progress*/ = null_progress()) const {
     throw HttpError(404, "this server does not refine previews");
   }
 };

@@ -165,6 +165,13 @@ int parse_int(const nlohmann::json& body, const std::string& key, int lo, int hi
   return parse_int_value(*value, "\"" + key + "\"", lo, hi);
 }
 
+bool parse_flag(const nlohmann::json& body, const std::string& key, bool fallback) {
+  const nlohmann::json* value = field(body, key);
+  if (!value) return fallback;
+  if (!value->is_boolean()) throw bad_request("\"" + key + "\" must be true or false, got " + std::string(value->type_name()));
+  return value->get<bool>();
+}
+
 std::string parse_choice(const nlohmann::json& body, const std::string& key,
                          const std::vector<std::string>& allowed, const std::string& fallback) {
   const nlohmann::json* value = field(body, key);

@@ -55,6 +55,9 @@ int parse_int_value(const nlohmann::json& value, const std::string& what, int lo
 /// Optional integer `body[key]` in [lo, hi] (default when absent or null).
 int parse_int(const nlohmann::json& body, const std::string& key, int lo, int hi, int fallback);
 
+/// Optional boolean `body[key]` (default when absent or null); anything but true/false is refused.
+bool parse_flag(const nlohmann::json& body, const std::string& key, bool fallback);
+
 /// Optional string `body[key]` that must be one of `allowed` (default when absent or null).
 std::string parse_choice(const nlohmann::json& body, const std::string& key,
                          const std::vector<std::string>& allowed, const std::string& fallback);

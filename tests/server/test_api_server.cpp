@@ -172,7 +172,7 @@ TEST_F(ApiServerTest, RefinementAtRestAddsSamplesAndItsErrorFalls) {
   // The refined image is the point's material: its mean over the object agrees with a direct
   // render of the table at the database's sampling (independent samples, 256 spp).
   const Eigen::VectorXd w = model_->weights(vec(mid));
-  const PreviewSource::Refined refined = previews_->refine(w, "test-direct", "constant", "sphere", 1.0);
+  const PreviewSource::Refined refined = previews_->refine(w, "test-direct", "constant", "sphere", 1.0, false);
   render::SceneDescription desc;
   desc.environment = "constant";
   const render::Scene scene(desc);
@@ -194,6 +194,35 @@ TEST_F(ApiServerTest, RefinementAtRestAddsSamplesAndItsErrorFalls) {
   EXPECT_LT(std::stoi(other->get_header_value("X-Matlas-Spp")), spp);
   expect_error(post("/api/preview/refine", {{"x", mid}, {"seconds", 60}}), 400);
   expect_error(post("/api/preview/refine", {{"x", mid}, {"env", "moon"}}), 400);
+}
+
+TEST_F(ApiServerTest, ADenoisedRefinementIsMarkedAndKeepsTheImage) {
+  // "denoise": the same refinement's image denoised from its halves, marked as such, with its own
+  // error estimate below the plain one; the object's mean stays that of the plain image.
+  const auto a = point(0), b = point(2);
+  const std::vector<double> mid = {0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])};
+  auto plain = post("/api/preview/refine", {{"x", mid}, {"seconds", 0.05}});
+  ASSERT_TRUE(plain);
+  EXPECT_TRUE(plain->get_header_value("X-Matlas-Denoised").empty());  // after one pass: nothing to denoise
+  for (int i = 0; i < 3; ++i) ASSERT_TRUE(post("/api/preview/refine", {{"x", mid}, {"seconds", 0.05}}));
+  auto denoised = post("/api/preview/refine", {{"x", mid}, {"seconds", 0.05}, {"denoise", true}});
+  ASSERT_TRUE(denoised);
+  ASSERT_EQ(denoised->status, 200) << denoised->body;
+  EXPECT_EQ(denoised->get_header_value("X-Matlas-Denoised"), "1");
+  const double plain_error = std::stod(denoised->get_header_value("X-Matlas-Error"));
+  const double denoised_error = std::stod(denoised->get_header_value("X-Matlas-Denoised-Error"));
+  EXPECT_LT(denoised_error, plain_error);
+  EXPECT_GT(denoised_error, 0.0);
+  EXPECT_EQ(png_size(denoised->body), std::make_pair(32, 32));
+  const Eigen::VectorXd w = model_->weights(vec(mid));
+  const PreviewSource::Refined d = previews_->refine(w, "test-denoise", "constant", "sphere", 0.5, true);
+  const PreviewSource::Refined p = previews_->refine(w, "test-denoise", "constant", "sphere", 0.05, false);
+  ASSERT_TRUE(d.denoised);
+  ASSERT_FALSE(p.denoised);
+  double d_sum = 0, p_sum = 0;
+  for (std::size_t i = 0; i < d.image.rgb.size(); ++i) d_sum += d.image.rgb[i], p_sum += p.image.rgb[i];
+  EXPECT_NEAR(d_sum / p_sum, 1.0, 0.02);
+  expect_error(post("/api/preview/refine", {{"x", mid}, {"denoise", "yes"}}), 400);
 }
 
 TEST_F(ApiServerTest, WeightsAtAMaterialPointSelectThatMaterial) {

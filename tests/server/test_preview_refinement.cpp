@@ -47,7 +47,7 @@ public:
   Image render(const Eigen::VectorXd&, const std::string&, const std::string&, int size) const override {
     return Image(size, size);
   }
-  Refined refine(const Eigen::VectorXd&, const std::string&, const std::string&, const std::string&, double,
+  Refined refine(const Eigen::VectorXd&, const std::string&, const std::string&, const std::string&, double, bool,
                  ProgressSink& progress) const override {
     refining = true;
     const auto start = std::chrono::steady_clock::now();
@@ -57,9 +57,9 @@ public:
         std::this_thread::sleep_for(std::chrono::milliseconds(5));
       }
     } catch (const Interrupt&) {
-      return Refined{Image(16, 16), {}, true};
+      return Refined{Image(16, 16), {}, true, false};
     }
-    return Refined{Image(16, 16), {}, false};
+    return Refined{Image(16, 16), {}, false, false};
   }
   mutable std::atomic<bool> refining{false};
 };
