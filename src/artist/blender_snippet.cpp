@@ -42,6 +42,12 @@ std::string blender_snippet(const GltfPbr& m, const std::string& name, const std
   s += "    bsdf.inputs['Specular IOR Level'].default_value = " + number(0.5 * m.specular) + "\n";
   s += "else:  # Blender 2.8-3.x: 0.5 is F0 = 0.04\n";
   s += "    bsdf.inputs['Specular'].default_value = " + number(0.5 * m.specular) + "\n";
+  s += "if 'Coat Weight' in bsdf.inputs:  # Blender 4.x\n";
+  s += "    bsdf.inputs['Coat Weight'].default_value = " + number(m.clearcoat) + "\n";
+  s += "    bsdf.inputs['Coat Roughness'].default_value = " + number(m.clearcoat_roughness) + "\n";
+  s += "else:\n";
+  s += "    bsdf.inputs['Clearcoat'].default_value = " + number(m.clearcoat) + "\n";
+  s += "    bsdf.inputs['Clearcoat Roughness'].default_value = " + number(m.clearcoat_roughness) + "\n";
   s += "obj = bpy.context.active_object\n";
   s += "if obj is not None and obj.type == 'MESH':\n";
   s += "    obj.data.materials.clear()\n";

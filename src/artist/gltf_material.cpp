@@ -29,6 +29,11 @@ std::string gltf_material_document(const GltfPbr& m, const std::string& name, co
       {"roughnessFactor", rounded(m.roughness)}};
   json used = json::array({"KHR_materials_specular"});
   material["extensions"]["KHR_materials_specular"] = {{"specularFactor", rounded(m.specular)}};
+  if (m.clearcoat > 0) {
+    material["extensions"]["KHR_materials_clearcoat"] = {{"clearcoatFactor", rounded(m.clearcoat)},
+                                                         {"clearcoatRoughnessFactor", rounded(m.clearcoat_roughness)}};
+    used.push_back("KHR_materials_clearcoat");
+  }
   if (m.ior != 1.5) {
     material["extensions"]["KHR_materials_ior"] = {{"ior", rounded(m.ior)}};
     used.push_back("KHR_materials_ior");

@@ -1,7 +1,8 @@
 #pragma once
 // A fitted glTF metallic-roughness material (brdf/gltf_pbr.h) as a glTF 2.0 document that holds
 // only the material (no scene, no mesh: a valid asset that glTF tools and importers read), with
-// KHR_materials_specular for the specular factor and KHR_materials_ior when the IOR is not 1.5.
+// KHR_materials_specular for the specular factor, KHR_materials_clearcoat when there is a coat and
+// KHR_materials_ior when the IOR is not 1.5.
 #include <filesystem>
 #include <string>
 

@@ -3,12 +3,17 @@
 // parameters an artist's tool (glTF viewers, Blender, Standard Surface, OpenPBR) needs to show a
 // material close to the table.
 //
-// Objective: Fores et al.'s cosine-weighted cube-root distance (eval/brdf_distance.h, the
-// evaluation's perceptual metric), the mean over values of (cbrt(c f_model) - cbrt(c f_table))^2
-// with c = cos(theta_i) cos(theta_o) at the bin centre, on every theta_h bin and a regular
-// subsample of theta_d and phi_d (the specular peak lives in theta_h, which is kept whole).
-// Minimised by Nelder-Mead (gp/nelder_mead.h) on the six parameters mapped to their ranges by
-// logistic functions, from six starts (metal and dielectric, three roughnesses) on a coarser
+// Objective: Fores et al.'s cosine-weighted cube-root difference (eval/brdf_distance.h, the
+// evaluation's perceptual metric), (cbrt(c f_model) - cbrt(c f_table))^2 with c = cos(theta_i)
+// cos(theta_o) at the bin centre, integrated over pairs of directions (each bin weighted by its
+// solid angle in (wi, wo)) instead of averaged over bins: MERL's bins crowd near the mirror
+// direction, and the plain mean lets grazing near-specular pairs, where measured Fresnel rises
+// far beyond any Schlick term, outweigh the highlight (on gray-plastic it preferred no specular
+// lobe at all). On every theta_h bin and a regular subsample of theta_d and phi_d.
+// Minimised by Nelder-Mead (gp/nelder_mead.h) on the eight parameters (base colour, metallic,
+// roughness, specular, clearcoat and its roughness; roughnesses by their logarithm), from eight starts
+// matched to the table's back-scattering peak (its width gives a roughness, its height the specular
+// factor or the metal's F0; metal and dielectric at three roughnesses, and under a coat) on a coarser
 // subsample, then polished from the best on the full subsample and restarted once to check
 // convergence. Deterministic.
 #include <cstddef>
@@ -21,7 +26,7 @@ namespace matlas::artist {
 struct PbrFitOptions {
   int theta_d_stride = 6;            ///< every k-th theta_d bin enters the objective
   int phi_d_stride = 15;             ///< every k-th phi_d bin
-  int evaluations_per_start = 400;   ///< Nelder-Mead budget of each start (on a 4x coarser subsample)
+  int evaluations_per_start = 800;   ///< Nelder-Mead budget of each start (on a 4x coarser subsample)
   int polish_evaluations = 1200;     ///< budget of the final polish from the best start
   int restart_evaluations = 200;     ///< budget of the restart that checks convergence
   double ior = 1.5;                  ///< fixed (KHR_materials_ior); the specular factor is fitted
@@ -29,16 +34,16 @@ struct PbrFitOptions {
 
 struct PbrFitResult {
   GltfPbr model;
-  /// sqrt of the objective at the result: the cube-root distance on the fit's samples.
-  double cbrt_distance = 0;
+  /// sqrt of the objective at the result: the measure-weighted cube-root distance on the samples.
+  double distance = 0;
   std::size_t samples = 0;  ///< bins in the objective
   int starts = 0;
   int evaluations = 0;      ///< objective evaluations, all starts and the polish
-  /// Decrease of cbrt_distance by a restart of Nelder-Mead from the result (the classic check of
+  /// Decrease of `distance` by a restart of Nelder-Mead from the result (the classic check of
   /// its convergence). Converged when at most 1e-3 of the distance (plus 1e-6): otherwise the
   /// search stopped on its budget and the parameters may still be off.
   double restart_gain = 0;
-  bool converged() const { return restart_gain <= 1e-3 * cbrt_distance + 1e-6; }
+  bool converged() const { return restart_gain <= 1e-3 * distance + 1e-6; }
 };
 
 /// Fits the model to `table` (values missing in any channel, -1, and bins below the horizon are

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <string>
 
 #include "brdf/analytic_microfacet.h"
@@ -15,18 +14,33 @@ PbrCosines pbr_cosines(const Vec3& wi, const Vec3& wo) {
   return {wi.z(), wo.z(), h.z(), std::max(0.0, wi.dot(h))};
 }
 
+namespace {
+
+/// D G2 / (4 cos_i cos_o): the GGX lobe without Fresnel.
+double ggx_lobe(const PbrCosines& c, double alpha) {
+  return microfacet::ggx_d(c.cos_h, alpha) * microfacet::smith_g2_height_correlated(c.cos_i, c.cos_o, alpha) /
+         (4.0 * c.cos_i * c.cos_o);
+}
+
+}  // namespace
+
 double GltfPbr::alpha() const { return std::max(roughness * roughness, microfacet::kMinAlpha); }
+double GltfPbr::clearcoat_alpha() const {
+  return std::max(clearcoat_roughness * clearcoat_roughness, microfacet::kMinAlpha);
+}
 
 Rgb GltfPbr::evaluate(const PbrCosines& c) const {
-  const double a = alpha();
-  const double lobe = microfacet::ggx_d(c.cos_h, a) *
-                      microfacet::smith_g2_height_correlated(c.cos_i, c.cos_o, a) / (4.0 * c.cos_i * c.cos_o);
+  const double lobe = ggx_lobe(c, alpha());
   const double m = 1.0 - c.cos_d, m2 = m * m, schlick = m2 * m2 * m;
   const double f0 = microfacet::dielectric_f0(ior);
   const double fd = specular * (f0 + (1.0 - f0) * schlick);
   const Rgb dielectric = (1.0 - fd) * base_color / kPi + fd * lobe;
   const Rgb conductor = (base_color + (1.0 - base_color) * schlick) * lobe;
-  return (1.0 - metallic) * dielectric + metallic * conductor;
+  const Rgb material = (1.0 - metallic) * dielectric + metallic * conductor;
+  if (clearcoat <= 0.0) return material;
+  constexpr double kCoatF0 = 0.04;  // IOR 1.5
+  const double fc = clearcoat * (kCoatF0 + (1.0 - kCoatF0) * schlick);
+  return (1.0 - fc) * material + fc * ggx_lobe(c, clearcoat_alpha());
 }
 
 Rgb GltfPbr::operator()(const Vec3& wi, const Vec3& wo) const {
@@ -42,14 +56,9 @@ void GltfPbr::validate() const {
   check(metallic, "metallic");
   check(roughness, "roughness");
   check(specular, "specular");
+  check(clearcoat, "clearcoat");
+  check(clearcoat_roughness, "clearcoat_roughness");
   if (!(ior >= 1.0 && ior <= 3.0)) throw Error("gltf: ior must be in [1, 3], got " + std::to_string(ior));
-}
-
-std::string describe(const GltfPbr& m) {
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "gltf base=(%.3f %.3f %.3f) metallic=%.3f roughness=%.3f specular=%.3f",
-                m.base_color[0], m.base_color[1], m.base_color[2], m.metallic, m.roughness, m.specular);
-  return buf;
 }
 
 }  // namespace matlas
