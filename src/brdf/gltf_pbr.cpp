@@ -17,7 +17,7 @@ PbrCosines pbr_cosines(const Vec3& wi, const Vec3& wo) {
 namespace {
 
 /// D G2 / (4 cos_i cos_o): the GGX lobe without Fresnel.
-double ggx_lobe(const PbrCosines& c, double alpha) {
+double pbr_lobe(const PbrCosines& c, double alpha) {
   return microfacet::ggx_d(c.cos_h, alpha) * microfacet::smith_g2_height_correlated(c.cos_i, c.cos_o, alpha) /
          (4.0 * c.cos_i * c.cos_o);
 }
@@ -30,7 +30,7 @@ double GltfPbr::clearcoat_alpha() const {
 }
 
 Rgb GltfPbr::evaluate(const PbrCosines& c) const {
-  const double lobe = ggx_lobe(c, alpha());
+  const double lobe = pbr_lobe(c, alpha());
   const double m = 1.0 - c.cos_d, m2 = m * m, schlick = m2 * m2 * m;
   const double f0 = microfacet::dielectric_f0(ior);
   const double fd = specular * (f0 + (1.0 - f0) * schlick);
@@ -40,7 +40,7 @@ Rgb GltfPbr::evaluate(const PbrCosines& c) const {
   if (clearcoat <= 0.0) return material;
   constexpr double kCoatF0 = 0.04;  // IOR 1.5
   const double fc = clearcoat * (kCoatF0 + (1.0 - kCoatF0) * schlick);
-  return (1.0 - fc) * material + fc * ggx_lobe(c, clearcoat_alpha());
+  return (1.0 - fc) * material + fc * pbr_lobe(c, clearcoat_alpha());
 }
 
 Rgb GltfPbr::operator()(const Vec3& wi, const Vec3& wo) const {
