@@ -77,7 +77,7 @@ json report_json(const std::string& what, const artist::PbrFitResult& fit, const
        {{"relative_rms", e.relative_rms}, {"cbrt_distance", e.cbrt_distance}, {"albedo_error", e.albedo_error},
         {"albedo", albedo}}},
       {"fit",
-       {{"samples", fit.samples}, {"starts", fit.starts}, {"evaluations", fit.evaluations},
+       {{"objective", fit.distance}, {"samples", fit.samples}, {"starts", fit.starts}, {"evaluations", fit.evaluations},
         {"converged", fit.converged()}, {"restart_gain", fit.restart_gain}, {"seconds", seconds}}}};
   if (variance) r["predictive_variance"] = *variance;
   return r;
@@ -128,11 +128,11 @@ void run_fit(const FitArgs& a, const Io& io) {
   print(io.out, "  relative RMS    %.2f %% (cosine-weighted, against the table)\n", 100 * error.relative_rms);
   print(io.out, "  cube-root dist. %.4g\n  albedo          largest difference %.2f %% (0-75 deg, per channel)\n",
         error.cbrt_distance, 100 * error.albedo_error);
-  print(io.out, "  search          %d starts, %d evaluations on %zu bins, %.1f s\n", fit.starts, fit.evaluations,
-        fit.samples, seconds);
+  print(io.out, "  search          %d starts, %d evaluations on %zu bins, objective %.4g, %.1f s\n", fit.starts,
+        fit.evaluations, fit.samples, fit.distance, seconds);
   if (!fit.converged())
-    print(io.err, "warning: the fit did not converge: a restart still lowered the cube-root distance by %.3g (to "
-          "%.4g; the parameters may be a little off)\n", fit.restart_gain, fit.distance);
+    print(io.err, "warning: the fit did not converge: a restart still lowered its objective (the cube-root "
+          "distance integrated over direction pairs) by %.3g to %.4g; the parameters may be a little off\n", fit.restart_gain, fit.distance);
 
   for (std::size_t k = 0; k < a.outputs.size(); ++k) {
     const std::string& out = a.outputs[k];
