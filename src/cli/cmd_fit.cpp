@@ -32,7 +32,7 @@ namespace {
 using nlohmann::json;
 namespace fs = std::filesystem;
 
-struct FitArgs {
+struct ArtistFitArgs {
   std::string source, name;
   std::vector<std::string> outputs;
   std::optional<std::string> at, material;
@@ -83,7 +83,7 @@ json report_json(const std::string& what, const artist::PbrFitResult& fit, const
   return r;
 }
 
-void run_fit(const FitArgs& a, const Io& io) {
+void run_fit(const ArtistFitArgs& a, const Io& io) {
   if (a.outputs.empty()) throw Error("-o: give at least one output (.gltf, .py, .json or .binary)");
   std::vector<FitOutput> kinds;
   for (const std::string& o : a.outputs) {
@@ -153,7 +153,7 @@ void run_fit(const FitArgs& a, const Io& io) {
 }
 
 void add_fit_command(CLI::App& app, const Io& io) {
-  auto a = std::make_shared<FitArgs>();
+  auto a = std::make_shared<ArtistFitArgs>();
   auto* cmd = app.add_subcommand(
       "fit", "Fit the glTF metallic-roughness model (Blender's Principled BSDF, Standard Surface, OpenPBR) to a "
              "map point, a model's material or a table file; write it for artists' tools (docs/EXPORT.md)");
