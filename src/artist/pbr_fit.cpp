@@ -213,14 +213,14 @@ PbrFitResult fit_gltf_pbr(const BrdfTable& table, const PbrFitOptions& o) {
   starts.push_back(coordinates_of(albedo, 0.0, 0.5, 1.0, coat, r_peak));
   starts.push_back(coordinates_of(albedo, 1.0, 0.5, 1.0, coat, r_peak));
   for (const Eigen::VectorXd& start : starts) {
-      const Eigen::VectorXd x = gp::nelder_mead(f_coarse, start, 0.2, o.evaluations_per_start);
-      const double v = f_coarse(x);
-      ++result.starts;
-      if (best.size() == 0 || v < best_value) {
-        best = x;
-        best_value = v;
-      }
+    const Eigen::VectorXd x = gp::nelder_mead(f_coarse, start, 0.2, o.evaluations_per_start);
+    const double v = f_coarse(x);
+    ++result.starts;
+    if (best.size() == 0 || v < best_value) {
+      best = x;
+      best_value = v;
     }
+  }
   best = gp::nelder_mead(f, best, 0.05, o.polish_evaluations);
   best_value = f(best);
   const Eigen::VectorXd restarted = gp::nelder_mead(f, best, 0.02, o.restart_evaluations);
