@@ -1,0 +1,26 @@
+#pragma once
+// A fitted glTF metallic-roughness material (brdf/gltf_pbr.h) as a Blender Python script that
+// builds the equivalent Principled BSDF material and assigns it to the active mesh object, for
+// Blender 2.8 to 4.x (the specular input was renamed in 4.0).
+//
+// Mapping: base colour, metallic and roughness carry over unchanged (Blender's roughness is the
+// same r, alpha = r^2); IOR as fitted; the specular factor s becomes "Specular IOR Level" = s / 2
+// (4.x) or "Specular" = s / 2 (older; 0.5 is F0 = 0.04 in both). Blender scales F0 only, glTF F0
+// and F90: the two agree at normal incidence. The clearcoat goes to "Coat Weight" / "Coat Roughness"
+// (4.x: GGX, IOR 1.5 as glTF's) or "Clearcoat" / "Clearcoat Roughness" (older: a GTR1 lobe, close
+// but not the same).
+#include <filesystem>
+#include <string>
+
+#include "brdf/gltf_pbr.h"
+
+namespace matlas::artist {
+
+/// The script's text. `name` is the Blender material's name, `source` a comment.
+std::string blender_snippet(const GltfPbr& model, const std::string& name, const std::string& source);
+
+/// Writes the script atomically; throws matlas::Error naming the file.
+void write_blender_snippet(const std::filesystem::path& path, const GltfPbr& model, const std::string& name,
+                           const std::string& source);
+
+}  // namespace matlas::artist

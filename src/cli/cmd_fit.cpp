@@ -1,0 +1,174 @@
+// matlas fit: the glTF metallic-roughness parameters (brdf/gltf_pbr.h) that come closest to a map
+// point, a model's material or a table file, written for artists' tools (glTF, Blender), with the
+// fit's error (docs/EXPORT.md, "Analytic fits").
+#include <chrono>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "artist/blender_snippet.h"
+#include "artist/fit_error.h"
+#include "artist/gltf_material.h"
+#include "artist/pbr_fit.h"
+#include "atlas/map_layers.h"
+#include "brdf/tabulate.h"
+#include "cli/commands.h"
+#include "cli/latent_point.h"
+#include "cli/print.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/file_io.h"
+#include "formats/merl_file.h"
+#include "formats/rgl_bsdf.h"
+#include "manifold/export.h"
+
+namespace matlas::cli {
+
+namespace {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+struct ArtistFitArgs {
+  std::string source, name;
+  std::vector<std::string> outputs;
+  std::optional<std::string> at, material;
+};
+
+enum class FitOutput { gltf, blender, report, table };
+
+FitOutput output_kind(const std::string& path) {
+  const std::string ext = fs::path(path).extension().string();
+  if (ext == ".gltf") return FitOutput::gltf;
+  if (ext == ".py") return FitOutput::blender;
+  if (ext == ".json") return FitOutput::report;
+  if (ext == ".binary") return FitOutput::table;
+  throw Error("-o " + path + ": unknown output type '" + ext +
+              "'; expected .gltf (glTF 2.0 material), .py (Blender script), .json (fit report) or .binary "
+              "(the fit tabulated as a MERL table)");
+}
+
+json rgb_json(const Rgb& c) { return {c[0], c[1], c[2]}; }
+
+json report_json(const std::string& what, const artist::PbrFitResult& fit, const artist::FitError& e,
+                 double seconds, std::optional<double> variance) {
+  const GltfPbr& m = fit.model;
+  json albedo = json::array();
+  for (std::size_t a = 0; a < e.angles_deg.size(); ++a)
+    albedo.push_back({{"theta_deg", e.angles_deg[a]}, {"table", rgb_json(e.table_albedo[a])},
+                      {"fit", rgb_json(e.fit_albedo[a])}});
+  json r = {
+      {"source", what},
+      {"model", "glTF 2.0 metallic-roughness with KHR_materials_specular and KHR_materials_clearcoat (docs/EXPORT.md)"},
+      {"parameters",
+       {{"base_color", rgb_json(m.base_color)}, {"metallic", m.metallic}, {"roughness", m.roughness},
+        {"specular", m.specular}, {"ior", m.ior}, {"clearcoat", m.clearcoat},
+        {"clearcoat_roughness", m.clearcoat_roughness}}},
+      // The same parameters under OpenPBR Surface's / Standard Surface's names (the shared core of
+      // the three models: base colour, metalness, GGX roughness r, specular weight, IOR).
+      {"openpbr_surface",
+       {{"base_color", rgb_json(m.base_color)}, {"base_metalness", m.metallic}, {"specular_roughness", m.roughness},
+        {"specular_weight", m.specular}, {"specular_ior", m.ior}, {"coat_weight", m.clearcoat},
+        {"coat_roughness", m.clearcoat_roughness}, {"coat_ior", 1.5}}},
+      {"error",
+       {{"relative_rms", e.relative_rms}, {"cbrt_distance", e.cbrt_distance}, {"albedo_error", e.albedo_error},
+        {"albedo", albedo}}},
+      {"fit",
+       {{"objective", fit.distance}, {"samples", fit.samples}, {"starts", fit.starts}, {"evaluations", fit.evaluations},
+        {"converged", fit.converged()}, {"restart_gain", fit.restart_gain}, {"seconds", seconds}}}};
+  if (variance) r["predictive_variance"] = *variance;
+  return r;
+}
+
+void run_fit(const ArtistFitArgs& a, const Io& io) {
+  if (a.outputs.empty()) throw Error("-o: give at least one output (.gltf, .py, .json or .binary)");
+  std::vector<FitOutput> kinds;
+  for (const std::string& o : a.outputs) {
+    if (o.empty()) throw Error("-o: an output file name is empty");
+    kinds.push_back(output_kind(o));
+    refuse_output_among_inputs(o, {a.source});
+  }
+  const fs::path source(a.source);
+  BrdfTable table;
+  std::string what, name = a.name;
+  std::optional<double> variance;
+  if (source.extension() == ".binary" || is_rgl_path(source)) {
+    if (a.at || a.material)
+      throw Error(a.source + ": --at and --material pick a point of a model (.matlas), not of a table file");
+    table = read_brdf(source);
+    what = source.filename().string();
+    if (name.empty()) name = source.stem().string();
+  } else {
+    const Model model = Model::open(a.source);
+    const Eigen::VectorXd x = resolve_point(model, a.at, a.material);
+    const Eigen::VectorXd w = a.material ? model.material_weights(model.index_of(*a.material)) : model.weights(x);
+    variance = model.variance(x);
+    if (!a.material && *variance >= atlas::kFadeFrom)
+      print(io.err, "warning: x = %s is far from the data (predictive variance %.3g, maps fade out from %.2g): the "
+            "fitted BRDF is an extrapolation, not a measured material\n", a.at->c_str(), *variance, atlas::kFadeFrom);
+    table = export_table(model, w);
+    what = a.material ? "material " + *a.material + " of " + source.filename().string()
+                      : "x = " + *a.at + " of " + source.filename().string();
+    if (name.empty()) name = a.material ? *a.material : "matlas point " + *a.at;
+  }
+
+  const auto start = std::chrono::steady_clock::now();
+  const artist::PbrFitResult fit = artist::fit_gltf_pbr(table);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const artist::FitError error = artist::fit_error(table, fit.model);
+  const GltfPbr& m = fit.model;
+  print(io.out, "fit of %s: glTF metallic-roughness\n", what.c_str());
+  print(io.out, "  base colour     %.4f %.4f %.4f\n  metallic        %.4f\n  roughness       %.4f (alpha %.4g)\n"
+        "  specular        %.4f (KHR_materials_specular, IOR %.2f)\n  clearcoat       %.4f, roughness %.4f\n",
+        m.base_color[0], m.base_color[1], m.base_color[2], m.metallic, m.roughness, m.alpha(), m.specular, m.ior,
+        m.clearcoat, m.clearcoat_roughness);
+  print(io.out, "  relative RMS    %.2f %% (cosine-weighted, against the table)\n", 100 * error.relative_rms);
+  print(io.out, "  cube-root dist. %.4g\n  albedo          largest difference %.2f %% (0-75 deg, per channel)\n",
+        error.cbrt_distance, 100 * error.albedo_error);
+  print(io.out, "  search          %d starts, %d evaluations on %zu bins, objective %.4g, %.1f s\n", fit.starts,
+        fit.evaluations, fit.samples, fit.distance, seconds);
+  if (!fit.converged())
+    print(io.err, "warning: the fit did not converge: a restart still lowered its objective (the cube-root "
+          "distance integrated over direction pairs) by %.3g to %.4g; the parameters may be a little off\n", fit.restart_gain, fit.distance);
+
+  for (std::size_t k = 0; k < a.outputs.size(); ++k) {
+    const std::string& out = a.outputs[k];
+    switch (kinds[k]) {
+      case FitOutput::gltf: artist::write_gltf_material(out, m, name, what); break;
+      case FitOutput::blender: artist::write_blender_snippet(out, m, name, what); break;
+      case FitOutput::table: write_merl(out, tabulate(m)); break;
+      case FitOutput::report: {
+        AtomicFile file(out);
+        file.write(report_json(what, fit, error, seconds, variance).dump(2, ' ', false, json::error_handler_t::replace) +
+                   "\n");
+        file.commit();
+        break;
+      }
+    }
+    print(io.out, "wrote %s\n", out.c_str());
+  }
+}
+
+void add_fit_command(CLI::App& app, const Io& io) {
+  auto a = std::make_shared<ArtistFitArgs>();
+  auto* cmd = app.add_subcommand(
+      "fit", "Fit the glTF metallic-roughness model (Blender's Principled BSDF, Standard Surface, OpenPBR) to a "
+             "map point, a model's material or a table file; write it for artists' tools (docs/EXPORT.md)");
+  cmd->add_option("source", a->source, "Model file (.matlas), or a table file (.binary, .bsdf)")->required();
+  add_point_options(*cmd, a->at, a->material);
+  cmd->add_option("-o,--output", a->outputs,
+                  "Output file, repeatable; the type from the extension: .gltf (glTF 2.0 material), .py (Blender "
+                  "script), .json (fit report), .binary (the fit as a MERL table)")
+      ->required();
+  cmd->add_option("--name", a->name, "Material name in the files (default: the material or file name)");
+  cmd->callback([io, a] { run_fit(*a, io); });
+}
+
+}  // namespace
+
+MATLAS_COMMAND(42, add_fit_command);
+
+}  // namespace matlas::cli

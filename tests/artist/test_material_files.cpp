@@ -1,0 +1,102 @@
+// The fitted material's files: a glTF 2.0 document read back by tinygltf (as glTF tools read it)
+// and a Blender script that Python parses, both written atomically.
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <tiny_gltf.h>
+
+#include "artist/blender_snippet.h"
+#include "artist/gltf_material.h"
+#include "core/error.h"
+#include "support/temp_dir.h"
+
+namespace matlas {
+namespace {
+
+namespace fs = std::filesystem;
+
+const GltfPbr kMaterial{Rgb(0.8, 0.25, 0.125), 0.3, 0.45, 0.6, 1.5};
+
+[[maybe_unused]] std::string read_text(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST(GltfMaterial, TinyGltfReadsTheMaterialWithItsSpecularExtension) {
+  const test::TempDir dir("matlas-gltf-material");
+  const fs::path path = dir / "red.gltf";
+  artist::write_gltf_material(path, kMaterial, "red \"paint\" é", "red.binary");
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator{}), 1);  // no temporary left
+
+  tinygltf::TinyGLTF loader;
+  tinygltf::Model model;
+  std::string err, warn;
+  ASSERT_TRUE(loader.LoadASCIIFromFile(&model, &err, &warn, path.string())) << err;
+  EXPECT_EQ(model.asset.version, "2.0");
+  ASSERT_EQ(model.materials.size(), 1u);
+  const tinygltf::Material& m = model.materials[0];
+  EXPECT_EQ(m.name, "red \"paint\" é");
+  ASSERT_EQ(m.pbrMetallicRoughness.baseColorFactor.size(), 4u);
+  EXPECT_DOUBLE_EQ(m.pbrMetallicRoughness.baseColorFactor[0], 0.8);
+  EXPECT_DOUBLE_EQ(m.pbrMetallicRoughness.baseColorFactor[2], 0.125);
+  EXPECT_DOUBLE_EQ(m.pbrMetallicRoughness.baseColorFactor[3], 1.0);
+  EXPECT_DOUBLE_EQ(m.pbrMetallicRoughness.metallicFactor, 0.3);
+  EXPECT_DOUBLE_EQ(m.pbrMetallicRoughness.roughnessFactor, 0.45);
+  ASSERT_EQ(m.extensions.count("KHR_materials_specular"), 1u);
+  EXPECT_DOUBLE_EQ(m.extensions.at("KHR_materials_specular").Get("specularFactor").GetNumberAsDouble(), 0.6);
+  EXPECT_EQ(m.extensions.count("KHR_materials_ior"), 0u);  // 1.5 is the core specification's
+  ASSERT_EQ(model.extensionsUsed.size(), 1u);
+  EXPECT_EQ(model.extensionsUsed[0], "KHR_materials_specular");
+}
+
+TEST(GltfMaterial, AnotherIorIsWrittenWithItsExtension) {
+  GltfPbr m = kMaterial;
+  m.ior = 1.7;
+  const nlohmann::json doc = nlohmann::json::parse(artist::gltf_material_document(m, "x", "y"));
+  EXPECT_DOUBLE_EQ(doc["materials"][0]["extensions"]["KHR_materials_ior"]["ior"].get<double>(), 1.7);
+  EXPECT_EQ(doc["extensionsUsed"].size(), 2u);
+  EXPECT_EQ(doc["materials"][0]["extras"]["matlas_fit_of"], "y");
+}
+
+TEST(GltfMaterial, AnUnwritableTargetIsNamedInTheError) {
+  const test::TempDir dir("matlas-gltf-material");
+  const fs::path path = dir / "missing-folder" / "a.gltf";
+  try {
+    artist::write_gltf_material(path, kMaterial, "a", "b");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("a.gltf"), std::string::npos) << e.what();
+  }
+}
+
+TEST(BlenderSnippet, SetsThePrincipledInputsForOldAndNewBlender) {
+  const std::string s = artist::blender_snippet(kMaterial, "red", "red.binary");
+  EXPECT_NE(s.find("bsdf.inputs['Base Color'].default_value = (0.8, 0.25, 0.125, 1.0)"), std::string::npos) << s;
+  EXPECT_NE(s.find("bsdf.inputs['Metallic'].default_value = 0.3\n"), std::string::npos) << s;
+  EXPECT_NE(s.find("bsdf.inputs['Roughness'].default_value = 0.45\n"), std::string::npos) << s;
+  EXPECT_NE(s.find("bsdf.inputs['Specular IOR Level'].default_value = 0.3\n"), std::string::npos) << s;
+  EXPECT_NE(s.find("bsdf.inputs['Specular'].default_value = 0.3\n"), std::string::npos) << s;
+}
+
+TEST(BlenderSnippet, IsValidPythonWhateverTheName) {
+#ifndef MATLAS_PYTHON3
+  GTEST_SKIP() << "no python3";
+#else
+  const test::TempDir dir("matlas-blender-snippet");
+  const fs::path path = dir / "m.py";
+  artist::write_blender_snippet(path, kMaterial, "quote ' \" back\\slash\nnew line é", "a\nb.binary");
+  const std::string command = std::string(MATLAS_PYTHON3) + " -c \"import ast, sys; ast.parse(open(sys.argv[1], encoding='utf-8').read())\" '" +
+                              path.string() + "'";
+  EXPECT_EQ(std::system(command.c_str()), 0) << read_text(path);
+#endif
+}
+
+}  // namespace
+}  // namespace matlas
