@@ -73,6 +73,7 @@ export interface RefineRequest {
   env?: string;
   object?: string;
   seconds?: number;
+  denoise?: boolean;
 }
 
 /** A refined preview (POST /api/preview/refine) and how far it has converged. */
@@ -84,6 +85,8 @@ export interface Refined {
   converged: boolean;
   /** A newer preview request of this page stopped the pass: the image is the state before it. */
   interrupted: boolean;
+  /** The image is denoised from the refinement's two halves (biased; `error` is the mean's). */
+  denoised: boolean;
 }
 
 export interface WeightsRequest {
@@ -307,8 +310,9 @@ export const api = {
   previewStatus: (env: string, object: string, signal?: AbortSignal): Promise<PreviewStatus> =>
     fetch(`api/preview/status?env=${encodeURIComponent(env)}&object=${encodeURIComponent(object)}`, { signal })
       .then(check).then((r) => r.json()),
-  refine: async (x: Point, env: string, object: string, seconds: number, signal?: AbortSignal): Promise<Refined> => {
-    const r = await post("api/preview/refine", { x, env, object, seconds } satisfies RefineRequest, signal);
+  refine: async (x: Point, env: string, object: string, seconds: number, denoise: boolean,
+    signal?: AbortSignal): Promise<Refined> => {
+    const r = await post("api/preview/refine", { x, env, object, seconds, denoise } satisfies RefineRequest, signal);
     const error = Number(r.headers.get("X-Matlas-Error"));
     return {
       blob: await r.blob(),
@@ -316,6 +320,7 @@ export const api = {
       error: Number.isFinite(error) ? error : null,
       converged: r.headers.get("X-Matlas-Converged") === "1",
       interrupted: r.headers.get("X-Matlas-Interrupted") === "1",
+      denoised: r.headers.get("X-Matlas-Denoised") === "1",
     };
   },
   weights: (x: Point, top = 8): Promise<WeightsReply> =>

@@ -20,6 +20,7 @@ export function createPreview(store: PageStore): void {
   const { size: fullSize, drag_size: dragSize } = store.state.model.preview;
   const refinedImg = $<HTMLImageElement>("preview-refined");
   const badge = $("preview-refine");
+  const denoiseToggle = $<HTMLButtonElement>("preview-denoise");
 
   // --- refinement at rest ---
   let refining: AbortController | null = null;
@@ -30,6 +31,7 @@ export function createPreview(store: PageStore): void {
     refiningView = "";
     refinedImg.hidden = true;
     badge.hidden = true;
+    denoiseToggle.hidden = true;
     if (store.state.refined) store.update({ refined: null });
   };
   const sameView = (a: ShownPreview) => {
@@ -39,26 +41,30 @@ export function createPreview(store: PageStore): void {
   const refine = async (input: ShownPreview, signal: AbortSignal) => {
     await new Promise((resolve) => setTimeout(resolve, 120));  // a short rest first: a click-and-drag starts no refinement
     let shownSpp = 0;
+    let shownDenoised: boolean | null = null;
     // Over a basis image of this scene, from the basis' sample count on (the first pass alone may
     // be noisier); over another scene's image (the scene is being prepared), from the first pass.
     const shown = store.state.shown;
     const least = shown && shown.env === input.env && shown.object === input.object ? 32 : 1;
     while (!signal.aborted && sameView(input)) {
-      const r = await api.refine(input.x, input.env, input.object, 0.4, signal);
+      const r = await api.refine(input.x, input.env, input.object, 0.4, store.state.denoise, signal);
       if (signal.aborted || !sameView(input)) return;
       if (r.spp === 0) continue;  // interrupted before its first pass: nothing to show yet
       badge.hidden = false;
       badge.classList.toggle("converged", r.converged);
       const err = r.error === null ? "" : ` · ±${(100 * r.error).toFixed(r.error < 0.01 ? 2 : 1)} %`;
-      badge.textContent = `${r.converged ? "converged" : "refining"} · ${r.spp} spp${err}`;
-      if (r.spp > shownSpp && r.spp >= least) {
+      badge.textContent = `${r.denoised ? "denoised · " : ""}${r.converged ? "converged" : "refining"} · ${r.spp} spp${err}`;
+      if ((r.spp > shownSpp || r.denoised !== shownDenoised) && r.spp >= least) {
         await showBlob(refinedImg, r.blob);
         if (signal.aborted || !sameView(input)) return;
         refinedImg.hidden = false;
+        denoiseToggle.hidden = false;
         shownSpp = r.spp;
-        store.update({ refined: { ...input, spp: r.spp, error: r.error, converged: r.converged }, refinedImages: store.state.refinedImages + 1 });
+        shownDenoised = r.denoised;
+        store.update({ refined: { ...input, spp: r.spp, error: r.error, converged: r.converged, denoised: r.denoised },
+          refinedImages: store.state.refinedImages + 1 });
       }
-      if (r.converged) return;
+      if (r.converged && r.denoised === store.state.denoise) return;
     }
   };
   const startRefining = (input: ShownPreview) => {
@@ -154,4 +160,14 @@ export function createPreview(store: PageStore): void {
   });
   store.on(["dragging"], (s) => s.dragging && stopRefining());
   store.on(["refine"], (s) => (s.refine && s.shown ? startRefining(s.shown) : stopRefining()));
+  // The denoiser on or off: the same refinement (its samples stay on the server), shown the other way.
+  denoiseToggle.addEventListener("click", () => store.update({ denoise: !store.state.denoise }));
+  store.on(["denoise"], (s) => {
+    denoiseToggle.setAttribute("aria-pressed", String(s.denoise));
+    denoiseToggle.classList.toggle("on", s.denoise);
+    if (s.refine && s.shown) {
+      stopRefining();
+      startRefining(s.shown);
+    }
+  });
 }

@@ -37,8 +37,10 @@ export interface PageState {
   latencies: number[];
   /** Whether the preview keeps refining while the pointer rests (POST /api/preview/refine). */
   refine: boolean;
+  /** Whether the refined image is denoised (the server's dual-buffer filter: biased, labelled). */
+  denoise: boolean;
   /** The refined image shown over the preview (null: none, the basis image shows). */
-  refined: (ShownPreview & { spp: number; error: number | null; converged: boolean }) | null;
+  refined: (ShownPreview & { spp: number; error: number | null; converged: boolean; denoised: boolean }) | null;
   refinedImages: number;
   /** While the server prepares the current scene: how long the page has been waiting for it. */
   preparing: { env: string; object: string; attempts: number; waitedMs: number } | null;
@@ -67,7 +69,7 @@ declare global {
 export function createStore(model: ModelInfo, map: LatentMap, env: string, object: string): PageStore {
   const store = new Store<PageState>({
     model, x: map.point.slice(), dragging: false, movedAt: 0, env, object, shown: null, shownScenes: [],
-    previews: 0, latencies: [], refine: true, refined: null, refinedImages: 0, preparing: null, giShown: null, giImages: 0,
+    previews: 0, latencies: [], refine: true, denoise: true, refined: null, refinedImages: 0, preparing: null, giShown: null, giImages: 0,
     lastWeights: null, projected: null, fitted: null, plan: null, shortlist: [], map,
   });
   window.matlas = store.state;

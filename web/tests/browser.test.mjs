@@ -129,6 +129,31 @@ test("at rest the preview refines: more samples, less error, over the basis imag
   console.log(`refinement: ${first.spp} spp ±${(100 * first.error).toFixed(2)} % -> ${later.spp} spp ±${(100 * later.error).toFixed(2)} %`);
 });
 
+test("the refined preview is denoised by default, labelled so, and the toggle shows the plain mean", async () => {
+  const bodies = [];
+  const onRequest = (r) => r.url().endsWith("/api/preview/refine") && bodies.push(JSON.parse(r.postData()));
+  page.on("request", onRequest);
+  try {
+    await page.waitForFunction(() => window.matlas.refined && window.matlas.refined.denoised, null, { timeout: 30_000 });
+    assert.match(await page.textContent("#preview-refine"), /^denoised · (refining|converged) · \d+ spp/);
+    const toggle = page.locator("#preview-denoise");
+    assert.ok(await toggle.isVisible(), "the toggle shows over the refined image");
+    assert.equal(await toggle.getAttribute("aria-pressed"), "true");
+    assert.ok(bodies.length > 0 && bodies.every((b) => b.denoise === true), "every refinement asked for the denoised image");
+    const denoised = await imageBytes("#preview-refined");
+    await toggle.click();
+    await page.waitForFunction(() => window.matlas.refined && !window.matlas.refined.denoised, null, { timeout: 30_000 });
+    assert.equal(await toggle.getAttribute("aria-pressed"), "false");
+    assert.doesNotMatch(await page.textContent("#preview-refine"), /denoised/);
+    assert.equal(bodies[bodies.length - 1].denoise, false, "the plain mean is asked for");
+    assert.notDeepEqual(await imageBytes("#preview-refined"), denoised, "the plain mean differs from the denoised image");
+    await page.locator("#preview-denoise").click();
+    await page.waitForFunction(() => window.matlas.refined && window.matlas.refined.denoised, null, { timeout: 30_000 });
+  } finally {
+    page.off("request", onRequest);
+  }
+});
+
 test("a drag drops the refined image and sends no refinement while the pointer moves", async () => {
   await page.waitForFunction(() => window.matlas.refined !== null, null, { timeout: 30_000 });
   const box = await page.locator("#map").boundingBox();
