@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "manifold/model.h"
 #include "pathtrace/gi_basis.h"
+#include "pathtrace/gi_density.h"
 #include "pathtrace/scene_spec.h"
 #include "pathtrace/world.h"
 #include "server/cancellable_sink.h"
@@ -81,6 +82,7 @@ struct GiScenes::Impl {
   };
 
   Impl(const Model& m, GiSceneOptions o) : model(m), options(std::move(o)) {
+    if (options.fit_density) options.trace.density = pathtrace::fit_gi_density(model);
     options.trace.validate();
     if (options.batch <= 0) throw Error("GI scenes: the batch must be positive");
     passes = (model.count() + 1 + options.batch - 1) / options.batch;

@@ -35,6 +35,7 @@ struct GiSceneOptions {
   std::vector<std::string> scenes = {"floor", "box"};  ///< traced on demand (built-in names or .json files)
   std::string object = "sphere";                       ///< the measured object of the built-in scenes
   pathtrace::TraceSettings trace = default_gi_trace();
+  bool fit_density = true;  ///< trace.density := the model's fitted density (pathtrace/gi_density.h)
   int batch = 32;                                      ///< materials per tracing pass
   std::filesystem::path cache_dir;                     ///< empty: MODEL.gi/ beside the model
   ToneMap tone{ToneMap::Curve::aces, 0.0};             ///< as `matlas gi` writes PNGs
