@@ -43,7 +43,7 @@ export interface ModelInfo {
   /** Predictive variances over which the albedo layer fades into "no data here". */
   uncertainty?: { fade_from: number; fade_to: number };
   /** The scene view's GI scenes (GET /api/gi), those ready from the start first; absent without any. */
-  gi?: { scenes: string[]; preloaded: string[]; views?: Record<string, string[]> };
+  gi?: { scenes: string[]; preloaded: string[]; views?: { [scene: string]: string[] } };
 }
 
 export interface PointRequest {
@@ -73,6 +73,15 @@ export interface RefineRequest {
   env?: string;
   object?: string;
   seconds?: number;
+}
+
+/** POST /api/gi/refine: the scene view of a point refined at rest. */
+export interface GiRefineRequest {
+  x: Point;
+  scene?: string;
+  seconds?: number;
+  exposure?: number | "auto";
+  tone?: string;
 }
 
 /** A refined preview (POST /api/preview/refine) and how far it has converged. */
@@ -364,7 +373,7 @@ export const api = {
   /** The scene view refined at rest (POST /api/gi/refine): a direct trace of the point, pass after pass. */
   giRefine: async (scene: string, x: Point, exposure: number | "auto", tone: string, seconds: number, signal?: AbortSignal):
     Promise<Refined & { exposure: number }> => {
-    const r = await post("api/gi/refine", { scene, x, exposure, tone, seconds }, signal);
+    const r = await post("api/gi/refine", { scene, x, exposure, tone, seconds } satisfies GiRefineRequest, signal);
     const error = Number(r.headers.get("X-Matlas-Error"));
     return {
       blob: await r.blob(),
