@@ -12,6 +12,7 @@
 #include "core/file_io.h"
 #include "manifold/model.h"
 #include "pathtrace/gi_basis.h"
+#include "pathtrace/gi_density.h"
 #include "pathtrace/model_bank.h"
 #include "render/auto_exposure.h"
 
@@ -20,8 +21,16 @@ namespace matlas::cli {
 namespace {
 
 struct TraceOptions {
-  std::string scene = "floor", object = "sphere";
+  std::string scene = "floor", object = "sphere", density = "fitted";
   pathtrace::TraceSettings settings;
+  /// The settings for `model`: the measured object's density fitted to its database, or the
+  /// former fixed lobes (--density fixed).
+  pathtrace::TraceSettings for_model(const Model& model) const {
+    if (density != "fitted" && density != "fixed") throw Error("--density must be fitted or fixed");
+    pathtrace::TraceSettings s = settings;
+    s.density = density == "fitted" ? pathtrace::fit_gi_density(model) : pathtrace::default_fixed_density();
+    return s;
+  }
 };
 
 void add_trace_options(CLI::App& cmd, TraceOptions& o) {
@@ -35,6 +44,10 @@ void add_trace_options(CLI::App& cmd, TraceOptions& o) {
   cmd.add_option("--max-depth", o.settings.max_depth, "Scattering vertices per path")
       ->capture_default_str()
       ->check(CLI::Range(1, 64));
+  cmd.add_option("--density", o.density,
+                 "The measured object's sampling density: fitted (to the model's database: no fireflies from sharp "
+                 "measured peaks) or fixed (the former lobes, for comparison)")
+      ->capture_default_str();
 }
 
 struct ImageOptions {
@@ -80,7 +93,7 @@ void run_gi_basis(const GiBasisArgs& a, const Io& io) {
   options.cache = a.cache.empty() ? std::filesystem::path(a.output + ".cache") : std::filesystem::path(a.cache);
   TerminalProgress progress;
   const auto start = std::chrono::steady_clock::now();
-  const pathtrace::GiBasis basis = pathtrace::build_gi_basis(model, world, a.trace.settings, options, progress);
+  const pathtrace::GiBasis basis = pathtrace::build_gi_basis(model, world, a.trace.for_model(model), options, progress);
   basis.save(a.output);
   print(io.out, "basis of %d material images + P (%dx%d, %d spp) in %.1f s; cache %s\nwrote %s\n", basis.count() + 1,
               basis.width(), basis.height(), a.trace.settings.spp, seconds_since(start), options.cache.c_str(),
@@ -157,7 +170,7 @@ void run_gi_render(const RenderArgs& a, const Io& io) {
   const pathtrace::ModelPointBank bank(model, model.weights(resolve_point(model, a.at, a.material)));
   TerminalProgress progress;
   const auto start = std::chrono::steady_clock::now();
-  const pathtrace::TraceImages r = pathtrace::trace(world, &bank, a.trace.settings, progress);
+  const pathtrace::TraceImages r = pathtrace::trace(world, &bank, a.trace.for_model(model), progress);
   const bool has = !r.once.empty();
   const Image image = a.part == "p" || !has ? r.p : a.part == "i1" ? r.i1(0) : a.part == "i2" ? r.more[0] : r.full(0);
   write_image(a.image.output, image, a.image.tone.tone());

@@ -80,6 +80,11 @@ void add_gi_serve_options(CLI::App& cmd, GiServeArgs& a) {
   cmd.add_option("--gi-spp", a.spp, "Paths per pixel of the scenes traced on demand")
       ->check(CLI::Range(1, 1 << 16))
       ->capture_default_str();
+  cmd.add_option("--gi-refine-width", a.refine_width,
+                 "Width of the scene view refined while the pointer rests (a direct trace of the point, at the "
+                 "basis's aspect)")
+      ->check(CLI::Range(8, 4096))
+      ->capture_default_str();
   cmd.add_option("--gi-cache", a.cache, "Folder of the scenes traced on demand (default: MODEL.gi beside the model)");
 }
 
@@ -104,6 +109,7 @@ std::function<std::shared_ptr<const server::GiScenes>(const Model&)> gi_scenes_f
   o.trace.width = w;
   o.trace.height = h;
   o.trace.spp = a.spp;
+  o.refine_width = a.refine_width;
   o.cache_dir = a.cache;
   auto calls = std::make_shared<std::atomic<int>>(0);
   return [o, io, calls](const Model& model) -> std::shared_ptr<const server::GiScenes> {

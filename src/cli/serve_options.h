@@ -32,8 +32,9 @@ struct GiServeArgs {
   std::vector<std::string> bases;     ///< --gi-basis FILE...
   std::string scenes = "floor,box";   ///< --gi-scenes: traced on demand; "none": only the given bases
   std::string object = "sphere";      ///< --gi-object
-  std::string size = "192x144";       ///< --gi-size WxH
-  int spp = 32;                       ///< --gi-spp
+  std::string size = "256x192";       ///< --gi-size WxH (the basis composed while dragging)
+  int spp = 16;                       ///< --gi-spp
+  int refine_width = 512;             ///< --gi-refine-width (the view refined at rest)
   std::string cache;                  ///< --gi-cache; empty: beside the model (MODEL.gi/)
 };
 void add_gi_serve_options(CLI::App& cmd, GiServeArgs& a);

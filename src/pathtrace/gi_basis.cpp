@@ -14,6 +14,7 @@
 #include "core/parallel.h"
 #include "core/simd_clones.h"
 #include "formats/safetensors.h"
+#include "pathtrace/gi_density.h"
 #include "pathtrace/model_bank.h"
 #include "atlas/model_basis.h"
 
@@ -275,13 +276,11 @@ GiBasis GiBasis::load(const std::filesystem::path& path) {
 }
 
 std::string gi_basis_key(const Model& model, const World& world, const TraceSettings& s) {
-  nlohmann::json density = nlohmann::json::array();
-  for (const auto& [alpha, weight] : s.density.lobes) density.push_back({alpha, weight});
   const nlohmann::json key = {{"model_fingerprint", atlas::model_fingerprint(model)},
                               {"scene", scene_to_json(world.spec())},
                               {"width", s.width}, {"height", s.height}, {"spp", s.spp}, {"seed", s.seed},
                               {"max_depth", s.max_depth}, {"roulette_depth", s.roulette_depth},
-                              {"density_cosine", s.density.cosine}, {"density_lobes", density}};
+                              {"density", density_record(s.density)}};
   return key.dump();
 }
 
@@ -341,6 +340,7 @@ GiBasis build_gi_basis(const Model& model, const World& world, const TraceSettin
   meta["scene"] = scene_to_json(world.spec()).dump();
   meta["spp"] = std::to_string(settings.spp);
   meta["seed"] = std::to_string(settings.seed);
+  meta["density"] = density_record(settings.density);
   meta["i2"] = "interpolated with the map's weights from the inputs' and the mean's I2 images";
   return GiBasis(std::move(p), linear, full, model.names(), std::move(meta));
 }

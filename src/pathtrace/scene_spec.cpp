@@ -238,9 +238,53 @@ json scene_to_json(const SceneSpec& s) {
 
 std::vector<std::string> builtin_scenes() { return {"floor", "box"}; }
 
+namespace {
+
+struct View {
+  const char* name;
+  Vec3 position, target;
+  double fov;
+};
+
+/// The cameras of a built-in scene; the first is the scene's own.
+std::vector<View> builtin_view_list(const std::string& scene) {
+  if (scene == "floor")
+    return {{"front", Vec3(0, 1.7, 5.6), Vec3(0, 0.85, 0), 34},
+            {"side", Vec3(4.4, 1.3, 3.4), Vec3(0, 0.8, 0), 34},
+            {"above", Vec3(0, 4.6, 3.4), Vec3(0, 0.5, 0), 36}};
+  if (scene == "box")
+    return {{"front", Vec3(0, 2, 3.9), Vec3(0, 1.8, 0), 55},
+            {"side", Vec3(1.6, 1.6, 3.7), Vec3(-0.4, 1.1, -0.3), 55},
+            {"above", Vec3(0, 3.6, 3.2), Vec3(0, 0.8, -0.3), 60}};
+  return {};
+}
+
+}  // namespace
+
+std::vector<std::string> builtin_views(const std::string& scene) {
+  std::vector<std::string> names;
+  for (const View& v : builtin_view_list(scene)) names.emplace_back(v.name);
+  return names;
+}
+
 SceneSpec load_scene(const std::string& name_or_path, const std::string& object) {
   if (name_or_path == "floor") return builtin(kFloorScene, object);
   if (name_or_path == "box") return builtin(kBoxScene, object);
+  if (const auto at = name_or_path.find('@'); at != std::string::npos && name_or_path.find_first_of("/.") == std::string::npos) {
+    const std::string base = name_or_path.substr(0, at), view = name_or_path.substr(at + 1);
+    for (const View& v : builtin_view_list(base)) {
+      if (view != v.name) continue;
+      SceneSpec s = load_scene(base, object);
+      s.name = name_or_path;
+      s.camera.position = v.position;
+      s.camera.target = v.target;
+      s.camera.fov_degrees = v.fov;
+      return s;
+    }
+    std::string list;
+    for (const auto& n : builtin_views(base)) list += (list.empty() ? "" : ", ") + n;
+    throw Error("scene '" + name_or_path + "': unknown view" + (list.empty() ? " (only built-in scenes have views)" : "; views: " + list));
+  }
   const std::filesystem::path path(name_or_path);
   if (path.extension() != ".json")
     throw Error("scene '" + name_or_path + "': expected a built-in scene (floor, box) or a .json file");

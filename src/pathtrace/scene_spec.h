@@ -75,8 +75,12 @@ nlohmann::json scene_to_json(const SceneSpec& scene);
 /// Names of the built-in scenes: "floor" (the object on a glossy floor in front of a wall, under
 /// an environment map) and "box" (a closed box with coloured walls and an area light).
 std::vector<std::string> builtin_scenes();
-/// A built-in scene by name with `object` ("sphere", "bunny", "suzi" or a mesh file) as its
-/// measured object, or a JSON scene file (then `object` is ignored). matlas::Error otherwise.
+/// The camera views of a built-in scene ("front", its own camera, "side", "above"); none for
+/// other names. Scene "NAME@VIEW" is the built-in scene NAME seen from VIEW.
+std::vector<std::string> builtin_views(const std::string& scene);
+/// A built-in scene by name (or NAME@VIEW) with `object` ("sphere", "bunny", "suzi" or a mesh
+/// file) as its measured object, or a JSON scene file (then `object` is ignored). matlas::Error
+/// otherwise.
 SceneSpec load_scene(const std::string& name_or_path, const std::string& object = "sphere");
 
 }  // namespace matlas::pathtrace

@@ -99,7 +99,8 @@ public:
       const Vec3& ng = hit->geometric_normal;
       const Vec3 p = hit->position + epsilon_at(hit->position) * ng;
 
-      // A light contribution arriving from wi (world) with weight c (everything but f at this vertex).
+      // A light contribution arriving from wi (world) with weight c: the path's throughput beta
+      // times the light's part (everything but f at this vertex).
       const auto connect = [&](const Vec3& wi_world, const Rgb& c) {
         const Vec3 wi = frame.to_local(wi_world);
         if (measured) {
@@ -122,7 +123,7 @@ public:
         const double cos_i = frame.to_local(wl).z();
         if (pdf_e > 0 && cos_i > 0 && wl.dot(ng) > 0 && !world_.occluded(p, wl, 0.0, 1e30)) {
           const double w = power_heuristic(pdf_e, bsdf_pdf(frame.to_local(wl)));
-          connect(wl, world_.environment().eval(wl) * (cos_i * w / pdf_e));
+          connect(wl, beta * world_.environment().eval(wl) * (cos_i * w / pdf_e));
         }
       }
       // Next-event estimation: the area lights.
@@ -135,7 +136,7 @@ public:
         if (cos_l > 0 && cos_i > 0 && wl.dot(ng) > 0 && !world_.occluded(p, wl, 0.0, dist * (1.0 - 1e-4))) {
           const double pdf_l = l.pdf_area * dist * dist / cos_l;
           const double w = power_heuristic(pdf_l, bsdf_pdf(frame.to_local(wl)));
-          connect(wl, l.emission * (cos_i * w / pdf_l));
+          connect(wl, beta * l.emission * (cos_i * w / pdf_l));
         }
       }
 

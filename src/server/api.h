@@ -93,6 +93,12 @@ public:
   Reply gi(const std::string& scene, const std::string& x, const std::string& exposure,
            const std::string& tone = "");
 
+  /// POST /api/gi/refine {"scene", "x", "seconds", "exposure", "tone"} -> PNG of the point refined
+  /// by a direct progressive trace (GiScenes::refine), with X-Matlas-Spp, -Error, -Converged,
+  /// -Seconds, -Exposure; a GET /api/gi of the same client stops the pass under way
+  /// (X-Matlas-Interrupted).
+  Reply gi_refine(const std::string& body);
+
   const LatentDomain& domain() const { return domain_; }
   const ComputeGate& compute_gate() const { return compute_; }
 
@@ -104,6 +110,12 @@ private:
   nlohmann::json top_weights(const Eigen::VectorXd& w, int count) const;
   /// The automatic exposure of a GI scene with the mean material, computed once per scene.
   double gi_auto_exposure(const std::string& scene, const pathtrace::GiBasis& basis);
+  /// The offered scene named by `scene` (the first when empty); 404 without GI scenes.
+  std::string gi_scene(const std::string& scene) const;
+  /// The tone map of a GI image: the server's, with `tone` ("" or a curve name) and the exposure
+  /// ("auto": the scene's automatic exposure, from `basis` when there is one, else from `image`).
+  ToneMap gi_tone(const std::string& scene, bool auto_exposure, double exposure, const std::string& tone,
+                  const pathtrace::GiBasis* basis, const Image* image);
 
   const Model& model_;
   PlausibilityProbe plausibility_;      ///< for one point (weights reply): 4096 sampled columns
@@ -120,6 +132,7 @@ private:
   ComputeGate heavy_;
   PngCache cache_;
   PreviewGenerations preview_generations_;
+  PreviewGenerations gi_generations_;  ///< GET /api/gi per client: stops its refinement
   std::unique_ptr<Realtime> realtime_;
   std::shared_ptr<const GiScenes> gi_;
   std::mutex gi_exposure_mutex_;

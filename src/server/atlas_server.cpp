@@ -274,6 +274,7 @@ struct AtlasServer::Impl {
     };
     post("/api/preview", &Api::preview);
     post("/api/preview/refine", &Api::preview_refine);
+    post("/api/gi/refine", &Api::gi_refine);
     post("/api/weights", &Api::weights);
     post("/api/slice", &Api::slice);
     post("/api/lobe", &Api::lobe);

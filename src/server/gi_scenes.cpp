@@ -3,15 +3,21 @@
 #include <algorithm>
 #include <atomic>
 #include <cctype>
+#include <cmath>
 #include <condition_variable>
 #include <deque>
 #include <map>
 #include <mutex>
 #include <thread>
+#include <utility>
+
+#include <nlohmann/json.hpp>
 
 #include "core/error.h"
 #include "manifold/model.h"
 #include "pathtrace/gi_basis.h"
+#include "pathtrace/gi_density.h"
+#include "pathtrace/model_bank.h"
 #include "pathtrace/scene_spec.h"
 #include "pathtrace/world.h"
 #include "server/cancellable_sink.h"
@@ -32,9 +38,9 @@ std::string file_part(const std::string& name) {
 
 pathtrace::TraceSettings default_gi_trace() {
   pathtrace::TraceSettings s;
-  s.width = 192;
-  s.height = 144;
-  s.spp = 32;
+  s.width = 256;
+  s.height = 192;
+  s.spp = 16;
   s.max_depth = 8;
   return s;
 }
@@ -81,6 +87,7 @@ struct GiScenes::Impl {
   };
 
   Impl(const Model& m, GiSceneOptions o) : model(m), options(std::move(o)) {
+    if (options.fit_density) options.trace.density = pathtrace::fit_gi_density(model);
     options.trace.validate();
     if (options.batch <= 0) throw Error("GI scenes: the batch must be positive");
     passes = (model.count() + 1 + options.batch - 1) / options.batch;
@@ -146,8 +153,54 @@ struct GiScenes::Impl {
     }
   }
 
+  // Refinement at rest: per scene its world, per point a progressive trace (the last few).
+  struct Refinement {
+    std::shared_ptr<pathtrace::ProgressiveTrace> trace;
+    std::uint64_t used = 0;
+  };
+  mutable std::mutex refine_mutex;
+  mutable std::map<std::string, std::shared_ptr<const pathtrace::World>> worlds;
+  mutable std::map<std::string, Refinement> refinements;
+  mutable std::uint64_t refine_clock = 0;
+
+  /// The world of an offered scene and the size of its images. Caller holds refine_mutex.
+  std::pair<std::shared_ptr<const pathtrace::World>, std::pair<int, int>> world_of(const std::string& scene) const {
+    std::shared_ptr<const pathtrace::GiBasis> given_basis;
+    {
+      std::lock_guard lock(mutex);
+      require_offered(scene);
+      if (std::find(given.begin(), given.end(), scene) != given.end()) given_basis = states.at(scene).basis;
+    }
+    auto& world = worlds[scene];
+    if (!world) {
+      if (given_basis) {
+        const auto& meta = given_basis->metadata();
+        const auto it = meta.find("scene");
+        if (it == meta.end()) throw Error("the GI basis of '" + scene + "' names no scene to refine");
+        world = std::make_shared<const pathtrace::World>(pathtrace::parse_scene(nlohmann::json::parse(it->second), scene));
+      } else {
+        world = std::make_shared<const pathtrace::World>(pathtrace::load_scene(scene, options.object));
+      }
+    }
+    // The refined image: refine_width wide, at the basis's aspect.
+    const int w = options.refine_width;
+    const int h = given_basis ? std::max(1, static_cast<int>(std::lround(static_cast<double>(w) * given_basis->height() / given_basis->width())))
+                              : std::max(1, static_cast<int>(std::lround(static_cast<double>(w) * options.trace.height / options.trace.width)));
+    const std::pair<int, int> size(w, h);
+    return {world, size};
+  }
+
   void require_offered(const std::string& scene) const {
     if (std::find(names.begin(), names.end(), scene) != names.end()) return;
+    // NAME@VIEW: a view of a built-in scene traced on demand.
+    if (const auto at = scene.find('@'); at != std::string::npos) {
+      const std::string base = scene.substr(0, at);
+      const auto views = pathtrace::builtin_views(base);
+      if (std::find(options.scenes.begin(), options.scenes.end(), base) != options.scenes.end() &&
+          std::find(given.begin(), given.end(), base) == given.end() &&
+          std::find(views.begin(), views.end(), scene.substr(at + 1)) != views.end())
+        return;
+    }
     std::string list;
     for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
     throw Error("unknown GI scene " + quoted_excerpt(scene) + "; offered: " + (list.empty() ? "none" : list));
@@ -171,6 +224,14 @@ GiScenes::~GiScenes() = default;
 
 const std::vector<std::string>& GiScenes::scenes() const { return impl_->names; }
 std::vector<std::string> GiScenes::preloaded() const { return impl_->given; }
+
+std::map<std::string, std::vector<std::string>> GiScenes::views() const {
+  std::map<std::string, std::vector<std::string>> out;
+  for (const auto& s : impl_->names)
+    if (std::find(impl_->given.begin(), impl_->given.end(), s) == impl_->given.end())
+      if (auto v = pathtrace::builtin_views(s); !v.empty()) out[s] = std::move(v);
+  return out;
+}
 ToneMap GiScenes::tone() const { return impl_->options.tone; }
 std::filesystem::path GiScenes::basis_path(const std::string& scene) const { return impl_->basis_path(scene); }
 
@@ -189,6 +250,45 @@ std::shared_ptr<const pathtrace::GiBasis> GiScenes::wait(const std::string& scen
   const auto& s = impl_->states[scene];
   if (!s.basis) throw Error("the GI scene '" + scene + "' failed: " + s.error);
   return s.basis;
+}
+
+GiScenes::Refined GiScenes::refine(const std::string& scene, const Eigen::VectorXd& w, const std::string& point,
+                                   double seconds, ProgressSink& progress) const {
+  Impl& im = *impl_;
+  const std::string key = scene + "|" + point;
+  std::shared_ptr<pathtrace::ProgressiveTrace> trace;
+  {
+    std::lock_guard lock(im.refine_mutex);
+    if (const auto it = im.refinements.find(key); it != im.refinements.end()) {
+      it->second.used = ++im.refine_clock;
+      trace = it->second.trace;
+    } else {
+      const auto [world, size] = im.world_of(scene);
+      pathtrace::ProgressiveTraceSettings settings;
+      settings.trace = im.options.trace;
+      settings.trace.width = size.first;
+      settings.trace.height = size.second;
+      settings.trace.spp = 1;
+      trace = std::make_shared<pathtrace::ProgressiveTrace>(
+          world, std::make_shared<const pathtrace::ModelPointBank>(im.model, w), settings);
+      im.refinements[key] = {trace, ++im.refine_clock};
+      while (im.refinements.size() > static_cast<std::size_t>(std::max(1, im.options.max_refinements))) {
+        auto oldest = im.refinements.begin();
+        for (auto r = im.refinements.begin(); r != im.refinements.end(); ++r)
+          if (r->second.used < oldest->second.used) oldest = r;
+        im.refinements.erase(oldest);
+      }
+    }
+  }
+  const pathtrace::ProgressiveTraceState state = trace->refine(seconds, progress);
+  return {trace->image(), state};
+}
+
+std::optional<GiScenes::Refined> GiScenes::refined(const std::string& scene, const std::string& point) const {
+  std::lock_guard lock(impl_->refine_mutex);
+  const auto it = impl_->refinements.find(scene + "|" + point);
+  if (it == impl_->refinements.end()) return std::nullopt;
+  return Refined{it->second.trace->image(), it->second.trace->state()};
 }
 
 }  // namespace matlas::server

@@ -8,13 +8,17 @@
 // While a scene is being traced its state says how far it got.
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "core/progress.h"
 #include "formats/image_io.h"
+#include "pathtrace/progressive_trace.h"
 #include "pathtrace/tracer.h"
 
 namespace matlas {
@@ -27,7 +31,8 @@ class GiBasis;
 namespace matlas::server {
 
 /// The default trace settings of scenes traced on demand: small enough to finish in about a
-/// minute on a few cores (192 x 144, 32 spp, max depth 8).
+/// minute on a few cores (256 x 192, 16 spp, max depth 8). The view at rest is refined at
+/// GiSceneOptions::refine_width (512 x 384).
 pathtrace::TraceSettings default_gi_trace();
 
 struct GiSceneOptions {
@@ -35,7 +40,10 @@ struct GiSceneOptions {
   std::vector<std::string> scenes = {"floor", "box"};  ///< traced on demand (built-in names or .json files)
   std::string object = "sphere";                       ///< the measured object of the built-in scenes
   pathtrace::TraceSettings trace = default_gi_trace();
+  bool fit_density = true;  ///< trace.density := the model's fitted density (pathtrace/gi_density.h)
   int batch = 32;                                      ///< materials per tracing pass
+  int max_refinements = 2;                             ///< points refined at rest kept in memory
+  int refine_width = 512;                              ///< width of the refined image (the basis's aspect)
   std::filesystem::path cache_dir;                     ///< empty: MODEL.gi/ beside the model
   ToneMap tone{ToneMap::Curve::aces, 0.0};             ///< as `matlas gi` writes PNGs
 };
@@ -62,6 +70,9 @@ public:
   const std::vector<std::string>& scenes() const;
   /// The scenes whose basis was given (ready from the start).
   std::vector<std::string> preloaded() const;
+  /// Per built-in scene traced on demand, its camera views (pathtrace::builtin_views): the scene
+  /// "NAME@VIEW" is offered too (its own basis, traced when first asked for).
+  std::map<std::string, std::vector<std::string>> views() const;
   ToneMap tone() const;
   /// The file of a scene traced on demand (whether or not it exists yet).
   std::filesystem::path basis_path(const std::string& scene) const;
@@ -71,6 +82,21 @@ public:
   GiSceneState state(const std::string& scene) const;
   /// Blocks until the scene is ready and returns its basis (matlas::Error if tracing failed).
   std::shared_ptr<const pathtrace::GiBasis> wait(const std::string& scene) const;
+
+  /// A refined image of the point `point` (a key: the same key, the same refinement; its weights
+  /// are w) in `scene`: a direct progressive trace of m(x) at the scene's size and density
+  /// (pathtrace/progressive_trace.h), refined for about `seconds` more. `progress` hears every
+  /// row of a pass and may throw to stop it (the refinement stays as it was before that pass;
+  /// the exception propagates). Needs no basis. matlas::Error for a scene not offered or one
+  /// given only as a basis file (no scene to trace).
+  struct Refined {
+    Image image;
+    pathtrace::ProgressiveTraceState state;
+  };
+  Refined refine(const std::string& scene, const Eigen::VectorXd& w, const std::string& point, double seconds,
+                 ProgressSink& progress) const;
+  /// The refinement of `point` in `scene` as it stands (nothing traced), if there is one.
+  std::optional<Refined> refined(const std::string& scene, const std::string& point) const;
 
 private:
   struct Impl;

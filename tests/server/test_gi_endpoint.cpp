@@ -41,6 +41,7 @@ protected:
     go.trace.height = 16;
     go.trace.spp = 2;
     go.batch = 4;  // two passes for the 6 images
+    go.refine_width = 48;  // the refined view: 48 x 32
     gi_ = std::make_shared<GiScenes>(*model_, go);
     ServerOptions so;
     so.port = 0;
@@ -86,6 +87,52 @@ TEST_F(GiEndpointTest, ModelInfoListsTheScenes) {
   const json j = json::parse(r->body);
   EXPECT_EQ(j["gi"]["scenes"], json({"floor", "box"}));
   EXPECT_EQ(j["gi"]["preloaded"], json::array());
+  EXPECT_EQ(j["gi"]["views"]["floor"], json({"front", "side", "above"}));
+  EXPECT_EQ(j["gi"]["views"]["box"], json({"front", "side", "above"}));
+}
+
+TEST_F(GiEndpointTest, RefinementAtRestAddsSamplesAndSendsTheRefinedImage) {
+  const Eigen::Vector2d x(0.5 * (model_->latent()(0, 0) + model_->latent()(2, 0)), 0.5 * (model_->latent()(0, 1) + model_->latent()(2, 1)));
+  const std::string body = json{{"scene", "box"}, {"x", {x[0], x[1]}}, {"seconds", 0.05}, {"exposure", -1}, {"tone", "clamp"}}.dump();
+  httplib::Client c("127.0.0.1", server_->port());
+  c.set_read_timeout(60, 0);
+  const auto first = c.Post("/api/gi/refine", body, "application/json");
+  ASSERT_TRUE(first);
+  ASSERT_EQ(first->status, 200) << first->body;
+  const int spp1 = std::stoi(first->get_header_value("X-Matlas-Spp"));
+  EXPECT_GE(spp1, 1);
+  const auto second = c.Post("/api/gi/refine", body, "application/json");
+  ASSERT_EQ(second->status, 200) << second->body;
+  const int spp2 = std::stoi(second->get_header_value("X-Matlas-Spp"));
+  EXPECT_GT(spp2, spp1) << "a second call adds passes";
+  EXPECT_NE(second->get_header_value("X-Matlas-Error"), "unknown") << "two passes give an error estimate";
+  // The PNG is the library's refinement of that point (a direct trace of m(x) at 48 x 32),
+  // tone-mapped as asked.
+  char key[80];
+  std::snprintf(key, sizeof key, "%.17g,%.17g,", x[0], x[1]);
+  const auto refined = gi_->refined("box", key);
+  ASSERT_TRUE(refined.has_value());
+  EXPECT_EQ(refined->state.spp, spp2);
+  EXPECT_EQ(refined->image.width, 48);
+  EXPECT_EQ(refined->image.height, 32);
+  EXPECT_EQ(second->body, encode_png_fast(refined->image, ToneMap{ToneMap::Curve::clamp, -1.0}));
+  // Bad requests name what is wrong.
+  EXPECT_EQ(c.Post("/api/gi/refine", R"({"scene": "attic", "x": [0, 0]})", "application/json")->status, 400);
+  EXPECT_EQ(c.Post("/api/gi/refine", R"({"scene": "box", "x": [0, 0], "tone": "sepia"})", "application/json")->status, 400);
+  EXPECT_EQ(c.Post("/api/gi/refine", R"({"scene": "box"})", "application/json")->status, 400);
+}
+
+TEST_F(GiEndpointTest, ViewsOfABuiltInSceneAreScenesOfTheirOwn) {
+  gi_->wait("floor");
+  gi_->wait("floor@side");
+  const auto front = get("/api/gi?scene=floor&exposure=0&x=" + point_text(1));
+  const auto side = get("/api/gi?scene=floor@side&exposure=0&x=" + point_text(1));
+  ASSERT_EQ(front->status, 200);
+  ASSERT_EQ(side->status, 200);
+  EXPECT_NE(front->body, side->body);
+  EXPECT_EQ(pathtrace::gi_basis_scene_name(*gi_->wait("floor@side")), "floor@side");
+  EXPECT_EQ(get("/api/gi?scene=floor@under&x=" + point_text(1))->status, 400);
+  EXPECT_EQ(get("/api/gi?scene=attic@side&x=" + point_text(1))->status, 400);
 }
 
 TEST_F(GiEndpointTest, UnknownSceneIs400NamingTheOfferedOnes) {

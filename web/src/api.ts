@@ -43,7 +43,7 @@ export interface ModelInfo {
   /** Predictive variances over which the albedo layer fades into "no data here". */
   uncertainty?: { fade_from: number; fade_to: number };
   /** The scene view's GI scenes (GET /api/gi), those ready from the start first; absent without any. */
-  gi?: { scenes: string[]; preloaded: string[] };
+  gi?: { scenes: string[]; preloaded: string[]; views?: { [scene: string]: string[] } };
 }
 
 export interface PointRequest {
@@ -74,6 +74,15 @@ export interface RefineRequest {
   object?: string;
   seconds?: number;
   denoise?: boolean;
+}
+
+/** POST /api/gi/refine: the scene view of a point refined at rest. */
+export interface GiRefineRequest {
+  x: Point;
+  scene?: string;
+  seconds?: number;
+  exposure?: number | "auto";
+  tone?: string;
 }
 
 /** A refined preview (POST /api/preview/refine) and how far it has converged. */
@@ -365,6 +374,20 @@ export const api = {
     const r = await fetch(`api/gi?scene=${encodeURIComponent(scene)}&x=${x.map(String).join(",")}` +
       `&exposure=${exposure}&tone=${encodeURIComponent(tone)}`, { signal }).then(check);
     return { blob: await r.blob(), exposure: Number(r.headers.get("X-Matlas-Exposure") ?? 0) };
+  },
+  /** The scene view refined at rest (POST /api/gi/refine): a direct trace of the point, pass after pass. */
+  giRefine: async (scene: string, x: Point, exposure: number | "auto", tone: string, seconds: number, signal?: AbortSignal):
+    Promise<Refined & { exposure: number }> => {
+    const r = await post("api/gi/refine", { scene, x, exposure, tone, seconds } satisfies GiRefineRequest, signal);
+    const error = Number(r.headers.get("X-Matlas-Error"));
+    return {
+      blob: await r.blob(),
+      spp: Number(r.headers.get("X-Matlas-Spp") ?? 0),
+      error: Number.isFinite(error) ? error : null,
+      converged: r.headers.get("X-Matlas-Converged") === "1",
+      interrupted: r.headers.get("X-Matlas-Interrupted") === "1",
+      exposure: Number(r.headers.get("X-Matlas-Exposure") ?? 0),
+    };
   },
   thumbnailUrl: (index: number, env: string, object: string): string =>
     `api/thumbnail/${index}?env=${encodeURIComponent(env)}&object=${encodeURIComponent(object)}`,

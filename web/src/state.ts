@@ -47,6 +47,9 @@ export interface PageState {
   /** The image shown in the scene view (GET /api/gi), and how many it has shown. */
   giShown: { x: number[]; scene: string } | null;
   giImages: number;
+  /** The scene view's refinement at rest: the point, scene and samples of the refined image shown. */
+  giRefined: { x: number[]; scene: string; spp: number; error: number | null; converged: boolean } | null;
+  giRefinedImages: number;
   lastWeights: WeightsReply | null;
   projected: { x: number[]; residual: number } | null;
   /** The last sample file fitted on the map (fit-samples.ts). */
@@ -70,6 +73,7 @@ export function createStore(model: ModelInfo, map: LatentMap, env: string, objec
   const store = new Store<PageState>({
     model, x: map.point.slice(), dragging: false, movedAt: 0, env, object, shown: null, shownScenes: [],
     previews: 0, latencies: [], refine: true, denoise: true, refined: null, refinedImages: 0, preparing: null, giShown: null, giImages: 0,
+    giRefined: null, giRefinedImages: 0,
     lastWeights: null, projected: null, fitted: null, plan: null, shortlist: [], map,
   });
   window.matlas = store.state;

@@ -109,6 +109,7 @@ test("a live server answers every endpoint as the schema says", async () => {
   const status = await expectAnswer("GET", `api/preview/status?env=${model.scenes.default_env}&object=${model.scenes.default_object}`);
   assert.equal(status.ready, true, "the default scene is prepared before serving");
   await expectAnswer("POST", "api/preview/refine", { x, env: model.scenes.default_env, object: model.scenes.default_object, seconds: 0.1 });
+  await expectAnswer("POST", "api/gi/refine", { x, scene: model.gi.scenes[1], seconds: 0.05, exposure: "auto", tone: "aces" });
   await expectAnswer("GET", `api/thumbnail/2?env=${model.scenes.default_env}&object=${model.scenes.default_object}&size=32`);
   const w = await expectAnswer("POST", "api/weights", { x, top: 4 });
   assert.equal(w.weights.length, model.count);

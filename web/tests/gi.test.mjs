@@ -23,7 +23,7 @@ let server, url, context, page;
 const giStatuses = [];
 
 before(async () => {
-  ({ url, server } = await startDemo(work, ["--gi-size", "64x48", "--gi-spp", "2"]));
+  ({ url, server } = await startDemo(work, ["--gi-size", "64x48", "--gi-spp", "2", "--gi-refine-width", "128"]));
   // No WebGL: the real-time view (software-rendered here, a frame per pointer move) would
   // compete with the scene view for the page's thread; it has its own test.
   ({ context, page } = await openPage(work, url, {
@@ -143,6 +143,52 @@ test("the exposure slider and tone curve change the scene view; auto comes back"
   assert.equal(requests[requests.length - 1].get("exposure"), "auto");
   assert.deepEqual((await pixels(null)).data, autoImage.data, "auto and ACES again: the first image");
   await page.locator("#gi-view").screenshot({ path: join(results, "gi-exposure.png") });
+});
+
+test("at rest the scene view is refined pass after pass; moving the point stops it", async () => {
+  await giSettled("floor");
+  // The refined image: a direct trace of the point at --gi-refine-width (128 x 96), laid over the
+  // composed one from 4 spp on, with more samples as the pointer rests.
+  await page.waitForFunction(() => window.matlas.giRefined && window.matlas.giRefined.spp >= 4, null, { timeout: 60_000 });
+  const first = await page.evaluate(() => window.matlas.giRefined);
+  assert.equal(first.scene, "floor");
+  assert.deepEqual(first.x, await page.evaluate(() => window.matlas.x));
+  assert.equal(await page.isVisible("#gi-refined"), true);
+  assert.match(await page.textContent("#gi-refine"), /spp/);
+  const size = await page.evaluate(() => [document.getElementById("gi-refined").naturalWidth, document.getElementById("gi-refined").naturalHeight]);
+  assert.deepEqual(size, [128, 96]);
+  await page.waitForFunction((spp) => window.matlas.giRefined && window.matlas.giRefined.spp > spp, first.spp, { timeout: 60_000 });
+  const later = await page.evaluate(() => window.matlas.giRefined);
+  assert.ok(later.spp > first.spp, `more samples at rest: ${first.spp} -> ${later.spp}`);
+  assert.ok(later.error > 0 && later.error < 10, `an error estimate from two halves of the passes: ${later.error}`);
+  assert.match(await page.textContent("#gi-refine"), new RegExp(`${later.spp} spp · ±`));
+  await page.locator("#gi-view").screenshot({ path: join(results, "gi-refined.png") });
+  // A move hides the refined image at once and asks the server for the composed image again.
+  const box = await page.locator("#map").boundingBox();
+  await page.mouse.move(box.x + box.width * 0.4, box.y + box.height * 0.4);
+  await page.mouse.down();
+  await page.mouse.move(box.x + box.width * 0.45, box.y + box.height * 0.45, { steps: 4 });
+  assert.equal(await page.evaluate(() => window.matlas.giRefined), null, "no refined image during a drag");
+  assert.equal(await page.isVisible("#gi-refined"), false);
+  await page.mouse.up();
+  await giSettled("floor");
+});
+
+test("the view picker shows the scene from another camera", async () => {
+  await giSettled("floor");
+  const front = await pixels(null);
+  const views = await page.$$eval("#gi-camera option", (o) => o.map((e) => e.value));
+  assert.deepEqual(views, ["front", "side", "above"]);
+  await page.selectOption("#gi-camera", "side");
+  await giSettled("floor@side");
+  const side = await pixels(null);
+  assert.deepEqual([side.width, side.height], [front.width, front.height]);
+  let differing = 0;
+  for (let i = 0; i < side.data.length; i += 4) if (Math.abs(side.data[i] - front.data[i]) > 16) differing++;
+  assert.ok(differing > side.data.length / 4 / 5, `another camera: ${differing} of ${side.data.length / 4} pixels differ`);
+  await page.locator("#gi-view").screenshot({ path: join(results, "gi-side.png") });
+  await page.selectOption("#gi-camera", "front");
+  await giSettled("floor");
 });
 
 test("another scene shows another image", async () => {

@@ -1,0 +1,180 @@
+// The scene view at rest (docs/GI.md, issue 25): how fast the refined GI image of a map point
+// converges, and how far the composed image of the drag is from the truth (fireflies).
+//
+//   bench_gi_view MODEL SCENE OBJECT MATERIAL_A MATERIAL_B SECONDS REF_SPP [OUT_DIR]
+//
+// The point: midway between the two materials' latent points (the same name twice: the material).
+// 1. Reference: a 512 x 384 trace of m(x) with REF_SPP paths per pixel (seed 777).
+// 2. Refinement: pathtrace::ProgressiveTrace at 512 x 384 (the server's GiScenes::refine), refined
+//    in steps of one second for SECONDS of wall time; per step the wall and CPU seconds, spp, the
+//    estimated error and the error against the reference: relative L1 (sum |a - b| / sum |b| over
+//    pixels and channels) and relative RMS. The reference's own noise is in these figures; its
+//    share is given: the same error of the reference's two halves scaled to its full spp.
+// 3. The drag: a 256 x 192, 16-spp basis (the server's default) composed at x against a
+//    reference at that size (REF_SPP): relative L1 and the pixels whose luminance exceeds 20x the
+//    reference's (among pixels at least 1 % of the image's mean luminance; darker ones counted
+//    apart).
+// Also the machine's load average at the start and end (a shared machine: CPU time is the figure
+// that travels). OUT_DIR gets PNGs (auto exposure, ACES): reference, refined at 5 s / 30 s, composed.
+#include <sys/resource.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "formats/image_io.h"
+#include "manifold/model.h"
+#include "pathtrace/gi_basis.h"
+#include "pathtrace/gi_density.h"
+#include "pathtrace/model_bank.h"
+#include "pathtrace/progressive_trace.h"
+#include "render/auto_exposure.h"
+
+namespace {
+
+using namespace matlas;
+using namespace matlas::pathtrace;
+
+double cpu_seconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+double load_average() {
+  double l[1] = {0};
+  return getloadavg(l, 1) == 1 ? l[0] : -1.0;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+double lum(const float* p) { return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]; }
+
+struct Errors {
+  double l1 = 0, rms = 0;
+  int over20 = 0, over20_dark = 0;
+  double max_ratio = 0;
+};
+
+Errors compare(const Image& a, const Image& ref) {
+  Errors e;
+  double d = 0, s = 0, d2 = 0, s2 = 0, mean = 0;
+  const int pixels = ref.width * ref.height;
+  for (int i = 0; i < pixels; ++i) mean += lum(&ref.rgb[3 * static_cast<std::size_t>(i)]) / pixels;
+  for (std::size_t i = 0; i < ref.rgb.size(); ++i) {
+    const double diff = static_cast<double>(a.rgb[i]) - ref.rgb[i];
+    d += std::abs(diff), s += std::abs(static_cast<double>(ref.rgb[i]));
+    d2 += diff * diff, s2 += static_cast<double>(ref.rgb[i]) * ref.rgb[i];
+  }
+  for (int i = 0; i < pixels; ++i) {
+    const double la = lum(&a.rgb[3 * static_cast<std::size_t>(i)]), lr = lum(&ref.rgb[3 * static_cast<std::size_t>(i)]);
+    const bool dark = lr < 0.01 * mean;
+    if (la > 20 * lr) ++(dark ? e.over20_dark : e.over20);
+    if (!dark) e.max_ratio = std::max(e.max_ratio, la / lr);
+  }
+  e.l1 = d / s;
+  e.rms = std::sqrt(d2 / s2);
+  return e;
+}
+
+void write_png(const std::string& dir, const std::string& name, const Image& image, double exposure) {
+  if (dir.empty()) return;
+  write_image(std::filesystem::path(dir) / name, image, ToneMap{ToneMap::Curve::aces, exposure});
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 8) {
+    std::fprintf(stderr, "usage: %s MODEL SCENE OBJECT MATERIAL_A MATERIAL_B SECONDS REF_SPP [OUT_DIR]\n", argv[0]);
+    return 2;
+  }
+  try {
+    const double load_start = load_average();
+    const Model model = Model::open(argv[1]);
+    auto world = std::make_shared<const World>(load_scene(argv[2], argv[3]));
+    const std::string out = argc > 8 ? argv[8] : "";
+    if (!out.empty()) std::filesystem::create_directories(out);
+    const Eigen::VectorXd x =
+        0.5 * (model.latent().row(model.index_of(argv[4])) + model.latent().row(model.index_of(argv[5]))).transpose();
+    const Eigen::VectorXd w = model.weights(x);
+    const double seconds = std::stod(argv[6]);
+    const int ref_spp = std::stoi(argv[7]);
+    TraceSettings base;
+    base.density = fit_gi_density(model);
+    const auto bank = std::make_shared<const ModelPointBank>(model, w);
+    std::printf("scene %s/%s, point %s | %s, n = %d, load average %.1f (2-core machine, shared)\n", argv[2], argv[3],
+                argv[4], argv[5], model.count(), load_start);
+
+    // 1. References.
+    TraceSettings ref = base;
+    ref.width = 512, ref.height = 384, ref.spp = ref_spp / 2, ref.seed = 777;
+    auto t0 = std::chrono::steady_clock::now();
+    double c0 = cpu_seconds();
+    const TraceImages ra = trace(*world, bank.get(), ref);
+    ref.seed = 778;
+    const TraceImages rb = trace(*world, bank.get(), ref);
+    Image reference = ra.full(0);
+    const Image half_b = rb.full(0);
+    for (std::size_t i = 0; i < reference.rgb.size(); ++i) reference.rgb[i] = 0.5f * (reference.rgb[i] + half_b.rgb[i]);
+    // The reference's own error: its halves differ by sqrt(2) x the error of one half, which is
+    // sqrt(2) x the error of the whole: the whole's error is |A - B| / 2.
+    const Errors halves = compare(ra.full(0), half_b);
+    std::printf("reference 512x384, %d spp: %.0f s wall, %.0f s CPU; its own error about L1 %.4f, RMS %.4f\n", ref_spp,
+                seconds_since(t0), cpu_seconds() - c0, halves.l1 / 2, halves.rms / 2);
+    const double exposure = render::auto_exposure(reference);
+    write_png(out, "reference.png", reference, exposure);
+
+    // 2. Refinement at rest.
+    ProgressiveTraceSettings ps;
+    ps.trace = base;
+    ps.trace.width = 512, ps.trace.height = 384, ps.trace.spp = 1;
+    ps.max_spp = 1 << 20;
+    ps.target_error = 1e-6;  // never converged: the curve runs for SECONDS
+    ProgressiveTrace refine(world, bank, ps);
+    std::printf("\n| wall s | CPU s | spp | estimated error (RMS) | L1 vs reference | RMS vs reference | pixels > 20x |\n|---:|---:|---:|---:|---:|---:|---:|\n");
+    t0 = std::chrono::steady_clock::now();
+    c0 = cpu_seconds();
+    bool wrote5 = false;
+    while (seconds_since(t0) < seconds) {
+      const ProgressiveTraceState st = refine.refine(std::min(1.0, std::max(0.05, seconds - seconds_since(t0))));
+      const Image im = refine.image();
+      const Errors e = compare(im, reference);
+      std::printf("| %.1f | %.1f | %d | %.4f | %.4f | %.4f | %d |\n", seconds_since(t0), cpu_seconds() - c0, st.spp,
+                  st.relative_error, e.l1, e.rms, e.over20);
+      std::fflush(stdout);
+      if (!wrote5 && seconds_since(t0) >= 5) {
+        write_png(out, "refined-5s.png", im, exposure);
+        wrote5 = true;
+      }
+    }
+    write_png(out, "refined-end.png", refine.image(), exposure);
+
+    // 3. The composed image of the drag.
+    TraceSettings bs = base;
+    bs.width = 256, bs.height = 192, bs.spp = 16;
+    t0 = std::chrono::steady_clock::now();
+    c0 = cpu_seconds();
+    const GiBasis basis = build_gi_basis(model, *world, bs, {});
+    std::printf("\nbasis 256x192, 16 spp, %d materials: %.0f s wall, %.0f s CPU\n", model.count() + 1, seconds_since(t0),
+                cpu_seconds() - c0);
+    TraceSettings small = bs;
+    small.spp = ref_spp, small.seed = 779;
+    const Image small_ref = trace(*world, bank.get(), small).full(0);
+    const Image composed = basis.compose(w);
+    const Errors ce = compare(composed, small_ref);
+    std::printf("composed vs %d-spp reference: L1 %.4f, RMS %.4f, pixels > 20x the reference %d (+%d dark), largest ratio %.1f\n",
+                ref_spp, ce.l1, ce.rms, ce.over20, ce.over20_dark, ce.max_ratio);
+    write_png(out, "composed.png", composed, exposure);
+    std::printf("load average at the end %.1f\n", load_average());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,95 @@
+// ProgressiveTrace (the scene view refined at rest) against independent expectations: its image is
+// the spp-weighted mean of independent traces with the pass seeds, it converges to the furnace's
+// albedo x radiance, and its error estimate falls as passes come in.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+
+#include "brdf/tabulate.h"
+#include "pathtrace/progressive_trace.h"
+
+namespace matlas::pathtrace {
+namespace {
+
+SceneSpec furnace() {
+  SceneSpec s;
+  s.camera.position = Vec3(0, 0, 10);
+  s.camera.target = Vec3::Zero();
+  s.camera.fov_degrees = 8.0;
+  s.environment.constant = Rgb::Constant(0.7);
+  ObjectSpec o;
+  o.shape = "sphere";
+  o.surface.kind = SurfaceSpec::Kind::measured;
+  s.objects.push_back(o);
+  return s;
+}
+
+struct Fixture {
+  BrdfTable table = tabulate([](const Vec3&, const Vec3&) -> Rgb { return Rgb(0.9, 0.5, 0.2) / kPi; });
+  std::shared_ptr<const World> world = std::make_shared<const World>(furnace());
+  std::shared_ptr<const TableListBank> bank = std::make_shared<const TableListBank>(std::vector<const BrdfTable*>{&table});
+  ProgressiveTraceSettings settings() const {
+    ProgressiveTraceSettings s;
+    s.trace.width = s.trace.height = 9;
+    s.trace.spp = 2;
+    s.trace.seed = 5;
+    s.max_pass_spp = 8;
+    return s;
+  }
+};
+
+TEST(ProgressiveTrace, ImageIsTheSampleWeightedMeanOfIndependentPasses) {
+  const Fixture f;
+  ProgressiveTrace p(f.world, f.bank, f.settings());
+  // Passes by hand: refine(0) adds one pass per call (the first of 2 spp, then what fits: at
+  // least the first pass's samples).
+  std::vector<int> spps;
+  int before = 0;
+  for (int k = 0; k < 4; ++k) {
+    const ProgressiveTraceState st = p.refine(0.0);
+    spps.push_back(st.spp - before);
+    before = st.spp;
+    EXPECT_EQ(st.passes, k + 1);
+  }
+  // The same passes traced independently with the pass seeds, weighted by their samples.
+  Image expected(9, 9);
+  double total = 0;
+  for (int k = 0; k < 4; ++k) {
+    TraceSettings t = f.settings().trace;
+    t.spp = spps[static_cast<std::size_t>(k)];
+    t.seed = ProgressiveTrace::pass_seed(5, k);
+    EXPECT_NE(t.seed, 5u) << "no pass reuses the basis's seed";
+    const Image pass = trace(*f.world, f.bank.get(), t).full(0);
+    for (std::size_t i = 0; i < expected.rgb.size(); ++i) expected.rgb[i] += static_cast<float>(t.spp) * pass.rgb[i];
+    total += t.spp;
+  }
+  const Image got = p.image();
+  for (std::size_t i = 0; i < expected.rgb.size(); ++i)
+    EXPECT_NEAR(got.rgb[i], expected.rgb[i] / total, 1e-5 * (1.0 + std::abs(got.rgb[i]))) << i;
+}
+
+TEST(ProgressiveTrace, ConvergesToTheFurnaceAndItsErrorEstimateFalls) {
+  const Fixture f;
+  ProgressiveTraceSettings s = f.settings();
+  s.trace.spp = 64;  // passes of 64 spp: 512 after eight
+  s.max_pass_spp = 64;
+  ProgressiveTrace p(f.world, f.bank, s);
+  EXPECT_FALSE(std::isfinite(p.refine(0.0).relative_error)) << "one pass: no estimate yet";
+  const double early = p.refine(0.0).relative_error;
+  ProgressiveTraceState st;
+  for (int k = 0; k < 6; ++k) st = p.refine(0.0);
+  EXPECT_LT(st.relative_error, early);
+  const Image im = p.image();
+  const Rgb albedo(0.9, 0.5, 0.2);
+  EXPECT_EQ(st.spp, 512);
+  for (int c = 0; c < 3; ++c) {
+    double centre = 0;
+    for (int y = 3; y <= 5; ++y)
+      for (int x = 3; x <= 5; ++x) centre += im.pixel(x, y)[c] / 9.0;
+    EXPECT_NEAR(centre, 0.7 * albedo[c], 0.02 * albedo[c]) << c;
+  }
+}
+
+}  // namespace
+}  // namespace matlas::pathtrace
