@@ -6,6 +6,7 @@
 # on the model, and prints every figure. Steps that run past their time limit are reported as such.
 #   bench/e2e_1000.sh [DB] [WORK]   (defaults /tmp/matlas-db1000, /tmp/matlas-e2e1000)
 #   LOO=8 (materials left out by evaluate), GI_SECONDS=600 (how long to wait for the GI scene),
+#   PREVIEW_SECONDS=1800 (wait for the preview basis), EVAL_SECONDS=1800 (evaluate's limit),
 #   GENERATE=0 (use DB as it is, any size). The database stays: delete it with rm -rf DB.
 set -uo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -63,57 +64,30 @@ floor=$(echo "$raw + $grams" | bc -l)
 say "$(printf 'floor: raw read %.1f s + Grams alone %.1f s = %.1f s' "$raw" "$grams" "$floor")"
 say "$(printf 'build / floor: %.2f (pass %s s / floor: %.2f); peak RSS %.0f MB (target: <= 1.3, <= 2048 MB)' \
   "$(echo "$build_wall / $floor" | bc -l)" "${pass:-?}" "$(echo "${pass:-0} / $floor" | bc -l)" "$(echo "$build_rss / 1024" | bc -l)")"
+grams_cpu=$(/usr/bin/python3 -c "import json,sys; b=json.load(open(sys.argv[1]))['benchmarks']; print(min(x['cpu_s'] for x in b if 'cpu_s' in x))" "$work/grams.json")
+raw_cpu=$(awk '{print $2 + $3}' "$work/raw_read.time")
+build_cpu=$(awk '{print $2 + $3}' "$work/build.time")
+say "$(printf 'CPU: build %.0f s / floor %.0f s (raw read %.1f + Grams %.1f) = %.2f' "$build_cpu" \
+  "$(echo "$raw_cpu + $grams_cpu" | bc -l)" "$raw_cpu" "$grams_cpu" "$(echo "$build_cpu / ($raw_cpu + $grams_cpu)" | bc -l)")"
 
-# 3. evaluate: leave-one-out of LOO materials at q = 5 with the model's layout (the full six-layout
-#    four-q study is one optimisation of n = 999 per material per layout per q).
-time_step evaluate 3600 "$bin" evaluate "$model" -o "$work/report" --dims 5 --layouts cosine-cbrt \
-  --materials "$loo" --pairs 8 --quiet
-/usr/bin/python3 - "$work/report/report.json" <<'EOF' | tee -a "$summary"
-import json, sys
-try:
-    r = json.load(open(sys.argv[1]))
-except Exception as e:
-    print(f"  (no report: {e})"); sys.exit(0)
-def walk(o, path=""):
-    if isinstance(o, dict):
-        for k, v in o.items():
-            if any(w in k for w in ("leave", "loo", "held")):
-                print(f"  {path}{k}: {json.dumps(v)[:300]}")
-            else:
-                walk(v, f"{path}{k}.")
-walk(r)
-EOF
-
-# 4. gallery, export, Python.
-time_step gallery 1800 "$bin" gallery "$model" -o "$work/gallery.png"
+# The mean of the latent points: the point every step below asks for.
 x=$(/usr/bin/python3 -c "
 import json,subprocess,sys
 d=json.loads(subprocess.check_output([sys.argv[1],'latent',sys.argv[2],'--json']))
 pts=d['latent'] if 'latent' in d else [m['x'] for m in d['materials']]
 q=len(pts[0]); print(','.join(str(sum(p[k] for p in pts)/len(pts)) for k in range(q)))" "$bin" "$model")
-time_step export_at 600 "$bin" export "$model" --at "$x" -o "$work/mean-point.binary"
-time_step export_bsdf 900 "$bin" export "$model" --at "$x" -o "$work/mean-point.bsdf" --format bsdf
-time_step python 900 env PYTHONPATH="$repo/build/python" /usr/bin/python3 -c "
-import time, numpy as np, matlas
-t=time.time(); m=matlas.Model('$model'); print('open', time.time()-t)
-x=m.latent.mean(axis=0)
-t=time.time(); w=m.weights(x); print('weights', time.time()-t, 'sum', w.sum(), 'min', w.min())
-X=m.latent[:64]+0.01
-t=time.time(); W=m.weights_batch(X); print('weights_batch(64)', time.time()-t)
-t=time.time(); T=m.table(x); print('table', time.time()-t, T.shape)
-t=time.time(); p=m.project(m.material_table(0)); print('project', time.time()-t, 'error', p['relative_error'])
-"
-cat "$work/python.log" | sed 's/^/  /' | tee -a "$summary"
-
-# 5. serve: the HTTP API as the browser uses it.
+# 3. serve: the HTTP API as the browser uses it.
 port=$((20000 + RANDOM % 20000))
 web_root="$repo/web/dist"  # scripts/setup.sh builds it and installs the assets
 rm -rf "$work/cache"
+t0=$(date +%s.%N)
 nice "$bin" serve "$model" --port "$port" --cache "$work/cache" --web-root "$web_root" > "$work/serve.log" 2>&1 &
 server=$!
 trap 'kill $server 2> /dev/null' EXIT
 url="http://127.0.0.1:$port"
-for _ in $(seq 600); do curl -sf "$url/api/model" -o "$work/model.json" && break; sleep 1; done
+# The server renders the default preview basis (every material's image) before it listens.
+for _ in $(seq 3600); do curl -sf "$url/api/model" -o "$work/model.json" && break; sleep 1; done
+say "$(printf '%-28s %8.1f s (the default preview basis rendered)' serve_listening "$(echo "$(date +%s.%N) - $t0" | bc -l)")"
 curl_time() {  # curl_time NAME URL [BODY]: status and seconds of one request
   local name="$1" u="$2" body="${3:-}"
   local out
@@ -128,7 +102,7 @@ curl_time api_model "$url/api/model"
 # The preview basis: rendered in the background on the first request (all materials' images).
 t0=$(date +%s.%N)
 curl -s -o /dev/null -H 'Content-Type: application/json' -d "{\"x\": [${x}]}" "$url/api/preview"
-for _ in $(seq 3600); do
+for _ in $(seq "${PREVIEW_SECONDS:-1800}"); do
   curl -s "$url/api/preview/status" -o "$work/status.json"
   grep -q '"ready":true' "$work/status.json" && break
   sleep 1
@@ -169,5 +143,41 @@ if [[ -x /usr/bin/chromium ]]; then
 fi
 kill $server 2> /dev/null
 wait $server 2> /dev/null
+# 4. gallery, export, Python.
+time_step gallery 1800 "$bin" gallery "$model" -o "$work/gallery.png"
+time_step export_at 600 "$bin" export "$model" --at "$x" -o "$work/mean-point.binary"
+time_step export_bsdf 900 "$bin" export "$model" --at "$x" -o "$work/mean-point.bsdf" --format bsdf
+time_step python 900 env PYTHONPATH="$repo/build/python" /usr/bin/python3 -c "
+import time, numpy as np, matlas
+t=time.time(); m=matlas.Model('$model'); print('open', time.time()-t)
+x=m.latent.mean(axis=0)
+t=time.time(); w=m.weights(x); print('weights', time.time()-t, 'sum', w.sum(), 'min', w.min())
+X=m.latent[:64]+0.01
+t=time.time(); W=m.weights_batch(X); print('weights_batch(64)', time.time()-t)
+t=time.time(); T=m.table(x); print('table', time.time()-t, T.shape)
+t=time.time(); p=m.project(m.material_table(0)); print('project', time.time()-t, 'error', p['relative_error'])
+"
+cat "$work/python.log" | sed 's/^/  /' | tee -a "$summary"
+
+# 5. evaluate: leave-one-out of LOO materials at q = 5 with the model's layout (the full six-layout
+#    four-q study is one optimisation of n = 999 per material per layout per q).
+time_step evaluate "${EVAL_SECONDS:-1800}" "$bin" evaluate "$model" -o "$work/report" --dims 5 --layouts cosine-cbrt \
+  --materials "$loo" --pairs 8 --quiet
+/usr/bin/python3 - "$work/report/report.json" <<'EOF' | tee -a "$summary"
+import json, sys
+try:
+    r = json.load(open(sys.argv[1]))
+except Exception as e:
+    print(f"  (no report: {e})"); sys.exit(0)
+def walk(o, path=""):
+    if isinstance(o, dict):
+        for k, v in o.items():
+            if any(w in k for w in ("leave", "loo", "held")):
+                print(f"  {path}{k}: {json.dumps(v)[:300]}")
+            else:
+                walk(v, f"{path}{k}.")
+walk(r)
+EOF
+
 say "load average at the end: $(cut -d' ' -f1-3 /proc/loadavg)"
 say "summary: $summary"
