@@ -5,9 +5,11 @@
 //   - the Gram update (add_gram_upper) vs the machine's dense matrix-product (dgemm, all cores);
 //   - dsyrk on narrow slices vs the widest (the pass's Gram slices);
 //   - the whole table at x vs one streaming read of the stored data;
-//   - one value at x once w(x) is known (absolute, ns).
+//   - one value at x once w(x) is known (absolute, ns);
+//   - the two Gram matrices of a large build alone (BM_GramsAlone: the floor of bench/e2e_1000.sh).
 // Set MATLAS_BENCH_DB to the database folder (default /tmp/matlas-bench-db).
 #include <chrono>
+#include <ctime>
 #include <cstdlib>
 #include <fcntl.h>
 #include <filesystem>
@@ -166,6 +168,49 @@ void BM_GramVsGemm(benchmark::State& state) {
   state.counters["ratio_to_gemm"] = (syrk_flops / t_syrk) / (gemm_flops / t_gemm);
 }
 BENCHMARK(BM_GramVsGemm)->Unit(benchmark::kMillisecond)->Iterations(5)->UseRealTime();
+
+/// The floor of a large build's products (bench/e2e_1000.sh): the two Gram matrices of the default
+/// layout alone, as the pass computes them (the linear one in double, the placement one in single
+/// precision, slices of GramAccumulator on all cores), on random n x 4096 blocks, scaled to the
+/// pass's kept columns. MATLAS_BENCH_N (default 1000) materials, MATLAS_BENCH_COLUMNS (default
+/// 3,888,000) kept columns; gram_only_s is the time of the whole pass's Grams, cpu_s its CPU time.
+void BM_GramsAlone(benchmark::State& state) {
+  const char* n_env = std::getenv("MATLAS_BENCH_N");
+  const char* c_env = std::getenv("MATLAS_BENCH_COLUMNS");
+  const Eigen::Index n = n_env ? std::atol(n_env) : 1000;
+  const double columns = c_env ? std::atof(c_env) : 3888000.0;
+  const std::size_t k = 4096, slices = GramAccumulator::slices(k);
+  std::mt19937_64 rng(1);
+  std::normal_distribution<double> d;
+  BlockMatrix a(n, static_cast<Eigen::Index>(k));
+  for (Eigen::Index i = 0; i < a.size(); ++i) a.data()[i] = d(rng);
+  const std::vector<float> af(a.data(), a.data() + a.size());
+  GramAccumulator linear(n, k), layout(n, k);
+  const auto block = [&] {
+    parallel_for_each(0, 2 * slices, [&](std::size_t s) {
+      if (s < slices)
+        linear.add_slice(a.data(), k, k, s);
+      else
+        layout.add_slice(af.data(), k, k, s - slices);
+    });
+  };
+  block();  // warm-up
+  constexpr int kBlocks = 4;
+  double wall = 0, cpu = 0;
+  for (auto _ : state) {
+    const std::clock_t c0 = std::clock();
+    const double t0 = now();
+    for (int b = 0; b < kBlocks; ++b) block();
+    wall += now() - t0;
+    cpu += static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+  }
+  const double scale = columns / (static_cast<double>(k) * kBlocks * static_cast<double>(state.iterations()));
+  state.counters["materials"] = static_cast<double>(n);
+  state.counters["columns"] = columns;
+  state.counters["gram_only_s"] = wall * scale;
+  state.counters["cpu_s"] = cpu * scale;
+}
+BENCHMARK(BM_GramsAlone)->Unit(benchmark::kMillisecond)->Iterations(3)->UseRealTime();
 
 /// Single-threaded dsyrk slices of a row-major n x 4096 block (as GramAccumulator::add_slice
 /// calls it), for slice widths 512 .. 4096: GFLOP/s of the useful n(n+1)k flops, and the ratio to the

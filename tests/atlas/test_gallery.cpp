@@ -92,7 +92,9 @@ TEST_F(GalleryTest, PicksCoverTheVarietyNotTheCrowdedCluster) {
         EXPECT_LE(e.variance, o.max_variance + 1e-12);
         EXPECT_TRUE(e.plausible);
         EXPECT_GE(e.novelty, o.min_novelty);
-        EXPECT_NEAR(e.variance, model_->variance(e.x), 1e-12);
+        // The candidates' weights and variances come from one batch (K^-1 by dsymm): the same as
+        // point by point to rounding.
+        EXPECT_NEAR(e.variance, model_->variance(e.x), 1e-10);
       }
     }
     EXPECT_EQ(generated, 8);

@@ -279,6 +279,41 @@ TEST(BuildModel, RejectsBadInputsWithClearMessages) {
             std::string::npos);
 }
 
+TEST(BuildModel, AMixtureBesideABrightMaterialIsNotADuplicate) {
+  // Among many materials, one with grazing spikes (analytic conductors have them) sets the linear
+  // Gram's mean squared norm; a material and its mixture with 2 % of another are then closer than
+  // 1e-12 of it in the linear space, but not in the layout's: the build must place them, and still
+  // refuse a true copy.
+  TempDir dir;
+  const auto paths = test::write_database(dir / "db", 4);
+  BrdfTable bright = test::smooth_table(0.9, 0.5);
+  for (int c = 0; c < 3; ++c) bright.stored()[static_cast<std::size_t>(c) * bright.bins() + bright.bins() - 1] = 1e11;
+  write_merl(dir / "db" / "bright.binary", bright, /*allow_nonstandard_dims=*/true);
+  const BrdfTable a = read_merl(paths[1]), b = read_merl(paths[2]);
+  BrdfTable mix = a;
+  for (std::size_t v = 0; v < mix.stored().size(); ++v) mix.stored()[v] = 0.98 * a.stored()[v] + 0.02 * b.stored()[v];
+  write_merl(dir / "db" / "mix.binary", mix, /*allow_nonstandard_dims=*/true);
+  // The premise: in the linear space the pair is within 1e-12 of the mean centred squared norm
+  // (every value is measured, so every column is kept).
+  std::vector<BrdfTable> all;
+  for (const char* name : {"mat00", "mat01", "mat02", "mat03", "bright", "mix"})
+    all.push_back(read_merl(dir / "db" / (std::string(name) + ".binary")));
+  double d2 = 0, norms = 0;
+  for (std::size_t v = 0; v < mix.stored().size(); ++v) {
+    double mean = 0;
+    for (const BrdfTable& t : all) mean += t.stored()[v] / 6.0;
+    for (const BrdfTable& t : all) norms += std::pow(t.stored()[v] - mean, 2) / 6.0;
+    d2 += std::pow(mix.stored()[v] - a.stored()[v], 2);
+  }
+  EXPECT_GT(d2, 0.0);
+  EXPECT_LT(d2, 1e-12 * norms);
+  build_model(MaterialSet::open({dir / "db"}), small_options(), dir / "m.matlas");
+  EXPECT_EQ(Model::open(dir / "m.matlas").count(), 6);
+  std::filesystem::copy_file(dir / "db" / "mix.binary", dir / "db" / "mix-copy.binary");
+  const std::string dup = error_of([&] { build_model(MaterialSet::open({dir / "db"}), small_options(), dir / "n.matlas"); });
+  EXPECT_NE(dup.find("'mix-copy' and 'mix' are identical"), std::string::npos) << dup;
+}
+
 TEST(BuildModel, CorruptedOrForeignModelsAreRejected) {
   TempDir dir;
   test::write_database(dir / "db", 5);

@@ -164,3 +164,72 @@ test("LocalWeights.convex is the metric projection onto the simplex (its optimal
   assert.deepEqual(Array.from(new LocalWeights({ ...data, mode: "gp" }).weights(data.latent[3])).map((v) => Math.round(v) + 0),
     Array.from({ length: n }, (_, i) => (i === 3 ? 1 : 0)));
 });
+
+// The map's label declutter (labels.ts): the grid-bucketed placement and the sweep for isolation
+// give exactly what the all-pairs definitions give, at n = 1000 too.
+const { placeLabels, isolation, overlaps } = (await importTs(["labels"])).labels;
+
+function placeLabelsAllPairs(labels, width, height, r, gap = 3) {
+  const out = labels.map(() => null);
+  const order = labels.map((_, i) => i).sort((a, b) => labels[b].priority - labels[a].priority || a - b);
+  const markers = labels.map((l) => ({ x0: l.x - r, y0: l.y - r, x1: l.x + r, y1: l.y + r }));
+  const placed = [];
+  const off = r + gap, d = 0.7 * off;
+  for (const i of order) {
+    const l = labels[i];
+    const candidates = [
+      { x0: l.x + off, y0: l.y - l.height / 2, x1: l.x + off + l.width, y1: l.y + l.height / 2 },
+      { x0: l.x - off - l.width, y0: l.y - l.height / 2, x1: l.x - off, y1: l.y + l.height / 2 },
+      { x0: l.x - l.width / 2, y0: l.y - off - l.height, x1: l.x + l.width / 2, y1: l.y - off },
+      { x0: l.x - l.width / 2, y0: l.y + off, x1: l.x + l.width / 2, y1: l.y + off + l.height },
+      { x0: l.x + d, y0: l.y - d - l.height, x1: l.x + d + l.width, y1: l.y - d },
+      { x0: l.x + d, y0: l.y + d, x1: l.x + d + l.width, y1: l.y + d + l.height },
+      { x0: l.x - d - l.width, y0: l.y - d - l.height, x1: l.x - d, y1: l.y - d },
+      { x0: l.x - d - l.width, y0: l.y + d, x1: l.x - d, y1: l.y + d + l.height },
+    ];
+    for (const c of candidates) {
+      if (c.x0 < 0 || c.y0 < 0 || c.x1 > width || c.y1 > height) continue;
+      if (placed.some((p) => overlaps(c, p))) continue;
+      if (markers.some((m, k) => k !== i && overlaps(c, m))) continue;
+      out[i] = c;
+      placed.push(c);
+      break;
+    }
+  }
+  return out;
+}
+
+function isolationAllPairs(xs, ys) {
+  return xs.map((x, i) => {
+    let d = Infinity;
+    for (let j = 0; j < xs.length; j++) if (j !== i) d = Math.min(d, Math.hypot(x - xs[j], ys[i] - ys[j]));
+    return Number.isNaN(d) ? Infinity : d;
+  });
+}
+
+test("placeLabels and isolation equal their all-pairs definitions (n up to 1000)", () => {
+  let seed = 31;
+  const u = () => ((seed = (seed * 1103515245 + 12345) % 2147483648) / 2147483648);
+  for (const n of [0, 1, 2, 50, 1000]) {
+    const W = 900, H = 640;
+    const xs = [], ys = [], labels = [];
+    for (let i = 0; i < n; i++) {
+      const kind = i % 4;
+      let x = kind === 0 ? 300 + 30 * u() : -8 + (W + 16) * u();
+      let y = kind === 0 ? 200 + 30 * u() : -8 + (H + 16) * u();
+      if (kind === 3 && i > 4) [x, y] = [xs[i - 4], ys[i - 4]];
+      xs.push(x);
+      ys.push(y);
+      labels.push({ x, y, width: 20 + 140 * u(), height: 15, priority: 0 });
+    }
+    const p = isolation(xs, ys);
+    assert.deepEqual(p, isolationAllPairs(xs, ys), `isolation, n = ${n}`);
+    labels.forEach((l, i) => (l.priority = p[i]));
+    const a = placeLabels(labels, W, H, 7), b = placeLabelsAllPairs(labels, W, H, 7);
+    assert.deepEqual(a, b, `placement, n = ${n}`);
+    if (n >= 50) assert.ok(a.filter((box) => box).length > n / 20);
+  }
+  const q = isolation([0, 3, NaN, 10, 10], [0, 4, 1, 0, NaN]);
+  assert.equal(q[0], 5);
+  assert.equal(q[2], Infinity);
+});
