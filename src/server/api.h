@@ -26,6 +26,9 @@ class GiBasis;
 
 namespace matlas::server {
 
+/// The content type of every image the API answers.
+inline constexpr const char* kPng = "image/png";
+
 struct Reply {
   int status = 200;
   std::string content_type = "application/json";
@@ -103,6 +106,8 @@ public:
   const ComputeGate& compute_gate() const { return compute_; }
 
 private:
+  /// The key of a latent point for caches and refinements (every coordinate to 17 digits).
+  static std::string point_key(const Eigen::VectorXd& x);
   Reply reference_reply(const std::string& body, bool radiance);
   ComputeGate::Slot acquire(ComputeGate& gate);
   std::string preview_png(const Eigen::VectorXd& w, const std::string& key, const std::string& env,
