@@ -386,6 +386,7 @@ export const api = {
       error: Number.isFinite(error) ? error : null,
       converged: r.headers.get("X-Matlas-Converged") === "1",
       interrupted: r.headers.get("X-Matlas-Interrupted") === "1",
+      denoised: false,  // the scene view is not denoised
       exposure: Number(r.headers.get("X-Matlas-Exposure") ?? 0),
     };
   },
