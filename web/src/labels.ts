@@ -73,6 +73,22 @@ class BoxGrid {
 }
 
 /** Boxes of the placed labels (null: hidden), in the order of `labels`. */
+/** The eight places tried for a label, in order: right, left, above, below, then the diagonals;
+ *  `gap` pixels beyond a marker of radius `markerRadius`. */
+export function labelCandidates(l: LabelRequest, markerRadius: number, gap = 3): Box[] {
+  const off = markerRadius + gap, d = 0.7 * off;
+  return [
+    { x0: l.x + off, y0: l.y - l.height / 2, x1: l.x + off + l.width, y1: l.y + l.height / 2 },
+    { x0: l.x - off - l.width, y0: l.y - l.height / 2, x1: l.x - off, y1: l.y + l.height / 2 },
+    { x0: l.x - l.width / 2, y0: l.y - off - l.height, x1: l.x + l.width / 2, y1: l.y - off },
+    { x0: l.x - l.width / 2, y0: l.y + off, x1: l.x + l.width / 2, y1: l.y + off + l.height },
+    { x0: l.x + d, y0: l.y - d - l.height, x1: l.x + d + l.width, y1: l.y - d },
+    { x0: l.x + d, y0: l.y + d, x1: l.x + d + l.width, y1: l.y + d + l.height },
+    { x0: l.x - d - l.width, y0: l.y - d - l.height, x1: l.x - d, y1: l.y - d },
+    { x0: l.x - d - l.width, y0: l.y + d, x1: l.x - d, y1: l.y + d + l.height },
+  ];
+}
+
 export function placeLabels(labels: LabelRequest[], width: number, height: number, markerRadius: number, gap = 3): (Box | null)[] {
   const out: (Box | null)[] = labels.map(() => null);
   const order = labels.map((_, i) => i).sort((a, b) => labels[b].priority - labels[a].priority || a - b);
@@ -82,20 +98,9 @@ export function placeLabels(labels: LabelRequest[], width: number, height: numbe
   const markerGrid = new BoxGrid(width, height), labelGrid = new BoxGrid(width, height);
   markers.forEach((m, i) => markerGrid.insert(m, i));
   const placed: Box[] = [];
-  const off = markerRadius + gap;
   for (const i of order) {
     const l = labels[i];
-    const d = 0.7 * off;
-    const candidates: Box[] = [
-      { x0: l.x + off, y0: l.y - l.height / 2, x1: l.x + off + l.width, y1: l.y + l.height / 2 },
-      { x0: l.x - off - l.width, y0: l.y - l.height / 2, x1: l.x - off, y1: l.y + l.height / 2 },
-      { x0: l.x - l.width / 2, y0: l.y - off - l.height, x1: l.x + l.width / 2, y1: l.y - off },
-      { x0: l.x - l.width / 2, y0: l.y + off, x1: l.x + l.width / 2, y1: l.y + off + l.height },
-      { x0: l.x + d, y0: l.y - d - l.height, x1: l.x + d + l.width, y1: l.y - d },
-      { x0: l.x + d, y0: l.y + d, x1: l.x + d + l.width, y1: l.y + d + l.height },
-      { x0: l.x - d - l.width, y0: l.y - d - l.height, x1: l.x - d, y1: l.y - d },
-      { x0: l.x - d - l.width, y0: l.y + d, x1: l.x - d, y1: l.y + d + l.height },
-    ];
+    const candidates = labelCandidates(l, markerRadius, gap);
     for (const c of candidates) {
       if (c.x0 < 0 || c.y0 < 0 || c.x1 > width || c.y1 > height) continue;
       if (labelGrid.overlapsAny(c, placed) || markerGrid.overlapsAny(c, markers, i)) continue;

@@ -5,6 +5,7 @@
 import { test } from "node:test";
 import assert from "node:assert/strict";
 import { importTs } from "./transpile.mjs";
+import { isolationAllPairs, placeLabelsAllPairs } from "./label_reference.mjs";
 
 const modules = await importTs(["api", "store", "latest", "retry", "local-weights"]);
 const { Store } = modules.store;
@@ -167,45 +168,8 @@ test("LocalWeights.convex is the metric projection onto the simplex (its optimal
 
 // The map's label declutter (labels.ts): the grid-bucketed placement and the sweep for isolation
 // give exactly what the all-pairs definitions give, at n = 1000 too.
-const { placeLabels, isolation, overlaps } = (await importTs(["labels"])).labels;
-
-function placeLabelsAllPairs(labels, width, height, r, gap = 3) {
-  const out = labels.map(() => null);
-  const order = labels.map((_, i) => i).sort((a, b) => labels[b].priority - labels[a].priority || a - b);
-  const markers = labels.map((l) => ({ x0: l.x - r, y0: l.y - r, x1: l.x + r, y1: l.y + r }));
-  const placed = [];
-  const off = r + gap, d = 0.7 * off;
-  for (const i of order) {
-    const l = labels[i];
-    const candidates = [
-      { x0: l.x + off, y0: l.y - l.height / 2, x1: l.x + off + l.width, y1: l.y + l.height / 2 },
-      { x0: l.x - off - l.width, y0: l.y - l.height / 2, x1: l.x - off, y1: l.y + l.height / 2 },
-      { x0: l.x - l.width / 2, y0: l.y - off - l.height, x1: l.x + l.width / 2, y1: l.y - off },
-      { x0: l.x - l.width / 2, y0: l.y + off, x1: l.x + l.width / 2, y1: l.y + off + l.height },
-      { x0: l.x + d, y0: l.y - d - l.height, x1: l.x + d + l.width, y1: l.y - d },
-      { x0: l.x + d, y0: l.y + d, x1: l.x + d + l.width, y1: l.y + d + l.height },
-      { x0: l.x - d - l.width, y0: l.y - d - l.height, x1: l.x - d, y1: l.y - d },
-      { x0: l.x - d - l.width, y0: l.y + d, x1: l.x - d, y1: l.y + d + l.height },
-    ];
-    for (const c of candidates) {
-      if (c.x0 < 0 || c.y0 < 0 || c.x1 > width || c.y1 > height) continue;
-      if (placed.some((p) => overlaps(c, p))) continue;
-      if (markers.some((m, k) => k !== i && overlaps(c, m))) continue;
-      out[i] = c;
-      placed.push(c);
-      break;
-    }
-  }
-  return out;
-}
-
-function isolationAllPairs(xs, ys) {
-  return xs.map((x, i) => {
-    let d = Infinity;
-    for (let j = 0; j < xs.length; j++) if (j !== i) d = Math.min(d, Math.hypot(x - xs[j], ys[i] - ys[j]));
-    return Number.isNaN(d) ? Infinity : d;
-  });
-}
+const labelsModule = (await importTs(["labels"])).labels;
+const { placeLabels, isolation } = labelsModule;
 
 test("placeLabels and isolation equal their all-pairs definitions (n up to 1000)", () => {
   let seed = 31;
@@ -225,7 +189,7 @@ test("placeLabels and isolation equal their all-pairs definitions (n up to 1000)
     const p = isolation(xs, ys);
     assert.deepEqual(p, isolationAllPairs(xs, ys), `isolation, n = ${n}`);
     labels.forEach((l, i) => (l.priority = p[i]));
-    const a = placeLabels(labels, W, H, 7), b = placeLabelsAllPairs(labels, W, H, 7);
+    const a = placeLabels(labels, W, H, 7), b = placeLabelsAllPairs(labels, W, H, 7, labelsModule);
     assert.deepEqual(a, b, `placement, n = ${n}`);
     if (n >= 50) assert.ok(a.filter((box) => box).length > n / 20);
   }
