@@ -55,6 +55,19 @@ std::string interpolation_json(const Model& model) {
 
 }  // namespace
 
+void Api::add_refinement_headers(Reply& r, int spp, double relative_error, bool converged, double seconds,
+                                 bool interrupted) {
+  char error[32], secs[32];
+  std::snprintf(error, sizeof error, "%.6g", relative_error);
+  std::snprintf(secs, sizeof secs, "%.3f", seconds);
+  r.headers.emplace_back("Cache-Control", "no-store");
+  r.headers.emplace_back("X-Matlas-Spp", std::to_string(spp));
+  r.headers.emplace_back("X-Matlas-Error", std::isfinite(relative_error) ? error : "unknown");
+  r.headers.emplace_back("X-Matlas-Converged", converged ? "1" : "0");
+  r.headers.emplace_back("X-Matlas-Seconds", secs);
+  if (interrupted) r.headers.emplace_back("X-Matlas-Interrupted", "1");
+}
+
 std::string Api::point_key(const Eigen::VectorXd& x) {
   std::string key;
   char buf[32];
@@ -205,18 +218,9 @@ Reply Api::preview_refine(const std::string& body) {
     refined = previews_->refine(model_.weights(x), point_key(x), env, object, seconds, denoise, superseded);
   }
   Reply r = Reply::bytes(encode_png_fast(refined.image, previews_->tone()), kPng);
-  const auto& st = refined.state;
-  char error[32];
-  std::snprintf(error, sizeof error, "%.6g", st.relative_error);
-  char secs[32];
-  std::snprintf(secs, sizeof secs, "%.3f", st.seconds);
-  r.headers.emplace_back("Cache-Control", "no-store");
-  r.headers.emplace_back("X-Matlas-Spp", std::to_string(st.spp));
-  r.headers.emplace_back("X-Matlas-Error", std::isfinite(st.relative_error) ? error : "unknown");
-  r.headers.emplace_back("X-Matlas-Converged", st.converged ? "1" : "0");
-  r.headers.emplace_back("X-Matlas-Seconds", secs);
-  if (refined.interrupted) r.headers.emplace_back("X-Matlas-Interrupted", "1");
+  add_refinement_headers(r, refined.state, refined.interrupted);
   if (refined.denoised) {
+    char error[32];
     std::snprintf(error, sizeof error, "%.6g", refined.denoised_error);
     r.headers.emplace_back("X-Matlas-Denoised", "1");
     r.headers.emplace_back("X-Matlas-Denoised-Error", error);

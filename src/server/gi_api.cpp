@@ -111,18 +111,10 @@ Reply Api::gi_refine(const std::string& body) {
                                refined.state.spp > 0 ? &refined.image : nullptr);
   Reply r = Reply::bytes(refined.state.spp > 0 ? encode_png_fast(refined.image, tone) : std::string(), kPng);
   if (refined.state.spp == 0) r = Reply::json({{"spp", 0}});
-  const auto& st = refined.state;
-  char error[32], secs[32], used[32];
-  std::snprintf(error, sizeof error, "%.6g", st.relative_error);
-  std::snprintf(secs, sizeof secs, "%.3f", st.seconds);
+  add_refinement_headers(r, refined.state, interrupted);
+  char used[32];
   std::snprintf(used, sizeof used, "%.3f", tone.exposure);
-  r.headers.emplace_back("Cache-Control", "no-store");
-  r.headers.emplace_back("X-Matlas-Spp", std::to_string(st.spp));
-  r.headers.emplace_back("X-Matlas-Error", std::isfinite(st.relative_error) ? error : "unknown");
-  r.headers.emplace_back("X-Matlas-Converged", st.converged ? "1" : "0");
-  r.headers.emplace_back("X-Matlas-Seconds", secs);
   r.headers.emplace_back("X-Matlas-Exposure", used);
-  if (interrupted) r.headers.emplace_back("X-Matlas-Interrupted", "1");
   return r;
 }
 

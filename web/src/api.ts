@@ -312,6 +312,19 @@ function post<B extends PointRequest>(path: string, body: B, signal?: AbortSigna
   }).then(check);
 }
 
+/** A refinement's answer (POST /api/preview/refine or /api/gi/refine): the image and its headers. */
+async function refinedReply(r: Response): Promise<Refined> {
+  const error = Number(r.headers.get("X-Matlas-Error"));
+  return {
+    blob: await r.blob(),
+    spp: Number(r.headers.get("X-Matlas-Spp") ?? 0),
+    error: Number.isFinite(error) ? error : null,
+    converged: r.headers.get("X-Matlas-Converged") === "1",
+    interrupted: r.headers.get("X-Matlas-Interrupted") === "1",
+    denoised: r.headers.get("X-Matlas-Denoised") === "1",  // never set by the scene view
+  };
+}
+
 export const api = {
   model: (): Promise<ModelInfo> => fetch("api/model").then(check).then((r) => r.json()),
   preview: (x: Point, env: string, object: string, size: number, signal?: AbortSignal): Promise<Blob> =>
@@ -321,16 +334,7 @@ export const api = {
       .then(check).then((r) => r.json()),
   refine: async (x: Point, env: string, object: string, seconds: number, denoise: boolean,
     signal?: AbortSignal): Promise<Refined> => {
-    const r = await post("api/preview/refine", { x, env, object, seconds, denoise } satisfies RefineRequest, signal);
-    const error = Number(r.headers.get("X-Matlas-Error"));
-    return {
-      blob: await r.blob(),
-      spp: Number(r.headers.get("X-Matlas-Spp") ?? 0),
-      error: Number.isFinite(error) ? error : null,
-      converged: r.headers.get("X-Matlas-Converged") === "1",
-      interrupted: r.headers.get("X-Matlas-Interrupted") === "1",
-      denoised: r.headers.get("X-Matlas-Denoised") === "1",
-    };
+    return refinedReply(await post("api/preview/refine", { x, env, object, seconds, denoise } satisfies RefineRequest, signal));
   },
   weights: (x: Point, top = 8): Promise<WeightsReply> =>
     post("api/weights", { x, top } satisfies WeightsRequest).then((r) => r.json()),
@@ -379,16 +383,7 @@ export const api = {
   giRefine: async (scene: string, x: Point, exposure: number | "auto", tone: string, seconds: number, signal?: AbortSignal):
     Promise<Refined & { exposure: number }> => {
     const r = await post("api/gi/refine", { scene, x, exposure, tone, seconds } satisfies GiRefineRequest, signal);
-    const error = Number(r.headers.get("X-Matlas-Error"));
-    return {
-      blob: await r.blob(),
-      spp: Number(r.headers.get("X-Matlas-Spp") ?? 0),
-      error: Number.isFinite(error) ? error : null,
-      converged: r.headers.get("X-Matlas-Converged") === "1",
-      interrupted: r.headers.get("X-Matlas-Interrupted") === "1",
-      denoised: false,  // the scene view is not denoised
-      exposure: Number(r.headers.get("X-Matlas-Exposure") ?? 0),
-    };
+    return { ...(await refinedReply(r)), exposure: Number(r.headers.get("X-Matlas-Exposure") ?? 0) };
   },
   thumbnailUrl: (index: number, env: string, object: string): string =>
     `api/thumbnail/${index}?env=${encodeURIComponent(env)}&object=${encodeURIComponent(object)}`,
