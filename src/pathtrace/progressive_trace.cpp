@@ -1,12 +1,12 @@
 #include "pathtrace/progressive_trace.h"
 
 #include <algorithm>
-#include <bit>
 #include <chrono>
 #include <cmath>
 
 #include "core/check.h"
 #include "core/error.h"
+#include "render/progressive_render.h"
 
 namespace matlas::pathtrace {
 
@@ -75,18 +75,9 @@ ProgressiveTraceState ProgressiveTrace::refine(double seconds, ProgressSink& pro
   for (bool first = true;; first = false) {
     const ProgressiveTraceState now = state();
     if (now.converged) return now;
-    // The first pass's samples first; then what fits the time left at the rate so far (a power of
-    // two, at most doubling what is in, at most max_pass_spp).
-    int spp = settings_.trace.spp;
-    if (now.spp > 0) {
-      const double fits = (seconds - elapsed()) / std::max(now.seconds / now.spp, 1e-9);
-      const int limit = std::max(1, std::min({settings_.max_pass_spp, std::max(settings_.trace.spp, now.spp),
-                                              settings_.max_spp - now.spp}));
-      const int least = std::min(settings_.trace.spp, limit);
-      if (!first && fits < least) return now;
-      spp = std::clamp(static_cast<int>(std::bit_floor(static_cast<unsigned>(std::clamp(fits, 1.0, static_cast<double>(limit))))),
-                       least, limit);
-    }
+    const int spp = render::next_pass_spp(settings_.trace.spp, settings_.max_pass_spp, settings_.max_spp, now.spp,
+                                          now.seconds, seconds - elapsed(), first);
+    if (spp == 0) return now;
     TraceSettings s = settings_.trace;
     s.spp = spp;
     s.seed = pass_seed(settings_.trace.seed, now.passes);

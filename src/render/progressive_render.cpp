@@ -109,6 +109,17 @@ void ProgressiveRender::update_error() {
                      (state_.spp >= settings_.min_converged_spp && state_.relative_error <= settings_.target_error);
 }
 
+int next_pass_spp(int first_spp, int max_pass_spp, int max_spp, int spp_in, double seconds_in, double seconds_left,
+                  bool first) {
+  if (spp_in == 0) return first_spp;
+  const double fits = seconds_left / std::max(seconds_in / spp_in, 1e-9);
+  const int limit = std::max(1, std::min({max_pass_spp, std::max(first_spp, spp_in), max_spp - spp_in}));
+  const int least = std::min(first_spp, limit);  // passes are never smaller than the first
+  if (!first && fits < least) return 0;         // no time for another pass
+  const int spp = static_cast<int>(std::bit_floor(static_cast<unsigned>(std::clamp(fits, 1.0, static_cast<double>(limit)))));
+  return std::clamp(spp, least, limit);
+}
+
 ProgressiveState ProgressiveRender::refine(double seconds, ProgressSink& progress) {
   std::lock_guard refining(refining_);
   const auto start = std::chrono::steady_clock::now();
@@ -116,20 +127,9 @@ ProgressiveState ProgressiveRender::refine(double seconds, ProgressSink& progres
   for (bool first = true;; first = false) {
     ProgressiveState now = state();
     if (now.converged) return now;
-    // The next pass: the first pass's samples first; then what fits the time left at the rate so
-    // far (a power of two, at least the first pass's samples, at most doubling what is in and at
-    // most max_pass_spp).
-    int spp = settings_.render.spp;
-    if (now.spp > 0) {
-      const double per_spp = now.seconds / now.spp;
-      const double fits = (seconds - elapsed()) / std::max(per_spp, 1e-9);
-      const int limit = std::max(1, std::min({settings_.max_pass_spp, std::max(settings_.render.spp, now.spp),
-                                              settings_.max_spp - now.spp}));
-      const int least = std::min(settings_.render.spp, limit);  // passes are never smaller than the first
-      if (!first && fits < least) return now;                   // no time for another pass
-      spp = static_cast<int>(std::bit_floor(static_cast<unsigned>(std::clamp(fits, 1.0, static_cast<double>(limit)))));
-      spp = std::clamp(spp, least, limit);
-    }
+    const int spp = next_pass_spp(settings_.render.spp, settings_.max_pass_spp, settings_.max_spp, now.spp, now.seconds,
+                                  seconds - elapsed(), first);
+    if (spp == 0) return now;
     RenderSettings s = settings_.render;
     s.spp = spp;
     s.seed = settings_.render.seed + 0x9E3779B97F4A7C15ull * static_cast<std::uint64_t>(now.passes);

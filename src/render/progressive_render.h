@@ -47,6 +47,14 @@ struct ProgressiveSettings {
   void validate() const;
 };
 
+/// The samples of a refinement's next pass (previews here, the scene view in
+/// pathtrace/progressive_trace.h): the first pass's `first_spp` while nothing is in; then what fits
+/// `seconds_left` at the rate so far (`spp_in` samples in `seconds_in`), a power of two, at least
+/// the first pass's, at most doubling what is in, at most `max_pass_spp` and what `max_spp`
+/// leaves. 0 when it is not the call's first pass (`first` false) and no such pass fits the time.
+int next_pass_spp(int first_spp, int max_pass_spp, int max_spp, int spp_in, double seconds_in, double seconds_left,
+                  bool first);
+
 /// Where a refinement stands.
 struct ProgressiveState {
   int spp = 0;          ///< samples per pixel averaged so far (0: nothing rendered yet)
