@@ -7,7 +7,7 @@
 // Checks: the layout at 1280x800 and 1920x1080 (no horizontal overflow, single-line titles,
 // toolbar and top bar, the real-time card beside the reference render, the four panels in one row,
 // no empty bar for the scene view when it is off; screenshots layout-1280.png, layout-1920.png);
-// the help dialog (shortcuts, "variance", "plausible") and the first-run map hint (gone once the
+// the help dialog (shortcuts, "variance", "plausible", links to the docs served as pages) and the first-run map hint (gone once the
 // map is used, also after a reload); the top bar's scene drives the real-time view unless it has its
 // own; the real-time card's errors (no WebGL2, coefficients failing) and progress show in the card;
 // the slice's colour scale is the server's maximum, the lobe's rings, the path's captions; search
@@ -88,6 +88,23 @@ function layoutFacts() {
       panels: ["largest weights", "slice", "lobe", "albedo"].map(card), cards,
       giWrap: box(document.querySelector(".gi-wrap")).height,
       slicePlot: box(document.getElementById("slice-plot")).toJSON(),
+      // Visible controls sticking out of their card (the right or left edge, 1 px slack).
+      outside: [...document.querySelectorAll(".card")].flatMap((c) => {
+        const b = box(c);
+        return [...c.querySelectorAll("select, button, input:not(.visually-hidden), label, output, .row > span")]
+          .filter((e) => e.offsetParent !== null && box(e).width > 0)
+          .filter((e) => box(e).right > b.right + 1 || box(e).left < b.left - 1)
+          .map((e) => `${c.getAttribute("aria-label")}: ${e.id || e.tagName.toLowerCase()} "${e.textContent.trim().slice(0, 20)}" ${Math.round(box(e).left)}-${Math.round(box(e).right)} outside ${Math.round(b.left)}-${Math.round(b.right)}`);
+      }),
+      // Rows of controls that wrap onto a second line (their items' tops differ by a line or more).
+      // (a group of buttons, .row.buttons, may take two lines)
+      wrapped: [...document.querySelectorAll(".card .row:not(.buttons)")]
+        .filter((r) => r.offsetParent !== null)
+        .filter((r) => {
+          const tops = [...r.children].filter((e) => e.offsetParent !== null && box(e).height > 2).map((e) => box(e).top);
+          return tops.length > 1 && Math.max(...tops) - Math.min(...tops) > 14;
+        })
+        .map((r) => `${r.closest(".card").getAttribute("aria-label")}: ${r.textContent.replace(/\s+/g, " ").trim().slice(0, 40)}`),
     };
   });
 }
@@ -124,6 +141,8 @@ for (const [width, height] of [[1280, 800], [1920, 1080]]) {
         assert.ok(!(a.left < b.right - 1 && b.left < a.right - 1 && a.top < b.bottom - 1 && b.top < a.bottom - 1),
           `${a.label} and ${b.label} overlap`);
       }
+    assert.deepEqual(f.outside, [], "every control inside its card");
+    assert.deepEqual(f.wrapped, [], "rows of controls on one line");
     assert.equal(f.giWrap, 0, "the scene view switched off shows no empty bar");
     assert.ok(f.slicePlot.height <= 260, `the slice panel is not a large square: ${JSON.stringify(f.slicePlot)}`);
     // Nothing much past the viewport for the top row: the map, previews and controls are all seen.
@@ -139,8 +158,16 @@ test("the help dialog explains the panels, the words and the shortcuts; controls
   const help = page.locator("#help");
   await help.waitFor({ state: "visible", timeout: 5_000 });
   const text = await help.textContent();
-  for (const word of ["Variance", "Plausible", "Shift", "Alt", "θh × θd slice", "Lobe", "Real-time", "docs/WEB.md"])
+  for (const word of ["Variance", "Plausible", "Shift", "Alt", "θh × θd slice", "Lobe", "Real-time"])
     assert.ok(text.includes(word), `the help mentions ${word}`);
+  // The docs of the served version, as pages: every link of the help's docs paragraph answers.
+  const docs = await page.locator("#help-docs a[href^='docs/']").evaluateAll((as) => as.map((a) => a.href));
+  assert.ok(docs.some((h) => h.endsWith("docs/WEB.html")), `the help links the browser's docs: ${docs}`);
+  for (const href of docs) {
+    const res = await fetch(href);
+    assert.equal(res.status, 200, href);
+    assert.match(await res.text(), /<h1 id="[^"]+">/, `${href} is a rendered doc`);
+  }
   await page.screenshot({ path: join(results, "help.png") });
   await page.keyboard.press("Escape");
   await help.waitFor({ state: "hidden", timeout: 5_000 });
