@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "core/error.h"
-#include "formats/safetensors.h"
+#include "formats/mapped_file.h"
 
 namespace matlas {
 

@@ -1,22 +1,14 @@
 #include "formats/safetensors.h"
 
 #include <algorithm>
-#include <atomic>
-#include <csignal>
-#include <mutex>
 #include <bit>
-#include <cerrno>
 #include <cstring>
-#include <fcntl.h>
-#include <sys/mman.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
+#include "core/check.h"
 #include "core/error.h"
 #include "core/file_io.h"
-#include "formats/mapping_watch.h"
 
 namespace matlas {
 
@@ -72,14 +64,13 @@ std::size_t TensorInfo::elements() const {
 // ---------------------------------------------------------------- writer
 
 void SafetensorsWriter::add_metadata(const std::string& key, const std::string& value) {
-  if (file_ && reserved_ == 0) throw Error("SafetensorsWriter: metadata after begin (internal error)");
+  MATLAS_CHECK(!file_ || reserved_ != 0, "metadata after begin");
   metadata_[key] = value;
 }
 
 void SafetensorsWriter::declare(const std::string& name, DType dtype, std::vector<std::int64_t> shape) {
-  if (file_) throw Error("SafetensorsWriter: declare after begin (internal error)");
-  if (has_growing())
-    throw Error("SafetensorsWriter: fixed tensor '" + name + "' declared after a growing one (internal error)");
+  MATLAS_CHECK(!file_, "declare after begin");
+  MATLAS_CHECK(!has_growing(), "fixed tensor '" + name + "' declared after a growing one");
   TensorInfo t;
   t.name = name;
   t.dtype = dtype;
@@ -93,7 +84,7 @@ void SafetensorsWriter::declare(const std::string& name, DType dtype, std::vecto
 }
 
 void SafetensorsWriter::declare_growing(const std::string& name, DType dtype, std::vector<std::int64_t> row_shape) {
-  if (file_) throw Error("SafetensorsWriter: declare after begin (internal error)");
+  MATLAS_CHECK(!file_, "declare after begin");
   TensorInfo t;
   t.name = name;
   t.dtype = dtype;
@@ -115,12 +106,11 @@ std::string SafetensorsWriter::header_text() const {
 TensorInfo& SafetensorsWriter::tensor(const std::string& name) {
   for (auto& t : tensors_)
     if (t.name == name) return t;
-  throw Error("SafetensorsWriter: no tensor '" + name + "' declared (internal error)");
+  check_failed(__FILE__, __LINE__, "tensor declared", "no tensor '" + name + "'");
 }
 
 void SafetensorsWriter::begin(const fs::path& path) {
-  if (has_growing())
-    throw Error("SafetensorsWriter: growing tensors need a reserved header (internal error)");
+  MATLAS_CHECK(!has_growing(), "growing tensors need a reserved header");
   std::string text = header_text();
   text.resize(aligned_header_size(text.size()), ' ');
   file_ = std::make_unique<AtomicFile>(path);
@@ -143,29 +133,26 @@ void SafetensorsWriter::begin(const fs::path& path, std::size_t reserved_header_
 }
 
 void SafetensorsWriter::write(const void* data, std::size_t bytes) {
-  if (!file_) throw Error("SafetensorsWriter::write before begin (internal error)");
-  if (reserved_) throw Error("SafetensorsWriter::write in reserved-header mode (internal error)");
-  if (written_ + bytes > expected_)
-    throw file_error(file_->target(), "more tensor data than declared (internal error)");
+  MATLAS_CHECK(file_, "write before begin");
+  MATLAS_CHECK(!reserved_, "write in reserved-header mode");
+  MATLAS_CHECK_LE(written_ + bytes, expected_);
   file_->write(data, bytes);
   written_ += bytes;
 }
 
 void SafetensorsWriter::write_tensor(const std::string& name, const void* data, std::size_t bytes) {
-  if (!file_ || !reserved_) throw Error("SafetensorsWriter::write_tensor needs begin(path, reserved) (internal error)");
+  MATLAS_CHECK(file_ && reserved_, "write_tensor needs begin(path, reserved)");
   TensorInfo& t = tensor(name);
   const auto index = static_cast<std::size_t>(&t - tensors_.data());
-  if (growing_[index] || bytes != t.bytes())
-    throw file_error(file_->target(), "tensor '" + name + "' written with " + std::to_string(bytes) + " bytes, declared " +
-                                          std::to_string(t.bytes()) + " (internal error)");
+  MATLAS_CHECK(!growing_[index], "tensor '" + name + "' is growing");
+  MATLAS_CHECK_EQ(bytes, t.bytes());
   file_->write_at(8 + reserved_ + t.begin, data, bytes);
   if (!done_[index]) written_ += bytes;
   done_[index] = true;
 }
 
 void SafetensorsWriter::append(const void* data, std::size_t bytes) {
-  if (!file_ || !reserved_ || current_growing_ >= tensors_.size())
-    throw Error("SafetensorsWriter::append without an open growing tensor (internal error)");
+  MATLAS_CHECK(file_ && reserved_ && current_growing_ < tensors_.size(), "append without an open growing tensor");
   if (data) file_->write(data, bytes);
   else file_->skip(bytes);  // skip(): written by another process
   growing_end_ += bytes;
@@ -180,26 +167,23 @@ std::uint64_t SafetensorsWriter::tensor_offset(const std::string& name) { return
 void SafetensorsWriter::written_elsewhere(const std::string& name) {
   TensorInfo& t = tensor(name);
   const auto index = static_cast<std::size_t>(&t - tensors_.data());
-  if (!file_ || !reserved_ || growing_[index])
-    throw Error("SafetensorsWriter::written_elsewhere: '" + name + "' is growing or not begun (internal error)");
+  MATLAS_CHECK(file_ && reserved_ && !growing_[index], "'" + name + "' is growing or not begun");
   if (!done_[index]) written_ += t.bytes();
   done_[index] = true;
 }
 
 const fs::path& SafetensorsWriter::temporary() const {
-  if (!file_) throw Error("SafetensorsWriter::temporary before begin (internal error)");
+  MATLAS_CHECK(file_, "temporary before begin");
   return file_->temporary();
 }
 
 void SafetensorsWriter::end_growing() {
-  if (!file_ || current_growing_ >= tensors_.size())
-    throw Error("SafetensorsWriter::end_growing without an open growing tensor (internal error)");
+  MATLAS_CHECK(file_ && current_growing_ < tensors_.size(), "end_growing without an open growing tensor");
   TensorInfo& t = tensors_[current_growing_];
   std::size_t row_bytes = dtype_size(t.dtype);
   for (std::size_t k = 1; k < t.shape.size(); ++k) row_bytes *= static_cast<std::size_t>(t.shape[k]);
   const std::size_t bytes = growing_end_ - t.begin;
-  if (row_bytes == 0 || bytes % row_bytes != 0)
-    throw file_error(file_->target(), "tensor '" + t.name + "' has a partial row (internal error)");
+  MATLAS_CHECK(row_bytes != 0 && bytes % row_bytes == 0, "tensor '" + t.name + "' has a partial row");
   t.shape[0] = static_cast<std::int64_t>(bytes / row_bytes);
   t.end = growing_end_;
   done_[current_growing_] = true;
@@ -208,17 +192,13 @@ void SafetensorsWriter::end_growing() {
 }
 
 void SafetensorsWriter::commit() {
-  if (!file_) throw Error("SafetensorsWriter::commit before begin (internal error)");
-  if (written_ != expected_)
-    throw file_error(file_->target(), "incomplete tensor data: " + std::to_string(written_) + " of " +
-                                          std::to_string(expected_) + " bytes (internal error)");
+  MATLAS_CHECK(file_, "commit before begin");
+  MATLAS_CHECK_EQ(written_, expected_);
   if (reserved_) {
     for (std::size_t k = 0; k < tensors_.size(); ++k)
-      if (!done_[k]) throw file_error(file_->target(), "tensor '" + tensors_[k].name + "' not written (internal error)");
+      MATLAS_CHECK(done_[k], "tensor '" + tensors_[k].name + "' not written");
     std::string text = header_text();
-    if (text.size() > reserved_)
-      throw file_error(file_->target(), "header of " + std::to_string(text.size()) + " bytes exceeds the " +
-                                            std::to_string(reserved_) + " reserved (internal error)");
+    MATLAS_CHECK_LE(text.size(), reserved_);
     text.resize(reserved_, ' ');
     const std::uint64_t length = text.size();
     std::string head(reinterpret_cast<const char*>(&length), 8);
@@ -226,135 +206,6 @@ void SafetensorsWriter::commit() {
     file_->write_at(0, head.data(), head.size());
   }
   file_->commit();
-}
-
-// ---------------------------------------------------------------- mapping
-
-namespace {
-
-// SIGBUS guard of the mappings. Fixed slots readable from the signal handler: begin/end of each
-// mapping (0 when free) and its fault count.
-constexpr int kGuardSlots = 256;
-struct GuardSlot {
-  std::atomic<std::uintptr_t> begin{0}, end{0};
-  std::atomic<std::uint64_t> faults{0};
-};
-GuardSlot g_guard[kGuardSlots];
-struct sigaction g_previous_sigbus {};
-std::uintptr_t g_page_size = 4096;
-
-void chain_previous(int sig, siginfo_t* info, void* context) {
-  if (g_previous_sigbus.sa_flags & SA_SIGINFO) {
-    if (g_previous_sigbus.sa_sigaction) {
-      g_previous_sigbus.sa_sigaction(sig, info, context);
-      return;
-    }
-  } else if (g_previous_sigbus.sa_handler != SIG_DFL && g_previous_sigbus.sa_handler != SIG_IGN &&
-             g_previous_sigbus.sa_handler != nullptr) {
-    g_previous_sigbus.sa_handler(sig);
-    return;
-  }
-  // Default action: restore it and return; the faulting access repeats and ends the process.
-  ::signal(SIGBUS, SIG_DFL);
-}
-
-void on_sigbus(int sig, siginfo_t* info, void* context) {
-  const auto addr = reinterpret_cast<std::uintptr_t>(info->si_addr);
-  for (auto& slot : g_guard) {
-    const std::uintptr_t begin = slot.begin.load(std::memory_order_acquire);
-    if (begin == 0 || addr < begin || addr >= slot.end.load(std::memory_order_acquire)) continue;
-    const std::uintptr_t page = g_page_size;
-    void* at = reinterpret_cast<void*>(addr & ~(page - 1));
-    // A private page of zeros in place of the vanished one: the access is retried and succeeds.
-    if (::mmap(at, page, PROT_READ, MAP_PRIVATE | MAP_ANONYMOUS | MAP_FIXED, -1, 0) != MAP_FAILED) {
-      slot.faults.fetch_add(1, std::memory_order_relaxed);
-      return;
-    }
-    break;
-  }
-  chain_previous(sig, info, context);
-}
-
-void install_sigbus_guard() {
-  static std::once_flag once;
-  std::call_once(once, [] {
-    g_page_size = static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE));
-    struct sigaction sa {};
-    sa.sa_sigaction = on_sigbus;
-    sigemptyset(&sa.sa_mask);
-    sa.sa_flags = SA_SIGINFO | SA_NODEFER;
-    ::sigaction(SIGBUS, &sa, &g_previous_sigbus);
-  });
-}
-
-int guard_mapping(const void* data, std::size_t size) {
-  install_sigbus_guard();
-  const auto begin = reinterpret_cast<std::uintptr_t>(data);
-  for (int i = 0; i < kGuardSlots; ++i) {
-    std::uintptr_t expected = 0;
-    if (g_guard[i].begin.load() != 0) continue;
-    // Claim by setting end first (begin stays 0, so the handler ignores the slot until complete).
-    if (!g_guard[i].end.compare_exchange_strong(expected, begin + size)) continue;
-    g_guard[i].faults.store(0);
-    g_guard[i].begin.store(begin, std::memory_order_release);
-    return i;
-  }
-  return -1;  // more than kGuardSlots mappings: this one is unguarded
-}
-
-void unguard_mapping(int slot) {
-  if (slot < 0) return;
-  g_guard[slot].begin.store(0, std::memory_order_release);
-  g_guard[slot].end.store(0, std::memory_order_release);
-}
-
-std::int64_t mtime_ns(const struct stat& st) {
-  return static_cast<std::int64_t>(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec;
-}
-
-}  // namespace
-
-MappedFile::MappedFile(const fs::path& path) : path_(path) {
-  const int fd = open_regular_file(path, "a model or safetensors file");
-  struct stat st {};
-  if (::fstat(fd, &st) != 0) {
-    ::close(fd);
-    throw file_error(path, "cannot stat");
-  }
-  size_ = static_cast<std::size_t>(st.st_size);
-  device_ = static_cast<std::uint64_t>(st.st_dev);
-  inode_ = static_cast<std::uint64_t>(st.st_ino);
-  mtime_ns_ = mtime_ns(st);
-  if (size_ > 0) {
-    void* p = ::mmap(nullptr, size_, PROT_READ, MAP_SHARED, fd, 0);
-    if (p == MAP_FAILED) {
-      ::close(fd);
-      throw file_error(path, std::string("cannot memory-map: ") + std::strerror(errno));
-    }
-    data_ = static_cast<const std::byte*>(p);
-    slot_ = guard_mapping(data_, size_);
-  }
-  ::close(fd);
-  detail::track_mapping(this);
-}
-
-MappedFile::~MappedFile() {
-  detail::untrack_mapping(this);
-  unguard_mapping(slot_);
-  if (data_) ::munmap(const_cast<std::byte*>(data_), size_);
-}
-
-std::uint64_t MappedFile::faults() const {
-  return slot_ >= 0 ? g_guard[slot_].faults.load(std::memory_order_relaxed) : 0;
-}
-
-MappedFile::DiskState MappedFile::disk_state() const {
-  struct stat st {};
-  if (::stat(path_.c_str(), &st) != 0) return DiskState::replaced;
-  if (static_cast<std::uint64_t>(st.st_dev) != device_ || static_cast<std::uint64_t>(st.st_ino) != inode_)
-    return DiskState::replaced;
-  if (static_cast<std::size_t>(st.st_size) != size_ || mtime_ns(st) != mtime_ns_) return DiskState::modified;
-  return DiskState::same;
 }
 
 // ---------------------------------------------------------------- reader
@@ -458,41 +309,6 @@ const TensorInfo& SafetensorsFile::require(const std::string& name, DType dtype,
   if (!shape.empty() && t->shape != shape)
     throw file_error(path(), "tensor '" + name + "' has an unexpected shape");
   return *t;
-}
-
-// ---------------------------------------------------------------- half floats
-
-std::uint16_t float_to_half(float value) {
-  const std::uint32_t f = std::bit_cast<std::uint32_t>(value);
-  const std::uint32_t sign = (f >> 16) & 0x8000u;
-  const std::uint32_t abs = f & 0x7fffffffu;
-  if (abs >= 0x7f800000u)  // Inf or NaN
-    return static_cast<std::uint16_t>(sign | 0x7c00u | (abs > 0x7f800000u ? 0x200u : 0u));
-  if (abs >= 0x477ff000u) return static_cast<std::uint16_t>(sign | 0x7c00u);  // overflow -> Inf
-  if (abs < 0x38800000u) {  // subnormal half (or zero)
-    const float magnitude = std::bit_cast<float>(abs);
-    // Scale so the half subnormal step (2^-24) becomes 1, then round to nearest even.
-    const float scaled = magnitude * 16777216.0f;
-    const auto rounded = static_cast<std::uint32_t>(std::nearbyint(scaled));
-    return static_cast<std::uint16_t>(sign | rounded);
-  }
-  // Normal: rebias the exponent and round the mantissa to 10 bits, nearest even.
-  std::uint32_t h = ((abs - 0x38000000u) >> 13);
-  const std::uint32_t rest = abs & 0x1fffu;
-  if (rest > 0x1000u || (rest == 0x1000u && (h & 1u))) ++h;
-  return static_cast<std::uint16_t>(sign | h);
-}
-
-float half_to_float(std::uint16_t h) {
-  const std::uint32_t sign = static_cast<std::uint32_t>(h & 0x8000u) << 16;
-  const std::uint32_t exponent = (h >> 10) & 0x1fu;
-  const std::uint32_t mantissa = h & 0x3ffu;
-  if (exponent == 0) {
-    const float magnitude = static_cast<float>(mantissa) * (1.0f / 16777216.0f);
-    return sign ? -magnitude : magnitude;
-  }
-  if (exponent == 31) return std::bit_cast<float>(sign | 0x7f800000u | (mantissa << 13));
-  return std::bit_cast<float>(sign | ((exponent + 112u) << 23) | (mantissa << 13));
 }
 
 }  // namespace matlas

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "core/atomic_file.h"
+#include "formats/mapped_file.h"
 
 namespace matlas {
 
@@ -105,41 +106,6 @@ private:
   std::size_t growing_end_ = 0;             ///< data-buffer offset after the appended rows
 };
 
-/// A read-only memory map of a whole file.
-///
-/// A mapped file may be truncated or rewritten by another process while it is mapped (a model
-/// replaced with `cp` while it is served). Reading a page past the new end of the file raises
-/// SIGBUS, which would kill the process: every MappedFile is registered with a SIGBUS handler
-/// (installed on first use, chaining to any previous one for other addresses) that maps a page of
-/// zeros over the faulting page and counts the fault. Readers then see zeros instead of dying;
-/// faults() tells that the content can no longer be trusted, and changed_on_disk() that the file
-/// at the path is no longer the one mapped (replaced, truncated or rewritten).
-class MappedFile {
-public:
-  explicit MappedFile(const std::filesystem::path& path);
-  MappedFile(const MappedFile&) = delete;
-  MappedFile& operator=(const MappedFile&) = delete;
-  ~MappedFile();
-  const std::byte* data() const { return data_; }
-  std::size_t size() const { return size_; }
-  const std::filesystem::path& path() const { return path_; }
-  /// Pages read past the end of a file truncated while mapped (read as zeros).
-  std::uint64_t faults() const;
-  /// How the file at path() relates to the mapped one: the same, the same file modified in place
-  /// (size or modification time changed: the mapped content is unreliable), or another file
-  /// (replaced by rename, or removed: the mapped content is intact).
-  enum class DiskState { same, modified, replaced };
-  DiskState disk_state() const;
-
-private:
-  std::filesystem::path path_;
-  const std::byte* data_ = nullptr;
-  std::size_t size_ = 0;
-  int slot_ = -1;  ///< in the SIGBUS registry
-  std::uint64_t device_ = 0, inode_ = 0;
-  std::int64_t mtime_ns_ = 0;
-};
-
 /// Memory-mapped reader. Validates the whole header on open: errors name the file and say
 /// whether it is not a safetensors file, truncated, or inconsistent.
 class SafetensorsFile {
@@ -174,9 +140,5 @@ private:
   std::vector<TensorInfo> tensors_;
   std::map<std::string, std::string> metadata_;
 };
-
-/// IEEE half <-> float conversions (round to nearest even), portable.
-std::uint16_t float_to_half(float f);
-float half_to_float(std::uint16_t h);
 
 }  // namespace matlas

@@ -1,3 +1,4 @@
+#include "formats/half_float.h"
 #include "manifold/data_writer.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+#include "formats/half_float.h"
 #include "manifold/model.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+#include "formats/half_float.h"
 #include "pathtrace/gi_basis.h"
 
 #include <cmath>

@@ -3,7 +3,7 @@
 #include <vector>
 
 #include "core/cpu_features.h"
-#include "formats/safetensors.h"
+#include "formats/half_float.h"
 
 #if defined(__x86_64__) || defined(__i386__)
 #include <immintrin.h>

@@ -1,3 +1,4 @@
+#include "formats/half_float.h"
 #include "render/image_basis.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+#include "formats/half_float.h"
 #include "zonal/coefficient_file.h"
 
 #include <cmath>

@@ -3,9 +3,10 @@
 
 #include <cmath>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
+#include "formats/half_float.h"
 #include "formats/image_io.h"
-#include "formats/safetensors.h"
 #include "support/temp_dir.h"
 
 namespace matlas {

@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include "core/check.h"
 #include "core/error.h"
+#include "formats/half_float.h"
 #include "formats/safetensors.h"
 #include "support/temp_dir.h"
 
@@ -150,7 +152,7 @@ TEST(Safetensors, IncompleteWriteLeavesNoFile) {
     w.begin(dir / "t.safetensors");
     const double x = 1;
     w.write(&x, 8);
-    EXPECT_THROW(w.commit(), Error);
+    EXPECT_THROW(w.commit(), InternalError);  // a bug of the caller, not of the input
   }
   EXPECT_FALSE(std::filesystem::exists(dir / "t.safetensors"));
 }
@@ -199,7 +201,7 @@ TEST(Safetensors, ReservedHeaderRejectsMissingTensorsPartialRowsAndOverflow) {
     w.declare_growing("data", DType::F32, {4});
     w.begin(dir / "a.safetensors", 256);
     w.append(std::vector<float>(6).data(), 6 * sizeof(float));
-    EXPECT_THROW(w.end_growing(), Error);  // 1.5 rows
+    EXPECT_THROW(w.end_growing(), InternalError);  // 1.5 rows
   }
   {
     SafetensorsWriter w;
@@ -207,7 +209,7 @@ TEST(Safetensors, ReservedHeaderRejectsMissingTensorsPartialRowsAndOverflow) {
     w.declare_growing("data", DType::F32, {});
     w.begin(dir / "b.safetensors", 256);
     w.end_growing();
-    EXPECT_THROW(w.commit(), Error);  // "fixed" never written
+    EXPECT_THROW(w.commit(), InternalError);  // "fixed" never written
   }
   {
     SafetensorsWriter w;
@@ -215,7 +217,7 @@ TEST(Safetensors, ReservedHeaderRejectsMissingTensorsPartialRowsAndOverflow) {
     w.begin(dir / "c.safetensors", 64);
     w.end_growing();
     w.add_metadata("big", std::string(500, 'x'));
-    EXPECT_THROW(w.commit(), Error);  // header larger than reserved
+    EXPECT_THROW(w.commit(), InternalError);  // header larger than reserved
   }
   for (const char* name : {"a.safetensors", "b.safetensors", "c.safetensors"})
     EXPECT_FALSE(std::filesystem::exists(dir / name)) << name;
