@@ -12,6 +12,8 @@
 #include "core/blas.h"
 #include "core/error.h"
 #include "core/progress.h"
+#include "gp/likelihood.h"
+#include "gp/optimize.h"
 #include "manifold/build.h"
 
 namespace matlas::cli {

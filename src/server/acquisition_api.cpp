@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "acquisition/model_samples.h"
+#include "brdf/types.h"
 #include "core/error.h"
 #include "formats/sample_file.h"
 #include "server/api.h"

@@ -8,11 +8,14 @@
 
 #include "atlas/map_layers.h"
 #include "atlas/material_panels.h"
+#include "brdf/brdf_table.h"
+#include "brdf/types.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "formats/fast_png.h"
 #include "formats/merl_file.h"
 #include "manifold/export.h"
+#include "manifold/interpolation_state.h"
 #include "manifold/model_metadata.h"
 #include "manifold/project.h"
 #include "server/gi_scenes.h"
@@ -39,17 +42,16 @@ nlohmann::json row_major(const Eigen::MatrixXd& m) {
 /// GET /api/interpolation: the GP's latent points, kernel, nugget taper and Cholesky factor, and
 /// the convex mode's metric, so that a client computes Model::weights itself (docs/API.md).
 std::string interpolation_json(const Model& model) {
-  const gp::GpPosterior& gp = model.posterior();
+  const InterpolationState state = interpolation_state(model);
   nlohmann::json latent = nlohmann::json::array();
-  for (int i = 0; i < model.count(); ++i) latent.push_back(to_json(model.latent().row(i).transpose()));
-  const Eigen::MatrixXd L = gp.cholesky().matrixL();
+  for (Eigen::Index i = 0; i < state.latent.rows(); ++i) latent.push_back(to_json(state.latent.row(i).transpose()));
   return nlohmann::json{{"mode", std::string(to_string(model.interpolation()))},
-                        {"lengthscale", gp.kernel().lengthscale},
-                        {"nugget", gp.kernel().nugget},
+                        {"lengthscale", state.lengthscale},
+                        {"nugget", state.nugget},
                         {"latent", latent},
-                        {"taper_radius", to_json(gp.taper_radius())},
-                        {"cholesky", row_major(L)},
-                        {"metric", row_major(model.convex_metric())}}
+                        {"taper_radius", to_json(state.taper_radius)},
+                        {"cholesky", row_major(state.cholesky_lower)},
+                        {"metric", row_major(state.convex_metric)}}
       .dump();
 }
 
