@@ -15,7 +15,7 @@
 #include "formats/image_io.h"
 #include "manifold/model.h"
 #include "pathtrace/gi_basis.h"
-#include "pathtrace/model_bank.h"
+#include "atlas/model_material.h"
 
 namespace {
 
@@ -82,11 +82,11 @@ int main(int argc, char** argv) {
           b = i;
       const Eigen::VectorXd x = 0.5 * (latent.row(a) + latent.row(b)).transpose();
       const Eigen::VectorXd w = model.weights(x);
-      const ModelPointBank bank(model, w);
-      const TraceImages ref = trace(world, &bank, settings);
+      const auto bank = atlas::model_point_bank(model, w);
+      const TraceImages ref = trace(world, bank.get(), settings);
       TraceSettings other = settings;
       other.seed = settings.seed + 1000;
-      const Image ref2 = trace(world, &bank, other).full(0);
+      const Image ref2 = trace(world, bank.get(), other).full(0);
       const Image full = ref.full(0);
       std::vector<bool> reflection(full.pixel_count());
       double i2 = 0, total = 0;

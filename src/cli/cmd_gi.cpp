@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "atlas/model_material.h"
 #include "cli/commands.h"
 #include "cli/latent_point.h"
 #include "cli/render_options.h"
@@ -13,7 +14,6 @@
 #include "manifold/model.h"
 #include "pathtrace/gi_basis.h"
 #include "pathtrace/gi_density.h"
-#include "pathtrace/model_bank.h"
 #include "render/auto_exposure.h"
 
 namespace matlas::cli {
@@ -167,10 +167,10 @@ void run_gi_render(const RenderArgs& a, const Io& io) {
   const Model model = Model::open(a.model);
   const pathtrace::World world(pathtrace::load_scene(a.trace.scene, a.trace.object));
   refuse_output_among_inputs(a.image.output, scene_inputs(a.trace, world, {a.model}));
-  const pathtrace::ModelPointBank bank(model, model.weights(resolve_point(model, a.at, a.material)));
+  const auto bank = atlas::model_point_bank(model, model.weights(resolve_point(model, a.at, a.material)));
   TerminalProgress progress;
   const auto start = std::chrono::steady_clock::now();
-  const pathtrace::TraceImages r = pathtrace::trace(world, &bank, a.trace.for_model(model), progress);
+  const pathtrace::TraceImages r = pathtrace::trace(world, bank.get(), a.trace.for_model(model), progress);
   const bool has = !r.once.empty();
   const Image image = a.part == "p" || !has ? r.p : a.part == "i1" ? r.i1(0) : a.part == "i2" ? r.more[0] : r.full(0);
   write_image(a.image.output, image, a.image.tone.tone());

@@ -15,7 +15,7 @@
 #include "core/simd_clones.h"
 #include "formats/safetensors.h"
 #include "pathtrace/gi_density.h"
-#include "pathtrace/model_bank.h"
+#include "atlas/model_bank.h"
 #include "atlas/model_basis.h"
 
 namespace matlas::pathtrace {
@@ -309,7 +309,7 @@ GiBasis build_gi_basis(const Model& model, const World& world, const TraceSettin
     }
     progress.message("tracing materials " + std::to_string(first) + ".." + std::to_string(last - 1) + " of " +
                      std::to_string(k_count - 1) + " (0: the mean)");
-    const ModelBank bank(model, first, last);
+    const atlas::ModelBank bank(model, first, last);
     TraceImages r = trace(world, &bank, settings, progress);
     for (int k = first; k < last; ++k) {
       const std::size_t j = static_cast<std::size_t>(k - first);
@@ -328,7 +328,7 @@ GiBasis build_gi_basis(const Model& model, const World& world, const TraceSettin
     }
   }
   if (!have_p) {  // every material came from the cache but P did not
-    const ModelBank bank(model, 0, 1);
+    const atlas::ModelBank bank(model, 0, 1);
     p = trace(world, &bank, settings, progress).p;
     if (cached) write_images(options.cache / "p.safetensors", key, {{"p", &p}});
   }

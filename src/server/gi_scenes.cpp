@@ -17,7 +17,7 @@
 #include "manifold/model.h"
 #include "pathtrace/gi_basis.h"
 #include "pathtrace/gi_density.h"
-#include "pathtrace/model_bank.h"
+#include "atlas/model_material.h"
 #include "pathtrace/scene_spec.h"
 #include "pathtrace/world.h"
 #include "server/cancellable_sink.h"
@@ -270,7 +270,7 @@ GiScenes::Refined GiScenes::refine(const std::string& scene, const Eigen::Vector
       settings.trace.height = size.second;
       settings.trace.spp = 1;
       trace = std::make_shared<pathtrace::ProgressiveTrace>(
-          world, std::make_shared<const pathtrace::ModelPointBank>(im.model, w), settings);
+          world, atlas::model_point_bank(im.model, w), settings);
       im.refinements[key] = {trace, ++im.refine_clock};
       while (im.refinements.size() > static_cast<std::size_t>(std::max(1, im.options.max_refinements))) {
         auto oldest = im.refinements.begin();

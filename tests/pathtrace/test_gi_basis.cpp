@@ -8,6 +8,7 @@
 #include <fstream>
 #include <limits>
 
+#include "atlas/model_material.h"
 #include "brdf/catalog.h"
 #include "core/error.h"
 #include "formats/synth_database.h"
@@ -16,7 +17,6 @@
 #include "formats/merl_file.h"
 #include "formats/safetensors.h"
 #include "pathtrace/gi_basis.h"
-#include "pathtrace/model_bank.h"
 #include "support/temp_dir.h"
 
 namespace matlas::pathtrace {
@@ -54,8 +54,7 @@ protected:
   /// Direct render of the model's table at weights w, with the basis's random numbers.
   /// (Model::bin_rgb: the same values as Model::table(w), negative ones of an extrapolation kept.)
   static TraceImages direct(const Eigen::VectorXd& w) {
-    const ModelPointBank bank(*model_, w);
-    return trace(*world_, &bank, settings());
+    return trace(*world_, atlas::model_point_bank(*model_, w).get(), settings());
   }
   /// Largest difference over the reference's largest magnitude.
   static double max_relative(const Image& a, const Image& b) {
