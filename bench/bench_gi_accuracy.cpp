@@ -12,14 +12,15 @@
 #include <cstdio>
 #include <string>
 
+#include "atlas/gi_basis.h"
+#include "atlas/model_material.h"
 #include "formats/image_io.h"
 #include "manifold/model.h"
-#include "pathtrace/gi_basis.h"
-#include "atlas/model_material.h"
 
 namespace {
 
 using namespace matlas;
+using namespace matlas::atlas;
 using namespace matlas::pathtrace;
 
 struct Error2 {

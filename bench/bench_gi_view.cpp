@@ -25,17 +25,18 @@
 #include <filesystem>
 #include <string>
 
+#include "atlas/gi_basis.h"
+#include "atlas/gi_density.h"
 #include "atlas/model_material.h"
 #include "formats/image_io.h"
 #include "manifold/model.h"
-#include "pathtrace/gi_basis.h"
-#include "pathtrace/gi_density.h"
 #include "pathtrace/progressive_trace.h"
 #include "render/auto_exposure.h"
 
 namespace {
 
 using namespace matlas;
+using namespace matlas::atlas;
 using namespace matlas::pathtrace;
 
 double cpu_seconds() {
