@@ -4,7 +4,6 @@
 #include <cstdio>
 
 #if defined(__x86_64__) && defined(__GNUC__)
-#include <cpuid.h>
 #include <immintrin.h>
 #endif
 
@@ -13,6 +12,7 @@
 #include "atlas/gi_density.h"
 #include "atlas/model_bank.h"
 #include "atlas/model_basis.h"
+#include "core/cpu_features.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "core/simd_clones.h"
@@ -40,17 +40,11 @@ __attribute__((target("avx2,fma,f16c"))) void add_scaled_half_f16c(float a, cons
     _mm256_storeu_ps(y + j, _mm256_fmadd_ps(va, v, _mm256_loadu_ps(y + j)));
   }
 }
-
-bool has_f16c() {
-  unsigned eax = 0, ebx = 0, ecx = 0, edx = 0;
-  if (!__get_cpuid(1, &eax, &ebx, &ecx, &edx)) return false;
-  return (ecx & (1u << 29)) != 0 && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-}
 #endif
 
 void add_scaled_half(float a, const std::uint16_t* x, float* y, std::size_t n) {
 #if defined(__x86_64__) && defined(__GNUC__)
-  static const bool fast = has_f16c();
+  static const bool fast = cpu_has_avx2_fma_f16c();
   if (fast) return add_scaled_half_f16c(a, x, y, n);
 #endif
   for (std::size_t j = 0; j < n; ++j) y[j] += a * half_to_float(x[j]);
