@@ -9,14 +9,14 @@
 #include <random>
 #include <vector>
 
+#include "atlas/gi_basis.h"
 #include "core/parallel.h"
 #include "core/simd_clones.h"
-#include "pathtrace/gi_basis.h"
 
 namespace {
 
 using matlas::Image;
-using matlas::pathtrace::GiBasis;
+using matlas::atlas::GiBasis;
 
 constexpr int kSize = 512, kCount = 100;
 constexpr std::size_t kValues = static_cast<std::size_t>(kSize) * kSize * 3;

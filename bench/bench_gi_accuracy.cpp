@@ -12,14 +12,15 @@
 #include <cstdio>
 #include <string>
 
+#include "atlas/gi_basis.h"
+#include "atlas/model_material.h"
 #include "formats/image_io.h"
 #include "manifold/model.h"
-#include "pathtrace/gi_basis.h"
-#include "pathtrace/model_bank.h"
 
 namespace {
 
 using namespace matlas;
+using namespace matlas::atlas;
 using namespace matlas::pathtrace;
 
 struct Error2 {
@@ -82,11 +83,11 @@ int main(int argc, char** argv) {
           b = i;
       const Eigen::VectorXd x = 0.5 * (latent.row(a) + latent.row(b)).transpose();
       const Eigen::VectorXd w = model.weights(x);
-      const ModelPointBank bank(model, w);
-      const TraceImages ref = trace(world, &bank, settings);
+      const auto bank = atlas::model_point_bank(model, w);
+      const TraceImages ref = trace(world, bank.get(), settings);
       TraceSettings other = settings;
       other.seed = settings.seed + 1000;
-      const Image ref2 = trace(world, &bank, other).full(0);
+      const Image ref2 = trace(world, bank.get(), other).full(0);
       const Image full = ref.full(0);
       std::vector<bool> reflection(full.pixel_count());
       double i2 = 0, total = 0;

@@ -25,17 +25,18 @@
 #include <filesystem>
 #include <string>
 
+#include "atlas/gi_basis.h"
+#include "atlas/gi_density.h"
+#include "atlas/model_material.h"
 #include "formats/image_io.h"
 #include "manifold/model.h"
-#include "pathtrace/gi_basis.h"
-#include "pathtrace/gi_density.h"
-#include "pathtrace/model_bank.h"
 #include "pathtrace/progressive_trace.h"
 #include "render/auto_exposure.h"
 
 namespace {
 
 using namespace matlas;
+using namespace matlas::atlas;
 using namespace matlas::pathtrace;
 
 double cpu_seconds() {
@@ -107,7 +108,7 @@ int main(int argc, char** argv) {
     const int ref_spp = std::stoi(argv[7]);
     TraceSettings base;
     base.density = fit_gi_density(model);
-    const auto bank = std::make_shared<const ModelPointBank>(model, w);
+    const auto bank = atlas::model_point_bank(model, w);
     std::printf("scene %s/%s, point %s | %s, n = %d, load average %.1f (2-core machine, shared)\n", argv[2], argv[3],
                 argv[4], argv[5], model.count(), load_start);
 

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "atlas/model_basis.h"
+#include "atlas/model_bank.h"
 #include "atlas/model_material.h"
 #include "atlas/sampling_fit.h"
 #include "manifold/model.h"

@@ -1,13 +1,13 @@
 // Fuzz target: the two image-basis files (safetensors): the preview image basis
 // (render/image_basis.h; then composed, directly and through its low-rank form) and the GI basis
-// (pathtrace/gi_basis.h; then composed).
+// (atlas/gi_basis.h; then composed).
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
+#include "atlas/gi_basis.h"
 #include "core/error.h"
 #include "memfile.h"
-#include "pathtrace/gi_basis.h"
 #include "render/image_basis.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -21,7 +21,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   } catch (const matlas::Error&) {
   }
   try {
-    const matlas::pathtrace::GiBasis gi = matlas::pathtrace::GiBasis::load(file.path());
+    const matlas::atlas::GiBasis gi = matlas::atlas::GiBasis::load(file.path());
     (void)gi.compose(Eigen::VectorXd::Constant(gi.count(), 0.5));
   } catch (const matlas::Error&) {
   }

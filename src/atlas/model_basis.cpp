@@ -3,7 +3,7 @@
 #include <map>
 #include <vector>
 
-#include "atlas/model_material.h"
+#include "atlas/model_bank.h"
 #include "atlas/sampling_fit.h"
 #include "core/hash.h"
 #include "manifold/model_metadata.h"

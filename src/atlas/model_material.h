@@ -1,6 +1,8 @@
 #pragma once
 // The manifold's materials for the renderer (render/material.h): the model's material at any
-// weights, and the bank of the model's mean and database materials that image bases are made of.
+// weights (the bank of the model's mean and database materials is atlas/model_bank.h).
+#include <memory>
+
 #include <Eigen/Core>
 
 #include "manifold/model.h"
@@ -32,18 +34,12 @@ private:
   BrdfTable table_;
 };
 
-/// The model's mean material (w = 0) followed by every database material i (w = e_i =
-/// Model::material_weights(i), so dropped columns read 0 exactly as in ModelMaterial): count() is
-/// n + 1. One bin index and one contiguous run of n stored values per channel serve all of them:
-/// f_i = mean + centred_i, exactly Model::value(v, e_i).
-class ModelBank final : public render::MaterialBank {
-public:
-  explicit ModelBank(const Model& model) : model_(model) {}
-  int count() const override { return model_.count() + 1; }
-  void eval_all(const Vec3& wi, const Vec3& wo, double* out) const override;
-
-private:
-  const Model& model_;
-};
+/// The model's material at weights w (ModelMaterial: m(w) through Model::bin_rgb, negative values
+/// of an extrapolation kept, so an image stays linear in w) as a bank of one that owns it: the
+/// path tracer's measured object at one map point.
+inline std::shared_ptr<const render::MaterialList> model_point_bank(const Model& model, Eigen::VectorXd weights) {
+  return std::make_shared<const render::MaterialList>(
+      render::MaterialList::owning({std::make_shared<const ModelMaterial>(model, std::move(weights))}));
+}
 
 }  // namespace matlas::atlas

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <numeric>
 
-#include "atlas/model_material.h"
+#include "atlas/model_bank.h"
 #include "brdf/merl_grid.h"
 #include "core/check.h"
 

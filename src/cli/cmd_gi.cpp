@@ -5,15 +5,18 @@
 #include <string>
 #include <vector>
 
+#include "atlas/gi_basis.h"
+#include "atlas/gi_density.h"
+#include "atlas/model_material.h"
 #include "cli/commands.h"
 #include "cli/latent_point.h"
 #include "cli/render_options.h"
 #include "core/error.h"
 #include "core/file_io.h"
 #include "manifold/model.h"
-#include "pathtrace/gi_basis.h"
-#include "pathtrace/gi_density.h"
-#include "pathtrace/model_bank.h"
+#include "pathtrace/scene_spec.h"
+#include "pathtrace/tracer.h"
+#include "pathtrace/world.h"
 #include "render/auto_exposure.h"
 
 namespace matlas::cli {
@@ -28,7 +31,7 @@ struct TraceOptions {
   pathtrace::TraceSettings for_model(const Model& model) const {
     if (density != "fitted" && density != "fixed") throw Error("--density must be fitted or fixed");
     pathtrace::TraceSettings s = settings;
-    s.density = density == "fitted" ? pathtrace::fit_gi_density(model) : pathtrace::default_fixed_density();
+    s.density = density == "fitted" ? atlas::fit_gi_density(model) : pathtrace::default_fixed_density();
     return s;
   }
 };
@@ -88,12 +91,12 @@ void run_gi_basis(const GiBasisArgs& a, const Io& io) {
   const Model model = Model::open(a.model);
   const pathtrace::World world(pathtrace::load_scene(a.trace.scene, a.trace.object));
   refuse_output_among_inputs(a.output, scene_inputs(a.trace, world, {a.model}));
-  pathtrace::GiBasisOptions options;
+  atlas::GiBasisOptions options;
   options.batch = a.batch;
   options.cache = a.cache.empty() ? std::filesystem::path(a.output + ".cache") : std::filesystem::path(a.cache);
   TerminalProgress progress;
   const auto start = std::chrono::steady_clock::now();
-  const pathtrace::GiBasis basis = pathtrace::build_gi_basis(model, world, a.trace.for_model(model), options, progress);
+  const atlas::GiBasis basis = atlas::build_gi_basis(model, world, a.trace.for_model(model), options, progress);
   basis.save(a.output);
   print(io.out, "basis of %d material images + P (%dx%d, %d spp) in %.1f s; cache %s\nwrote %s\n", basis.count() + 1,
               basis.width(), basis.height(), a.trace.settings.spp, seconds_since(start), options.cache.c_str(),
@@ -124,12 +127,12 @@ void run_gi(const GiArgs& a, const Io& io) {
   if (a.part != "all" && a.part != "i1") throw Error("--part must be all or i1");
   refuse_output_among_inputs(a.image.output, {a.model, a.basis});
   const Model model = Model::open(a.model);
-  const pathtrace::GiBasis basis = pathtrace::GiBasis::load(a.basis);
-  pathtrace::require_basis_of_model(basis, model, a.basis);
+  const atlas::GiBasis basis = atlas::GiBasis::load(a.basis);
+  atlas::require_basis_of_model(basis, model, a.basis);
   const Eigen::VectorXd x = resolve_point(model, a.at, a.material);
   const Eigen::VectorXd w = model.weights(x);
   const auto start = std::chrono::steady_clock::now();
-  const Image image = basis.compose(w, a.part == "i1" ? pathtrace::GiBasis::Part::i1 : pathtrace::GiBasis::Part::all);
+  const Image image = basis.compose(w, a.part == "i1" ? atlas::GiBasis::Part::i1 : atlas::GiBasis::Part::all);
   const double ms = 1e3 * seconds_since(start);
   ToneMap tone = a.image.tone.tone();
   if (a.auto_exposure) tone.exposure += render::auto_exposure(basis.compose(Eigen::VectorXd::Zero(model.count())));
@@ -167,10 +170,10 @@ void run_gi_render(const RenderArgs& a, const Io& io) {
   const Model model = Model::open(a.model);
   const pathtrace::World world(pathtrace::load_scene(a.trace.scene, a.trace.object));
   refuse_output_among_inputs(a.image.output, scene_inputs(a.trace, world, {a.model}));
-  const pathtrace::ModelPointBank bank(model, model.weights(resolve_point(model, a.at, a.material)));
+  const auto bank = atlas::model_point_bank(model, model.weights(resolve_point(model, a.at, a.material)));
   TerminalProgress progress;
   const auto start = std::chrono::steady_clock::now();
-  const pathtrace::TraceImages r = pathtrace::trace(world, &bank, a.trace.for_model(model), progress);
+  const pathtrace::TraceImages r = pathtrace::trace(world, bank.get(), a.trace.for_model(model), progress);
   const bool has = !r.once.empty();
   const Image image = a.part == "p" || !has ? r.p : a.part == "i1" ? r.i1(0) : a.part == "i2" ? r.more[0] : r.full(0);
   write_image(a.image.output, image, a.image.tone.tone());

@@ -17,7 +17,7 @@ void ProgressiveTraceSettings::validate() const {
   if (max_spp < trace.spp) throw Error("progressive trace: max_spp is below the first pass's spp");
 }
 
-ProgressiveTrace::ProgressiveTrace(std::shared_ptr<const World> world, std::shared_ptr<const TableBank> bank,
+ProgressiveTrace::ProgressiveTrace(std::shared_ptr<const World> world, std::shared_ptr<const render::MaterialBank> bank,
                                    ProgressiveTraceSettings settings)
     : world_(std::move(world)), bank_(std::move(bank)), settings_(std::move(settings)) {
   MATLAS_CHECK(world_ && bank_ && bank_->count() == 1);

@@ -2,8 +2,8 @@
 // ProgressiveTrace: the GI image of one map point refined pass after pass while the user rests on
 // it (the scene view's refinement, docs/GI.md), as render/progressive_render.h refines previews.
 //
-// Every pass is an independent trace() of the point's own table (a ModelPointBank: the full image
-// I = P + N z + I2 of m(x), no interpolated I2) with its own seed, none of them the basis's: each
+// Every pass is an independent trace() of the point's own material (a bank of one, the model's
+// material at the point: the full image I = P + N z + I2 of m(x), no interpolated I2) with its own seed, none of them the basis's: each
 // is an unbiased estimate of the same image, so passes are averaged weighted by their samples per
 // pixel, and nothing of the basis (other sampling, interpolated I2) is mixed in. Passes go
 // alternately into two halves A and B, which gives the error of the mean without a reference
@@ -16,7 +16,6 @@
 
 #include "core/progress.h"
 #include "formats/image_io.h"
-#include "pathtrace/table_bank.h"
 #include "pathtrace/tracer.h"
 #include "pathtrace/world.h"
 
@@ -45,7 +44,7 @@ struct ProgressiveTraceState {
 class ProgressiveTrace {
 public:
   /// The world and the bank (one material) must outlive the refinement (shared pointers).
-  ProgressiveTrace(std::shared_ptr<const World> world, std::shared_ptr<const TableBank> bank,
+  ProgressiveTrace(std::shared_ptr<const World> world, std::shared_ptr<const render::MaterialBank> bank,
                    ProgressiveTraceSettings settings);
 
   /// Adds passes for about `seconds` (at least one, none once converged). One caller refines at a
@@ -61,7 +60,7 @@ private:
   void add_pass(const Image& pass, int spp, double seconds);
 
   std::shared_ptr<const World> world_;
-  std::shared_ptr<const TableBank> bank_;
+  std::shared_ptr<const render::MaterialBank> bank_;
   ProgressiveTraceSettings settings_;
   std::mutex refining_;
   mutable std::mutex state_mutex_;

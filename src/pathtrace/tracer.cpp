@@ -54,7 +54,7 @@ struct Frame {
 
 class PathTracer {
 public:
-  PathTracer(const World& world, const TableBank* bank, const TraceSettings& settings)
+  PathTracer(const World& world, const render::MaterialBank* bank, const TraceSettings& settings)
       : world_(world), bank_(bank), s_(settings) {}
 
   void trace_sample(render::SampleStream& rng, double px, double py, Accumulator& acc,
@@ -104,7 +104,7 @@ public:
       const auto connect = [&](const Vec3& wi_world, const Rgb& c) {
         const Vec3 wi = frame.to_local(wi_world);
         if (measured) {
-          bank_->eval_bin(bin_of(bank_->dims(), wi, wo), scratch.data());
+          bank_->eval_all(wi, wo, scratch.data());
           if (touches > 0)
             for (std::size_t i = 0; i < scratch.size(); ++i) scratch[i] *= prod[i];
           acc.add(c, touches + 1, scratch.data());
@@ -149,7 +149,7 @@ public:
       if (wi_world.dot(ng) <= 0) return;
       if (measured) {
         beta *= wi.z() / pdf;
-        bank_->eval_bin(bin_of(bank_->dims(), wi, wo), scratch.data());
+        bank_->eval_all(wi, wo, scratch.data());
         if (touches == 0) prod = scratch;
         else
           for (std::size_t i = 0; i < prod.size(); ++i) prod[i] *= scratch[i];
@@ -170,7 +170,7 @@ public:
   }
 
   const World& world_;
-  const TableBank* bank_;
+  const render::MaterialBank* bank_;
   const TraceSettings& s_;
 };
 
@@ -200,11 +200,11 @@ Image TraceImages::full(int k) const {
   return out;
 }
 
-TraceImages trace(const World& world, const TableBank* bank, const TraceSettings& settings, ProgressSink& progress) {
+TraceImages trace(const World& world, const render::MaterialBank* bank, const TraceSettings& settings, ProgressSink& progress) {
   settings.validate();
   if (world.measured_object() >= 0 && bank && !(bank->count() > 0)) throw Error("the material bank is empty");
   const int k = (bank && world.measured_object() >= 0) ? bank->count() : 0;
-  const TableBank* used = k > 0 ? bank : nullptr;
+  const render::MaterialBank* used = k > 0 ? bank : nullptr;
   TraceImages out;
   out.p = Image(settings.width, settings.height);
   out.once.assign(static_cast<std::size_t>(k), Image(settings.width, settings.height));

@@ -20,8 +20,8 @@
 #include "core/progress.h"
 #include "formats/image_io.h"
 #include "pathtrace/surface.h"
-#include "pathtrace/table_bank.h"
 #include "pathtrace/world.h"
+#include "render/material.h"
 
 namespace matlas::pathtrace {
 
@@ -48,7 +48,7 @@ struct TraceImages {
 
 /// Traces the scene with every material of `bank` on the measured object (bank may be null when
 /// the scene has none; then only p is filled).
-TraceImages trace(const World& world, const TableBank* bank, const TraceSettings& settings,
+TraceImages trace(const World& world, const render::MaterialBank* bank, const TraceSettings& settings,
                   ProgressSink& progress = null_progress());
 
 }  // namespace matlas::pathtrace

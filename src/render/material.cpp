@@ -20,6 +20,13 @@ Rgb TableCombination::eval(const Vec3& wi, const Vec3& wo) const {
   return f;
 }
 
+MaterialList MaterialList::owning(std::vector<std::shared_ptr<const Material>> materials) {
+  MaterialList list({});
+  for (const auto& m : materials) list.materials_.push_back(m.get());
+  list.owned_ = std::move(materials);
+  return list;
+}
+
 void MaterialList::eval_all(const Vec3& wi, const Vec3& wo, double* out) const {
   for (std::size_t k = 0; k < materials_.size(); ++k) {
     const Rgb f = materials_[k]->eval(wi, wo);

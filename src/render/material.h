@@ -1,8 +1,10 @@
 #pragma once
 // What the renderer shades with: any BRDF f(wi, wo) in the local frame (normal +z), and banks of
-// many materials evaluated together (for image bases). The renderer's estimator is linear in f:
-// every sample's direction and weight are independent of the material. The renderer knows
-// nothing of the manifold: model-backed materials are in atlas/model_material.h.
+// many materials evaluated together (for image bases and the path tracer's measured object). The
+// estimators are linear in f: every sample's direction and weight are independent of the
+// material. The renderer knows nothing of the manifold: model-backed materials and the model's
+// bank are in atlas/model_material.h and atlas/model_bank.h.
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
@@ -54,24 +56,29 @@ private:
   BrdfFunction f_;
 };
 
-/// Many materials evaluated at once for the same directions (the image-basis pass).
+/// Many materials evaluated at once for the same directions: the image-basis pass
+/// (render_bank), the path tracer's measured object (pathtrace::trace), the sampling fit.
 class MaterialBank {
 public:
   virtual ~MaterialBank() = default;
   virtual int count() const = 0;
-  /// out[3 k + c] = f_k(wi, wo)[c] for k < count().
+  /// out[3 k + c] = f_k(wi, wo)[c] for k < count(). Called concurrently from several threads.
   virtual void eval_all(const Vec3& wi, const Vec3& wo, double* out) const = 0;
 };
 
-/// A bank of independent materials (each evaluated on its own).
+/// A bank of independent materials (each evaluated on its own), held elsewhere or owned.
 class MaterialList final : public MaterialBank {
 public:
+  /// The materials must outlive the bank.
   explicit MaterialList(std::vector<const Material*> materials) : materials_(std::move(materials)) {}
+  /// A bank that keeps its materials alive (a refinement that outlives its caller).
+  static MaterialList owning(std::vector<std::shared_ptr<const Material>> materials);
   int count() const override { return static_cast<int>(materials_.size()); }
   void eval_all(const Vec3& wi, const Vec3& wo, double* out) const override;
 
 private:
   std::vector<const Material*> materials_;
+  std::vector<std::shared_ptr<const Material>> owned_;
 };
 
 }  // namespace matlas::render

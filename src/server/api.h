@@ -20,7 +20,7 @@
 #include "server/realtime.h"
 #include "server/request_parsing.h"
 
-namespace matlas::pathtrace {
+namespace matlas::atlas {
 class GiBasis;
 }
 
@@ -123,13 +123,13 @@ private:
                           const std::string& object, int size);
   nlohmann::json top_weights(const Eigen::VectorXd& w, int count) const;
   /// The automatic exposure of a GI scene with the mean material, computed once per scene.
-  double gi_auto_exposure(const std::string& scene, const pathtrace::GiBasis& basis);
+  double gi_auto_exposure(const std::string& scene, const atlas::GiBasis& basis);
   /// The offered scene named by `scene` (the first when empty); 404 without GI scenes.
   std::string gi_scene(const std::string& scene) const;
   /// The tone map of a GI image: the server's, with `tone` ("" or a curve name) and the exposure
   /// ("auto": the scene's automatic exposure, from `basis` when there is one, else from `image`).
   ToneMap gi_tone(const std::string& scene, bool auto_exposure, double exposure, const std::string& tone,
-                  const pathtrace::GiBasis* basis, const Image* image);
+                  const atlas::GiBasis* basis, const Image* image);
 
   const Model& model_;
   PlausibilityProbe plausibility_;      ///< for one point (weights reply): 4096 sampled columns

@@ -5,8 +5,8 @@
 #include <cstdio>
 #include <string>
 
+#include "atlas/gi_basis.h"
 #include "formats/fast_png.h"
-#include "pathtrace/gi_basis.h"
 #include "render/auto_exposure.h"
 #include "server/api.h"
 #include "server/gi_scenes.h"
@@ -14,7 +14,7 @@
 
 namespace matlas::server {
 
-double Api::gi_auto_exposure(const std::string& scene, const pathtrace::GiBasis& basis) {
+double Api::gi_auto_exposure(const std::string& scene, const atlas::GiBasis& basis) {
   std::lock_guard lock(gi_exposure_mutex_);
   const auto it = gi_exposure_.find(scene);
   if (it != gi_exposure_.end()) return it->second;
@@ -33,7 +33,7 @@ std::string Api::gi_scene(const std::string& scene) const {
 }
 
 ToneMap Api::gi_tone(const std::string& scene, bool auto_exposure, double exposure, const std::string& tone_text,
-                     const pathtrace::GiBasis* basis, const Image* image) {
+                     const atlas::GiBasis* basis, const Image* image) {
   ToneMap tone = gi_->tone();
   if (tone_text == "aces") tone.curve = ToneMap::Curve::aces;
   else if (tone_text == "reinhard") tone.curve = ToneMap::Curve::reinhard;

@@ -13,11 +13,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "atlas/gi_basis.h"
+#include "atlas/gi_density.h"
+#include "atlas/model_material.h"
 #include "core/error.h"
 #include "manifold/model.h"
-#include "pathtrace/gi_basis.h"
-#include "pathtrace/gi_density.h"
-#include "pathtrace/model_bank.h"
 #include "pathtrace/scene_spec.h"
 #include "pathtrace/world.h"
 #include "server/cancellable_sink.h"
@@ -87,14 +87,14 @@ struct GiScenes::Impl {
   };
 
   Impl(const Model& m, GiSceneOptions o) : model(m), options(std::move(o)) {
-    if (options.fit_density) options.trace.density = pathtrace::fit_gi_density(model);
+    if (options.fit_density) options.trace.density = atlas::fit_gi_density(model);
     options.trace.validate();
     if (options.batch <= 0) throw Error("GI scenes: the batch must be positive");
     passes = (model.count() + 1 + options.batch - 1) / options.batch;
     for (const auto& path : options.bases) {
-      auto basis = std::make_shared<const pathtrace::GiBasis>(pathtrace::GiBasis::load(path));
-      pathtrace::require_basis_of_model(*basis, model, path);
-      std::string name = pathtrace::gi_basis_scene_name(*basis);
+      auto basis = std::make_shared<const atlas::GiBasis>(atlas::GiBasis::load(path));
+      atlas::require_basis_of_model(*basis, model, path);
+      std::string name = atlas::gi_basis_scene_name(*basis);
       if (name.empty()) name = path.stem().string();
       if (std::find(given.begin(), given.end(), name) != given.end())
         throw Error(path.string() + ": a second basis of the scene '" + name + "'");
@@ -139,8 +139,8 @@ struct GiScenes::Impl {
         Recorder recorder(*this, scene);
         CancellableSink sink(recorder, stop);
         std::filesystem::create_directories(options.cache_dir);
-        auto basis = std::make_shared<const pathtrace::GiBasis>(
-            pathtrace::open_or_build_gi_basis(model, world, options.trace, basis_path(scene), options.batch, sink));
+        auto basis = std::make_shared<const atlas::GiBasis>(
+            atlas::open_or_build_gi_basis(model, world, options.trace, basis_path(scene), options.batch, sink));
         std::lock_guard lock(mutex);
         states[scene] = GiSceneState{std::move(basis), 1.0, "ready", ""};
       } catch (const Cancelled&) {
@@ -165,7 +165,7 @@ struct GiScenes::Impl {
 
   /// The world of an offered scene and the size of its images. Caller holds refine_mutex.
   std::pair<std::shared_ptr<const pathtrace::World>, std::pair<int, int>> world_of(const std::string& scene) const {
-    std::shared_ptr<const pathtrace::GiBasis> given_basis;
+    std::shared_ptr<const atlas::GiBasis> given_basis;
     {
       std::lock_guard lock(mutex);
       require_offered(scene);
@@ -240,7 +240,7 @@ GiSceneState GiScenes::state(const std::string& scene) const {
   return impl_->locked_state(scene);
 }
 
-std::shared_ptr<const pathtrace::GiBasis> GiScenes::wait(const std::string& scene) const {
+std::shared_ptr<const atlas::GiBasis> GiScenes::wait(const std::string& scene) const {
   std::unique_lock lock(impl_->mutex);
   impl_->locked_state(scene);
   impl_->changed.wait(lock, [&] {
@@ -270,7 +270,7 @@ GiScenes::Refined GiScenes::refine(const std::string& scene, const Eigen::Vector
       settings.trace.height = size.second;
       settings.trace.spp = 1;
       trace = std::make_shared<pathtrace::ProgressiveTrace>(
-          world, std::make_shared<const pathtrace::ModelPointBank>(im.model, w), settings);
+          world, atlas::model_point_bank(im.model, w), settings);
       im.refinements[key] = {trace, ++im.refine_clock};
       while (im.refinements.size() > static_cast<std::size_t>(std::max(1, im.options.max_refinements))) {
         auto oldest = im.refinements.begin();

@@ -1,6 +1,6 @@
 #pragma once
 // GiScenes: the scene view of the material browser (docs/GI.md, docs/WEB.md): per scene a GI
-// image basis (pathtrace/gi_basis.h), composed at a map point's weights exactly as `matlas gi`
+// image basis (atlas/gi_basis.h), composed at a map point's weights exactly as `matlas gi`
 // composes it. A scene's basis is either a file made by `matlas gi-basis` (given at start-up,
 // checked against the model) or traced in the background on the scene's first request (the
 // built-in scenes, at a small default size), saved beside the model (MODEL.gi/) with its
@@ -24,7 +24,7 @@
 namespace matlas {
 class Model;
 }
-namespace matlas::pathtrace {
+namespace matlas::atlas {
 class GiBasis;
 }
 
@@ -40,7 +40,7 @@ struct GiSceneOptions {
   std::vector<std::string> scenes = {"floor", "box"};  ///< traced on demand (built-in names or .json files)
   std::string object = "sphere";                       ///< the measured object of the built-in scenes
   pathtrace::TraceSettings trace = default_gi_trace();
-  bool fit_density = true;  ///< trace.density := the model's fitted density (pathtrace/gi_density.h)
+  bool fit_density = true;  ///< trace.density := the model's fitted density (atlas/gi_density.h)
   int batch = 32;                                      ///< materials per tracing pass
   int max_refinements = 2;                             ///< points refined at rest kept in memory
   int refine_width = 512;                              ///< width of the refined image (the basis's aspect)
@@ -51,7 +51,7 @@ struct GiSceneOptions {
 /// Where a scene stands: its basis once ready; before that, how far its tracing got (or why it
 /// failed).
 struct GiSceneState {
-  std::shared_ptr<const pathtrace::GiBasis> basis;
+  std::shared_ptr<const atlas::GiBasis> basis;
   double progress = 0.0;  ///< [0, 1]
   std::string stage;      ///< what is being done, for people
   std::string error;      ///< non-empty: the tracing failed
@@ -81,7 +81,7 @@ public:
   /// in the background. matlas::Error for a scene not offered (the message lists them).
   GiSceneState state(const std::string& scene) const;
   /// Blocks until the scene is ready and returns its basis (matlas::Error if tracing failed).
-  std::shared_ptr<const pathtrace::GiBasis> wait(const std::string& scene) const;
+  std::shared_ptr<const atlas::GiBasis> wait(const std::string& scene) const;
 
   /// A refined image of the point `point` (a key: the same key, the same refinement; its weights
   /// are w) in `scene`: a direct progressive trace of m(x) at the scene's size and density

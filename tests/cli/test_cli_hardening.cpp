@@ -21,9 +21,9 @@
 #include <gtest/gtest.h>
 
 #include "brdf/catalog.h"
-#include "core/atomic_file.h"
-#include "cli/model_surgery.h"
 #include "cli/in_process.h"
+#include "cli/model_surgery.h"
+#include "core/atomic_file.h"
 #include "formats/merl_file.h"
 #include "formats/synth_database.h"
 #include "support/temp_dir.h"

@@ -8,6 +8,7 @@
 
 #include "brdf/tabulate.h"
 #include "pathtrace/progressive_trace.h"
+#include "render/material.h"
 
 namespace matlas::pathtrace {
 namespace {
@@ -28,7 +29,8 @@ SceneSpec furnace() {
 struct Fixture {
   BrdfTable table = tabulate([](const Vec3&, const Vec3&) -> Rgb { return Rgb(0.9, 0.5, 0.2) / kPi; });
   std::shared_ptr<const World> world = std::make_shared<const World>(furnace());
-  std::shared_ptr<const TableListBank> bank = std::make_shared<const TableListBank>(std::vector<const BrdfTable*>{&table});
+  std::shared_ptr<const render::MaterialList> bank = std::make_shared<const render::MaterialList>(
+      render::MaterialList::owning({std::make_shared<const render::TableMaterial>(table)}));
   ProgressiveTraceSettings settings() const {
     ProgressiveTraceSettings s;
     s.trace.width = s.trace.height = 9;

@@ -10,9 +10,10 @@
 #include "brdf/tabulate.h"
 #include "core/error.h"
 #include "formats/mesh_io.h"
-#include "support/temp_dir.h"
 #include "pathtrace/tracer.h"
+#include "render/material.h"
 #include "render/sampling.h"
+#include "support/temp_dir.h"
 
 namespace matlas::pathtrace {
 namespace {
@@ -60,7 +61,8 @@ TEST(PathTracer, FurnaceOnTheMeasuredObjectThroughTheFixedDensity) {
   measured.kind = SurfaceSpec::Kind::measured;
   const World world(sphere_scene(measured, 0.7));
   const BrdfTable table = tabulate([](const Vec3&, const Vec3&) -> Rgb { return Rgb(0.9, 0.5, 0.2) / kPi; });
-  const TableListBank bank({&table});
+  const render::TableMaterial material(table);
+  const render::MaterialList bank({&material});
   const TraceImages r = trace(world, &bank, small(4096));
   const Rgb albedo(0.9, 0.5, 0.2);
   for (int c = 0; c < 3; ++c) {
@@ -112,7 +114,8 @@ TEST(PathTracer, TabulatedGgxThroughTheFixedDensityMatchesTheClosedForm) {
   ggx.specular = Rgb::Ones();
   ggx.alpha = 0.3;
   const BrdfTable table = tabulate([&](const Vec3& wi, const Vec3& wo) { return surface_eval(ggx, wi, wo); });
-  const TableListBank bank({&table});
+  const render::TableMaterial material(table);
+  const render::MaterialList bank({&material});
   const TraceImages r = trace(world, &bank, small(2048));
   // Nearest-bin lookup of a lobe of width 0.3 costs well under 1 %.
   EXPECT_NEAR(centre_mean(r.once[0], 1), ggx_albedo_at_normal_incidence(0.3), 1e-2);
@@ -124,7 +127,8 @@ TEST(PathTracer, ImagesSplitByTouchesAndAreDeterministic) {
   const World world(scene);
   const BrdfTable a = tabulate([](const Vec3&, const Vec3&) -> Rgb { return Rgb::Constant(0.5 / kPi); });
   const BrdfTable b = tabulate([](const Vec3&, const Vec3&) -> Rgb { return Rgb::Constant(1.0 / kPi); });
-  const TableListBank bank({&a, &b});
+  const render::TableMaterial ma(a), mb(b);
+  const render::MaterialList bank({&ma, &mb});
   TraceSettings t;
   t.width = t.height = 24;
   t.spp = 8;
@@ -142,7 +146,7 @@ TEST(PathTracer, ImagesSplitByTouchesAndAreDeterministic) {
   EXPECT_NEAR(once_b / once_a, 2.0, 1e-5);
   EXPECT_GE(more_b / more_a, 4.0 - 1e-5);
   // Same numbers for a single-material bank (the paths do not depend on the bank).
-  const TableListBank only_b({&b});
+  const render::MaterialList only_b({&mb});
   const TraceImages r2 = trace(world, &only_b, t);
   EXPECT_EQ(r2.p.rgb, r.p.rgb);
   EXPECT_EQ(r2.once[0].rgb, r.once[1].rgb);

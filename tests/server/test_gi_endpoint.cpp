@@ -7,18 +7,18 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "atlas/gi_basis.h"
 #include "core/error.h"
 #include "formats/fast_png.h"
 #include "manifold/model.h"
-#include "pathtrace/gi_basis.h"
 #include "pathtrace/scene_spec.h"
 #include "pathtrace/world.h"
 #include "render/auto_exposure.h"
 #include "server/atlas_server.h"
 #include "server/basis_previews.h"
 #include "server/gi_scenes.h"
-#include "support/temp_dir.h"
 #include "small_model.h"
+#include "support/temp_dir.h"
 
 // Last: httplib.h defines a `_res` macro (from <resolv.h>) that breaks Eigen headers after it.
 #include <httplib.h>
@@ -130,7 +130,7 @@ TEST_F(GiEndpointTest, ViewsOfABuiltInSceneAreScenesOfTheirOwn) {
   ASSERT_EQ(front->status, 200);
   ASSERT_EQ(side->status, 200);
   EXPECT_NE(front->body, side->body);
-  EXPECT_EQ(pathtrace::gi_basis_scene_name(*gi_->wait("floor@side")), "floor@side");
+  EXPECT_EQ(atlas::gi_basis_scene_name(*gi_->wait("floor@side")), "floor@side");
   EXPECT_EQ(get("/api/gi?scene=floor@under&x=" + point_text(1))->status, 400);
   EXPECT_EQ(get("/api/gi?scene=attic@side&x=" + point_text(1))->status, 400);
 }
@@ -169,7 +169,7 @@ TEST_F(GiEndpointTest, ASceneBeingTracedIs503WithProgressThenTheLibrarysComposit
   EXPECT_EQ(file.parent_path(), std::filesystem::path(model_->path().string() + ".gi"));  // beside the model
 
   // The library's composition, from the file on disk, at the model's weights of the point.
-  const pathtrace::GiBasis basis = pathtrace::GiBasis::load(file);
+  const atlas::GiBasis basis = atlas::GiBasis::load(file);
   EXPECT_EQ(basis.width(), 24);
   for (const double exposure : {0.0, -1.5}) {
     Eigen::Vector2d x(0.3 * model_->latent()(1, 0) + 0.7 * model_->latent()(2, 0),
@@ -210,7 +210,7 @@ TEST_F(GiEndpointTest, AGivenBasisIsServedAtOnceAndOneOfAnotherModelIsRefused) {
   t.spp = 1;
   const pathtrace::World world(pathtrace::load_scene("box", "sphere"));  // no environment map: no assets needed
   const auto file = dir_->path() / "given.gi";
-  pathtrace::open_or_build_gi_basis(*model_, world, t, file, 8);
+  atlas::open_or_build_gi_basis(*model_, world, t, file, 8);
   GiSceneOptions go;
   go.bases = {file};
   go.scenes.clear();
@@ -225,7 +225,7 @@ TEST_F(GiEndpointTest, AGivenBasisIsServedAtOnceAndOneOfAnotherModelIsRefused) {
   const auto r = get("/api/gi?x=" + point_text(2), server);  // the first scene by default
   ASSERT_TRUE(r);
   ASSERT_EQ(r->status, 200) << r->body;
-  EXPECT_EQ(r->body, encode_png_fast(pathtrace::GiBasis::load(file).compose(model_->material_weights(2)),
+  EXPECT_EQ(r->body, encode_png_fast(atlas::GiBasis::load(file).compose(model_->material_weights(2)),
                                      ToneMap{ToneMap::Curve::aces, 0.0}));
   EXPECT_EQ(get("/api/gi?scene=floor&x=" + point_text(2), server)->status, 400);  // not offered here
 

@@ -8,19 +8,25 @@
 #include <fstream>
 #include <limits>
 
+#include "atlas/gi_basis.h"
+#include "atlas/model_material.h"
 #include "brdf/catalog.h"
 #include "core/error.h"
+#include "formats/merl_file.h"
+#include "formats/safetensors.h"
 #include "formats/synth_database.h"
 #include "manifold/build.h"
 #include "manifold/material_set.h"
-#include "formats/merl_file.h"
-#include "formats/safetensors.h"
-#include "pathtrace/gi_basis.h"
-#include "pathtrace/model_bank.h"
 #include "support/temp_dir.h"
 
-namespace matlas::pathtrace {
+namespace matlas::atlas {
 namespace {
+
+using pathtrace::load_scene;
+using pathtrace::trace;
+using pathtrace::TraceImages;
+using pathtrace::TraceSettings;
+using pathtrace::World;
 
 /// A model of six synthetic materials on a coarse grid (q = 2), built in `dir`.
 Model small_model(const std::filesystem::path& dir) {
@@ -54,8 +60,7 @@ protected:
   /// Direct render of the model's table at weights w, with the basis's random numbers.
   /// (Model::bin_rgb: the same values as Model::table(w), negative ones of an extrapolation kept.)
   static TraceImages direct(const Eigen::VectorXd& w) {
-    const ModelPointBank bank(*model_, w);
-    return trace(*world_, &bank, settings());
+    return trace(*world_, model_point_bank(*model_, w).get(), settings());
   }
   /// Largest difference over the reference's largest magnitude.
   static double max_relative(const Image& a, const Image& b) {
@@ -239,4 +244,4 @@ TEST(GiBasisHardening, MeasuredValuesTheReaderAcceptsCanOverflowAndAreRefusedNam
 }
 
 }  // namespace
-}  // namespace matlas::pathtrace
+}  // namespace matlas::atlas

@@ -1,23 +1,23 @@
-#include "pathtrace/gi_density.h"
+#include "atlas/gi_density.h"
 
 #include <nlohmann/json.hpp>
 
 #include "atlas/sampling_fit.h"
 #include "core/hash.h"
 
-namespace matlas::pathtrace {
+namespace matlas::atlas {
 
-FixedDensity fit_gi_density(const Model& model) {
-  atlas::SamplingFitOptions o;
+pathtrace::FixedDensity fit_gi_density(const Model& model) {
+  SamplingFitOptions o;
   o.environment = 0.0;
   o.cosine = 0.1;
   o.lobe_share = 0.1;
   o.sharpest_share = 0.3;
   o.tabulated = 0.3;
-  return atlas::fit_sampling_mixture(model, o);
+  return fit_sampling_mixture(model, o);
 }
 
-std::string density_record(const FixedDensity& d) {
+std::string density_record(const pathtrace::FixedDensity& d) {
   nlohmann::json lobes = nlohmann::json::array();
   for (const auto& [alpha, weight] : d.lobes) lobes.push_back({alpha, weight});
   const std::vector<double>& profile = d.profile();
@@ -28,4 +28,4 @@ std::string density_record(const FixedDensity& d) {
       .dump();
 }
 
-}  // namespace matlas::pathtrace
+}  // namespace matlas::atlas

@@ -23,7 +23,7 @@
 #include "manifold/model.h"
 #include "pathtrace/tracer.h"
 
-namespace matlas::pathtrace {
+namespace matlas::atlas {
 
 class GiBasis {
 public:
@@ -77,17 +77,17 @@ struct GiBasisOptions {
 
 /// What identifies a basis: model fingerprint, scene and trace settings (a cache entry is reused
 /// only when its key matches).
-std::string gi_basis_key(const Model& model, const World& world, const TraceSettings& settings);
+std::string gi_basis_key(const Model& model, const pathtrace::World& world, const pathtrace::TraceSettings& settings);
 
 /// Traces the basis in passes of `batch` materials, each material's images cached in
 /// options.cache (reused when present with the same key: an interrupted build resumes).
-GiBasis build_gi_basis(const Model& model, const World& world, const TraceSettings& settings,
+GiBasis build_gi_basis(const Model& model, const pathtrace::World& world, const pathtrace::TraceSettings& settings,
                        const GiBasisOptions& options, ProgressSink& progress = null_progress());
 
 /// The basis at `path` when it exists with the key of these settings (gi_basis_key), else traced
 /// by build_gi_basis with its cache in PATH.cache/ (resumable) and saved at `path`. A file at
 /// `path` of other settings or another model is traced again and replaced.
-GiBasis open_or_build_gi_basis(const Model& model, const World& world, const TraceSettings& settings,
+GiBasis open_or_build_gi_basis(const Model& model, const pathtrace::World& world, const pathtrace::TraceSettings& settings,
                                const std::filesystem::path& path, int batch, ProgressSink& progress = null_progress());
 
 /// matlas::Error naming `path` unless the basis was traced for `model` (its fingerprint).
@@ -99,4 +99,4 @@ std::string gi_basis_scene_name(const GiBasis& basis);
 /// The coefficients a of weights w: (1 - sum w, w).
 Eigen::VectorXd material_coefficients(const Eigen::Ref<const Eigen::VectorXd>& w);
 
-}  // namespace matlas::pathtrace
+}  // namespace matlas::atlas

@@ -1,25 +1,25 @@
-#include "formats/half_float.h"
-#include "pathtrace/gi_basis.h"
+#include "atlas/gi_basis.h"
 
 #include <cmath>
 #include <cstdio>
 
 #if defined(__x86_64__) && defined(__GNUC__)
-#include <cpuid.h>
 #include <immintrin.h>
 #endif
 
 #include <nlohmann/json.hpp>
 
+#include "atlas/gi_density.h"
+#include "atlas/model_bank.h"
+#include "atlas/model_basis.h"
+#include "core/cpu_features.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "core/simd_clones.h"
+#include "formats/half_float.h"
 #include "formats/safetensors.h"
-#include "pathtrace/gi_density.h"
-#include "pathtrace/model_bank.h"
-#include "atlas/model_basis.h"
 
-namespace matlas::pathtrace {
+namespace matlas::atlas {
 
 namespace {
 
@@ -41,17 +41,11 @@ __attribute__((target("avx2,fma,f16c"))) void add_scaled_half_f16c(float a, cons
     _mm256_storeu_ps(y + j, _mm256_fmadd_ps(va, v, _mm256_loadu_ps(y + j)));
   }
 }
-
-bool has_f16c() {
-  unsigned eax = 0, ebx = 0, ecx = 0, edx = 0;
-  if (!__get_cpuid(1, &eax, &ebx, &ecx, &edx)) return false;
-  return (ecx & (1u << 29)) != 0 && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-}
 #endif
 
 void add_scaled_half(float a, const std::uint16_t* x, float* y, std::size_t n) {
 #if defined(__x86_64__) && defined(__GNUC__)
-  static const bool fast = has_f16c();
+  static const bool fast = cpu_has_avx2_fma_f16c();
   if (fast) return add_scaled_half_f16c(a, x, y, n);
 #endif
   for (std::size_t j = 0; j < n; ++j) y[j] += a * half_to_float(x[j]);
@@ -276,16 +270,16 @@ GiBasis GiBasis::load(const std::filesystem::path& path) {
   return GiBasis(std::move(pi), l, fu, std::move(names), std::move(kept));
 }
 
-std::string gi_basis_key(const Model& model, const World& world, const TraceSettings& s) {
-  const nlohmann::json key = {{"model_fingerprint", atlas::model_fingerprint(model)},
-                              {"scene", scene_to_json(world.spec())},
+std::string gi_basis_key(const Model& model, const pathtrace::World& world, const pathtrace::TraceSettings& s) {
+  const nlohmann::json key = {{"model_fingerprint", model_fingerprint(model)},
+                              {"scene", pathtrace::scene_to_json(world.spec())},
                               {"width", s.width}, {"height", s.height}, {"spp", s.spp}, {"seed", s.seed},
                               {"max_depth", s.max_depth}, {"roulette_depth", s.roulette_depth},
                               {"density", density_record(s.density)}};
   return key.dump();
 }
 
-GiBasis build_gi_basis(const Model& model, const World& world, const TraceSettings& settings,
+GiBasis build_gi_basis(const Model& model, const pathtrace::World& world, const pathtrace::TraceSettings& settings,
                        const GiBasisOptions& options, ProgressSink& progress) {
   settings.validate();
   if (world.measured_object() < 0) throw Error("scene '" + world.spec().name + "' has no measured object");
@@ -311,7 +305,7 @@ GiBasis build_gi_basis(const Model& model, const World& world, const TraceSettin
     progress.message("tracing materials " + std::to_string(first) + ".." + std::to_string(last - 1) + " of " +
                      std::to_string(k_count - 1) + " (0: the mean)");
     const ModelBank bank(model, first, last);
-    TraceImages r = trace(world, &bank, settings, progress);
+    pathtrace::TraceImages r = pathtrace::trace(world, &bank, settings, progress);
     for (int k = first; k < last; ++k) {
       const std::size_t j = static_cast<std::size_t>(k - first);
       linear[static_cast<std::size_t>(k)] = r.once[j];
@@ -330,15 +324,15 @@ GiBasis build_gi_basis(const Model& model, const World& world, const TraceSettin
   }
   if (!have_p) {  // every material came from the cache but P did not
     const ModelBank bank(model, 0, 1);
-    p = trace(world, &bank, settings, progress).p;
+    p = pathtrace::trace(world, &bank, settings, progress).p;
     if (cached) write_images(options.cache / "p.safetensors", key, {{"p", &p}});
   }
   if (reused > 0) progress.message("reused " + std::to_string(reused) + " cached material images");
   std::map<std::string, std::string> meta;
   meta["key"] = key;
   meta["model"] = model.path().filename().string();
-  meta["model_fingerprint"] = atlas::model_fingerprint(model);
-  meta["scene"] = scene_to_json(world.spec()).dump();
+  meta["model_fingerprint"] = model_fingerprint(model);
+  meta["scene"] = pathtrace::scene_to_json(world.spec()).dump();
   meta["spp"] = std::to_string(settings.spp);
   meta["seed"] = std::to_string(settings.seed);
   meta["density"] = density_record(settings.density);
@@ -348,7 +342,7 @@ GiBasis build_gi_basis(const Model& model, const World& world, const TraceSettin
 
 void require_basis_of_model(const GiBasis& basis, const Model& model, const std::filesystem::path& path) {
   const auto fp = basis.metadata().find("model_fingerprint");
-  if (fp == basis.metadata().end() || fp->second != atlas::model_fingerprint(model))
+  if (fp == basis.metadata().end() || fp->second != model_fingerprint(model))
     throw file_error(path, "the basis was traced for another model than " + model.path().string());
 }
 
@@ -359,7 +353,7 @@ std::string gi_basis_scene_name(const GiBasis& basis) {
   return j.is_object() && j.contains("name") && j["name"].is_string() ? j["name"].get<std::string>() : std::string();
 }
 
-GiBasis open_or_build_gi_basis(const Model& model, const World& world, const TraceSettings& settings,
+GiBasis open_or_build_gi_basis(const Model& model, const pathtrace::World& world, const pathtrace::TraceSettings& settings,
                                const std::filesystem::path& path, int batch, ProgressSink& progress) {
   const std::string key = gi_basis_key(model, world, settings);
   if (std::filesystem::exists(path)) {
@@ -379,4 +373,4 @@ GiBasis open_or_build_gi_basis(const Model& model, const World& world, const Tra
   return basis;
 }
 
-}  // namespace matlas::pathtrace
+}  // namespace matlas::atlas

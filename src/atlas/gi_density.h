@@ -19,15 +19,15 @@ namespace matlas {
 class Model;
 }
 
-namespace matlas::pathtrace {
+namespace matlas::atlas {
 
 /// The density fitted to `model`'s database materials: no environment strategy (next-event
 /// estimation takes the environment), cosine 0.1, the three quantile GGX lobes 0.1 each, a GGX
 /// lobe at the sharpest material's width 0.3 and the tabulated theta_h lobe 0.3.
-FixedDensity fit_gi_density(const Model& model);
+pathtrace::FixedDensity fit_gi_density(const Model& model);
 
 /// A record of a density (probabilities, lobes and a hash of the tabulated profile), as basis
 /// keys and file metadata hold it.
-std::string density_record(const FixedDensity& density);
+std::string density_record(const pathtrace::FixedDensity& density);
 
-}  // namespace matlas::pathtrace
+}  // namespace matlas::atlas
