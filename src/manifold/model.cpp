@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/combination.h"
 #include "core/error.h"
 #include "core/hash.h"
 #include "core/parallel.h"
@@ -17,7 +18,6 @@
 #include "manifold/dense_product.h"
 #include "manifold/dot_kernel.h"
 #include "manifold/model_format.h"
-#include "manifold/mean_weight.h"
 
 namespace matlas {
 
@@ -321,14 +321,6 @@ int Model::index_of(const std::string& name) const {
 Eigen::VectorXd Model::latent_min() const { return impl_->latent.colwise().minCoeff().transpose(); }
 Eigen::VectorXd Model::latent_max() const { return impl_->latent.colwise().maxCoeff().transpose(); }
 
-double mean_weight(const Eigen::Ref<const Eigen::VectorXd>& w) {
-  const double rest = 1.0 - w.sum();
-  // Weights that sum to 1 up to rounding (every convex combination, every unit vector) give the
-  // mean no weight at all: a rounding-level -1e-16 times the mean would make an exact zero of
-  // the inputs a tiny negative value.
-  return std::abs(rest) <= 1e-12 ? 0.0 : rest;
-}
-
 Interpolation Model::interpolation() const { return impl_->interpolation; }
 void Model::set_interpolation(Interpolation mode) { impl_->interpolation = mode; }
 
@@ -391,7 +383,7 @@ double Model::value(std::size_t v, const Eigen::Ref<const Eigen::VectorXd>& w) c
   const std::int32_t c = impl_->value_column[v];
   if (c < 0) return std::numeric_limits<double>::quiet_NaN();
   // mean + sum_i w_i (z_i - mean), written so that w = e_i returns z_i exactly.
-  return mean_weight(w) * impl_->mean[c] + impl_->data_dot(static_cast<std::size_t>(c), w);
+  return Combination::mean_weight(w) * impl_->mean[c] + impl_->data_dot(static_cast<std::size_t>(c), w);
 }
 
 Rgb Model::bin_rgb(std::size_t bin, const Eigen::Ref<const Eigen::VectorXd>& w) const {
@@ -412,7 +404,7 @@ BrdfTable Model::table(const Eigen::Ref<const Eigen::VectorXd>& w) const {
   if (w.size() != count()) throw Error("weight vector has the wrong length");
   BrdfTable t(impl_->dims, ValueBuffer::Uninitialized{});
   const std::size_t bins = impl_->dims.bins();
-  const double weight_of_mean = mean_weight(w);
+  const double weight_of_mean = Combination::mean_weight(w);
   // Convex weights have a few non-zero entries: then only their values are read (a few cache
   // lines of each column's n instead of all; the same sums, in the same order, as data_dot).
   std::vector<int> nonzero;

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/combination.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "core/simd_clones.h"
@@ -136,7 +137,7 @@ bool read_images(const std::filesystem::path& path, const std::string& key, int 
 
 Eigen::VectorXd material_coefficients(const Eigen::Ref<const Eigen::VectorXd>& w) {
   Eigen::VectorXd a(w.size() + 1);
-  a[0] = 1.0 - w.sum();
+  a[0] = Combination::mean_weight(w);
   a.tail(w.size()) = w;
   return a;
 }
