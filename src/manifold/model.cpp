@@ -43,7 +43,7 @@ struct Model::Impl {
   const std::uint16_t* data_f16 = nullptr;
   std::unique_ptr<gp::GpPosterior> posterior;
   std::unique_ptr<gp::ConvexProjection> convex;  // the convex mode's projection
-  Interpolation interpolation = Interpolation::gp;
+  Interpolation interpolation = Interpolation::gp;  // the mode the model was built with
 
   /// sum_i w_i z_i[column] over the stored inputs.
   double data_dot(std::size_t column, const Eigen::Ref<const Eigen::VectorXd>& w) const {
@@ -68,7 +68,7 @@ Eigen::MatrixXd read_matrix(const SafetensorsFile& f, const char* name, std::int
 
 }  // namespace
 
-Model::Model(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Model::Model(std::shared_ptr<const Impl> impl, Interpolation mode) : impl_(std::move(impl)), interpolation_(mode) {}
 Model::Model(Model&&) noexcept = default;
 Model& Model::operator=(Model&&) noexcept = default;
 Model::~Model() = default;
@@ -278,7 +278,8 @@ Model Model::open(const fs::path& path) {
   } catch (const Error& e) {
     throw file_error(path, std::string("corrupted model: ") + e.what());
   }
-  return Model(std::move(m));
+  const Interpolation built = m->interpolation;
+  return Model(std::move(m), built);
 }
 
 const fs::path& Model::path() const { return impl_->path; }
@@ -321,23 +322,30 @@ int Model::index_of(const std::string& name) const {
 Eigen::VectorXd Model::latent_min() const { return impl_->latent.colwise().minCoeff().transpose(); }
 Eigen::VectorXd Model::latent_max() const { return impl_->latent.colwise().maxCoeff().transpose(); }
 
-Interpolation Model::interpolation() const { return impl_->interpolation; }
-void Model::set_interpolation(Interpolation mode) { impl_->interpolation = mode; }
+Interpolation Model::interpolation() const { return interpolation_; }
+Model Model::with_interpolation(Interpolation mode) const { return Model(impl_, mode); }
 
-Eigen::VectorXd Model::weights_from_gp(const Eigen::Ref<const Eigen::VectorXd>& w) const {
-  if (impl_->interpolation == Interpolation::gp) return w;
+Eigen::VectorXd Model::weights_from_gp(const Eigen::Ref<const Eigen::VectorXd>& w, Interpolation mode) const {
+  if (mode == Interpolation::gp) return w;
   return impl_->convex->from_centred(w);
 }
+Eigen::VectorXd Model::weights_from_gp(const Eigen::Ref<const Eigen::VectorXd>& w) const {
+  return weights_from_gp(w, interpolation_);
+}
 
-Eigen::VectorXd Model::weights(const Eigen::Ref<const Eigen::VectorXd>& x) const {
+Eigen::VectorXd Model::weights(const Eigen::Ref<const Eigen::VectorXd>& x, Interpolation mode) const {
   if (x.size() != dim())
     throw Error("latent point has " + std::to_string(x.size()) + " coordinates, the model has q = " +
                 std::to_string(dim()));
   if (!x.allFinite()) throw Error("latent point has a NaN or infinite coordinate");
-  return weights_from_gp(impl_->posterior->weights(x));
+  return weights_from_gp(impl_->posterior->weights(x), mode);
 }
+Eigen::VectorXd Model::weights(const Eigen::Ref<const Eigen::VectorXd>& x) const { return weights(x, interpolation_); }
 
 Model::Prediction Model::predict_batch(const Eigen::MatrixXd& points) const {
+  return predict_batch(points, interpolation_);
+}
+Model::Prediction Model::predict_batch(const Eigen::MatrixXd& points, Interpolation mode) const {
   if (points.cols() != dim())
     throw Error("latent points have " + std::to_string(points.cols()) + " coordinates, the model has q = " +
                 std::to_string(dim()));
@@ -346,7 +354,7 @@ Model::Prediction Model::predict_batch(const Eigen::MatrixXd& points) const {
   // Convex mode: each point's solve starts from the previous point's solution, in one run per
   // worker (gp/convex_weights.h, project_batch): fastest when consecutive points are neighbours
   // (latent_grid passes its cells in that order).
-  if (impl_->interpolation == Interpolation::convex) {
+  if (mode == Interpolation::convex) {
     const auto m = static_cast<Eigen::Index>(points.rows());
     const auto workers = static_cast<Eigen::Index>(std::max(1u, worker_count()));
     impl_->convex->from_centred_batch(b.weights, (m + workers - 1) / workers);

@@ -92,9 +92,9 @@ Reply Reply::bytes(std::string data, std::string content_type) {
 }
 
 Api::Api(const Model& model, std::shared_ptr<const PreviewSource> previews, const ServerOptions& options)
-    : model_(model),
-      plausibility_(model, 4096),
-      map_plausibility_(model, 256),
+    : model_(model.with_interpolation(options.interpolation.value_or(model.interpolation()))),
+      plausibility_(model_, 4096),
+      map_plausibility_(model_, 256),
       previews_(std::move(previews)),
       options_(options),
       domain_(LatentDomain::around(model.latent_min(), model.latent_max(), options.domain_margin)),
