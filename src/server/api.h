@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
+#include "manifold/model.h"
 #include "manifold/plausibility.h"
 #include "server/atlas_server.h"
 #include "server/compute_gate.h"

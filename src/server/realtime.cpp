@@ -156,8 +156,8 @@ Realtime::Reference Realtime::reference(const Eigen::VectorXd& w, const std::str
   // m(w) = c_0 mean + sum w_i z_i (core/combination.h), and the coefficients are linear in the table.
   std::vector<const zonal::ZonalCoefficients*> parts{&*s.mean};
   for (const auto& material : s.materials) parts.push_back(&material);
-  const Eigen::VectorXd c = Combination(w).coefficients();
-  const std::vector<double> weights(c.data(), c.data() + c.size());
+  const Eigen::VectorXd a = Combination(w).coefficients();
+  const std::vector<double> weights(a.data(), a.data() + a.size());
   const zonal::ZonalCoefficients c = zonal::combine(parts, weights);
   // The prefiltered maps of the unrotated environment, as the page has them; a rotation is
   // prefiltered anew (the page rotates its lookups instead, which is the same integral).
