@@ -136,7 +136,7 @@ Api::Api(const Model& model, std::shared_ptr<const PreviewSource> previews, cons
   j["layers"] = {"albedo", "variance", "plausibility"};
   // How m(x) is made from the inputs: "gp" (the paper's GP weights) or "convex" (non-negative
   // weights summing to 1); models without the field predate the choice and are "gp".
-  j["interpolation"] = std::string(to_string(model.interpolation()));
+  j["interpolation"] = std::string(to_string(model_.interpolation()));  // the server's mode
   j["uncertainty"] = {{"fade_from", atlas::kFadeFrom}, {"fade_to", atlas::kFadeTo}};
   j["albedo_angles"] = kAlbedoAngles;
   if (gi_) j["gi"] = {{"scenes", gi_->scenes()}, {"preloaded", gi_->preloaded()}, {"views", gi_->views()}};
