@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <string>
 
+#include "core/combination.h"
 #include "core/error.h"
-#include "gp/convex_weights.h"
 #include "manifold/model_metadata.h"
 
 namespace matlas::acquisition {
@@ -53,7 +53,7 @@ SampleRows model_rows(const Model& model, const std::vector<MeasuredSample>& sam
 MapView model_map(const Model& model) {
   MapView map;
   map.latent = model.latent();
-  map.coefficients = [&model](const Eigen::VectorXd& x) { return gp::affine_coefficients(model.weights(x)); };
+  map.coefficients = [&model](const Eigen::VectorXd& x) { return Combination(model.weights(x)).affine(); };
   map.variance = [&model](const Eigen::VectorXd& x) { return model.variance(x); };
   map.metric = model.convex_metric();
   return map;

@@ -13,7 +13,7 @@
 #include "core/check.h"
 #include "core/error.h"
 #include "gp/convex_weights.h"
-#include "gp/nelder_mead.h"
+#include "gp/minimize.h"
 
 namespace matlas::acquisition {
 
@@ -209,7 +209,8 @@ Eigen::VectorXd search(const Objective& objective, const std::vector<Eigen::Vect
   Eigen::VectorXd best;
   double best_loss = std::numeric_limits<double>::infinity();
   for (const auto& start : points) {
-    const Eigen::VectorXd x = gp::nelder_mead(std::cref(objective), start, step, evaluations, 1e-9);
+    const Eigen::VectorXd x =
+        gp::minimize_nelder_mead(std::cref(objective), start, gp::MinimizeOptions::nelder_mead(step, evaluations, 1e-9));
     const double l = objective(x);
     if (l < best_loss) best_loss = l, best = x;
   }
@@ -241,7 +242,8 @@ void choose_combination(const Objective& objective, const MapView& map, const Ei
     std::vector<bool> train(static_cast<std::size_t>(R)), test(static_cast<std::size_t>(R));
     for (Eigen::Index r = 0; r < R; ++r) (fold_of(r) == f ? test : train)[static_cast<std::size_t>(r)] = true;
     auto train_loss = [&](const Eigen::VectorXd& p) { return objective.loss_on(rows.inputs * map.coefficients(p), train); };
-    const Eigen::VectorXd xf = gp::nelder_mead(train_loss, x, step, evaluations / 3, 1e-9);
+    const Eigen::VectorXd xf =
+        gp::minimize_nelder_mead(train_loss, x, gp::MinimizeOptions::nelder_mead(step, evaluations / 3, 1e-9));
     const Eigen::VectorXd anchor = map.coefficients(xf);
     held_out.back() += objective.loss_on(rows.inputs * anchor, test);
     for (std::size_t g = 0; g < gammas.size(); ++g) {
@@ -310,7 +312,7 @@ SparseFit fit_rows(const MapView& map, const SampleRows& rows, const SparseFitOp
   double tau = 0.05 * typical;
   set_tau(tau);
   Eigen::VectorXd x = search(objective, {}, step, options.starts, evaluations / 3);
-  x = gp::nelder_mead(std::cref(objective), x, step, evaluations, 1e-9);
+  x = gp::minimize_nelder_mead(std::cref(objective), x, gp::MinimizeOptions::nelder_mead(step, evaluations, 1e-9));
   if (any_unknown) {
     const Eigen::VectorXd residual = objective.transformed(rows.inputs * map.coefficients(x)) - objective.target;
     std::vector<double> absolute;
@@ -318,7 +320,7 @@ SparseFit fit_rows(const MapView& map, const SampleRows& rows, const SparseFitOp
       if (!known[static_cast<std::size_t>(r)]) absolute.push_back(std::abs(residual(r)));
     tau = std::max({1.4826 * median_of(absolute), 1e-3 * typical, 1e-12});
     set_tau(tau);
-    x = gp::nelder_mead(std::cref(objective), x, step, evaluations, 1e-9);
+    x = gp::minimize_nelder_mead(std::cref(objective), x, gp::MinimizeOptions::nelder_mead(step, evaluations, 1e-9));
   }
 
   SparseFit fit;

@@ -15,7 +15,7 @@
 // samples do not move the point; 2.385 keeps 95 % of least squares' efficiency on Gaussian noise.
 //
 // The search: the loss of every input alone (x = x_i, where m(x) = z_i) ranks the starts; then
-// Nelder-Mead (gp/nelder_mead.h: the weights have kinks in the convex mode) from the latent
+// Nelder-Mead (gp/minimize.h: the weights have kinks in the convex mode) from the latent
 // points of the best inputs and the centroid. Cost: one evaluation is w(x) (O(n^2)) plus a
 // (3K x n) product.
 //

@@ -12,7 +12,7 @@
 #include "brdf/merl_grid.h"
 #include "core/error.h"
 #include "core/parallel.h"
-#include "gp/nelder_mead.h"
+#include "gp/minimize.h"
 
 namespace matlas::artist {
 
@@ -213,7 +213,8 @@ PbrFitResult fit_gltf_pbr(const BrdfTable& table, const PbrFitOptions& o) {
   starts.push_back(coordinates_of(albedo, 0.0, 0.5, 1.0, coat, r_peak));
   starts.push_back(coordinates_of(albedo, 1.0, 0.5, 1.0, coat, r_peak));
   for (const Eigen::VectorXd& start : starts) {
-    const Eigen::VectorXd x = gp::nelder_mead(f_coarse, start, 0.2, o.evaluations_per_start);
+    const Eigen::VectorXd x =
+        gp::minimize_nelder_mead(f_coarse, start, gp::MinimizeOptions::nelder_mead(0.2, o.evaluations_per_start));
     const double v = f_coarse(x);
     ++result.starts;
     if (best.size() == 0 || v < best_value) {
@@ -221,9 +222,10 @@ PbrFitResult fit_gltf_pbr(const BrdfTable& table, const PbrFitOptions& o) {
       best_value = v;
     }
   }
-  best = gp::nelder_mead(f, best, 0.05, o.polish_evaluations);
+  best = gp::minimize_nelder_mead(f, best, gp::MinimizeOptions::nelder_mead(0.05, o.polish_evaluations));
   best_value = f(best);
-  const Eigen::VectorXd restarted = gp::nelder_mead(f, best, 0.02, o.restart_evaluations);
+  const Eigen::VectorXd restarted =
+      gp::minimize_nelder_mead(f, best, gp::MinimizeOptions::nelder_mead(0.02, o.restart_evaluations));
   const double restarted_value = f(restarted);
   if (restarted_value < best_value) {
     result.restart_gain = std::sqrt(best_value) - std::sqrt(restarted_value);

@@ -10,7 +10,7 @@
 // direction, and the plain mean lets grazing near-specular pairs, where measured Fresnel rises
 // far beyond any Schlick term, outweigh the highlight (on gray-plastic it preferred no specular
 // lobe at all). On every theta_h bin and a regular subsample of theta_d and phi_d.
-// Minimised by Nelder-Mead (gp/nelder_mead.h) on the eight parameters (base colour, metallic,
+// Minimised by Nelder-Mead (gp/minimize.h) on the eight parameters (base colour, metallic,
 // roughness, specular, clearcoat and its roughness; roughnesses by their logarithm), from eight starts
 // matched to the table's back-scattering peak (its width gives a roughness, its height the specular
 // factor or the metal's F0; metal and dielectric at three roughnesses, and under a coat) on a coarser

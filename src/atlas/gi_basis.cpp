@@ -12,6 +12,7 @@
 #include "atlas/gi_density.h"
 #include "atlas/model_bank.h"
 #include "atlas/model_basis.h"
+#include "core/combination.h"
 #include "core/cpu_features.h"
 #include "core/error.h"
 #include "core/parallel.h"
@@ -129,13 +130,6 @@ bool read_images(const std::filesystem::path& path, const std::string& key, int 
 
 }  // namespace
 
-Eigen::VectorXd material_coefficients(const Eigen::Ref<const Eigen::VectorXd>& w) {
-  Eigen::VectorXd a(w.size() + 1);
-  a[0] = 1.0 - w.sum();
-  a.tail(w.size()) = w;
-  return a;
-}
-
 GiBasis::GiBasis(Image p, const std::vector<Image>& linear, const std::vector<Image>& full,
                  std::vector<std::string> names, std::map<std::string, std::string> metadata)
     : p_(std::move(p)), names_(std::move(names)), metadata_(std::move(metadata)) {
@@ -186,7 +180,7 @@ Image GiBasis::compose(const Eigen::Ref<const Eigen::VectorXd>& w, Part part) co
 void GiBasis::compose_into(const Eigen::Ref<const Eigen::VectorXd>& w, Part part, float* rgb) const {
   if (w.size() != count()) throw Error("GI basis: weights of length " + std::to_string(w.size()) + " for " +
                                        std::to_string(count()) + " materials");
-  const Eigen::VectorXd a = material_coefficients(w);
+  const Eigen::VectorXd a = Combination(w).coefficients();  // over the mean and the n inputs
   const std::size_t k_count = a.size(), values = p_.rgb.size();
   const std::vector<float>& data = tiles(part);
   const std::vector<std::uint16_t>* half =

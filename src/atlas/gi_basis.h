@@ -96,7 +96,4 @@ void require_basis_of_model(const GiBasis& basis, const Model& model, const std:
 /// The name of the scene a basis was traced in (its "scene" metadata), empty if it has none.
 std::string gi_basis_scene_name(const GiBasis& basis);
 
-/// The coefficients a of weights w: (1 - sum w, w).
-Eigen::VectorXd material_coefficients(const Eigen::Ref<const Eigen::VectorXd>& w);
-
 }  // namespace matlas::atlas

@@ -1,6 +1,7 @@
 // matlas serve MODEL: the material browser (web UI + JSON API, docs/API.md) for a built model.
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "cli/commands.h"
@@ -34,8 +35,9 @@ struct ServeArgs {
 
 void run_serve(const ServeArgs& a, const Io& io) {
   server::block_stop_signals();  // before any thread starts: every thread inherits the mask
-  Model model = Model::open(a.model);
-  if (!a.interpolation.empty()) model.set_interpolation(interpolation_from_string(a.interpolation));
+  const Model model = Model::open(a.model);
+  std::optional<Interpolation> mode;
+  if (!a.interpolation.empty()) mode = interpolation_from_string(a.interpolation);
   server::BasisPreviewOptions po;
   po.default_environment = a.env;
   po.size = a.size;
@@ -52,14 +54,15 @@ void run_serve(const ServeArgs& a, const Io& io) {
   }
   server::ServerOptions so = server_options(a.host, a.port, a.web_root, a.log, io);
   so.threads = a.threads;
+  so.interpolation = mode;
   so.reload = model_reloader(po, io);
   so.gi_scenes = gi_scenes_factory(a.gi, io);
   server::AtlasServer srv(model, previews, so);
   note_missing_web_ui(srv, io);
   server::serve_until_signal(srv, [&](const std::string& url) {
     print(io.out, "matlas: serving %s (%d materials, q = %d, %s interpolation) at %s\n",
-                model.path().filename().string().c_str(), model.count(), model.dim(), to_string(model.interpolation()),
-                url.c_str());
+                model.path().filename().string().c_str(), model.count(), model.dim(),
+                to_string(mode.value_or(model.interpolation())), url.c_str());
     io.out.flush();
   });
 }

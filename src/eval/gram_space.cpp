@@ -1,5 +1,6 @@
 #include "eval/gram_space.h"
 
+#include "core/combination.h"
 #include "core/error.h"
 
 namespace matlas::eval {
@@ -45,10 +46,9 @@ Eigen::VectorXd centred_cross_products(const Eigen::MatrixXd& gram, std::span<co
 Eigen::VectorXd raw_from_centred(const Eigen::VectorXd& a, std::span<const int> subset, int n) {
   if (a.size() != static_cast<Eigen::Index>(subset.size()))
     throw Error("raw_from_centred: coefficient count does not match the subset");
-  const double share = (1.0 - a.sum()) / static_cast<double>(subset.size());
+  const Eigen::VectorXd g = Combination(a).affine();
   Eigen::VectorXd c = Eigen::VectorXd::Zero(n);
-  for (std::size_t k = 0; k < subset.size(); ++k)
-    c(subset[k]) = a(static_cast<Eigen::Index>(k)) + share;
+  for (std::size_t k = 0; k < subset.size(); ++k) c(subset[k]) = g(static_cast<Eigen::Index>(k));
   return c;
 }
 

@@ -9,7 +9,7 @@
 #include "core/error.h"
 #include "eval/gram_space.h"
 #include "gp/initialize.h"
-#include "gp/nelder_mead.h"
+#include "gp/minimize.h"
 #include "manifold/project.h"
 
 namespace matlas::eval {
@@ -56,7 +56,8 @@ GramProjection project_in_gram(const LatentFit& fit, std::span<const int> subset
   best.residual_squared = std::numeric_limits<double>::infinity();
   for (const int k : near) {
     const Eigen::VectorXd x0 = X.row(k).transpose();
-    const Eigen::VectorXd x = gp::nelder_mead(objective, x0, step, 200 * static_cast<int>(X.cols() + 1));
+    const Eigen::VectorXd x = gp::minimize_nelder_mead(
+        objective, x0, gp::MinimizeOptions::nelder_mead(step, 200 * static_cast<int>(X.cols() + 1)));
     for (const double t : {0.0, 0.25, 0.5, 0.75, 1.0}) best.candidates.push_back(coefficients(x0 + t * (x - x0)));
     const double r = objective(x);
     if (r < best.residual_squared) {

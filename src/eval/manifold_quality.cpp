@@ -118,7 +118,7 @@ LayoutReadability layout_readability(const Eigen::MatrixXd& latent, double fract
   return r;
 }
 
-ManifoldQuality assess_manifold(Model& model, const ManifoldQualityOptions& options, ProgressSink& progress) {
+ManifoldQuality assess_manifold(const Model& model, const ManifoldQualityOptions& options, ProgressSink& progress) {
   ManifoldQuality out;
   const Eigen::MatrixXd& X = model.latent();
   const int n = model.count(), q = model.dim();
@@ -158,17 +158,14 @@ ManifoldQuality assess_manifold(Model& model, const ManifoldQualityOptions& opti
     for (std::size_t k = 0; k < points.size(); ++k) P.row(static_cast<Eigen::Index>(k)) = points[k].transpose();
     return P;
   };
-  const Interpolation active = model.interpolation();
   for (const Interpolation mode : {Interpolation::convex, Interpolation::gp}) {
-    model.set_interpolation(mode);
     for (const auto& [where, points] : {std::pair<const char*, const std::vector<Eigen::VectorXd>*>{"midpoints", &midpoints},
                                         {"hull", &hull}}) {
       progress.message(std::string("manifold quality: ") + to_string(mode) + " weights at " + where);
-      const Eigen::MatrixXd W = model.predict_batch(as_matrix(*points)).weights;
+      const Eigen::MatrixXd W = model.predict_batch(as_matrix(*points), mode).weights;
       out.plausibility.push_back(summarise(model, W, out.inputs_max_albedo, to_string(mode), where));
     }
   }
-  model.set_interpolation(active);
   return out;
 }
 

@@ -62,8 +62,8 @@ double trustworthiness(const Eigen::MatrixXd& high_squared_distances, const Eige
 /// diagonal, with the diagonal.
 LayoutReadability layout_readability(const Eigen::MatrixXd& latent, double fraction = 0.01);
 
-/// All of the above for a model, in both interpolation modes (the model's mode is restored).
-ManifoldQuality assess_manifold(Model& model, const ManifoldQualityOptions& options = {},
+/// All of the above for a model, in both interpolation modes (each query names its mode).
+ManifoldQuality assess_manifold(const Model& model, const ManifoldQualityOptions& options = {},
                                 ProgressSink& progress = null_progress());
 
 }  // namespace matlas::eval

@@ -6,21 +6,16 @@
 #include <random>
 
 #include "brdf/albedo.h"
+#include "core/combination.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "manifold/column_blocks.h"
 #include "manifold/export.h"
-#include "manifold/mean_weight.h"
 #include "manifold/model_metadata.h"
 
 namespace matlas::eval {
 
 namespace {
-
-/// Raw coefficients of m(x) over the inputs from its GP weights: w + (1 - sum w) / n.
-Eigen::VectorXd raw_coefficients(const Eigen::VectorXd& w) {
-  return (w.array() + (1.0 - w.sum()) / static_cast<double>(w.size())).matrix();
-}
 
 /// A direction drawn uniformly from the upper hemisphere, kept off the horizon.
 Vec3 random_direction(std::mt19937_64& rng) {
@@ -75,7 +70,7 @@ std::vector<std::size_t> count_negative_values(const Model& model, const Eigen::
   const std::size_t values = 3 * model.dims().bins();
   const Eigen::MatrixXd wt = weights.transpose();  // m x n
   Eigen::VectorXd weight_of_mean(m);
-  for (Eigen::Index j = 0; j < m; ++j) weight_of_mean[j] = mean_weight(weights.col(j));
+  for (Eigen::Index j = 0; j < m; ++j) weight_of_mean[j] = Combination::mean_weight(weights.col(j));
   const bool f32 = model.kept_columns() > 0 && model.data_f32(0) != nullptr;
   std::vector<std::size_t> total(static_cast<std::size_t>(m), 0);
   std::mutex mutex;
@@ -105,7 +100,7 @@ std::vector<std::size_t> count_negative_values(const Model& model, const Eigen::
       }
       if (cols == 0) continue;
       // As Model::table: (1 - sum w) mean + sum_i w_i z_i, the mean's weight exactly 0 for weights
-      // summing to 1 (mean_weight), so an exact zero of the inputs is not counted as negative.
+      // summing to 1 (Combination), so an exact zero of the inputs is not counted as negative.
       // In blocks of points, so that the values of a block (128 x kChunk, 8 MB) stay in cache:
       // all m points at once made a fresh m x kChunk matrix per chunk (67 MB for a 32 x 32 map),
       // and writing it was most of the time.
@@ -139,6 +134,8 @@ InterpolationCheck check_interpolation(const Model& model, const MaterialSet& se
     r.max_weight_error = std::max(r.max_weight_error, (W.col(i) - Eigen::VectorXd::Unit(n, i)).cwiseAbs().maxCoeff());
   }
   const Eigen::MatrixXd Wt = W.transpose();
+  Eigen::VectorXd weight_of_mean(n);
+  for (int i = 0; i < n; ++i) weight_of_mean[i] = Combination::mean_weight(W.col(i));
   std::vector<double> max_abs(static_cast<std::size_t>(n), 0.0), sum_abs(static_cast<std::size_t>(n), 0.0),
       max_val(static_cast<std::size_t>(n), 0.0);
   std::size_t counted = 0;
@@ -157,7 +154,7 @@ InterpolationCheck check_interpolation(const Model& model, const MaterialSet& se
           if (const float* p = model.data_f32(col)) {
             // m = (1 - sum w) mean + sum_i w_i z_i, as Model::value computes it.
             for (int i = 0; i < n; ++i) centred(i) = p[i];
-            rec = (Wt * centred).array() + (1.0 - Wt.rowwise().sum().array()) * static_cast<double>(model.mean(col));
+            rec = Wt * centred + weight_of_mean * static_cast<double>(model.mean(col));
           } else {
             for (int i = 0; i < n; ++i) rec(i) = model.value(v, W.col(i));
           }
@@ -234,7 +231,7 @@ ModelChecks run_model_checks(const Model& model, const MaterialSet* sources, con
     task.advance(static_cast<std::uint64_t>(n));
     for (std::size_t p = 0; p < points.size(); ++p) {
       const Eigen::VectorXd w = model.weights(points[p]);
-      const Eigen::VectorXd c = raw_coefficients(w);
+      const Eigen::VectorXd c = Combination(w).affine();
       const BrdfTable clamped = export_table(model, w);
       const std::vector<Rgb> curve = model.albedo_curve(w);
       for (std::size_t k = 0; k < angle_index.size(); ++k) {

@@ -12,6 +12,7 @@
 
 #include "acquisition/sample_plan.h"
 #include "acquisition/sparse_fit.h"
+#include "core/combination.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "eval/brdf_distance.h"
@@ -182,8 +183,7 @@ MaterialOutcome study_material(const StudyData& d, Eigen::Index h, const SparseS
   acquisition::MapView view;
   view.latent = fit.latent();
   view.coefficients = [&](const Eigen::VectorXd& x) {
-    const Eigen::VectorXd w = fit.weights(x);
-    return Eigen::VectorXd(w.array() + (1.0 - w.sum()) / static_cast<double>(m));
+    return Combination(fit.weights(x)).affine();
   };
   view.variance = [&](const Eigen::VectorXd& x) { return fit.posterior->variance(x); };
   view.metric = fit.convex ? fit.convex->metric() : gp::ConvexProjection(centred).metric();

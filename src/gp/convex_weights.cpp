@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/blas.h"
+#include "core/combination.h"
 #include "core/error.h"
 #include "core/parallel.h"
 
@@ -25,13 +26,8 @@ ConvexProjection::ConvexProjection(const Eigen::MatrixXd& gram, double ridge) : 
   A_.diagonal().array() += ridge;
 }
 
-Eigen::VectorXd affine_coefficients(const Eigen::Ref<const Eigen::VectorXd>& w) {
-  const double n = static_cast<double>(w.size());
-  return w.array() + (1.0 - w.sum()) / n;
-}
-
 Eigen::VectorXd ConvexProjection::from_centred(const Eigen::Ref<const Eigen::VectorXd>& w) const {
-  return project(affine_coefficients(w));
+  return project(Combination(w).affine());
 }
 
 // The iterate of the active-set method and the Cholesky factor of A_FF on its free set F, kept
@@ -280,7 +276,7 @@ void ConvexProjection::project_batch(Eigen::Ref<Eigen::MatrixXd> G, Eigen::Index
 
 void ConvexProjection::from_centred_batch(Eigen::Ref<Eigen::MatrixXd> W, Eigen::Index run) const {
   const double n = static_cast<double>(W.rows());
-  for (Eigen::Index j = 0; j < W.cols(); ++j) W.col(j).array() += (1.0 - W.col(j).sum()) / n;
+  for (Eigen::Index j = 0; j < W.cols(); ++j) W.col(j).array() += Combination::mean_weight(W.col(j)) / n;
   project_batch(W, run);
 }
 

@@ -52,7 +52,8 @@ public:
   /// c(g) for affine coefficients g (length n, sum 1 up to rounding; throws otherwise).
   Eigen::VectorXd project(const Eigen::Ref<const Eigen::VectorXd>& g) const;
 
-  /// The convex weights for the GP weights w of the centred data: c(w + (1 - sum w) / n).
+  /// The convex weights for the GP weights w of the centred data: c(g) of their affine
+  /// coefficients g = w + (1 - sum w) / n (core/combination.h, Combination::affine).
   Eigen::VectorXd from_centred(const Eigen::Ref<const Eigen::VectorXd>& w) const;
 
   /// c(g) of every column of G (n x m), in place: project() per column, each solve started from
@@ -81,8 +82,5 @@ private:
   Eigen::MatrixXd A_;
   double ridge_;
 };
-
-/// The affine coefficients g = w + (1 - sum w) / n of the GP weights w of the centred data.
-Eigen::VectorXd affine_coefficients(const Eigen::Ref<const Eigen::VectorXd>& w);
 
 }  // namespace matlas::gp

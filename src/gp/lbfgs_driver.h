@@ -1,7 +1,8 @@
 #pragma once
-// Internal to src/gp: L-BFGS (LBFGSpp) with a guarded line search and restarts from the best
-// point, shared by the exact (optimize_lbfgs.cpp) and the sparse (sparse_optimize.cpp) latent
-// optimisations. LBFGSpp minimises, so objectives return -l.
+// Internal to src/gp: LBFGSpp's parameters from MinimizeOptions (minimize.h), and L-BFGS with a
+// guarded line search and restarts from the best point, shared by the exact (optimize_lbfgs.cpp)
+// and the sparse (sparse_optimize.cpp) latent optimisations. LBFGSpp minimises, so objectives
+// return -l.
 #include <LBFGS.h>
 
 #include <algorithm>
@@ -10,9 +11,21 @@
 #include <limits>
 #include <string>
 
+#include "gp/minimize.h"
 #include "gp/optimize_run.h"
 
 namespace matlas::gp::detail {
+
+/// LBFGSpp's parameters for o (the line search's own condition is left to the caller).
+inline LBFGSpp::LBFGSParam<double> lbfgs_param(const MinimizeOptions& o) {
+  LBFGSpp::LBFGSParam<double> param;
+  param.m = o.memory;
+  param.epsilon = o.gradient_tolerance;
+  param.epsilon_rel = o.relative_gradient_tolerance;
+  param.max_iterations = o.max_iterations;
+  param.max_linesearch = o.max_line_search;
+  return param;
+}
 
 /// A line search that did not decrease the objective (or threw): restart from the best point.
 struct LineSearchFailed {};
@@ -46,16 +59,17 @@ public:
 /// `tolerance` and `initial_value` set the gradient test (relative to |l| at the start).
 template <typename Objective>
 std::string run_restarting_lbfgs(Objective& objective, double tolerance, double initial_value) {
-  LBFGSpp::LBFGSParam<double> param;
+  MinimizeOptions o;
   // 20 correction pairs: on the realistic databases (83 and 100 materials, q = 2 and 5) 10-30 %
   // fewer iterations than 10, and every default build converged (docs/BENCHMARKS.md).
-  param.m = 20;
-  param.epsilon = tolerance * std::max(1.0, std::abs(initial_value));
-  param.epsilon_rel = 0;
-  param.past = 0;            // the relative-improvement test is done in end_iteration
-  param.max_iterations = 0;  // and the iteration limit too
+  o.memory = 20;
+  o.gradient_tolerance = tolerance * std::max(1.0, std::abs(initial_value));
+  o.relative_gradient_tolerance = 0;
+  o.max_iterations = 0;  // the iteration limit is done in end_iteration
+  o.max_line_search = 40;
+  LBFGSpp::LBFGSParam<double> param = lbfgs_param(o);
+  param.past = 0;  // and the relative-improvement test too
   param.linesearch = LBFGSpp::LBFGS_LINESEARCH_BACKTRACKING_STRONG_WOLFE;
-  param.max_linesearch = 40;
   for (;;) {
     Eigen::VectorXd x = objective.best_point();
     const double restart_value = objective.best_value();

@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/combination.h"
 #include "core/error.h"
 #include "core/hash.h"
 #include "core/parallel.h"
@@ -18,7 +19,6 @@
 #include "manifold/dense_product.h"
 #include "manifold/dot_kernel.h"
 #include "manifold/model_format.h"
-#include "manifold/mean_weight.h"
 
 namespace matlas {
 
@@ -44,7 +44,7 @@ struct Model::Impl {
   const std::uint16_t* data_f16 = nullptr;
   std::unique_ptr<gp::GpPosterior> posterior;
   std::unique_ptr<gp::ConvexProjection> convex;  // the convex mode's projection
-  Interpolation interpolation = Interpolation::gp;
+  Interpolation interpolation = Interpolation::gp;  // the mode the model was built with
 
   /// sum_i w_i z_i[column] over the stored inputs.
   double data_dot(std::size_t column, const Eigen::Ref<const Eigen::VectorXd>& w) const {
@@ -69,7 +69,7 @@ Eigen::MatrixXd read_matrix(const SafetensorsFile& f, const char* name, std::int
 
 }  // namespace
 
-Model::Model(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Model::Model(std::shared_ptr<const Impl> impl, Interpolation mode) : impl_(std::move(impl)), interpolation_(mode) {}
 Model::Model(Model&&) noexcept = default;
 Model& Model::operator=(Model&&) noexcept = default;
 Model::~Model() = default;
@@ -279,7 +279,8 @@ Model Model::open(const fs::path& path) {
   } catch (const Error& e) {
     throw file_error(path, std::string("corrupted model: ") + e.what());
   }
-  return Model(std::move(m));
+  const Interpolation built = m->interpolation;
+  return Model(std::move(m), built);
 }
 
 const fs::path& Model::path() const { return impl_->path; }
@@ -322,31 +323,30 @@ int Model::index_of(const std::string& name) const {
 Eigen::VectorXd Model::latent_min() const { return impl_->latent.colwise().minCoeff().transpose(); }
 Eigen::VectorXd Model::latent_max() const { return impl_->latent.colwise().maxCoeff().transpose(); }
 
-double mean_weight(const Eigen::Ref<const Eigen::VectorXd>& w) {
-  const double rest = 1.0 - w.sum();
-  // Weights that sum to 1 up to rounding (every convex combination, every unit vector) give the
-  // mean no weight at all: a rounding-level -1e-16 times the mean would make an exact zero of
-  // the inputs a tiny negative value.
-  return std::abs(rest) <= 1e-12 ? 0.0 : rest;
-}
+Interpolation Model::interpolation() const { return interpolation_; }
+Model Model::with_interpolation(Interpolation mode) const { return Model(impl_, mode); }
 
-Interpolation Model::interpolation() const { return impl_->interpolation; }
-void Model::set_interpolation(Interpolation mode) { impl_->interpolation = mode; }
-
-Eigen::VectorXd Model::weights_from_gp(const Eigen::Ref<const Eigen::VectorXd>& w) const {
-  if (impl_->interpolation == Interpolation::gp) return w;
+Eigen::VectorXd Model::weights_from_gp(const Eigen::Ref<const Eigen::VectorXd>& w, Interpolation mode) const {
+  if (mode == Interpolation::gp) return w;
   return impl_->convex->from_centred(w);
 }
+Eigen::VectorXd Model::weights_from_gp(const Eigen::Ref<const Eigen::VectorXd>& w) const {
+  return weights_from_gp(w, interpolation_);
+}
 
-Eigen::VectorXd Model::weights(const Eigen::Ref<const Eigen::VectorXd>& x) const {
+Eigen::VectorXd Model::weights(const Eigen::Ref<const Eigen::VectorXd>& x, Interpolation mode) const {
   if (x.size() != dim())
     throw Error("latent point has " + std::to_string(x.size()) + " coordinates, the model has q = " +
                 std::to_string(dim()));
   if (!x.allFinite()) throw Error("latent point has a NaN or infinite coordinate");
-  return weights_from_gp(impl_->posterior->weights(x));
+  return weights_from_gp(impl_->posterior->weights(x), mode);
 }
+Eigen::VectorXd Model::weights(const Eigen::Ref<const Eigen::VectorXd>& x) const { return weights(x, interpolation_); }
 
 Model::Prediction Model::predict_batch(const Eigen::MatrixXd& points) const {
+  return predict_batch(points, interpolation_);
+}
+Model::Prediction Model::predict_batch(const Eigen::MatrixXd& points, Interpolation mode) const {
   if (points.cols() != dim())
     throw Error("latent points have " + std::to_string(points.cols()) + " coordinates, the model has q = " +
                 std::to_string(dim()));
@@ -355,7 +355,7 @@ Model::Prediction Model::predict_batch(const Eigen::MatrixXd& points) const {
   // Convex mode: each point's solve starts from the previous point's solution, in one run per
   // worker (gp/convex_weights.h, project_batch): fastest when consecutive points are neighbours
   // (latent_grid passes its cells in that order).
-  if (impl_->interpolation == Interpolation::convex) {
+  if (mode == Interpolation::convex) {
     const auto m = static_cast<Eigen::Index>(points.rows());
     const auto workers = static_cast<Eigen::Index>(std::max(1u, worker_count()));
     impl_->convex->from_centred_batch(b.weights, (m + workers - 1) / workers);
@@ -392,7 +392,7 @@ double Model::value(std::size_t v, const Eigen::Ref<const Eigen::VectorXd>& w) c
   const std::int32_t c = impl_->value_column[v];
   if (c < 0) return std::numeric_limits<double>::quiet_NaN();
   // mean + sum_i w_i (z_i - mean), written so that w = e_i returns z_i exactly.
-  return mean_weight(w) * impl_->mean[c] + impl_->data_dot(static_cast<std::size_t>(c), w);
+  return Combination::mean_weight(w) * impl_->mean[c] + impl_->data_dot(static_cast<std::size_t>(c), w);
 }
 
 Rgb Model::bin_rgb(std::size_t bin, const Eigen::Ref<const Eigen::VectorXd>& w) const {
@@ -413,7 +413,7 @@ BrdfTable Model::table(const Eigen::Ref<const Eigen::VectorXd>& w) const {
   if (w.size() != count()) throw Error("weight vector has the wrong length");
   BrdfTable t(impl_->dims, ValueBuffer::Uninitialized{});
   const std::size_t bins = impl_->dims.bins();
-  const double weight_of_mean = mean_weight(w);
+  const double weight_of_mean = Combination::mean_weight(w);
   // Convex weights have a few non-zero entries: then only their values are read (a few cache
   // lines of each column's n instead of all; the same sums, in the same order, as data_dot).
   std::vector<int> nonzero;

@@ -59,19 +59,23 @@ public:
   Eigen::VectorXd latent_max() const;
 
   // --- Interpolation mode ---
-  /// The mode the model was built with (metadata "interpolation"; "gp" for models without it),
-  /// unless overridden by set_interpolation.
+  /// The mode of the queries that name none: the mode the model was built with (metadata
+  /// "interpolation"; "gp" for models without it), or the one given to with_interpolation.
   Interpolation interpolation() const;
-  /// Overrides the mode for this process (e.g. `matlas serve --interpolation gp`).
-  void set_interpolation(Interpolation mode);
+  /// Another handle on the same opened model (nothing is copied or read again) whose queries
+  /// default to `mode` (e.g. `matlas serve --interpolation gp`). The opened model itself is never
+  /// changed: handles with different modes can be used from different threads at once.
+  Model with_interpolation(Interpolation mode) const;
   /// The convex mode's metric A (gp/convex_weights.h: the layout Gram over its mean diagonal plus
   /// the ridge), in either mode.
   const Eigen::MatrixXd& convex_metric() const;
 
   // --- Queries ---
-  /// The interpolation weights of x in the active mode (length n), for the tables
-  /// m(x) = (1 - sum w) mean + sum_i w_i z_i: the GP's w(x) = K^-1 k(x), or convex weights
-  /// (non-negative, sum 1). At a material's own point exactly e_i in both modes.
+  // Each query that depends on the mode takes it as an argument; without it, interpolation().
+  /// The interpolation weights of x in `mode` (length n), for the tables
+  /// m(x) = (1 - sum w) mean + sum_i w_i z_i (core/combination.h): the GP's w(x) = K^-1 k(x), or
+  /// convex weights (non-negative, sum 1). At a material's own point exactly e_i in both modes.
+  Eigen::VectorXd weights(const Eigen::Ref<const Eigen::VectorXd>& x, Interpolation mode) const;
   Eigen::VectorXd weights(const Eigen::Ref<const Eigen::VectorXd>& x) const;
   /// Weights (n x m, column j for row j of points, m x q) and GP predictive variances (length m)
   /// of many points, computed in parallel; the same as weights() and variance() per point.
@@ -79,9 +83,11 @@ public:
     Eigen::MatrixXd weights;
     Eigen::VectorXd variance;
   };
+  Prediction predict_batch(const Eigen::MatrixXd& points, Interpolation mode) const;
   Prediction predict_batch(const Eigen::MatrixXd& points) const;
-  /// The active mode's weights for given GP weights w (centred form): w itself, or its convex
+  /// The weights in `mode` for given GP weights w (centred form): w itself, or its convex
   /// projection.
+  Eigen::VectorXd weights_from_gp(const Eigen::Ref<const Eigen::VectorXd>& w, Interpolation mode) const;
   Eigen::VectorXd weights_from_gp(const Eigen::Ref<const Eigen::VectorXd>& w) const;
   /// Weights with all mass on material i.
   Eigen::VectorXd material_weights(int i) const;
@@ -129,8 +135,9 @@ public:
 
 private:
   struct Impl;
-  explicit Model(std::unique_ptr<Impl> impl);
-  std::unique_ptr<Impl> impl_;
+  Model(std::shared_ptr<const Impl> impl, Interpolation mode);
+  std::shared_ptr<const Impl> impl_;  ///< the opened file: never changed after open()
+  Interpolation interpolation_;        ///< this handle's default mode
 };
 
 }  // namespace matlas

@@ -3,12 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <optional>
 
-#include <LBFGS.h>
 
 #include "core/error.h"
 #include "core/parallel.h"
 #include "gp/kernel.h"
+#include "gp/minimize.h"
 
 namespace matlas {
 
@@ -145,12 +146,9 @@ Projection project_material(const Model& model, const BrdfTable& table, int star
   for (int k = 0; k < std::min(starts, n); ++k) seeds.push_back(model.latent().row(order[static_cast<std::size_t>(k)]).transpose());
   seeds.push_back(model.latent().colwise().mean().transpose());
 
-  LBFGSpp::LBFGSParam<double> param;
-  param.epsilon = 1e-8;
-  param.epsilon_rel = 1e-8;
-  param.max_iterations = 200;
-  param.max_linesearch = 40;
-  LBFGSpp::LBFGSSolver<double> solver(param);
+  gp::MinimizeOptions search;  // L-BFGS: 200 iterations, |grad| <= 1e-8 max(1, |x|)
+  search.max_iterations = 200;
+  search.gradient_tolerance = search.relative_gradient_tolerance = 1e-8;
   const double scale = 1.0 / norm2;  // keep the objective O(1)
   auto objective = [&](const Eigen::VectorXd& x, Eigen::VectorXd& grad) {
     const double r = projection_residual(model, ip, x, &grad);
@@ -169,9 +167,9 @@ Projection project_material(const Model& model, const BrdfTable& table, int star
   }
   for (Eigen::VectorXd x : seeds) {
     double fx = 0;
-    try {
-      solver.minimize(objective, x, fx);
-    } catch (const std::exception&) {
+    if (const std::optional<double> end = gp::minimize_lbfgs(objective, x, search)) {
+      fx = *end;
+    } else {
       // A failed line search leaves x at its last point, which may have left the finite range
       // (a step into a flat region): keep it only if it is a usable point.
       if (!x.allFinite()) continue;

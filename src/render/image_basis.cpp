@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/check.h"
+#include "core/combination.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "formats/safetensors.h"
@@ -162,7 +163,7 @@ void ImageBasis::compose(const Eigen::Ref<const Eigen::VectorXd>& w, float* rgb)
   std::vector<float> wf(static_cast<std::size_t>(n_));
   for (int i = 0; i < n_; ++i) wf[static_cast<std::size_t>(i)] = static_cast<float>(w[i]);
   const bool half = precision_ == BasisPrecision::f16;
-  compose_tiles(wf.data(), static_cast<std::size_t>(n_), static_cast<float>(1.0 - w.sum()),
+  compose_tiles(wf.data(), static_cast<std::size_t>(n_), static_cast<float>(Combination::mean_weight(w)),
                 half ? nullptr : values_f32_.data(), half ? values_f16_.data() : nullptr, rgb);
 }
 

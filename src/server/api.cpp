@@ -94,9 +94,9 @@ Reply Reply::bytes(std::string data, std::string content_type) {
 }
 
 Api::Api(const Model& model, std::shared_ptr<const PreviewSource> previews, const ServerOptions& options)
-    : model_(model),
-      plausibility_(model, 4096),
-      map_plausibility_(model, 256),
+    : model_(model.with_interpolation(options.interpolation.value_or(model.interpolation()))),
+      plausibility_(model_, 4096),
+      map_plausibility_(model_, 256),
       previews_(std::move(previews)),
       options_(options),
       domain_(LatentDomain::around(model.latent_min(), model.latent_max(), options.domain_margin)),
@@ -138,7 +138,7 @@ Api::Api(const Model& model, std::shared_ptr<const PreviewSource> previews, cons
   j["layers"] = {"albedo", "variance", "plausibility"};
   // How m(x) is made from the inputs: "gp" (the paper's GP weights) or "convex" (non-negative
   // weights summing to 1); models without the field predate the choice and are "gp".
-  j["interpolation"] = std::string(to_string(model.interpolation()));
+  j["interpolation"] = std::string(to_string(model_.interpolation()));  // the server's mode
   j["uncertainty"] = {{"fade_from", atlas::kFadeFrom}, {"fade_to", atlas::kFadeTo}};
   j["albedo_angles"] = kAlbedoAngles;
   if (gi_) j["gi"] = {{"scenes", gi_->scenes()}, {"preloaded", gi_->preloaded()}, {"views", gi_->views()}};

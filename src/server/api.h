@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
+#include "manifold/model.h"
 #include "manifold/plausibility.h"
 #include "server/atlas_server.h"
 #include "server/compute_gate.h"
@@ -131,7 +132,9 @@ private:
   ToneMap gi_tone(const std::string& scene, bool auto_exposure, double exposure, const std::string& tone,
                   const atlas::GiBasis* basis, const Image* image);
 
-  const Model& model_;
+  /// The served model, as a handle whose queries default to the server's mode
+  /// (ServerOptions::interpolation): the model itself is shared, never changed.
+  const Model model_;
   PlausibilityProbe plausibility_;      ///< for one point (weights reply): 4096 sampled columns
   PlausibilityProbe map_plausibility_;  ///< for map cells: 256 sampled columns
   std::shared_ptr<const PreviewSource> previews_;

@@ -21,6 +21,8 @@
 #include <optional>
 #include <string>
 
+#include "manifold/interpolation.h"
+
 namespace matlas {
 class Model;
 }
@@ -55,6 +57,9 @@ struct ServerOptions {
   int waiting_per_client = 4;
   std::size_t max_upload_bytes = 64u << 20;        ///< larger uploads get 413 (other requests: 64 KiB)
   double domain_margin = 1.0;               ///< allowed x: data box enlarged by this x extent
+  /// The interpolation mode of every query the server answers (weights, previews, panels, map
+  /// layers, fits, projections), kept across reloads; empty: each model's own mode.
+  std::optional<Interpolation> interpolation;
   std::size_t cache_entries = 512;          ///< LRU of encoded previews
   /// Called after each request with (method, path, status, milliseconds) (e.g. an access log).
   std::function<void(const std::string&, const std::string&, int, double)> log;

@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "atlas/zonal_cache.h"
+#include "core/combination.h"
 #include "formats/mesh_io.h"
 #include "manifold/model.h"
 #include "render/assets.h"
@@ -152,13 +153,11 @@ std::string Realtime::mesh(const std::string& name) const {
 
 Realtime::Reference Realtime::reference(const Eigen::VectorXd& w, const std::string& env, double rotation, int size) {
   const zonal::CoefficientSet& s = set();
-  // m(w) = (1 - sum w) mean + sum w_i z_i, and the coefficients are linear in the table.
+  // m(w) = c_0 mean + sum w_i z_i (core/combination.h), and the coefficients are linear in the table.
   std::vector<const zonal::ZonalCoefficients*> parts{&*s.mean};
-  std::vector<double> weights{1.0 - w.sum()};
-  for (std::size_t i = 0; i < s.materials.size(); ++i) {
-    parts.push_back(&s.materials[i]);
-    weights.push_back(w[static_cast<Eigen::Index>(i)]);
-  }
+  for (const auto& material : s.materials) parts.push_back(&material);
+  const Eigen::VectorXd a = Combination(w).coefficients();
+  const std::vector<double> weights(a.data(), a.data() + a.size());
   const zonal::ZonalCoefficients c = zonal::combine(parts, weights);
   // The prefiltered maps of the unrotated environment, as the page has them; a rotation is
   // prefiltered anew (the page rotates its lookups instead, which is the same integral).

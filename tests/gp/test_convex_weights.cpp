@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/combination.h"
 #include "core/error.h"
 #include "gp/convex_weights.h"
 #include "gp/posterior.h"
@@ -143,7 +144,7 @@ TEST(ConvexProjection, GpWeightsAlongADensePathAreConvexContinuousAndExactAtTheD
     Eigen::VectorXd previous_c, previous_g;
     double largest = 0;
     for (int s = 0; s <= steps; ++s) {
-      const Eigen::VectorXd g = affine_coefficients(gp.weights(path(static_cast<double>(s) / steps)));
+      const Eigen::VectorXd g = Combination(gp.weights(path(static_cast<double>(s) / steps))).affine();
       most_negative_gp = std::min(most_negative_gp, g.minCoeff());
       const Eigen::VectorXd c = p.project(g);
       EXPECT_GE(c.minCoeff(), 0.0);
@@ -221,7 +222,7 @@ TEST(ConvexProjection, BatchOverAGridEqualsThePerPointSolveEverywhere) {
     const ConvexProjection p(test::centred_gram(test::random_low_rank_data(n, 80, 6, seed + 1)));
     const Eigen::Index m = t.W.cols();
     Eigen::MatrixXd G = t.W;
-    for (Eigen::Index j = 0; j < m; ++j) G.col(j) = affine_coefficients(t.W.col(j));
+    for (Eigen::Index j = 0; j < m; ++j) G.col(j) = Combination(t.W.col(j)).affine();
     // The reference: project() at every cell, each solved on its own from the cold start.
     Eigen::MatrixXd expected(n, m);
     int projected = 0;

@@ -2,6 +2,8 @@
 // mirror-like material beside a black diffuse one, and a cluster of near-duplicates.
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <thread>
 
 #include <gtest/gtest.h>
 
@@ -87,7 +89,7 @@ protected:
 };
 
 TEST_P(HostileModel, ConvexModeIsPlausibleEverywhereWhereTheGpIsNot) {
-  Model m = Model::open(dir / "m.matlas");
+  const Model m = Model::open(dir / "m.matlas");
   ASSERT_EQ(m.interpolation(), Interpolation::convex);  // the default
   const double inputs_max_albedo = m.material_albedo().maxCoeff();
   const std::vector<Eigen::VectorXd> points = probe_points(m);
@@ -100,19 +102,18 @@ TEST_P(HostileModel, ConvexModeIsPlausibleEverywhereWhereTheGpIsNot) {
     ASSERT_LE(r.max_albedo, inputs_max_albedo * (1 + 1e-12)) << "energy gain at x = " << x.transpose();
   }
   // The same points with the paper's GP weights: this database does break it (so the test can fail).
-  m.set_interpolation(Interpolation::gp);
   int implausible = 0;
-  for (const Eigen::VectorXd& x : points) implausible += range_of(m, m.weights(x)).min_value < 0 ? 1 : 0;
+  for (const Eigen::VectorXd& x : points)
+    implausible += range_of(m, m.weights(x, Interpolation::gp)).min_value < 0 ? 1 : 0;
   EXPECT_GT(implausible, 0);
 }
 
 TEST_P(HostileModel, BothModesReproduceTheInputsExactly) {
-  Model m = Model::open(dir / "m.matlas");
+  const Model m = Model::open(dir / "m.matlas");
   const MaterialSet set = MaterialSet::open({dir / "db"});
   for (const Interpolation mode : {Interpolation::convex, Interpolation::gp}) {
-    m.set_interpolation(mode);
     for (int i = 0; i < m.count(); ++i) {
-      const Eigen::VectorXd w = m.weights(m.latent().row(i).transpose());
+      const Eigen::VectorXd w = m.weights(m.latent().row(i).transpose(), mode);
       EXPECT_LT((w - Eigen::VectorXd::Unit(m.count(), i)).cwiseAbs().maxCoeff(), 1e-9) << to_string(mode) << " " << i;
       const BrdfTable input = read_merl(set.file(static_cast<std::size_t>(i)).path());
       const BrdfTable t = m.table(w);
@@ -161,6 +162,50 @@ TEST_P(HostileModel, BatchPredictionMatchesSingleQueries) {
     EXPECT_LT((batch.weights.col(static_cast<Eigen::Index>(k)) - m.weights(points[k])).cwiseAbs().maxCoeff(), 1e-9);
     EXPECT_NEAR(batch.variance[static_cast<Eigen::Index>(k)], m.variance(points[k]), 1e-9);
   }
+}
+
+TEST_P(HostileModel, TheModeIsAParameterOfTheQueryNotStateOfTheModel) {
+  const Model m = Model::open(dir / "m.matlas");
+  ASSERT_EQ(m.interpolation(), Interpolation::convex);
+  const std::vector<Eigen::VectorXd> points = probe_points(m);
+  Eigen::MatrixXd P(static_cast<Eigen::Index>(points.size()), m.dim());
+  for (std::size_t k = 0; k < points.size(); ++k) P.row(static_cast<Eigen::Index>(k)) = points[k].transpose();
+  // The references, one mode after the other on one thread.
+  std::map<Interpolation, Eigen::MatrixXd> expected;
+  for (const Interpolation mode : {Interpolation::convex, Interpolation::gp}) {
+    Eigen::MatrixXd W(m.count(), static_cast<Eigen::Index>(points.size()));
+    for (std::size_t k = 0; k < points.size(); ++k) W.col(static_cast<Eigen::Index>(k)) = m.weights(points[k], mode);
+    expected[mode] = W;
+  }
+  ASSERT_GT((expected[Interpolation::convex] - expected[Interpolation::gp]).cwiseAbs().maxCoeff(), 1e-3);
+  // Two threads query the one model at once, each in its own mode, by argument and by a handle.
+  const Model gp_handle = m.with_interpolation(Interpolation::gp);
+  EXPECT_EQ(gp_handle.interpolation(), Interpolation::gp);
+  // Single queries are the same function of x on any thread: equal to the bit; the batch (one
+  // product, warm-started projections) equal to rounding.
+  std::map<Interpolation, double> worst_single{{Interpolation::convex, 0.0}, {Interpolation::gp, 0.0}};
+  std::map<Interpolation, double> worst_batch = worst_single;
+  auto query = [&](Interpolation mode) {
+    const Eigen::MatrixXd& reference = expected.at(mode);
+    double& single = worst_single.at(mode);
+    for (int round = 0; round < 5; ++round)
+      for (std::size_t k = 0; k < points.size(); ++k) {
+        const bool by_handle = mode == Interpolation::gp && round % 2 == 1;
+        const Eigen::VectorXd w = by_handle ? gp_handle.weights(points[k]) : m.weights(points[k], mode);
+        single = std::max(single, (w - reference.col(static_cast<Eigen::Index>(k))).cwiseAbs().maxCoeff());
+      }
+    worst_batch.at(mode) = (m.predict_batch(P, mode).weights - reference).cwiseAbs().maxCoeff();
+  };
+  std::thread convex([&] { query(Interpolation::convex); }), gp([&] { query(Interpolation::gp); });
+  convex.join();
+  gp.join();
+  for (const Interpolation mode : {Interpolation::convex, Interpolation::gp}) {
+    EXPECT_EQ(worst_single.at(mode), 0.0) << to_string(mode);
+    EXPECT_LT(worst_batch.at(mode), 1e-9) << to_string(mode);
+  }
+  // Neither the handle nor the queries changed the model's own default.
+  EXPECT_EQ(m.interpolation(), Interpolation::convex);
+  EXPECT_LT((m.weights(points[0]) - expected[Interpolation::convex].col(0)).cwiseAbs().maxCoeff(), 1e-15);
 }
 
 TEST_P(HostileModel, DistinctMaterialsStayApartOnTheMap) {

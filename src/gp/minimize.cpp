@@ -1,15 +1,30 @@
-#include "gp/nelder_mead.h"
+#include "gp/minimize.h"
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <numeric>
 #include <vector>
 
+#include "gp/lbfgs_driver.h"
+
 namespace matlas::gp {
 
-Eigen::VectorXd nelder_mead(const std::function<double(const Eigen::VectorXd&)>& f,
-                            Eigen::VectorXd x0, double step, int max_evaluations,
-                            double tolerance) {
+std::optional<double> minimize_lbfgs(const ObjectiveWithGradient& f, Eigen::VectorXd& x, const MinimizeOptions& o) {
+  LBFGSpp::LBFGSSolver<double> solver(detail::lbfgs_param(o));
+  double fx = 0;
+  try {
+    solver.minimize(f, x, fx);
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+  return fx;
+}
+
+Eigen::VectorXd minimize_nelder_mead(const std::function<double(const Eigen::VectorXd&)>& f, Eigen::VectorXd x0,
+                                     const MinimizeOptions& o) {
+  const double step = o.step, tolerance = o.value_tolerance;
+  const int max_evaluations = o.max_iterations;
   const auto d = x0.size();
   std::vector<Eigen::VectorXd> pts(static_cast<std::size_t>(d + 1), x0);
   std::vector<double> val(pts.size());
