@@ -1,5 +1,5 @@
 // matlas fit: the glTF metallic-roughness parameters (brdf/gltf_pbr.h) that come closest to a map
-// point, a model's material or a table file, written for artists' tools (glTF, Blender), with the
+// point, a model's material or a table file, written for artists' tools (glTF, MaterialX, Blender), with the
 // fit's error (docs/EXPORT.md, "Analytic fits").
 #include <chrono>
 #include <filesystem>
@@ -12,6 +12,7 @@
 #include "artist/blender_snippet.h"
 #include "artist/fit_error.h"
 #include "artist/gltf_material.h"
+#include "artist/materialx_document.h"
 #include "artist/pbr_fit.h"
 #include "atlas/map_layers.h"
 #include "brdf/tabulate.h"
@@ -38,16 +39,17 @@ struct ArtistFitArgs {
   std::optional<std::string> at, material;
 };
 
-enum class FitOutput { gltf, blender, report, table };
+enum class FitOutput { gltf, materialx, blender, report, table };
 
 FitOutput output_kind(const std::string& path) {
   const std::string ext = fs::path(path).extension().string();
   if (ext == ".gltf") return FitOutput::gltf;
+  if (ext == ".mtlx") return FitOutput::materialx;
   if (ext == ".py") return FitOutput::blender;
   if (ext == ".json") return FitOutput::report;
   if (ext == ".binary") return FitOutput::table;
   throw Error("-o " + path + ": unknown output type '" + ext +
-              "'; expected .gltf (glTF 2.0 material), .py (Blender script), .json (fit report) or .binary "
+              "'; expected .gltf (glTF 2.0 material), .mtlx (MaterialX 1.39, OpenPBR Surface), .py (Blender script), .json (fit report) or .binary "
               "(the fit tabulated as a MERL table)");
 }
 
@@ -84,7 +86,7 @@ json report_json(const std::string& what, const artist::PbrFitResult& fit, const
 }
 
 void run_fit(const ArtistFitArgs& a, const Io& io) {
-  if (a.outputs.empty()) throw Error("-o: give at least one output (.gltf, .py, .json or .binary)");
+  if (a.outputs.empty()) throw Error("-o: give at least one output (.gltf, .mtlx, .py, .json or .binary)");
   std::vector<FitOutput> kinds;
   for (const std::string& o : a.outputs) {
     if (o.empty()) throw Error("-o: an output file name is empty");
@@ -138,6 +140,7 @@ void run_fit(const ArtistFitArgs& a, const Io& io) {
     const std::string& out = a.outputs[k];
     switch (kinds[k]) {
       case FitOutput::gltf: artist::write_gltf_material(out, m, name, what); break;
+      case FitOutput::materialx: artist::write_materialx_document(out, m, name, what); break;
       case FitOutput::blender: artist::write_blender_snippet(out, m, name, what); break;
       case FitOutput::table: write_merl(out, tabulate(m)); break;
       case FitOutput::report: {
@@ -156,12 +159,12 @@ void add_fit_command(CLI::App& app, const Io& io) {
   auto a = std::make_shared<ArtistFitArgs>();
   auto* cmd = app.add_subcommand(
       "fit", "Fit the glTF metallic-roughness model (Blender's Principled BSDF, Standard Surface, OpenPBR) to a "
-             "map point, a model's material or a table file; write it for artists' tools (docs/EXPORT.md)");
+             "map point, a model's material or a table file; write it for artists' tools (glTF, MaterialX, Blender; docs/EXPORT.md)");
   cmd->add_option("source", a->source, "Model file (.matlas), or a table file (.binary, .bsdf)")->required();
   add_point_options(*cmd, a->at, a->material);
   cmd->add_option("-o,--output", a->outputs,
-                  "Output file, repeatable; the type from the extension: .gltf (glTF 2.0 material), .py (Blender "
-                  "script), .json (fit report), .binary (the fit as a MERL table)")
+                  "Output file, repeatable; the type from the extension: .gltf (glTF 2.0 material), .mtlx (MaterialX "
+                  "1.39 document, OpenPBR Surface), .py (Blender script), .json (fit report), .binary (the fit as a MERL table)")
       ->required();
   cmd->add_option("--name", a->name, "Material name in the files (default: the material or file name)");
   cmd->callback([io, a] { run_fit(*a, io); });
