@@ -11,6 +11,7 @@
 
 #include "artist/blender_snippet.h"
 #include "artist/fit_error.h"
+#include "artist/fit_report.h"
 #include "artist/gltf_material.h"
 #include "artist/materialx_document.h"
 #include "artist/pbr_fit.h"
@@ -51,38 +52,6 @@ FitOutput output_kind(const std::string& path) {
   throw Error("-o " + path + ": unknown output type '" + ext +
               "'; expected .gltf (glTF 2.0 material), .mtlx (MaterialX 1.39, OpenPBR Surface), .py (Blender script), .json (fit report) or .binary "
               "(the fit tabulated as a MERL table)");
-}
-
-json rgb_json(const Rgb& c) { return {c[0], c[1], c[2]}; }
-
-json report_json(const std::string& what, const artist::PbrFitResult& fit, const artist::FitError& e,
-                 double seconds, std::optional<double> variance) {
-  const GltfPbr& m = fit.model;
-  json albedo = json::array();
-  for (std::size_t a = 0; a < e.angles_deg.size(); ++a)
-    albedo.push_back({{"theta_deg", e.angles_deg[a]}, {"table", rgb_json(e.table_albedo[a])},
-                      {"fit", rgb_json(e.fit_albedo[a])}});
-  json r = {
-      {"source", what},
-      {"model", "glTF 2.0 metallic-roughness with KHR_materials_specular and KHR_materials_clearcoat (docs/EXPORT.md)"},
-      {"parameters",
-       {{"base_color", rgb_json(m.base_color)}, {"metallic", m.metallic}, {"roughness", m.roughness},
-        {"specular", m.specular}, {"ior", m.ior}, {"clearcoat", m.clearcoat},
-        {"clearcoat_roughness", m.clearcoat_roughness}}},
-      // The same parameters under OpenPBR Surface's / Standard Surface's names (the shared core of
-      // the three models: base colour, metalness, GGX roughness r, specular weight, IOR).
-      {"openpbr_surface",
-       {{"base_color", rgb_json(m.base_color)}, {"base_metalness", m.metallic}, {"specular_roughness", m.roughness},
-        {"specular_weight", m.specular}, {"specular_ior", m.ior}, {"coat_weight", m.clearcoat},
-        {"coat_roughness", m.clearcoat_roughness}, {"coat_ior", 1.5}}},
-      {"error",
-       {{"relative_rms", e.relative_rms}, {"cbrt_distance", e.cbrt_distance}, {"albedo_error", e.albedo_error},
-        {"albedo", albedo}}},
-      {"fit",
-       {{"objective", fit.distance}, {"samples", fit.samples}, {"starts", fit.starts}, {"evaluations", fit.evaluations},
-        {"converged", fit.converged()}, {"restart_gain", fit.restart_gain}, {"seconds", seconds}}}};
-  if (variance) r["predictive_variance"] = *variance;
-  return r;
 }
 
 void run_fit(const ArtistFitArgs& a, const Io& io) {
@@ -145,7 +114,7 @@ void run_fit(const ArtistFitArgs& a, const Io& io) {
       case FitOutput::table: write_merl(out, tabulate(m)); break;
       case FitOutput::report: {
         AtomicFile file(out);
-        file.write(report_json(what, fit, error, seconds, variance).dump(2, ' ', false, json::error_handler_t::replace) +
+        file.write(artist::fit_report_json(what, fit, error, seconds, variance).dump(2, ' ', false, json::error_handler_t::replace) +
                    "\n");
         file.commit();
         break;
