@@ -80,7 +80,8 @@ Api::ExportSubject Api::export_subject(const nlohmann::json& j) const {
   s.filename = "matlas";
   char buf[32];
   for (Eigen::Index i = 0; i < s.x.size(); ++i) {
-    at += (i ? "," : "") + shortest(s.x[i]);
+    if (i > 0) at += ',';
+    at += shortest(s.x[i]);
     std::snprintf(buf, sizeof buf, "_%.4f", s.x[i]);
     s.filename += buf;
   }
@@ -153,11 +154,12 @@ Reply Api::fit_file(const std::string& body) {
   const std::string format = parse_choice(j, "format", {"gltf", "mtlx", "py"}, "gltf");
   const ExportSubject s = export_subject(j);
   const GltfPbr& m = fitted(s)->fit.model;
-  if (format == "gltf")
-    return download(artist::gltf_material_document(m, s.name, s.source), "model/gltf+json", s.filename + ".gltf");
-  if (format == "mtlx")
-    return download(artist::materialx_document(m, s.name, s.source), "application/xml", s.filename + ".mtlx");
-  return download(artist::blender_snippet(m, s.name, s.source), "text/x-python", s.filename + ".py");
+  // One content type for the three, as for every download (docs/api.schema.json): the file's
+  // kind is in its name.
+  const std::string text = format == "gltf"   ? artist::gltf_material_document(m, s.name, s.source)
+                           : format == "mtlx" ? artist::materialx_document(m, s.name, s.source)
+                                              : artist::blender_snippet(m, s.name, s.source);
+  return download(text, "application/octet-stream", s.filename + "." + format);
 }
 
 }  // namespace matlas::server
