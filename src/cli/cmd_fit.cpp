@@ -79,11 +79,11 @@ void run_fit(const ArtistFitArgs& a, const Io& io) {
     variance = model.variance(x);
     if (!a.material && *variance >= atlas::kFadeFrom)
       print(io.err, "warning: x = %s is far from the data (predictive variance %.3g, maps fade out from %.2g): the "
-            "fitted BRDF is an extrapolation, not a measured material\n", a.at->c_str(), *variance, atlas::kFadeFrom);
+            "fitted BRDF is an extrapolation, not a measured material\n", point_text(x).c_str(), *variance, atlas::kFadeFrom);
     table = export_table(model, w);
     what = a.material ? "material " + *a.material + " of " + source.filename().string()
-                      : "x = " + *a.at + " of " + source.filename().string();
-    if (name.empty()) name = a.material ? *a.material : "matlas point " + *a.at;
+                      : "x = " + point_text(x) + " of " + source.filename().string();
+    if (name.empty()) name = a.material ? *a.material : "matlas point " + point_text(x);
   }
 
   const auto start = std::chrono::steady_clock::now();
