@@ -60,7 +60,10 @@ export function createDownloadMenu(store: PageStore): void {
       const reply = await api.fit(s.x, s.material, ctl.signal);
       if (ctl.signal.aborted) return;
       fitted = { key: s.key, reply };
-      error.textContent = fitErrorText(reply);
+      // Far from the data the table itself is an extrapolation (as `matlas fit` warns).
+      const v = reply.predictive_variance, fade = model.uncertainty?.fade_from;
+      const far = v !== undefined && fade !== undefined && v >= fade;
+      error.textContent = fitErrorText(reply) + (far ? `; far from the data (variance ${v.toPrecision(2)}): an extrapolation` : "");
       error.title = `glTF metallic-roughness fit: base colour ${reply.parameters.base_color.map((v) => v.toFixed(3)).join(" ")}, ` +
         `metallic ${reply.parameters.metallic.toFixed(2)}, roughness ${reply.parameters.roughness.toFixed(3)}; ` +
         "relative RMS: cosine-weighted, against the table; albedo: largest difference at 0-75°";
