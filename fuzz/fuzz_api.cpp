@@ -70,18 +70,20 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string body(reinterpret_cast<const char*>(data) + 1, size - 1);
   Api& api = *f.api;
   try {
-    switch (data[0] % 12) {
+    switch (data[0] % 14) {
       case 0: api.weights(body); break;
       case 1: api.preview(body); break;
       case 2: api.slice(body); break;
       case 3: api.lobe(body); break;
       case 4: api.albedo(body); break;
       case 5: api.map_layer(body); break;
-      case 6: api.export_merl(body); break;
+      case 6: api.export_file(body); break;
       case 7: api.project(body); break;
       case 8: api.thumbnail(static_cast<int>(body.size()) - 2, body, "sphere", 16 + static_cast<int>(body.size() % 64)); break;
       case 9: api.fit_samples(body, body.size() % 2 ? "1" : "0"); break;
       case 10: api.sample_plan(body, std::to_string(1 + body.size() % 8)); break;
+      case 11: api.fit(body); break;
+      case 12: api.fit_file(body); break;
       default: api.model_info(); break;
     }
   } catch (const Error&) {  // HttpError is a matlas::Error

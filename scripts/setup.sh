@@ -10,7 +10,7 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libcli11-dev nlohmann-json3-dev libcpp-httplib-dev libopenblas-dev libxxhash-dev
   liblbfgspp-dev libtinyexr-dev libopenexr-dev libdraco-dev libstb-dev libembree-dev libtbb-dev
-  libtinygltf-dev
+  libtinygltf-dev libpugixml-dev
   libgtest-dev libbenchmark-dev
   libopenmpi-dev openmpi-bin
   python3-dev python3-pybind11 python3-numpy python3-pytest python3-setuptools python3-pip

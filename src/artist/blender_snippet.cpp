@@ -45,9 +45,28 @@ std::string blender_snippet(const GltfPbr& m, const std::string& name, const std
   s += "if 'Coat Weight' in bsdf.inputs:  # Blender 4.x\n";
   s += "    bsdf.inputs['Coat Weight'].default_value = " + number(m.clearcoat) + "\n";
   s += "    bsdf.inputs['Coat Roughness'].default_value = " + number(m.clearcoat_roughness) + "\n";
-  s += "else:\n";
-  s += "    bsdf.inputs['Clearcoat'].default_value = " + number(m.clearcoat) + "\n";
-  s += "    bsdf.inputs['Clearcoat Roughness'].default_value = " + number(m.clearcoat_roughness) + "\n";
+  if (m.clearcoat > 0) {
+    // Blender 2.8-3.x: its Clearcoat is Disney's (a GTR1 lobe at a quarter of the weight), far
+    // from glTF's (bench/blender_check.sh): the coat is a GGX Glossy BSDF mixed over the base by
+    // clearcoat x Fresnel(n.v, IOR 1.5), as the extension's reference code layers it.
+    s += "else:  # Blender 2.8-3.x: a GGX coat layer (its Clearcoat is another lobe)\n";
+    s += "    nodes, links = mat.node_tree.nodes, mat.node_tree.links\n";
+    s += "    output = next(n for n in nodes if n.type == 'OUTPUT_MATERIAL')\n";
+    s += "    coat = nodes.new('ShaderNodeBsdfGlossy')\n";
+    s += "    coat.distribution = 'GGX'\n";
+    s += "    coat.inputs['Roughness'].default_value = " + number(m.clearcoat_roughness) + "\n";
+    s += "    fresnel = nodes.new('ShaderNodeFresnel')\n";
+    s += "    fresnel.inputs['IOR'].default_value = 1.5\n";
+    s += "    weight = nodes.new('ShaderNodeMath')\n";
+    s += "    weight.operation = 'MULTIPLY'\n";
+    s += "    weight.inputs[1].default_value = " + number(m.clearcoat) + "\n";
+    s += "    mix = nodes.new('ShaderNodeMixShader')\n";
+    s += "    links.new(fresnel.outputs['Fac'], weight.inputs[0])\n";
+    s += "    links.new(weight.outputs['Value'], mix.inputs['Fac'])\n";
+    s += "    links.new(bsdf.outputs['BSDF'], mix.inputs[1])\n";
+    s += "    links.new(coat.outputs['BSDF'], mix.inputs[2])\n";
+    s += "    links.new(mix.outputs['Shader'], output.inputs['Surface'])\n";
+  }
   s += "obj = bpy.context.active_object\n";
   s += "if obj is not None and obj.type == 'MESH':\n";
   s += "    obj.data.materials.clear()\n";

@@ -7,8 +7,9 @@
 // same r, alpha = r^2); IOR as fitted; the specular factor s becomes "Specular IOR Level" = s / 2
 // (4.x) or "Specular" = s / 2 (older; 0.5 is F0 = 0.04 in both). Blender scales F0 only, glTF F0
 // and F90: the two agree at normal incidence. The clearcoat goes to "Coat Weight" / "Coat Roughness"
-// (4.x: GGX, IOR 1.5 as glTF's) or "Clearcoat" / "Clearcoat Roughness" (older: a GTR1 lobe, close
-// but not the same).
+// (4.x: GGX, IOR 1.5 as glTF's); before 4.0 the Principled BSDF's "Clearcoat" is Disney's (a GTR1
+// lobe at a quarter of the weight), so the script builds the coat as a layer instead: a GGX Glossy
+// BSDF mixed over the Principled BSDF by clearcoat x Fresnel(n.v, IOR 1.5).
 #include <filesystem>
 #include <string>
 

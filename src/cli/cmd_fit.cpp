@@ -1,5 +1,5 @@
 // matlas fit: the glTF metallic-roughness parameters (brdf/gltf_pbr.h) that come closest to a map
-// point, a model's material or a table file, written for artists' tools (glTF, Blender), with the
+// point, a model's material or a table file, written for artists' tools (glTF, MaterialX, Blender), with the
 // fit's error (docs/EXPORT.md, "Analytic fits").
 #include <chrono>
 #include <filesystem>
@@ -11,7 +11,9 @@
 
 #include "artist/blender_snippet.h"
 #include "artist/fit_error.h"
+#include "artist/fit_report.h"
 #include "artist/gltf_material.h"
+#include "artist/materialx_document.h"
 #include "artist/pbr_fit.h"
 #include "atlas/map_layers.h"
 #include "brdf/tabulate.h"
@@ -38,53 +40,22 @@ struct ArtistFitArgs {
   std::optional<std::string> at, material;
 };
 
-enum class FitOutput { gltf, blender, report, table };
+enum class FitOutput { gltf, materialx, blender, report, table };
 
 FitOutput output_kind(const std::string& path) {
   const std::string ext = fs::path(path).extension().string();
   if (ext == ".gltf") return FitOutput::gltf;
+  if (ext == ".mtlx") return FitOutput::materialx;
   if (ext == ".py") return FitOutput::blender;
   if (ext == ".json") return FitOutput::report;
   if (ext == ".binary") return FitOutput::table;
   throw Error("-o " + path + ": unknown output type '" + ext +
-              "'; expected .gltf (glTF 2.0 material), .py (Blender script), .json (fit report) or .binary "
+              "'; expected .gltf (glTF 2.0 material), .mtlx (MaterialX 1.39, OpenPBR Surface), .py (Blender script), .json (fit report) or .binary "
               "(the fit tabulated as a MERL table)");
 }
 
-json rgb_json(const Rgb& c) { return {c[0], c[1], c[2]}; }
-
-json report_json(const std::string& what, const artist::PbrFitResult& fit, const artist::FitError& e,
-                 double seconds, std::optional<double> variance) {
-  const GltfPbr& m = fit.model;
-  json albedo = json::array();
-  for (std::size_t a = 0; a < e.angles_deg.size(); ++a)
-    albedo.push_back({{"theta_deg", e.angles_deg[a]}, {"table", rgb_json(e.table_albedo[a])},
-                      {"fit", rgb_json(e.fit_albedo[a])}});
-  json r = {
-      {"source", what},
-      {"model", "glTF 2.0 metallic-roughness with KHR_materials_specular and KHR_materials_clearcoat (docs/EXPORT.md)"},
-      {"parameters",
-       {{"base_color", rgb_json(m.base_color)}, {"metallic", m.metallic}, {"roughness", m.roughness},
-        {"specular", m.specular}, {"ior", m.ior}, {"clearcoat", m.clearcoat},
-        {"clearcoat_roughness", m.clearcoat_roughness}}},
-      // The same parameters under OpenPBR Surface's / Standard Surface's names (the shared core of
-      // the three models: base colour, metalness, GGX roughness r, specular weight, IOR).
-      {"openpbr_surface",
-       {{"base_color", rgb_json(m.base_color)}, {"base_metalness", m.metallic}, {"specular_roughness", m.roughness},
-        {"specular_weight", m.specular}, {"specular_ior", m.ior}, {"coat_weight", m.clearcoat},
-        {"coat_roughness", m.clearcoat_roughness}, {"coat_ior", 1.5}}},
-      {"error",
-       {{"relative_rms", e.relative_rms}, {"cbrt_distance", e.cbrt_distance}, {"albedo_error", e.albedo_error},
-        {"albedo", albedo}}},
-      {"fit",
-       {{"objective", fit.distance}, {"samples", fit.samples}, {"starts", fit.starts}, {"evaluations", fit.evaluations},
-        {"converged", fit.converged()}, {"restart_gain", fit.restart_gain}, {"seconds", seconds}}}};
-  if (variance) r["predictive_variance"] = *variance;
-  return r;
-}
-
 void run_fit(const ArtistFitArgs& a, const Io& io) {
-  if (a.outputs.empty()) throw Error("-o: give at least one output (.gltf, .py, .json or .binary)");
+  if (a.outputs.empty()) throw Error("-o: give at least one output (.gltf, .mtlx, .py, .json or .binary)");
   std::vector<FitOutput> kinds;
   for (const std::string& o : a.outputs) {
     if (o.empty()) throw Error("-o: an output file name is empty");
@@ -108,11 +79,11 @@ void run_fit(const ArtistFitArgs& a, const Io& io) {
     variance = model.variance(x);
     if (!a.material && *variance >= atlas::kFadeFrom)
       print(io.err, "warning: x = %s is far from the data (predictive variance %.3g, maps fade out from %.2g): the "
-            "fitted BRDF is an extrapolation, not a measured material\n", a.at->c_str(), *variance, atlas::kFadeFrom);
+            "fitted BRDF is an extrapolation, not a measured material\n", point_text(x).c_str(), *variance, atlas::kFadeFrom);
     table = export_table(model, w);
     what = a.material ? "material " + *a.material + " of " + source.filename().string()
-                      : "x = " + *a.at + " of " + source.filename().string();
-    if (name.empty()) name = a.material ? *a.material : "matlas point " + *a.at;
+                      : "x = " + point_text(x) + " of " + source.filename().string();
+    if (name.empty()) name = a.material ? *a.material : "matlas point " + point_text(x);
   }
 
   const auto start = std::chrono::steady_clock::now();
@@ -138,11 +109,12 @@ void run_fit(const ArtistFitArgs& a, const Io& io) {
     const std::string& out = a.outputs[k];
     switch (kinds[k]) {
       case FitOutput::gltf: artist::write_gltf_material(out, m, name, what); break;
+      case FitOutput::materialx: artist::write_materialx_document(out, m, name, what); break;
       case FitOutput::blender: artist::write_blender_snippet(out, m, name, what); break;
       case FitOutput::table: write_merl(out, tabulate(m)); break;
       case FitOutput::report: {
         AtomicFile file(out);
-        file.write(report_json(what, fit, error, seconds, variance).dump(2, ' ', false, json::error_handler_t::replace) +
+        file.write(artist::fit_report_json(what, fit, error, seconds, variance).dump(2, ' ', false, json::error_handler_t::replace) +
                    "\n");
         file.commit();
         break;
@@ -156,12 +128,12 @@ void add_fit_command(CLI::App& app, const Io& io) {
   auto a = std::make_shared<ArtistFitArgs>();
   auto* cmd = app.add_subcommand(
       "fit", "Fit the glTF metallic-roughness model (Blender's Principled BSDF, Standard Surface, OpenPBR) to a "
-             "map point, a model's material or a table file; write it for artists' tools (docs/EXPORT.md)");
+             "map point, a model's material or a table file; write it for artists' tools (glTF, MaterialX, Blender; docs/EXPORT.md)");
   cmd->add_option("source", a->source, "Model file (.matlas), or a table file (.binary, .bsdf)")->required();
   add_point_options(*cmd, a->at, a->material);
   cmd->add_option("-o,--output", a->outputs,
-                  "Output file, repeatable; the type from the extension: .gltf (glTF 2.0 material), .py (Blender "
-                  "script), .json (fit report), .binary (the fit as a MERL table)")
+                  "Output file, repeatable; the type from the extension: .gltf (glTF 2.0 material), .mtlx (MaterialX "
+                  "1.39 document, OpenPBR Surface), .py (Blender script), .json (fit report), .binary (the fit as a MERL table)")
       ->required();
   cmd->add_option("--name", a->name, "Material name in the files (default: the material or file name)");
   cmd->callback([io, a] { run_fit(*a, io); });

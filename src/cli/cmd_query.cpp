@@ -31,15 +31,6 @@ namespace fs = std::filesystem;
 
 json vector_json(const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
 
-std::string point_text(const Eigen::VectorXd& x) {
-  std::string s;
-  for (Eigen::Index i = 0; i < x.size(); ++i) {
-    if (i > 0) s += ',';
-    s += std::to_string(x[i]);
-  }
-  return s;
-}
-
 // ---- export
 struct ExportArgs {
   std::string source, output, format;

@@ -5,9 +5,20 @@
 #include <cstdlib>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "core/error.h"
 
 namespace matlas::cli {
+
+std::string point_text(const Eigen::VectorXd& x) {
+  std::string s;
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    if (i > 0) s += ',';
+    s += nlohmann::json(x[i]).dump();
+  }
+  return s;
+}
 
 Eigen::VectorXd parse_point(const std::string& text, const std::string& flag) {
   const auto is_space = [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; };

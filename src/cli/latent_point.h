@@ -14,6 +14,10 @@ namespace matlas::cli {
 /// trailing comma), a malformed, out-of-range or non-finite number.
 Eigen::VectorXd parse_point(const std::string& text, const std::string& flag = "--at");
 
+/// The coordinates as comma-separated shortest decimal texts that read back the same (JSON's, and
+/// the server's downloads', server/export_api.cpp): how file descriptions name a point.
+std::string point_text(const Eigen::VectorXd& x);
+
 /// CLI11 check: the option's value is a finite number (not nan, inf, or out of double's range).
 CLI::Validator finite_number();
 

@@ -346,27 +346,6 @@ Reply Api::map_layer(const std::string& body) {
   return Reply::bytes(atlas::map_layer_png(model_, plane, width, height, layer, &map_plausibility_), kPng);
 }
 
-Reply Api::export_merl(const std::string& body) {
-  const auto j = parse_json_object(body);
-  const Eigen::VectorXd x = parse_latent(j, "x", domain_);
-  std::string bytes;
-  ExportStats stats;
-  {
-    auto slot = acquire(heavy_);
-    bytes = encode_merl(export_table(model_, model_.weights(x), &stats));  // negative values clamped to 0
-  }
-  Reply r = Reply::bytes(std::move(bytes), "application/octet-stream");
-  r.headers.emplace_back("X-Matlas-Clamped", std::to_string(stats.clamped));
-  std::string name = "matlas";
-  char buf[32];
-  for (Eigen::Index i = 0; i < x.size(); ++i) {
-    std::snprintf(buf, sizeof buf, "_%.4f", x[i]);
-    name += buf;
-  }
-  r.headers.emplace_back("Content-Disposition", "attachment; filename=\"" + name + ".binary\"");
-  return r;
-}
-
 Reply Api::project(const std::string& file_bytes) {
   if (file_bytes.empty()) throw bad_request("the upload is empty: send a MERL .binary file as the body");
   BrdfTable table;

@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
+#include "manifold/export.h"
 #include "manifold/model.h"
 #include "manifold/plausibility.h"
 #include "server/atlas_server.h"
@@ -68,8 +69,14 @@ public:
   Reply albedo(const std::string& body);
   /// POST /api/map {"layer", "axes", "x", "rect", "size"} -> PNG
   Reply map_layer(const std::string& body);
-  /// POST /api/export {"x"} -> MERL .binary
-  Reply export_merl(const std::string& body);
+  /// POST /api/export {"x", "material", "format"} -> the table as MERL .binary (format "binary", the
+  /// default) or RGL .bsdf ("bsdf", Mitsuba 3 / pbrt-v4) (server/export_api.cpp)
+  Reply export_file(const std::string& body);
+  /// POST /api/fit {"x", "material"} -> the analytic fit's report with its error (artist/fit_report.h)
+  Reply fit(const std::string& body);
+  /// POST /api/fit/file {"x", "material", "format": "gltf" | "mtlx" | "py"} -> the fitted material
+  /// as a glTF 2.0 document, a MaterialX document or a Blender script (the fit kept from /api/fit)
+  Reply fit_file(const std::string& body);
   /// POST /api/project: a MERL .binary file as the body -> its latent point and residual
   Reply project(const std::string& file_bytes);
   /// POST /api/fit-samples: a sample file (CSV or JSON, formats/sample_file.h) as the body -> the
@@ -132,6 +139,15 @@ private:
   ToneMap gi_tone(const std::string& scene, bool auto_exposure, double exposure, const std::string& tone,
                   const atlas::GiBasis* basis, const Image* image);
 
+  /// A point or a model material to download (server/export_api.cpp): the request's "x" and
+  /// optional "material" (an index: that material's own table).
+  struct ExportSubject;
+  struct FittedPoint;
+  ExportSubject export_subject(const nlohmann::json& body) const;
+  BrdfTable subject_table(const ExportSubject& s, ExportStats* stats) const;
+  /// The fit of a subject: made once, the last kFitsKept kept (a report, then its files).
+  std::shared_ptr<const FittedPoint> fitted(const ExportSubject& s);
+  static constexpr std::size_t kFitsKept = 16;
   /// The served model, as a handle whose queries default to the server's mode
   /// (ServerOptions::interpolation): the model itself is shared, never changed.
   const Model model_;
@@ -154,6 +170,8 @@ private:
   std::shared_ptr<const GiScenes> gi_;
   std::mutex gi_exposure_mutex_;
   std::map<std::string, double> gi_exposure_;
+  std::mutex fits_mutex_;
+  std::vector<std::pair<std::string, std::shared_ptr<const FittedPoint>>> fits_;  ///< oldest first
 };
 
 }  // namespace matlas::server

@@ -280,7 +280,9 @@ struct AtlasServer::Impl {
     post("/api/lobe", &Api::lobe);
     post("/api/albedo", &Api::albedo);
     post("/api/map", &Api::map_layer);
-    post("/api/export", &Api::export_merl);
+    post("/api/export", &Api::export_file);
+    post("/api/fit", &Api::fit);
+    post("/api/fit/file", &Api::fit_file);
     post("/api/realtime/reference", &Api::realtime_reference);
     post("/api/realtime/reference/radiance", &Api::realtime_reference_radiance);
     http.Get("/api/realtime", [this](const httplib::Request&, httplib::Response& res) {

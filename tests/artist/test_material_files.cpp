@@ -85,13 +85,29 @@ TEST(BlenderSnippet, SetsThePrincipledInputsForOldAndNewBlender) {
   EXPECT_NE(s.find("bsdf.inputs['Specular'].default_value = 0.3\n"), std::string::npos) << s;
 }
 
+TEST(BlenderSnippet, ACoatIsPrincipledCoatIn4xAndAGgxLayerBefore) {
+  GltfPbr m = kMaterial;
+  m.clearcoat = 0.25;
+  m.clearcoat_roughness = 0.125;
+  const std::string s = artist::blender_snippet(m, "coated", "c.binary");
+  EXPECT_NE(s.find("    bsdf.inputs['Coat Weight'].default_value = 0.25\n"), std::string::npos) << s;
+  EXPECT_NE(s.find("    coat.distribution = 'GGX'\n"), std::string::npos) << s;
+  EXPECT_NE(s.find("    coat.inputs['Roughness'].default_value = 0.125\n"), std::string::npos) << s;
+  EXPECT_NE(s.find("    weight.inputs[1].default_value = 0.25\n"), std::string::npos) << s;
+  EXPECT_EQ(s.find("'Clearcoat'"), std::string::npos) << s;  // Disney's lobe is not used
+  // Without a coat, no layer.
+  EXPECT_EQ(artist::blender_snippet(kMaterial, "plain", "p.binary").find("ShaderNodeBsdfGlossy"), std::string::npos);
+}
+
 TEST(BlenderSnippet, IsValidPythonWhateverTheName) {
 #ifndef MATLAS_PYTHON3
   GTEST_SKIP() << "no python3";
 #else
   const test::TempDir dir("matlas-blender-snippet");
   const fs::path path = dir / "m.py";
-  artist::write_blender_snippet(path, kMaterial, "quote ' \" back\\slash\nnew line é", "a\nb.binary");
+  GltfPbr coated = kMaterial;
+  coated.clearcoat = 0.5;  // the coat layer's lines too
+  artist::write_blender_snippet(path, coated, "quote ' \" back\\slash\nnew line é", "a\nb.binary");
   const std::string command = std::string(MATLAS_PYTHON3) + " -c \"import ast, sys; ast.parse(open(sys.argv[1], encoding='utf-8').read())\" '" +
                               path.string() + "'";
   EXPECT_EQ(std::system(command.c_str()), 0) << read_text(path);

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,11 @@ std::vector<std::string> fit_entries(const fs::path& dir) {
   return names;
 }
 
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
 nlohmann::json read_json(const fs::path& p) {
   std::ifstream in(p);
   return nlohmann::json::parse(in);
@@ -55,11 +61,11 @@ TEST_F(CliFit, ATableFileIsFittedAndWrittenInEveryFormatByExtension) {
   const test::TempDir out("matlas-cli-fit-out");
   const test::CliOutput r = test::call_matlas({"fit", table().string(), "-o", (out / "o.gltf").string(), "-o",
                                                (out / "o.py").string(), "-o", (out / "o.json").string(), "-o",
-                                               (out / "o.binary").string()});
+                                               (out / "o.binary").string(), "-o", (out / "o.mtlx").string()});
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_HAS(r.out, "fit of orange.binary: glTF metallic-roughness");
   EXPECT_HAS(r.out, "relative RMS");
-  EXPECT_EQ(fit_entries(out.path()), (std::vector<std::string>{"o.binary", "o.gltf", "o.json", "o.py"}));
+  EXPECT_EQ(fit_entries(out.path()), (std::vector<std::string>{"o.binary", "o.gltf", "o.json", "o.mtlx", "o.py"}));
 
   const nlohmann::json report = read_json(out / "o.json");
   EXPECT_EQ(report["source"], "orange.binary");
@@ -74,6 +80,9 @@ TEST_F(CliFit, ATableFileIsFittedAndWrittenInEveryFormatByExtension) {
   EXPECT_EQ(gltf["asset"]["version"], "2.0");
   EXPECT_EQ(gltf["materials"][0]["name"], "orange");
   EXPECT_NEAR(gltf["materials"][0]["pbrMetallicRoughness"]["roughnessFactor"].get<double>(), 0.4, 0.02);
+  // The MaterialX document carries the same roughness (the artist tests parse it in full).
+  EXPECT_HAS(read_text(out / "o.mtlx"), "<input name=\"specular_roughness\" type=\"float\" value=\"" +
+                                            gltf["materials"][0]["pbrMetallicRoughness"]["roughnessFactor"].dump());
   // The tabulated fit is on the standard MERL grid and close to the input.
   const BrdfTable fitted = read_merl(out / "o.binary");
   EXPECT_TRUE(fitted.dims().is_standard());
@@ -82,9 +91,9 @@ TEST_F(CliFit, ATableFileIsFittedAndWrittenInEveryFormatByExtension) {
 TEST_F(CliFit, BadRequestsAreRefusedNamingTheFlagOrFileAndNothingIsWritten) {
   const test::TempDir out("matlas-cli-fit-bad");
   const test::CliOutput ext = test::call_matlas({"fit", table().string(), "-o", (out / "a.gltf").string(), "-o",
-                                                 (out / "a.mtlx").string()});
+                                                 (out / "a.usda").string()});
   EXPECT_EQ(ext.code, 1);
-  EXPECT_HAS(ext.err, "a.mtlx: unknown output type '.mtlx'");
+  EXPECT_HAS(ext.err, "a.usda: unknown output type '.usda'");
   const test::CliOutput same = test::call_matlas({"fit", table().string(), "-o", table().string()});
   EXPECT_EQ(same.code, 1);
   const test::CliOutput point = test::call_matlas({"fit", table().string(), "--at", "0,0", "-o", (out / "a.gltf").string()});

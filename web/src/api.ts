@@ -50,6 +50,82 @@ export interface PointRequest {
   x: Point;
 }
 
+/** POST /api/export: the table of the point, or of model material `material` (its own table). */
+export interface ExportRequest {
+  x: Point;
+  material?: number;
+  format?: "binary" | "bsdf";
+}
+
+export interface FitRequest {
+  x: Point;
+  material?: number;
+}
+
+export interface FitFileRequest {
+  x: Point;
+  material?: number;
+  format: "gltf" | "mtlx" | "py";
+}
+
+/** The glTF metallic-roughness parameters of a fit (docs/EXPORT.md). */
+export interface FitParameters {
+  base_color: Rgb;
+  metallic: number;
+  roughness: number;
+  specular: number;
+  ior: number;
+  clearcoat: number;
+  clearcoat_roughness: number;
+}
+
+/** The same parameters under OpenPBR Surface's names (the MaterialX document's inputs). */
+export interface OpenPbrParameters {
+  base_color: Rgb;
+  base_metalness: number;
+  specular_roughness: number;
+  specular_weight: number;
+  specular_ior: number;
+  coat_weight: number;
+  coat_roughness: number;
+  coat_ior: number;
+}
+
+export interface FitAlbedo {
+  theta_deg: number;
+  table: Rgb;
+  fit: Rgb;
+}
+
+export interface FitErrors {
+  relative_rms: number;
+  cbrt_distance: number;
+  albedo_error: number;
+  albedo: FitAlbedo[];
+}
+
+export interface FitSearch {
+  objective: number;
+  samples: number;
+  starts: number;
+  evaluations: number;
+  converged: boolean;
+  restart_gain: number;
+  seconds: number;
+}
+
+/** POST /api/fit: the analytic fit of a point or material, with its error against the table. */
+export interface FitReply {
+  source: string;
+  name: string;
+  model: string;
+  parameters: FitParameters;
+  openpbr_surface: OpenPbrParameters;
+  error: FitErrors;
+  fit: FitSearch;
+  predictive_variance?: number;
+}
+
 export interface PreviewRequest {
   x: Point;
   env?: string;
@@ -347,7 +423,14 @@ export const api = {
     post("api/lobe", { x, theta_i, samples: 181 } satisfies LobeRequest).then((r) => r.json()),
   albedo: (x: Point): Promise<AlbedoReply> => post("api/albedo", { x }).then((r) => r.json()),
   map: (body: MapRequest, signal?: AbortSignal): Promise<Blob> => post("api/map", body, signal).then((r) => r.blob()),
-  exportMerl: (x: Point): Promise<Blob> => post("api/export", { x }).then((r) => r.blob()),
+  /** The table of a point (or of material `material`) as MERL .binary or RGL .bsdf. */
+  exportTable: (x: Point, material: number | null, format: "binary" | "bsdf"): Promise<Blob> =>
+    post("api/export", { x, format, ...(material === null ? {} : { material }) } satisfies ExportRequest).then((r) => r.blob()),
+  /** The analytic fit's report (kept by the server for its files). */
+  fit: (x: Point, material: number | null, signal?: AbortSignal): Promise<FitReply> =>
+    post("api/fit", { x, ...(material === null ? {} : { material }) } satisfies FitRequest, signal).then((r) => r.json()),
+  fitFile: (x: Point, material: number | null, format: "gltf" | "mtlx" | "py"): Promise<Blob> =>
+    post("api/fit/file", { x, format, ...(material === null ? {} : { material }) } satisfies FitFileRequest).then((r) => r.blob()),
   project: (file: Blob): Promise<ProjectReply> =>
     fetch("api/project", { method: "POST", headers: { "Content-Type": "application/octet-stream" }, body: file })
       .then(check)

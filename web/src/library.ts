@@ -1,9 +1,11 @@
 // The designer's tools around the map: search by name (the top bar; goes to the material and
 // filters the database grid), the name of the material at the current point (or what it mixes),
 // the database as a grid of thumbnails, and the short list: materials side by side in the same
-// scene (server previews of one size, one exposure), exported together.
-import { api } from "./api";
+// scene (server previews of one size, one exposure), exported together in any download format
+// (downloads.ts).
+import { api, type FitReply } from "./api";
 import { $, download, fmtX, showBlob } from "./dom";
+import { fileOf, formatLabels, isFit, safeName, type DownloadFormat } from "./downloads";
 import type { LatentMap } from "./map";
 import { retryWhileBusy } from "./retry";
 import { sceneReady } from "./scene-ready";
@@ -179,14 +181,30 @@ export function createLibrary(store: PageStore, map: LatentMap): void {
   $("list-export").addEventListener("click", async () => {
     const list = store.state.shortlist;
     if (list.length === 0) return setStatus("the short list is empty: add materials with + list or a thumbnail's +");
-    const body = { model: model.name, q: model.dim, materials: list.map((it) => ({ name: it.name, x: it.x, index: it.index })) };
-    download(new Blob([JSON.stringify(body, null, 2)], { type: "application/json" }), "matlas-list.json");
+    const format = $<HTMLSelectElement>("list-format").value as DownloadFormat;
     try {
+      // An analytic format: every fit first, so that list.json carries their errors.
+      const fits: (FitReply | null)[] = [];
+      for (const [k, it] of list.entries()) {
+        if (!isFit(format)) break;
+        setStatus(`fitting ${k + 1} of ${list.length}: ${it.name}…`);
+        fits.push(await api.fit(it.x, it.index));
+      }
+      const body = {
+        model: model.name, q: model.dim, format,
+        materials: list.map((it, k) => ({
+          name: it.name, x: it.x, index: it.index,
+          ...(fits[k] ? { fit_error: { relative_rms: fits[k]!.error.relative_rms, albedo_error: fits[k]!.error.albedo_error } } : {}),
+        })),
+      };
+      download(new Blob([JSON.stringify(body, null, 2)], { type: "application/json" }), "matlas-list.json");
       for (const [k, it] of list.entries()) {
         setStatus(`exporting ${k + 1} of ${list.length}: ${it.name}…`);
-        download(await api.exportMerl(it.x), `${String(k + 1).padStart(2, "0")}-${it.name.replace(/[^\w.-]+/g, "_")}.binary`);
+        download(await fileOf(it.x, it.index, format), `${String(k + 1).padStart(2, "0")}-${safeName(it.name)}.${format}`);
       }
-      setStatus(`exported ${list.length} tables and matlas-list.json`);
+      const worst = fits.length ? `; largest relative RMS ${(100 * Math.max(...fits.map((f) => f!.error.relative_rms))).toFixed(1)} %, ` +
+        `albedo within ${(100 * Math.max(...fits.map((f) => f!.error.albedo_error))).toFixed(1)} %` : "";
+      setStatus(`exported ${list.length} ${isFit(format) ? "fits" : "tables"} (${formatLabels[format]}) and matlas-list.json${worst}`);
     } catch (e) {
       setStatus(`export: ${(e as Error).message}`, true, "export");
     }

@@ -1,8 +1,10 @@
-// The tools of the current point: download its MERL table or its coordinates, upload a .binary
+// The tools of the current point: download it (for Mitsuba 3, pbrt-v4, MaterialX, glTF, Blender:
+// downloads.ts) or its coordinates, upload a .binary
 // file to project it onto the map, and fit sample files (fit-samples.ts; going to a material by
 // name: library.ts).
 import { api } from "./api";
 import { $, download, fmtX } from "./dom";
+import { createDownloadMenu } from "./downloads";
 import { createFitSamples } from "./fit-samples";
 import type { LatentMap } from "./map";
 import { moveTo, type PageStore } from "./state";
@@ -14,17 +16,7 @@ export function createPointTools(store: PageStore, map: LatentMap): void {
     map.setPoint(x);
     moveTo(store, x, false);
   };
-  $("export-binary").addEventListener("click", async () => {
-    try {
-      setStatus("computing the table…");
-      const x = store.state.x.slice();
-      const blob = await api.exportMerl(x);
-      download(blob, `matlas-${x.map((v) => v.toFixed(3)).join("_")}.binary`);
-      setStatus(`downloaded the MERL table at (${fmtX(x)})`);
-    } catch (e) {
-      setStatus(`export: ${(e as Error).message}`, true, "export");
-    }
-  });
+  createDownloadMenu(store);  // the table and the analytic fit, in five formats (downloads.ts)
   $("export-json").addEventListener("click", () => {
     const s = store.state;
     const body = { model: model.name, q: model.dim, x: s.x, weights: s.lastWeights?.top ?? [] };

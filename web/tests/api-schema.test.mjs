@@ -115,6 +115,12 @@ test("a live server answers every endpoint as the schema says", async () => {
   assert.equal(w.weights.length, model.count);
   const table = await expectAnswer("POST", "api/export", { x });
   assert.equal(table.readInt32LE(0), model.dims[0]);
+  const bsdf = await expectAnswer("POST", "api/export", { x, material: 1, format: "bsdf" });
+  assert.equal(bsdf.subarray(0, 12).toString("latin1"), "tensor_file\0", "an RGL tensor file");
+  const fit = await expectAnswer("POST", "api/fit", { x, material: 1 });
+  assert.equal(fit.name, model.names[1]);
+  const mtlx = await expectAnswer("POST", "api/fit/file", { x, material: 1, format: "mtlx" });
+  assert.match(mtlx.toString(), /<open_pbr_surface /);
   await expectAnswer("POST", "api/slice", { x, phi_d: 45 });
   await expectAnswer("POST", "api/lobe", { x, theta_i: 20, samples: 31 });
   const albedo = await expectAnswer("POST", "api/albedo", { x });

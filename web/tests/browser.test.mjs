@@ -18,11 +18,12 @@
 // Screenshots go to test-results/ (browser.png, map-zoomed.png, scene-*.png, error-*.png).
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
+import { execFileSync } from "node:child_process";
 import { mkdtempSync, readFileSync, mkdirSync, rmSync, readdirSync } from "node:fs";
 import { tmpdir } from "node:os";
 import { join } from "node:path";
 
-import { openPage, startDemo, webDir as here, stopServer } from "./server.mjs";
+import { bin, openPage, startDemo, webDir as here, stopServer } from "./server.mjs";
 
 const work = mkdtempSync(join(tmpdir(), "matlas-browser-"));
 const results = join(here, "test-results");
@@ -259,6 +260,7 @@ test("a map layer on its way keeps the previous one, says it is loading, and a n
 
 test("export downloads the MERL table of the current point", async () => {
   const x = await page.evaluate(() => window.matlas.x);
+  if (await page.isHidden("#download-menu")) await page.click("#download-open");
   const [download] = await Promise.all([page.waitForEvent("download"), page.click("#export-binary")]);
   const path = join(work, "download.binary");
   await download.saveAs(path);
@@ -272,6 +274,50 @@ test("export downloads the MERL table of the current point", async () => {
   const expected = await api("api/export", { x });
   assert.deepEqual(bytes, expected, "the download is the table of the current point");
 });
+
+test("the download menu shows the fit's error first; every download is the server's and the CLI's file", async () => {
+  const { x, material, names } = await page.evaluate(() => {
+    const m = window.matlas, i = m.model.latent.findIndex((p) => p.every((v, d) => Math.abs(v - m.x[d]) <= 1e-9 * (1 + Math.abs(v))));
+    return { x: m.x, material: i < 0 ? null : i, names: m.model.names };
+  });
+  if (await page.isHidden("#download-menu")) await page.click("#download-open");
+  assert.equal(await page.getAttribute("#download-open", "aria-expanded"), "true");
+  // The analytic files wait for the fit, whose error is shown before they are offered.
+  await page.waitForSelector("#download-menu[data-fit=ready]", { timeout: 60_000 });
+  const which = material === null ? {} : { material };
+  const report = JSON.parse((await api("api/fit", { x, ...which })).toString());
+  const shown = await page.textContent("#fit-error");
+  assert.match(shown, /^relative RMS \d+\.\d %, albedo within \d+\.\d %/);
+  assert.ok(shown.includes(`${(100 * report.error.relative_rms).toFixed(1)} %`), `${shown} vs ${report.error.relative_rms}`);
+  assert.ok(shown.includes(`${(100 * report.error.albedo_error).toFixed(1)} %`), `${shown} vs ${report.error.albedo_error}`);
+  assert.equal(await page.isEnabled("#export-mtlx"), true);
+
+  // The same files from the command line, for the same model, point or material.
+  const models = join(work, "cache", "models");
+  const modelFile = join(models, readdirSync(models).find((f) => f.endsWith(".matlas")));
+  const point = material === null ? ["--at", x.map((v) => JSON.stringify(v)).join(",")] : ["--material", names[material]];
+  const cli = join(work, "cli");
+  mkdirSync(cli, { recursive: true });
+  execFileSync(bin, ["export", modelFile, ...point, "-o", join(cli, "f.bsdf"), "--no-check"], { stdio: "pipe" });
+  execFileSync(bin, ["fit", modelFile, ...point, "-o", join(cli, "f.gltf"), "-o", join(cli, "f.mtlx"), "-o", join(cli, "f.py")], { stdio: "pipe" });
+  for (const format of ["bsdf", "mtlx", "gltf", "py"]) {
+    const [download] = await Promise.all([page.waitForEvent("download"), page.click(`#export-${format}`)]);
+    assert.ok(download.suggestedFilename().endsWith(`.${format}`), download.suggestedFilename());
+    const bytes = readFileSync(await savedAs(download, `menu.${format}`));
+    const server = format === "bsdf" ? await api("api/export", { x, ...which, format }) : await api("api/fit/file", { x, ...which, format });
+    assert.deepEqual(bytes, server, `${format}: the download is the server's file`);
+    assert.deepEqual(bytes, readFileSync(join(cli, `f.${format}`)), `${format}: the download is what matlas writes`);
+  }
+  await page.locator("#download-menu").screenshot({ path: join(results, "download-menu.png") });
+  await page.keyboard.press("Escape");
+  assert.equal(await page.isHidden("#download-menu"), true);
+});
+
+async function savedAs(download, name) {
+  const path = join(work, name);
+  await download.saveAs(path);
+  return path;
+}
 
 test("uploading a .binary projects it next to its latent point", async () => {
   const cache = join(work, "cache");

@@ -311,7 +311,27 @@ test("the short list compares materials in one scene with the server's images an
   const json = JSON.parse(readFileSync(await saved(downloads[0], "list.json"), "utf8"));
   assert.deepEqual(json.materials.map((m) => m.name), [1, 2, 6].map((i) => model.names[i]));
   const table = readFileSync(await saved(downloads[2], "second.binary"));
-  assert.deepEqual(table, (await api("api/export", { x: model.latent[2] })).bytes, "the second table is material 2's");
+  assert.deepEqual(table, (await api("api/export", { x: model.latent[2], material: 2 })).bytes, "the second table is material 2's own");
+
+  // The same list as MaterialX: the fits first (their errors in list.json), then one file each.
+  const fitted = [];
+  const onFit = (d) => fitted.push(d);
+  page.on("download", onFit);
+  await page.selectOption("#list-format", "mtlx");
+  await page.click("#list-export");
+  await page.waitForFunction(() => /exported 3 fits/.test(document.getElementById("status").textContent), null, { timeout: 120_000 });
+  for (let t = 0; fitted.length < 4 && t < 50; t++) await page.waitForTimeout(100);
+  page.off("download", onFit);
+  assert.match(await page.textContent("#status"), /largest relative RMS \d+\.\d %, albedo within \d+\.\d %/);
+  assert.deepEqual(fitted.map((d) => d.suggestedFilename()),
+    ["matlas-list.json", ...[1, 2, 6].map((i, k) => `0${k + 1}-${model.names[i].replace(/[^\w.-]+/g, "_")}.mtlx`)]);
+  const listed = JSON.parse(readFileSync(await saved(fitted[0], "fits.json"), "utf8"));
+  assert.equal(listed.format, "mtlx");
+  const report = JSON.parse((await api("api/fit", { x: model.latent[6], material: 6 })).bytes.toString());
+  assert.deepEqual(listed.materials[2].fit_error, { relative_rms: report.error.relative_rms, albedo_error: report.error.albedo_error });
+  assert.deepEqual(readFileSync(await saved(fitted[3], "third.mtlx")),
+    (await api("api/fit/file", { x: model.latent[6], material: 6, format: "mtlx" })).bytes, "the third file is material 6's fit");
+  await page.selectOption("#list-format", "binary");
 
   // Removing one from the comparison.
   await page.click("#compare .tile:nth-child(1) .tile-btn");
