@@ -11,7 +11,10 @@
 namespace matlas::gp {
 
 std::optional<double> minimize_lbfgs(const ObjectiveWithGradient& f, Eigen::VectorXd& x, const MinimizeOptions& o) {
-  LBFGSpp::LBFGSSolver<double> solver(detail::lbfgs_param(o));
+  // The solver keeps a reference to its parameters: they must outlive it (a temporary here was a
+  // stack use after scope, found by fuzz_api through POST /api/project).
+  const LBFGSpp::LBFGSParam<double> param = detail::lbfgs_param(o);
+  LBFGSpp::LBFGSSolver<double> solver(param);
   double fx = 0;
   try {
     solver.minimize(f, x, fx);
