@@ -184,11 +184,19 @@ SceneSpec parse_scene(const json& j, const std::string& source) {
   s.name = string_at(j, "name", "scene", source, "");
   if (j.contains("camera")) {
     const json& c = j["camera"];
-    check_keys(c, {"position", "target", "fov"}, source, "camera");
+    check_keys(c, {"position", "target", "fov", "orthographic", "ortho_height"}, source, "camera");
     if (c.contains("position")) s.camera.position = point(c["position"], source, "camera.position");
     if (c.contains("target")) s.camera.target = point(c["target"], source, "camera.target");
     if (c.contains("fov")) s.camera.fov_degrees = number(c["fov"], source, "camera.fov");
     if (!(s.camera.fov_degrees > 0 && s.camera.fov_degrees < 180)) fail(source, "camera.fov must be in (0, 180)");
+    if (c.contains("orthographic")) {
+      if (!c["orthographic"].is_boolean()) fail(source, "camera.orthographic must be true or false");
+      s.camera.orthographic = c["orthographic"].get<bool>();
+    }
+    if (c.contains("ortho_height")) {
+      s.camera.ortho_height = bounded(c["ortho_height"], 0, kMaxSceneCoordinate, source, "camera.ortho_height");
+      if (!(s.camera.ortho_height > 0)) fail(source, "camera.ortho_height must be positive");
+    }
     if (!((s.camera.target - s.camera.position).norm() >= 1e-6))
       fail(source, "camera.target must differ from camera.position (by 1e-6 at least)");
   }
@@ -217,6 +225,10 @@ json scene_to_json(const SceneSpec& s) {
   j["name"] = s.name;
   j["camera"] = {{"position", to_json(s.camera.position)}, {"target", to_json(s.camera.target)},
                  {"fov", s.camera.fov_degrees}};
+  // Perspective cameras keep the keys scene files had before orthographic ones existed.
+  if (s.camera.orthographic) j["camera"]["orthographic"] = true;
+  if (s.camera.orthographic || s.camera.ortho_height != render::Camera().ortho_height)
+    j["camera"]["ortho_height"] = s.camera.ortho_height;
   json env = {{"constant", to_json(s.environment.constant)}, {"rotation", s.environment.rotation},
               {"intensity", s.environment.intensity}};
   if (!s.environment.map.empty()) env["map"] = s.environment.map;

@@ -10,6 +10,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "brdf/types.h"
+#include "render/camera.h"
 
 namespace matlas::pathtrace {
 
@@ -50,16 +51,11 @@ struct EnvironmentSpec {
   double intensity = 1.0;
 };
 
-/// Perspective pinhole camera looking from `position` at `target`, +y up.
-struct CameraSpec {
-  Vec3 position = Vec3(0, 1, 5);
-  Vec3 target = Vec3::Zero();
-  double fov_degrees = 35.0;  ///< vertical
-};
-
 struct SceneSpec {
   std::string name;
-  CameraSpec camera;
+  /// The one camera of previews and GI (render/camera.h); a scene file's defaults differ from a
+  /// preview's: at (0, 1, 5), 35 degrees.
+  render::Camera camera{.orthographic = false, .position = Vec3(0, 1, 5), .target = Vec3::Zero(), .fov_degrees = 35.0};
   EnvironmentSpec environment;
   std::vector<ObjectSpec> objects;
 };

@@ -208,17 +208,4 @@ LightSample World::sample_light(double u0, double u1, double u2) const {
   return l;
 }
 
-void World::camera_ray(double px, double py, int width, int height, Vec3* origin, Vec3* dir) const {
-  const CameraSpec& c = spec_.camera;
-  Eigen::Matrix3d frame;  // columns: right, up, backward
-  frame.col(2) = (c.position - c.target).normalized();
-  const Vec3 up_hint = std::abs(frame.col(2).y()) > 0.999999 ? Vec3(0, 0, -1) : Vec3(0, 1, 0);
-  frame.col(0) = up_hint.cross(frame.col(2)).normalized();
-  frame.col(1) = frame.col(2).cross(frame.col(0));
-  const double t = std::tan(0.5 * c.fov_degrees * kPi / 180.0);
-  const Vec3 local((2.0 * px / width - 1.0) * t * width / height, (1.0 - 2.0 * py / height) * t, -1.0);
-  *origin = c.position;
-  *dir = (frame * local).normalized();
-}
-
 }  // namespace matlas::pathtrace

@@ -55,8 +55,11 @@ public:
   /// Density per unit area of sample_light (uniform over the emitters' total area).
   double light_pdf_area() const { return 1.0 / light_area_; }
 
-  /// Primary ray through image position (px, py) in pixels of a width x height image.
-  void camera_ray(double px, double py, int width, int height, Vec3* origin, Vec3* dir) const;
+  /// Primary ray through image position (px, py) in pixels of a width x height image: the
+  /// scene's camera (render::camera_ray).
+  void camera_ray(double px, double py, int width, int height, Vec3* origin, Vec3* dir) const {
+    render::camera_ray(spec_.camera, px, py, width, height, origin, dir);
+  }
 
 private:
   struct Impl;

@@ -220,25 +220,4 @@ bool Scene::occluded(const Vec3& origin, const Vec3& dir, double tmin, double tm
   return ray.tfar == -std::numeric_limits<float>::infinity();
 }
 
-void Scene::camera_ray(double px, double py, int width, int height, Vec3* origin, Vec3* dir) const {
-  const Camera& c = description_.camera;
-  const Vec3 forward = (c.target - c.position).normalized();
-  Vec3 right = forward.cross(Vec3(0, 1, 0));
-  if (right.norm() < 1e-9) right = Vec3(1, 0, 0);
-  right.normalize();
-  const Vec3 up = right.cross(forward);
-  const double aspect = static_cast<double>(width) / static_cast<double>(height);
-  const double sx = (2.0 * px / width - 1.0) * aspect;
-  const double sy = 1.0 - 2.0 * py / height;
-  if (c.orthographic) {
-    const double half = 0.5 * c.ortho_height;
-    *origin = c.position + right * (sx * half) + up * (sy * half);
-    *dir = forward;
-  } else {
-    const double t = std::tan(0.5 * c.fov_degrees * kPi / 180.0);
-    *origin = c.position;
-    *dir = (forward + right * (sx * t) + up * (sy * t)).normalized();
-  }
-}
-
 }  // namespace matlas::render

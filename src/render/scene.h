@@ -10,6 +10,7 @@
 
 #include "brdf/types.h"
 #include "formats/mesh_io.h"
+#include "render/camera.h"
 #include "render/environment.h"
 
 namespace matlas::render {
@@ -19,16 +20,6 @@ namespace matlas::render {
 struct DirectionalLight {
   Vec3 direction = Vec3(0, 1, 0);
   Rgb irradiance = Rgb::Constant(1.0);
-};
-
-/// Pinhole or orthographic camera looking at the origin from `position`, +y up. The default
-/// frames the unit sphere from the front (+z) and slightly above.
-struct Camera {
-  bool orthographic = false;
-  Vec3 position = Vec3(0.0, 0.35, 4.0);
-  Vec3 target = Vec3::Zero();
-  double fov_degrees = 32.0;     ///< vertical field of view (perspective)
-  double ortho_height = 2.3;     ///< height of the view in world units (orthographic)
 };
 
 /// What the scene is made of (the part of a render request that is not the material).
@@ -84,9 +75,11 @@ public:
   /// Whether anything blocks origin + t dir for t in (tmin, tmax).
   bool occluded(const Vec3& origin, const Vec3& dir, double tmin, double tmax = 1e30) const;
 
-  /// Primary ray through image position (px, py) in pixels (0..width, 0..height, top-left
-  /// origin) of a width x height image.
-  void camera_ray(double px, double py, int width, int height, Vec3* origin, Vec3* dir) const;
+  /// Primary ray through image position (px, py) in pixels of a width x height image: the
+  /// description's camera (render::camera_ray).
+  void camera_ray(double px, double py, int width, int height, Vec3* origin, Vec3* dir) const {
+    render::camera_ray(description_.camera, px, py, width, height, origin, dir);
+  }
 
 private:
   struct Impl;

@@ -9,6 +9,7 @@
 #include "core/atomic_file.h"
 #include "pathtrace/scene_spec.h"
 #include "pathtrace/world.h"
+#include "render/scene.h"
 #include "support/error_of.h"
 #include "support/temp_dir.h"
 
@@ -87,6 +88,72 @@ TEST(SceneSpec, SceneFilesNameThemselvesInErrors) {
   write_file_atomic(dir / "far.json", j.dump());
   const std::string e = test::error_of([&] { load_scene((dir / "far.json").string()); });
   EXPECT_EQ(e, (dir / "far.json").string() + ": camera.position must have coordinates within +-1000000");
+}
+
+TEST(SceneSpec, CameraKeysRoundTripAndOldFilesKeepTheirKeys) {
+  // A scene file written before orthographic cameras: read as it was, written with the same keys.
+  const SceneSpec old = parse_scene(minimal_scene(), "s.json");
+  EXPECT_FALSE(old.camera.orthographic);
+  EXPECT_EQ(old.camera.fov_degrees, 40.0);
+  EXPECT_EQ(scene_to_json(old)["camera"], json({{"position", {0.0, 1.0, 5.0}}, {"target", {0.0, 0.0, 0.0}}, {"fov", 40.0}}));
+  // Without a camera: at (0, 1, 5), 35 degrees, looking at the origin.
+  json no_camera = minimal_scene();
+  no_camera.erase("camera");
+  const SceneSpec d = parse_scene(no_camera, "s.json");
+  EXPECT_EQ(d.camera.position, Vec3(0, 1, 5));
+  EXPECT_EQ(d.camera.target, Vec3::Zero());
+  EXPECT_EQ(d.camera.fov_degrees, 35.0);
+  // Orthographic cameras: optional keys, round trip.
+  json ortho = minimal_scene();
+  ortho["camera"]["orthographic"] = true;
+  ortho["camera"]["ortho_height"] = 3.5;
+  const SceneSpec o = parse_scene(ortho, "s.json");
+  EXPECT_TRUE(o.camera.orthographic);
+  EXPECT_EQ(o.camera.ortho_height, 3.5);
+  const SceneSpec back = parse_scene(scene_to_json(o), "again");
+  EXPECT_TRUE(back.camera.orthographic);
+  EXPECT_EQ(back.camera.ortho_height, 3.5);
+  EXPECT_EQ(scene_to_json(back), scene_to_json(o));
+  EXPECT_EQ(error_with([](json& j) { j["camera"]["orthographic"] = 1; }), "s.json: camera.orthographic must be true or false");
+  EXPECT_EQ(error_with([](json& j) { j["camera"]["ortho_height"] = 0; }), "s.json: camera.ortho_height must be positive");
+  EXPECT_EQ(error_with([](json& j) { j["camera"]["ortho_height"] = 1e9; }),
+            "s.json: camera.ortho_height must be in [0, 1000000]");
+}
+
+TEST(SceneSpec, GiAndPreviewsShareTheCameraRays) {
+  // The same camera gives the same rays, bit for bit, in a GI world and a preview scene; straight
+  // down too (the top of the image towards -z).
+  for (const Vec3& position : {Vec3(0, 1, 5), Vec3(0, 6, 0), Vec3(0, -6, 0), Vec3(2, 3, -4)}) {
+    json j = minimal_scene();
+    j["camera"]["position"] = {position.x(), position.y(), position.z()};
+    for (const bool orthographic : {false, true}) {
+      j["camera"]["orthographic"] = orthographic;
+      const World world(parse_scene(j, "s.json"));
+      render::SceneDescription d;
+      d.camera = world.spec().camera;
+      const render::Scene scene(d, std::nullopt, render::Environment::constant(Rgb::Ones()));
+      for (const auto& [px, py] : {std::pair{0.5, 0.5}, {20.0, 12.0}, {31.5, 23.5}}) {
+        Vec3 o1, d1, o2, d2;
+        world.camera_ray(px, py, 32, 24, &o1, &d1);
+        scene.camera_ray(px, py, 32, 24, &o2, &d2);
+        EXPECT_EQ(o1, o2);
+        EXPECT_EQ(d1, d2);
+        EXPECT_NEAR(d1.norm(), 1.0, 1e-12);
+      }
+    }
+  }
+  json down = minimal_scene();
+  down["camera"]["position"] = {0, 6, 0};
+  const World world(parse_scene(down, "s.json"));
+  Vec3 origin, dir;
+  world.camera_ray(16, 0, 32, 32, &origin, &dir);  // the top row looks towards -z
+  EXPECT_LT(dir.z(), -0.1);
+  EXPECT_NEAR(dir.x(), 0.0, 1e-12);
+  world.camera_ray(16, 16, 32, 32, &origin, &dir);
+  const auto hit = world.intersect(origin, dir);
+  ASSERT_TRUE(hit.has_value());
+  EXPECT_EQ(hit->object, 0);
+  EXPECT_LT((hit->position - Vec3(0, 1, 0)).norm(), 1e-9);
 }
 
 }  // namespace
