@@ -4,24 +4,17 @@
 #include <cmath>
 #include <limits>
 
-#include <embree3/rtcore.h>
-
 #include "core/error.h"
 #include "formats/mesh_io.h"
 #include "render/assets.h"
-#include "render/embree_device.h"
+#include "render/geometry.h"
 #include "render/scene.h"
 
 namespace matlas::pathtrace {
 
-// Outside the anonymous namespace: World::Impl holds these (a member whose type has internal
-// linkage draws -Wsubobject-linkage when files are compiled together as a unity build).
-struct ObjectTriangles {
-  std::vector<Vec3> positions, normals;
-  std::vector<std::array<std::uint32_t, 3>> indices;
-};
-
 namespace {
+
+using ObjectTriangles = render::Geometry::Triangles;
 
 ObjectTriangles quad_triangles(const ObjectSpec& o) {
   ObjectTriangles t;
@@ -65,26 +58,13 @@ ObjectTriangles mesh_triangles(const ObjectSpec& o) {
   return t;
 }
 
-/// An Embree ray (fields in declaration order: origin, tnear, direction, time, tfar, mask, id, flags).
-RTCRay embree_ray(const Vec3& origin, const Vec3& dir, double tmin, double tmax) {
-  const Eigen::Vector3f o = origin.cast<float>(), d = dir.cast<float>();
-  return RTCRay{o.x(), o.y(), o.z(), static_cast<float>(tmin), d.x(), d.y(), d.z(), 0.0f,
-                static_cast<float>(std::min(tmax, 3.0e38)), 0xffffffffu, 0u, 0u};
-}
-
 }  // namespace
 
 struct World::Impl {
-  RTCDevice device = nullptr;
-  RTCScene scene = nullptr;
-  std::vector<ObjectTriangles> triangles;            // per object (empty for spheres)
+  render::Geometry geometry;  // shape i is object i
   // Emitting triangles: object, triangle and the cumulative area up to and including it.
   std::vector<std::pair<int, std::uint32_t>> lights;
   std::vector<double> light_cdf;
-
-  ~Impl() {
-    if (scene) rtcReleaseScene(scene);
-  }
 };
 
 World::World(SceneSpec spec) : spec_(std::move(spec)), impl_(std::make_unique<Impl>()) {
@@ -95,49 +75,27 @@ World::World(SceneSpec spec) : spec_(std::move(spec)), impl_(std::make_unique<Im
     environment_ = render::Environment::constant(e.constant * e.intensity);
 
   Impl& s = *impl_;
-  s.device = render::embree_device();
-  s.scene = rtcNewScene(s.device);
-  rtcSetSceneBuildQuality(s.scene, RTC_BUILD_QUALITY_HIGH);
-  s.triangles.resize(spec_.objects.size());
   double area = 0;
   for (std::size_t i = 0; i < spec_.objects.size(); ++i) {
     const ObjectSpec& o = spec_.objects[i];
     if (o.surface.kind == SurfaceSpec::Kind::measured) measured_ = static_cast<int>(i);
-    RTCGeometry g = nullptr;
     if (o.shape == "sphere") {
-      g = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
-      auto* v = static_cast<float*>(
-          rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1));
-      for (int c = 0; c < 3; ++c) v[c] = static_cast<float>(o.center[c]);
-      v[3] = static_cast<float>(o.radius);
-    } else {
-      ObjectTriangles t = o.shape == "quad" ? quad_triangles(o) : mesh_triangles(o);
-      g = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_TRIANGLE);
-      auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                            3 * sizeof(float), t.positions.size()));
-      for (std::size_t k = 0; k < t.positions.size(); ++k)
-        for (int c = 0; c < 3; ++c) v[3 * k + static_cast<std::size_t>(c)] = static_cast<float>(t.positions[k][c]);
-      auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                 3 * sizeof(unsigned), t.indices.size()));
-      for (std::size_t k = 0; k < t.indices.size(); ++k)
-        for (int c = 0; c < 3; ++c) idx[3 * k + static_cast<std::size_t>(c)] = t.indices[k][static_cast<std::size_t>(c)];
-      if (o.emission.maxCoeff() > 0) {
-        for (std::uint32_t k = 0; k < t.indices.size(); ++k) {
-          const auto& tri = t.indices[k];
-          area += 0.5 * (t.positions[tri[1]] - t.positions[tri[0]]).cross(t.positions[tri[2]] - t.positions[tri[0]]).norm();
-          s.lights.emplace_back(static_cast<int>(i), k);
-          s.light_cdf.push_back(area);
-        }
-      }
-      s.triangles[i] = std::move(t);
+      s.geometry.add_sphere(o.center, o.radius);
+      continue;
     }
-    rtcCommitGeometry(g);
-    rtcAttachGeometryByID(s.scene, g, static_cast<unsigned>(i));
-    rtcReleaseGeometry(g);
+    ObjectTriangles t = o.shape == "quad" ? quad_triangles(o) : mesh_triangles(o);
+    if (o.emission.maxCoeff() > 0) {
+      for (std::uint32_t k = 0; k < t.indices.size(); ++k) {
+        const auto& tri = t.indices[k];
+        area += 0.5 * (t.positions[tri[1]] - t.positions[tri[0]]).cross(t.positions[tri[2]] - t.positions[tri[0]]).norm();
+        s.lights.emplace_back(static_cast<int>(i), k);
+        s.light_cdf.push_back(area);
+      }
+    }
+    s.geometry.add_triangles(std::move(t), render::Geometry::GeometricNormal::positions);
   }
   light_area_ = area;
-  rtcCommitScene(s.scene);
-  if (rtcGetDeviceError(s.device) != RTC_ERROR_NONE) throw Error("Embree failed to build the scene");
+  s.geometry.commit();
 }
 
 World::World(World&&) noexcept = default;
@@ -145,49 +103,19 @@ World& World::operator=(World&&) noexcept = default;
 World::~World() = default;
 
 std::optional<SurfaceHit> World::intersect(const Vec3& origin, const Vec3& dir, double tmin) const {
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  RTCRayHit rh{embree_ray(origin, dir, tmin, std::numeric_limits<float>::infinity()), {}};
-  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(impl_->scene, &context, &rh);
-  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+  const auto g = impl_->geometry.intersect(origin, dir, tmin, std::numeric_limits<double>::infinity());
+  if (!g) return std::nullopt;
   SurfaceHit hit;
-  hit.object = static_cast<int>(rh.hit.geomID);
-  const ObjectSpec& o = object(hit.object);
-  double t = rh.ray.tfar;
-  if (o.shape == "sphere") {
-    // Refine in double precision: |origin + t dir - center| = radius.
-    const Vec3 oc = origin - o.center;
-    const double b = oc.dot(dir), c = oc.squaredNorm() - o.radius * o.radius;
-    const double disc = b * b - c;
-    if (disc >= 0) {
-      const double sq = std::sqrt(disc);
-      t = (-b - sq > tmin) ? -b - sq : -b + sq;
-    }
-    hit.position = origin + t * dir;
-    hit.geometric_normal = hit.normal = (hit.position - o.center).normalized();
-  } else {
-    hit.position = origin + t * dir;
-    const ObjectTriangles& tr = impl_->triangles[static_cast<std::size_t>(hit.object)];
-    const auto& tri = tr.indices[rh.hit.primID];
-    hit.geometric_normal = (tr.positions[tri[1]] - tr.positions[tri[0]]).cross(tr.positions[tri[2]] - tr.positions[tri[0]]).normalized();
-    const double u = rh.hit.u, v = rh.hit.v;
-    const Vec3 n = (1.0 - u - v) * tr.normals[tri[0]] + u * tr.normals[tri[1]] + v * tr.normals[tri[2]];
-    hit.normal = n.norm() > 0 ? Vec3(n.normalized()) : hit.geometric_normal;
-  }
-  hit.front = hit.geometric_normal.dot(dir) < 0;
-  if (!hit.front) hit.geometric_normal = -hit.geometric_normal;
-  if (hit.normal.dot(hit.geometric_normal) < 0) hit.normal = -hit.normal;
+  hit.object = static_cast<int>(g->shape);
+  hit.position = g->position;
+  hit.normal = g->normal;
+  hit.geometric_normal = g->geometric_normal;
+  hit.front = g->front;
   return hit;
 }
 
 bool World::occluded(const Vec3& origin, const Vec3& dir, double tmin, double tmax) const {
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  RTCRay ray = embree_ray(origin, dir, tmin, tmax);
-  rtcOccluded1(impl_->scene, &context, &ray);
-  return ray.tfar == -std::numeric_limits<float>::infinity();
+  return impl_->geometry.occluded(origin, dir, tmin, tmax);
 }
 
 LightSample World::sample_light(double u0, double u1, double u2) const {
@@ -196,7 +124,7 @@ LightSample World::sample_light(double u0, double u1, double u2) const {
   std::size_t k = static_cast<std::size_t>(std::upper_bound(s.light_cdf.begin(), s.light_cdf.end(), target) - s.light_cdf.begin());
   if (k >= s.lights.size()) k = s.lights.size() - 1;
   const auto [obj, tri_index] = s.lights[k];
-  const ObjectTriangles& tr = s.triangles[static_cast<std::size_t>(obj)];
+  const ObjectTriangles& tr = s.geometry.triangles(static_cast<unsigned>(obj));
   const auto& tri = tr.indices[tri_index];
   const double su = std::sqrt(u1);
   const double b0 = 1.0 - su, b1 = u2 * su;

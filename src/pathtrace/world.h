@@ -1,6 +1,7 @@
 #pragma once
-// A scene ready to trace: the objects of a SceneSpec in one Embree 3 scene (exact spheres,
-// triangles), the environment, the area lights (every emitting triangle, sampled by area) and
+// A scene ready to trace: the objects of a SceneSpec as one render::Geometry (render/geometry.h:
+// exact spheres; quads and meshes as triangles, their geometric normals from the double
+// positions), the environment, the area lights (every emitting triangle, sampled by area) and
 // the camera.
 #include <memory>
 #include <optional>

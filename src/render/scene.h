@@ -1,7 +1,8 @@
 #pragma once
 // The scene of a material preview: one object (an exact sphere or a triangle mesh, scaled into
 // the unit sphere at the origin), an optional diffuse ground plane under it, an environment map,
-// directional lights and a camera. Ray queries go through Embree 3.
+// directional lights and a camera. Ray queries go through render::Geometry (render/geometry.h):
+// the exact sphere, or the mesh with Embree's geometric normals, then the ground as a quad.
 #include <filesystem>
 #include <memory>
 #include <optional>
