@@ -54,6 +54,13 @@ struct Fixture {
     model = std::make_unique<Model>(Model::open(dir / "m.matlas"));
     ServerOptions so;
     so.queue_timeout = std::chrono::milliseconds(0);
+    // Coarse .bsdf grids: the default ones take about 19 s per export under ASan here, near
+    // libFuzzer's -timeout (scripts/fuzz.sh); the code paths are the same.
+    so.bsdf_export.theta_i = 4;
+    so.bsdf_export.vndf_resolution = 8;
+    so.bsdf_export.rgb_resolution = 8;
+    so.bsdf_export.sigma_resolution = 16;
+    so.bsdf_export.ndf.nodes = 31;
     api = std::make_unique<Api>(*model, std::make_shared<FlatPreviews>(), so);
   }
   ~Fixture() {

@@ -21,6 +21,7 @@
 #include <optional>
 #include <string>
 
+#include "formats/rgl_bsdf_writer.h"
 #include "manifold/interpolation.h"
 
 namespace matlas {
@@ -61,6 +62,10 @@ struct ServerOptions {
   /// layers, fits, projections), kept across reloads; empty: each model's own mode.
   std::optional<Interpolation> interpolation;
   std::size_t cache_entries = 512;          ///< LRU of encoded previews
+  /// The grids of POST /api/export's .bsdf files (the defaults: what `matlas export -o X.bsdf`
+  /// writes; the API fuzz target uses coarse ones so that one export stays well under a second).
+  /// The description is set per request.
+  RglExportOptions bsdf_export;
   /// Called after each request with (method, path, status, milliseconds) (e.g. an access log).
   std::function<void(const std::string&, const std::string&, int, double)> log;
   /// Opens the model file again (and prepares its previews) after it changed on disk. Without it,

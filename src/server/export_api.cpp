@@ -108,7 +108,7 @@ Reply Api::export_file(const std::string& body) {
     if (format == "binary") {
       bytes = encode_merl(table);
     } else {
-      RglExportOptions options;
+      RglExportOptions options = options_.bsdf_export;
       options.description = "matlas export of " + s.source;  // as `matlas export -o X.bsdf` writes it
       const std::vector<std::byte> file = serialize_tensor_file(rgl_fields_from_table(table, options));
       bytes.assign(reinterpret_cast<const char*>(file.data()), file.size());
