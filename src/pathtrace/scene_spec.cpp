@@ -1,6 +1,5 @@
 #include "pathtrace/scene_spec.h"
 
-#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <set>
@@ -11,8 +10,6 @@
 
 #include "core/error.h"
 #include "core/file_io.h"
-#include "formats/mesh_io.h"
-#include "render/assets.h"
 #include "render/scene.h"
 
 namespace matlas::pathtrace {
@@ -249,45 +246,6 @@ json scene_to_json(const SceneSpec& s) {
     j["objects"].push_back(oj);
   }
   return j;
-}
-
-SceneSpec preview_scene(const render::SceneDescription& d) {
-  if (!d.lights.empty()) throw Error("scene: directional lights have no counterpart in a GI scene");
-  if (!d.show_environment) throw Error("scene: a black background has no counterpart in a GI scene");
-  SceneSpec s;
-  s.name = "preview";
-  s.camera = d.camera;
-  if (d.environment == "constant") {
-    s.environment.constant = d.constant_radiance;
-  } else {
-    s.environment.map = d.environment;
-    s.environment.rotation = d.environment_rotation;
-  }
-  s.environment.intensity = d.environment_intensity;
-  ObjectSpec object;
-  object.surface.kind = SurfaceSpec::Kind::measured;
-  double ground_y = -1.0;
-  if (d.object != "sphere") {
-    object.shape = "mesh";
-    const std::filesystem::path path = resolve_mesh(d.object);
-    object.mesh = path.string();
-    TriangleMesh mesh = read_mesh(path);
-    render::normalize_mesh(mesh);
-    float lowest = 1.0f;
-    for (const Eigen::Vector3f& p : mesh.positions) lowest = std::min(lowest, p.y());
-    ground_y = lowest;
-  }
-  s.objects.push_back(object);
-  if (d.ground) {
-    ObjectSpec ground;
-    ground.shape = "quad";
-    ground.corner = Vec3(-50, ground_y, -50);
-    ground.edge1 = Vec3(0, 0, 100);
-    ground.edge2 = Vec3(100, 0, 0);
-    ground.surface.albedo = d.ground_albedo;
-    s.objects.push_back(ground);
-  }
-  return s;
 }
 
 std::vector<std::string> builtin_scenes() { return {"floor", "box"}; }

@@ -12,10 +12,6 @@
 #include "brdf/types.h"
 #include "render/camera.h"
 
-namespace matlas::render {
-struct SceneDescription;
-}  // namespace matlas::render
-
 namespace matlas::pathtrace {
 
 /// The surface of an object. lambert: albedo / pi. ggx: albedo / pi plus a GGX microfacet lobe
@@ -71,14 +67,6 @@ struct SceneSpec {
 SceneSpec parse_scene(const nlohmann::json& j, const std::string& source);
 /// The scene as JSON (parse_scene(scene_to_json(s)) gives s back): stored in GI bases.
 nlohmann::json scene_to_json(const SceneSpec& scene);
-
-/// A preview's scene (render/scene.h) as a GI scene: the same camera; its object ("sphere": the
-/// exact unit sphere; a mesh: the same file, scaled into the unit sphere at the origin) carrying
-/// the measured material; its ground, a Lambertian quad of `ground_albedo` at the object's lowest
-/// point, 50 units each way (the preview's is one Embree quad, this one two triangles); its
-/// environment. Reads the mesh (to place the ground). Directional lights and a black background
-/// have no GI counterpart: matlas::Error naming them.
-SceneSpec preview_scene(const render::SceneDescription& preview);
 
 /// Names of the built-in scenes: "floor" (the object on a glossy floor in front of a wall, under
 /// an environment map) and "box" (a closed box with coloured walls and an area light).

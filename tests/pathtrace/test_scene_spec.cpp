@@ -156,51 +156,5 @@ TEST(SceneSpec, GiAndPreviewsShareTheCameraRays) {
   EXPECT_LT((hit->position - Vec3(0, 1, 0)).norm(), 1e-9);
 }
 
-TEST(SceneSpec, APreviewSceneIsAGiSceneThatRaysSeeTheSame) {
-  const test::TempDir dir("matlas-preview-scene");
-  // A tetrahedron: normalised into the unit sphere, its lowest vertex carries the ground.
-  write_file_atomic(dir / "tet.obj", "v 0 2 0\nv -1 0 -1\nv 1 0 -1\nv 0 0 1.5\nf 1 2 3\nf 1 3 4\nf 1 4 2\nf 2 4 3\n");
-  for (const std::string& object : {std::string("sphere"), (dir / "tet.obj").string()}) {
-    render::SceneDescription d;
-    d.object = object;
-    d.ground = true;
-    d.ground_albedo = Rgb(0.2, 0.3, 0.4);
-    d.camera.position = Vec3(0.5, 1.5, 4.0);
-    d.constant_radiance = Rgb(0.5, 0.6, 0.7);
-    d.environment_intensity = 2.0;
-    const SceneSpec spec = preview_scene(d);
-    ASSERT_EQ(spec.objects.size(), 2u);
-    EXPECT_EQ(spec.objects[0].surface.kind, SurfaceSpec::Kind::measured);
-    EXPECT_EQ(spec.objects[1].surface.albedo.matrix(), d.ground_albedo.matrix());
-    EXPECT_EQ(spec.camera.position, d.camera.position);
-    EXPECT_EQ((spec.environment.constant * spec.environment.intensity).matrix(), (d.constant_radiance * 2.0).matrix());
-    EXPECT_EQ(scene_to_json(parse_scene(scene_to_json(spec), "again")), scene_to_json(spec));
-    const World world(spec);
-    const render::Scene scene(d);
-    int object_hits = 0, ground_hits = 0;
-    for (int y = 0; y < 24; ++y)
-      for (int x = 0; x < 24; ++x) {
-        Vec3 o, dir_ray;
-        scene.camera_ray(x + 0.5, y + 0.5, 24, 24, &o, &dir_ray);
-        const auto a = scene.intersect(o, dir_ray);
-        const auto b = world.intersect(o, dir_ray);
-        ASSERT_EQ(a.has_value(), b.has_value()) << object << " pixel " << x << ", " << y;
-        if (!a) continue;
-        EXPECT_EQ(a->object, b->object == 0) << object << " pixel " << x << ", " << y;
-        EXPECT_LT((a->position - b->position).norm(), 1e-5);
-        EXPECT_LT((a->geometric_normal - b->geometric_normal).norm(), 1e-5);
-        (a->object ? object_hits : ground_hits) += 1;
-      }
-    EXPECT_GT(object_hits, 20) << object;
-    EXPECT_GT(ground_hits, 20) << object;
-  }
-  render::SceneDescription lit;
-  lit.lights.push_back({Vec3(0, 1, 0), Rgb::Ones()});
-  EXPECT_EQ(test::error_of([&] { preview_scene(lit); }), "scene: directional lights have no counterpart in a GI scene");
-  render::SceneDescription black;
-  black.show_environment = false;
-  EXPECT_EQ(test::error_of([&] { preview_scene(black); }), "scene: a black background has no counterpart in a GI scene");
-}
-
 }  // namespace
 }  // namespace matlas::pathtrace
