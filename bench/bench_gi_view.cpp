@@ -135,15 +135,15 @@ int main(int argc, char** argv) {
     ProgressiveTraceSettings ps;
     ps.trace = base;
     ps.trace.width = 512, ps.trace.height = 384, ps.trace.spp = 1;
-    ps.max_spp = 1 << 20;
-    ps.target_error = 1e-6;  // never converged: the curve runs for SECONDS
+    ps.limits.max_spp = 1 << 20;
+    ps.limits.target_error = 1e-6;  // never converged: the curve runs for SECONDS
     ProgressiveTrace refine(world, bank, ps);
     std::printf("\n| wall s | CPU s | spp | estimated error (RMS) | L1 vs reference | RMS vs reference | pixels > 20x |\n|---:|---:|---:|---:|---:|---:|---:|\n");
     t0 = std::chrono::steady_clock::now();
     c0 = cpu_seconds();
     bool wrote5 = false;
     while (seconds_since(t0) < seconds) {
-      const ProgressiveTraceState st = refine.refine(std::min(1.0, std::max(0.05, seconds - seconds_since(t0))));
+      const render::RefinementState st = refine.refine(std::min(1.0, std::max(0.05, seconds - seconds_since(t0))));
       const Image im = refine.image();
       const Errors e = compare(im, reference);
       std::printf("| %.1f | %.1f | %d | %.4f | %.4f | %.4f | %d |\n", seconds_since(t0), cpu_seconds() - c0, st.spp,

@@ -14,7 +14,7 @@
 // RMS over the pixels that see only the object, all channels, normalised by the reference's RMS
 // there: sqrt(sum (image - reference)^2 / sum reference^2), with the reference's own error (its
 // two-halves estimate) removed in quadrature. "estimated" is the refinement's own estimate
-// (ProgressiveState::relative_error, the same normalisation), which the server reports.
+// (RefinementState::relative_error, the same normalisation), which the server reports.
 // Time is the render time of the passes plus, for the first row, the table's build. "denoised" is
 // the same image denoised from its two halves (ProgressiveRender::denoised, render/denoise.h:
 // biased), its error against the reference, its own estimate and the denoiser's seconds.
@@ -113,8 +113,8 @@ int main(int argc, char** argv) {
     rs.render = base;
     rs.render.mixture = own;
     rs.render.seed = 1000003;
-    rs.max_spp = reference_spp;
-    rs.target_error = 1e-12;
+    rs.limits.max_spp = reference_spp;
+    rs.limits.target_error = 1e-12;
     // MATLAS_BENCH_REFERENCE_CACHE=DIR keeps the references (EXR + error) for later runs.
     Image ref;
     double ref_error = 0;
@@ -147,12 +147,12 @@ int main(int argc, char** argv) {
       render::ProgressiveSettings s;
       s.render = base;
       s.render.mixture = which == "server" ? defensive : which == "own" ? own : database;
-      s.target_error = 1e-12;
+      s.limits.target_error = 1e-12;
       render::ProgressiveRender r(scene, material, s);
       double to2 = -1, to1 = -1, dto2 = -1, dto1 = -1;
       int spp2 = -1, spp1 = -1, dspp2 = -1, dspp1 = -1;
       while (r.state().spp < max_spp) {
-        const render::ProgressiveState st = r.refine(0.25);
+        const render::RefinementState st = r.refine(0.25);
         const double measured = relative_rms(r.image(), ref, r.object_pixels());
         const double error = std::sqrt(std::max(0.0, measured * measured - ref_error * ref_error));
         const double t = st.seconds + table_seconds;

@@ -57,15 +57,14 @@ std::string interpolation_json(const Model& model) {
 
 }  // namespace
 
-void Api::add_refinement_headers(Reply& r, int spp, double relative_error, bool converged, double seconds,
-                                 bool interrupted) {
+void Api::add_refinement_headers(Reply& r, const render::RefinementState& state, bool interrupted) {
   char error[32], secs[32];
-  std::snprintf(error, sizeof error, "%.6g", relative_error);
-  std::snprintf(secs, sizeof secs, "%.3f", seconds);
+  std::snprintf(error, sizeof error, "%.6g", state.relative_error);
+  std::snprintf(secs, sizeof secs, "%.3f", state.seconds);
   r.headers.emplace_back("Cache-Control", "no-store");
-  r.headers.emplace_back("X-Matlas-Spp", std::to_string(spp));
-  r.headers.emplace_back("X-Matlas-Error", std::isfinite(relative_error) ? error : "unknown");
-  r.headers.emplace_back("X-Matlas-Converged", converged ? "1" : "0");
+  r.headers.emplace_back("X-Matlas-Spp", std::to_string(state.spp));
+  r.headers.emplace_back("X-Matlas-Error", std::isfinite(state.relative_error) ? error : "unknown");
+  r.headers.emplace_back("X-Matlas-Converged", state.converged ? "1" : "0");
   r.headers.emplace_back("X-Matlas-Seconds", secs);
   if (interrupted) r.headers.emplace_back("X-Matlas-Interrupted", "1");
 }

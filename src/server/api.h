@@ -15,6 +15,7 @@
 #include "manifold/export.h"
 #include "manifold/model.h"
 #include "manifold/plausibility.h"
+#include "render/refinement.h"
 #include "server/atlas_server.h"
 #include "server/compute_gate.h"
 #include "server/png_cache.h"
@@ -116,15 +117,9 @@ public:
 private:
   /// The key of a latent point for caches and refinements (every coordinate to 17 digits).
   static std::string point_key(const Eigen::VectorXd& x);
-  /// The headers of a refinement's answer (previews and the scene view; their states are
-  /// render::ProgressiveState and pathtrace::ProgressiveTraceState): X-Matlas-Spp, -Error,
+  /// The headers of a refinement's answer (previews and the scene view): X-Matlas-Spp, -Error,
   /// -Converged, -Seconds, -Interrupted; never cached.
-  template <typename State>
-  static void add_refinement_headers(Reply& r, const State& st, bool interrupted) {
-    add_refinement_headers(r, st.spp, st.relative_error, st.converged, st.seconds, interrupted);
-  }
-  static void add_refinement_headers(Reply& r, int spp, double relative_error, bool converged, double seconds,
-                                     bool interrupted);
+  static void add_refinement_headers(Reply& r, const render::RefinementState& state, bool interrupted);
   Reply reference_reply(const std::string& body, bool radiance);
   ComputeGate::Slot acquire(ComputeGate& gate);
   std::string preview_png(const Eigen::VectorXd& w, const std::string& key, const std::string& env,

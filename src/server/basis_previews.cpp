@@ -327,7 +327,7 @@ BasisPreviews::Refined BasisPreviews::refine(const Eigen::VectorXd& w, const std
         atlas::fit_sampling_mixture(render::MaterialList({material.get()}),
                                     atlas::SamplingFitOptions::for_sampler(settings.render.sampler)),
         im.database_mixture);
-    settings.target_error = im.options.refine_target_error;
+    settings.limits.target_error = im.options.refine_target_error;
     auto made = std::make_shared<render::ProgressiveRender>(scene, material, settings);
     std::lock_guard lock(im.refine_mutex);
     auto& slot = im.refinements[key];

@@ -280,7 +280,7 @@ GiScenes::Refined GiScenes::refine(const std::string& scene, const Eigen::Vector
       }
     }
   }
-  const pathtrace::ProgressiveTraceState state = trace->refine(seconds, progress);
+  const render::RefinementState state = trace->refine(seconds, progress);
   return {trace->image(), state};
 }
 

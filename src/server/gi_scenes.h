@@ -91,7 +91,7 @@ public:
   /// given only as a basis file (no scene to trace).
   struct Refined {
     Image image;
-    pathtrace::ProgressiveTraceState state;
+    render::RefinementState state;
   };
   Refined refine(const std::string& scene, const Eigen::VectorXd& w, const std::string& point, double seconds,
                  ProgressSink& progress) const;

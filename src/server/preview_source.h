@@ -53,7 +53,7 @@ public:
   /// A refined full-size image of the material with weights w, and how far it has converged.
   struct Refined {
     Image image;
-    render::ProgressiveState state;  ///< of the plain mean (its error estimate is unbiased)
+    render::RefinementState state;  ///< of the plain mean (its error estimate is unbiased)
     bool interrupted = false;
     bool denoised = false;           ///< image is the mean denoised (render/denoise.h: biased)
     double denoised_error = std::numeric_limits<double>::infinity();  ///< its noise estimate

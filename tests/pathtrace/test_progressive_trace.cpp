@@ -36,7 +36,7 @@ struct Fixture {
     s.trace.width = s.trace.height = 9;
     s.trace.spp = 2;
     s.trace.seed = 5;
-    s.max_pass_spp = 8;
+    s.limits.max_pass_spp = 8;
     return s;
   }
 };
@@ -49,7 +49,7 @@ TEST(ProgressiveTrace, ImageIsTheSampleWeightedMeanOfIndependentPasses) {
   std::vector<int> spps;
   int before = 0;
   for (int k = 0; k < 4; ++k) {
-    const ProgressiveTraceState st = p.refine(0.0);
+    const render::RefinementState st = p.refine(0.0);
     spps.push_back(st.spp - before);
     before = st.spp;
     EXPECT_EQ(st.passes, k + 1);
@@ -75,11 +75,11 @@ TEST(ProgressiveTrace, ConvergesToTheFurnaceAndItsErrorEstimateFalls) {
   const Fixture f;
   ProgressiveTraceSettings s = f.settings();
   s.trace.spp = 64;  // passes of 64 spp: 512 after eight
-  s.max_pass_spp = 64;
+  s.limits.max_pass_spp = 64;
   ProgressiveTrace p(f.world, f.bank, s);
   EXPECT_FALSE(std::isfinite(p.refine(0.0).relative_error)) << "one pass: no estimate yet";
   const double early = p.refine(0.0).relative_error;
-  ProgressiveTraceState st;
+  render::RefinementState st;
   for (int k = 0; k < 6; ++k) st = p.refine(0.0);
   EXPECT_LT(st.relative_error, early);
   const Image im = p.image();

@@ -151,9 +151,9 @@ TEST(Denoise, ARenderedPreviewAt64SppIsCloserToTheReferenceThanThePlainMean) {
     s.render.width = s.render.height = 48;
     s.render.spp = spp;
     s.render.seed = seed;
-    s.max_pass_spp = spp;
-    s.max_spp = max_spp;
-    s.target_error = 1e-9;
+    s.limits.max_pass_spp = spp;
+    s.limits.max_spp = max_spp;
+    s.limits.target_error = 1e-9;
     return s;
   };
   ProgressiveRender reference(scene, gold, settings(256, 99, 4096));

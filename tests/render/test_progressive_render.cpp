@@ -61,10 +61,10 @@ double progressive_relative_rms(const Image& a, const Image& b, const std::vecto
 TEST(ProgressiveRender, ConvergesToTheFurnaceImage) {
   // A white Lambertian under uniform radiance 1 reflects exactly 1 everywhere on the object.
   ProgressiveSettings s = progressive_settings(24, 4);
-  s.target_error = 0.005;
-  s.min_converged_spp = 16;
+  s.limits.target_error = 0.005;
+  s.limits.min_converged_spp = 16;
   ProgressiveRender r(progressive_furnace(), progressive_white(), s);
-  ProgressiveState state;
+  RefinementState state;
   for (int i = 0; i < 200 && !state.converged; ++i) state = r.refine(0.05);
   ASSERT_TRUE(state.converged) << state.spp << " spp, error " << state.relative_error;
   EXPECT_LE(state.relative_error, 0.005);
@@ -73,7 +73,7 @@ TEST(ProgressiveRender, ConvergesToTheFurnaceImage) {
   std::fill(exact.rgb.begin(), exact.rgb.end(), 1.0f);
   EXPECT_LT(progressive_relative_rms(r.image(), exact, r.object_pixels()), 3 * 0.005);
   // Once converged, refine adds nothing.
-  const ProgressiveState again = r.refine(1.0);
+  const RefinementState again = r.refine(1.0);
   EXPECT_EQ(again.spp, state.spp);
   EXPECT_EQ(again.passes, state.passes);
 }
@@ -83,20 +83,20 @@ TEST(ProgressiveRender, ErrorEstimateAgreesWithTheErrorAgainstAReference) {
   // independent refinement (other seeds) with 64x the samples; its own error is removed in
   // quadrature.
   ProgressiveSettings rs = progressive_settings(24, 256, 777);
-  rs.max_pass_spp = 256;
-  rs.max_spp = 4096;
-  rs.target_error = 1e-9;
+  rs.limits.max_pass_spp = 256;
+  rs.limits.max_spp = 4096;
+  rs.limits.target_error = 1e-9;
   ProgressiveRender reference(progressive_sky(), progressive_gold(), rs);
   while (!reference.state().converged) reference.refine(10.0);
   ASSERT_EQ(reference.state().spp, 4096);
   const double reference_error = reference.state().relative_error;
 
   ProgressiveSettings s = progressive_settings(24, 16);
-  s.max_pass_spp = 16;
-  s.target_error = 1e-9;
+  s.limits.max_pass_spp = 16;
+  s.limits.target_error = 1e-9;
   ProgressiveRender r(progressive_sky(), progressive_gold(), s);
   for (int pass = 0; pass < 4; ++pass) r.refine(0.0);  // one pass per call
-  const ProgressiveState state = r.state();
+  const RefinementState state = r.state();
   ASSERT_EQ(state.passes, 4);
   ASSERT_EQ(state.spp, 64);
   const double measured = progressive_relative_rms(r.image(), reference.image(), r.object_pixels());
@@ -111,17 +111,17 @@ TEST(ProgressiveRender, ErrorEstimateAgreesWithTheErrorAgainstAReference) {
 
 TEST(ProgressiveRender, PassesGrowWithinTheTimeAndTheHalvesStayBalanced) {
   ProgressiveSettings s = progressive_settings(16, 4);
-  s.target_error = 1e-9;
-  s.max_spp = 256;
-  s.max_pass_spp = 64;
+  s.limits.target_error = 1e-9;
+  s.limits.max_spp = 256;
+  s.limits.max_pass_spp = 64;
   ProgressiveRender r(progressive_sky(), progressive_gold(), s);
   EXPECT_EQ(r.refine(0.0).spp, 4);  // the first pass is the settings' spp
   EXPECT_EQ(r.state().relative_error, std::numeric_limits<double>::infinity());  // one half only
-  const ProgressiveState second = r.refine(0.0);
+  const RefinementState second = r.refine(0.0);
   EXPECT_EQ(second.passes, 2);
   EXPECT_TRUE(std::isfinite(second.relative_error));
   // Given time, passes double up to max_pass_spp and stop at max_spp.
-  ProgressiveState state;
+  RefinementState state;
   for (int i = 0; i < 100 && !state.converged; ++i) state = r.refine(5.0);
   EXPECT_TRUE(state.converged);
   EXPECT_EQ(state.spp, 256);
@@ -137,7 +137,7 @@ TEST(ProgressiveRender, ACancelledPassLeavesTheStateAsItWas) {
   ProgressiveRender r(progressive_sky(), progressive_gold(), progressive_settings(16, 8));
   r.refine(0.0);
   const Image before = r.image();
-  const ProgressiveState state = r.state();
+  const RefinementState state = r.state();
   ProgressiveThrowingSink cancel;
   EXPECT_THROW(r.refine(1.0, cancel), std::runtime_error);
   EXPECT_EQ(r.state().spp, state.spp);
@@ -147,13 +147,13 @@ TEST(ProgressiveRender, ACancelledPassLeavesTheStateAsItWas) {
 
 TEST(ProgressiveRender, InvalidSettingsAreRefused) {
   ProgressiveSettings s = progressive_settings(16, 8);
-  s.target_error = 0;
+  s.limits.target_error = 0;
   EXPECT_THROW(ProgressiveRender(progressive_sky(), progressive_gold(), s), Error);
   s = progressive_settings(16, 64);
-  s.max_spp = 32;
+  s.limits.max_spp = 32;
   EXPECT_THROW(ProgressiveRender(progressive_sky(), progressive_gold(), s), Error);
   s = progressive_settings(16, 8);
-  s.max_pass_spp = 0;
+  s.limits.max_pass_spp = 0;
   EXPECT_THROW(ProgressiveRender(progressive_sky(), progressive_gold(), s), Error);
 }
 
