@@ -188,17 +188,12 @@ SceneSpec parse_scene(const json& j, const std::string& source) {
     if (c.contains("position")) s.camera.position = point(c["position"], source, "camera.position");
     if (c.contains("target")) s.camera.target = point(c["target"], source, "camera.target");
     if (c.contains("fov")) s.camera.fov_degrees = number(c["fov"], source, "camera.fov");
-    if (!(s.camera.fov_degrees > 0 && s.camera.fov_degrees < 180)) fail(source, "camera.fov must be in (0, 180)");
     if (c.contains("orthographic")) {
       if (!c["orthographic"].is_boolean()) fail(source, "camera.orthographic must be true or false");
       s.camera.orthographic = c["orthographic"].get<bool>();
     }
-    if (c.contains("ortho_height")) {
-      s.camera.ortho_height = bounded(c["ortho_height"], 0, kMaxSceneCoordinate, source, "camera.ortho_height");
-      if (!(s.camera.ortho_height > 0)) fail(source, "camera.ortho_height must be positive");
-    }
-    if (!((s.camera.target - s.camera.position).norm() >= 1e-6))
-      fail(source, "camera.target must differ from camera.position (by 1e-6 at least)");
+    if (c.contains("ortho_height")) s.camera.ortho_height = number(c["ortho_height"], source, "camera.ortho_height");
+    if (const std::string problem = render::camera_problem(s.camera, "fov"); !problem.empty()) fail(source, problem);
   }
   if (j.contains("environment")) {
     const json& e = j["environment"];

@@ -4,6 +4,18 @@
 
 namespace matlas::render {
 
+std::string camera_problem(const Camera& c, std::string_view fov_key) {
+  const auto bad_point = [](const Vec3& v) {
+    return !v.allFinite() || !(v.cwiseAbs().maxCoeff() <= kMaxSceneCoordinate);  // maxCoeff may skip a NaN
+  };
+  if (bad_point(c.position)) return "camera.position must be finite, with coordinates within +-1e6";
+  if (bad_point(c.target)) return "camera.target must be finite, with coordinates within +-1e6";
+  if (!((c.target - c.position).norm() >= 1e-6)) return "camera.target must differ from camera.position (by 1e-6 at least)";
+  if (!(c.fov_degrees > 0 && c.fov_degrees < 180)) return "camera." + std::string(fov_key) + " must be in (0, 180)";
+  if (!(c.ortho_height > 0 && c.ortho_height <= kMaxSceneCoordinate)) return "camera.ortho_height must be in (0, 1e6]";
+  return {};
+}
+
 CameraFrame camera_frame(const Camera& c) {
   CameraFrame f;
   f.forward = (c.target - c.position).normalized();

@@ -12,6 +12,9 @@
 // 0..width, 0..height), a = width / height, sx = (2 px / width - 1) a, sy = 1 - 2 py / height:
 //   perspective:  origin = position, dir = normalise(f + r sx t + u sy t), t = tan(fov / 2);
 //   orthographic: origin = position + (r sx + u sy) ortho_height / 2, dir = f.
+#include <string>
+#include <string_view>
+
 #include "brdf/types.h"
 
 namespace matlas::render {
@@ -25,6 +28,19 @@ struct Camera {
   double fov_degrees = 32.0;     ///< vertical field of view (perspective)
   double ortho_height = 2.3;     ///< height of the view in world units (orthographic)
 };
+
+/// The largest camera coordinate (and orthographic height) a scene accepts; also the bound of
+/// path-traced scenes' coordinates, radii, angles and intensities (pathtrace/scene_spec.h).
+/// Embree builds in single precision: beyond, scenes lose their precision, and infinities (a
+/// camera at 1e308) trip its assertions.
+inline constexpr double kMaxSceneCoordinate = 1e6;
+
+/// What makes a camera unusable, as a message naming the field ("camera.position must be finite,
+/// with coordinates within +-1e6"), or "" for a usable one: a position or target not finite or
+/// beyond kMaxSceneCoordinate, a target within 1e-6 of the position, a field of view outside
+/// (0, 180) degrees, an orthographic height outside (0, kMaxSceneCoordinate]. `fov_key` is the
+/// field of view's name in the caller's input ("fov" in scene files).
+std::string camera_problem(const Camera& camera, std::string_view fov_key = "fov_degrees");
 
 /// The camera's orthonormal frame (header comment): right x up = -forward.
 struct CameraFrame {

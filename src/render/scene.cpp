@@ -28,16 +28,7 @@ std::optional<TriangleMesh> load_object(const SceneDescription& d) {
 /// camera at 1e308 tripped an assertion in Embree: SIGABRT), naming the field.
 void validate_description(const SceneDescription& d) {
   auto fail = [](const std::string& what) { throw Error("scene: " + what); };
-  auto check_point = [&](const Vec3& v, const char* key) {
-    if (!v.allFinite() || !(v.cwiseAbs().maxCoeff() <= kMaxSceneCoordinate))  // maxCoeff may skip a NaN
-      fail(std::string(key) + " must be finite, with coordinates within +-1e6");
-  };
-  const Camera& c = d.camera;
-  check_point(c.position, "camera.position");
-  check_point(c.target, "camera.target");
-  if (!((c.target - c.position).norm() >= 1e-6)) fail("camera.target must differ from camera.position (by 1e-6 at least)");
-  if (!(c.fov_degrees > 0 && c.fov_degrees < 180)) fail("camera.fov_degrees must be in (0, 180)");
-  if (!(c.ortho_height > 0 && c.ortho_height <= kMaxSceneCoordinate)) fail("camera.ortho_height must be in (0, 1e6]");
+  if (const std::string problem = camera_problem(d.camera); !problem.empty()) fail(problem);
   for (const DirectionalLight& l : d.lights) {
     if (!l.direction.allFinite() || !(l.direction.norm() > 0)) fail("a light's direction must be finite and non-zero");
     if (!l.irradiance.allFinite()) fail("a light's irradiance must be finite");

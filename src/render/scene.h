@@ -49,12 +49,6 @@ struct Hit {
   Vec3 geometric_normal;    ///< facing the ray's origin side
 };
 
-/// The largest camera coordinate (and orthographic height) a scene accepts; also the bound of
-/// path-traced scenes' coordinates, radii, angles and intensities (pathtrace/scene_spec.h).
-/// Embree builds in single precision: beyond, scenes lose their precision, and infinities (a
-/// camera at 1e308) trip its assertions.
-inline constexpr double kMaxSceneCoordinate = 1e6;
-
 class Scene {
 public:
   /// Builds the scene; throws matlas::Error naming the file for unreadable meshes or maps, and

@@ -115,9 +115,9 @@ TEST(SceneSpec, CameraKeysRoundTripAndOldFilesKeepTheirKeys) {
   EXPECT_EQ(back.camera.ortho_height, 3.5);
   EXPECT_EQ(scene_to_json(back), scene_to_json(o));
   EXPECT_EQ(error_with([](json& j) { j["camera"]["orthographic"] = 1; }), "s.json: camera.orthographic must be true or false");
-  EXPECT_EQ(error_with([](json& j) { j["camera"]["ortho_height"] = 0; }), "s.json: camera.ortho_height must be positive");
+  EXPECT_EQ(error_with([](json& j) { j["camera"]["ortho_height"] = 0; }), "s.json: camera.ortho_height must be in (0, 1e6]");
   EXPECT_EQ(error_with([](json& j) { j["camera"]["ortho_height"] = 1e9; }),
-            "s.json: camera.ortho_height must be in [0, 1000000]");
+            "s.json: camera.ortho_height must be in (0, 1e6]");
 }
 
 TEST(SceneSpec, GiAndPreviewsShareTheCameraRays) {

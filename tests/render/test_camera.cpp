@@ -109,5 +109,25 @@ TEST(Camera, AStraightDownPreviewSeesTheTopOfTheSphereWithTheImageTopTowardsMinu
   EXPECT_NEAR(dir.z(), 0.0, 1e-12);
 }
 
+TEST(Camera, ProblemsAreNamedOnceForPreviewsAndSceneFiles) {
+  EXPECT_EQ(camera_problem(Camera{}), "");
+  const auto with = [](auto change) {
+    Camera c;
+    change(c);
+    return c;
+  };
+  EXPECT_EQ(camera_problem(with([](Camera& c) { c.position.x() = 2e6; })),
+            "camera.position must be finite, with coordinates within +-1e6");
+  EXPECT_EQ(camera_problem(with([](Camera& c) { c.target.y() = std::nan(""); })),
+            "camera.target must be finite, with coordinates within +-1e6");
+  EXPECT_EQ(camera_problem(with([](Camera& c) { c.target = c.position + Vec3(0, 0, 1e-7); })),
+            "camera.target must differ from camera.position (by 1e-6 at least)");
+  EXPECT_EQ(camera_problem(with([](Camera& c) { c.fov_degrees = 0; })), "camera.fov_degrees must be in (0, 180)");
+  EXPECT_EQ(camera_problem(with([](Camera& c) { c.fov_degrees = 180; }), "fov"), "camera.fov must be in (0, 180)");
+  EXPECT_EQ(camera_problem(with([](Camera& c) { c.ortho_height = 0; })), "camera.ortho_height must be in (0, 1e6]");
+  EXPECT_EQ(camera_problem(with([](Camera& c) { c.ortho_height = 1.5e6; })), "camera.ortho_height must be in (0, 1e6]");
+  EXPECT_EQ(camera_problem(with([](Camera& c) { c.position = Vec3(0, 0, 1e6); c.fov_degrees = 1e-3; })), "");
+}
+
 }  // namespace
 }  // namespace matlas::render
