@@ -196,22 +196,7 @@ Rgb PrefilteredEnvironment::exact(int l, const Vec3& d) const {
 }
 
 Rgb PrefilteredEnvironment::lookup(int l, const Vec3& d) const {
-  double theta, phi;
-  angles(d, &theta, &phi);
-  const int h = heights_[static_cast<std::size_t>(l)], w = 2 * (h - 1);
-  const double fx = phi / (2.0 * kPi) * w;
-  const double fy = std::clamp(theta / kPi * (h - 1), 0.0, h - 1.0);
-  const int x0 = static_cast<int>(std::floor(fx)), y0 = std::min(static_cast<int>(fy), h - 2);
-  const double tx = fx - x0, ty = fy - y0;
-  const std::vector<float>& map = maps_[static_cast<std::size_t>(l)];
-  Rgb sum = Rgb::Zero();
-  for (int dy = 0; dy < 2; ++dy)
-    for (int dx = 0; dx < 2; ++dx) {
-      const int x = ((x0 + dx) % w + w) % w;
-      const float* p = &map[(static_cast<std::size_t>(y0 + dy) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)) * 3];
-      sum += (dx ? tx : 1 - tx) * (dy ? ty : 1 - ty) * Rgb(p[0], p[1], p[2]);
-    }
-  return sum;
+  return bilinear(maps_[static_cast<std::size_t>(l)], heights_[static_cast<std::size_t>(l)], d);
 }
 
 }  // namespace matlas::zonal
