@@ -46,6 +46,16 @@ struct Model::Impl {
   std::unique_ptr<gp::ConvexProjection> convex;  // the convex mode's projection
   Interpolation interpolation = Interpolation::gp;  // the mode the model was built with
 
+  // Model::open's steps, in order; each throws matlas::Error naming the file and the problem.
+  /// The metadata: format, version, names, grid, storage, counts; returns the kernel.
+  gp::Kernel read_metadata();
+  /// The tensors (latent, Gram, albedo, mean, column map, data), shapes checked, finite.
+  void read_tensors();
+  /// The small tensors' checksum and the column map's consistency with the data.
+  void check_integrity() const;
+  /// The GP posterior and the convex projection of the interpolation modes.
+  void build_interpolation(const gp::Kernel& kernel);
+
   /// sum_i w_i z_i[column] over the stored inputs.
   double data_dot(std::size_t column, const Eigen::Ref<const Eigen::VectorXd>& w) const {
     const std::size_t base = column * static_cast<std::size_t>(n);
@@ -121,119 +131,139 @@ Model Model::open(const fs::path& path) {
   auto m = std::make_unique<Impl>(Impl{path, SafetensorsFile::open(path), {}, {}, {}, {}, {}, {}, 0, 0,
                                        {}, nullptr, {}, nullptr, nullptr, nullptr, nullptr, nullptr,
                                        Interpolation::gp});
-  const SafetensorsFile& f = m->file;
+  const gp::Kernel kernel = m->read_metadata();
+  m->read_tensors();
+  m->check_integrity();
+  m->build_interpolation(kernel);
+  const Interpolation built = m->interpolation;
+  return Model(std::move(m), built);
+}
+
+gp::Kernel Model::Impl::read_metadata() {
+  const SafetensorsFile& f = file;
   const auto meta_it = f.metadata().find(model_format::kMetadataKey);
   if (meta_it == f.metadata().end())
     throw file_error(path, "not a matlas model (a safetensors file without matlas metadata)");
   // Every metadata field is checked for presence, type and range here, and against the tensors
   // below: a crafted or damaged file is refused naming what is wrong, never used.
-  double nugget = 0, lengthscale = 0;
+  gp::Kernel kernel{0.0, 0.0};
   try {
     // Parsing is iterative, but dump() and other recursive code would overflow the stack on a
     // crafted file nested 100,000 deep: refused here, before anything uses it.
-    const json::parser_callback_t limit_depth = [&path](int depth, json::parse_event_t event, json&) {
+    const json::parser_callback_t limit_depth = [&model_path = path](int depth, json::parse_event_t event, json&) {
       if ((event == json::parse_event_t::object_start || event == json::parse_event_t::array_start) &&
           depth >= model_format::kMaxMetadataDepth)
-        throw file_error(path, "corrupted model metadata: JSON nested more than " +
+        throw file_error(model_path, "corrupted model metadata: JSON nested more than " +
                                    std::to_string(model_format::kMaxMetadataDepth) + " levels deep");
       return true;
     };
-    m->meta = json::parse(meta_it->second, limit_depth);
-    if (!m->meta.is_object()) throw file_error(path, "corrupted model metadata: not a JSON object");
-    const auto format = m->meta.find("format");
-    if (format == m->meta.end() || !format->is_string() || format->get<std::string>() != model_format::kFormatName)
+    meta = json::parse(meta_it->second, limit_depth);
+    if (!meta.is_object()) throw file_error(path, "corrupted model metadata: not a JSON object");
+    const auto format = meta.find("format");
+    if (format == meta.end() || !format->is_string() || format->get<std::string>() != model_format::kFormatName)
       throw file_error(path, "not a matlas model");
-    const auto version = metadata_integer(path, m->meta, "format_version", std::numeric_limits<std::int64_t>::min(),
+    const auto version = metadata_integer(path, meta, "format_version", std::numeric_limits<std::int64_t>::min(),
                                           std::numeric_limits<std::int64_t>::max());
     if (version != model_format::kVersion)
-      throw file_error(path, "model format version " + integer_text(m->meta["format_version"]) +
+      throw file_error(path, "model format version " + integer_text(meta["format_version"]) +
                                  " is not supported by this matlas (expects " +
                                  std::to_string(model_format::kVersion) + "); rebuild the model");
-    const auto names = m->meta.find("names");
-    if (names == m->meta.end() || !names->is_array() || names->empty())
+    const auto names_json = meta.find("names");
+    if (names_json == meta.end() || !names_json->is_array() || names_json->empty())
       throw file_error(path, "corrupted model metadata: 'names' must be a non-empty array of strings");
-    for (const auto& name : *names) {
+    for (const auto& name : *names_json) {
       if (!name.is_string()) throw file_error(path, "corrupted model metadata: 'names' must hold strings");
-      m->names.push_back(name.get<std::string>());
+      names.push_back(name.get<std::string>());
     }
-    const auto grid = m->meta.find("grid");
-    if (grid == m->meta.end() || !grid->is_array() || grid->size() != 3)
+    const auto grid = meta.find("grid");
+    if (grid == meta.end() || !grid->is_array() || grid->size() != 3)
       throw file_error(path, "corrupted model metadata: 'grid' must be three bin counts");
-    int dims[3];
+    int bins[3];
     for (std::size_t k = 0; k < 3; ++k) {
       const json& d = (*grid)[k];
       if (!d.is_number_integer() || d.get<std::int64_t>() < 1 || d.get<std::int64_t>() > kMaxMerlDim ||
           (d.is_number_unsigned() && d.get<std::uint64_t>() > static_cast<std::uint64_t>(kMaxMerlDim)))
         throw file_error(path, "corrupted model metadata: 'grid' entries must be integers in [1, " +
                                    std::to_string(kMaxMerlDim) + "]");
-      dims[k] = static_cast<int>(d.get<std::int64_t>());
+      bins[k] = static_cast<int>(d.get<std::int64_t>());
     }
-    if (!model_format::is_model_grid(dims[0], dims[1], dims[2]))
-      throw file_error(path, "corrupted model metadata: 'grid' [" + std::to_string(dims[0]) + ", " +
-                                 std::to_string(dims[1]) + ", " + std::to_string(dims[2]) +
+    if (!model_format::is_model_grid(bins[0], bins[1], bins[2]))
+      throw file_error(path, "corrupted model metadata: 'grid' [" + std::to_string(bins[0]) + ", " +
+                                 std::to_string(bins[1]) + ", " + std::to_string(bins[2]) +
                                  "] is not [theta_h, theta_d, phi_d] with phi_d = 2 theta_d");
-    m->dims = {dims[0], dims[1], dims[2]};
-    const auto storage = m->meta.find("storage");
-    if (storage == m->meta.end() || !storage->is_string())
+    dims = {bins[0], bins[1], bins[2]};
+    const auto storage_json = meta.find("storage");
+    if (storage_json == meta.end() || !storage_json->is_string())
       throw file_error(path, "corrupted model metadata: missing 'storage'");
-    m->storage = storage->get<std::string>();
-    lengthscale = metadata_positive(path, m->meta, "kernel", "lengthscale");
-    nugget = metadata_positive(path, m->meta, "kernel", "nugget");
-    if (m->meta.contains("count") &&
-        metadata_integer(path, m->meta, "count", 1, 1 << 30) != static_cast<std::int64_t>(m->names.size()))
+    storage = storage_json->get<std::string>();
+    kernel.lengthscale = metadata_positive(path, meta, "kernel", "lengthscale");
+    kernel.nugget = metadata_positive(path, meta, "kernel", "nugget");
+    if (meta.contains("count") &&
+        metadata_integer(path, meta, "count", 1, 1 << 30) != static_cast<std::int64_t>(names.size()))
       throw file_error(path, "corrupted model metadata: 'count' differs from the number of names");
   } catch (const json::exception& e) {
     throw file_error(path, std::string("corrupted model metadata: ") + e.what());
   }
-  const auto n = static_cast<std::int64_t>(m->names.size());
-  m->n = static_cast<int>(n);
-  const TensorInfo* latent = f.find(model_format::kLatent);
-  if (!latent || latent->shape.size() != 2 || latent->shape[0] != n || latent->shape[1] < 1 || latent->shape[1] > 64)
+  return kernel;
+}
+
+void Model::Impl::read_tensors() {
+  const SafetensorsFile& f = file;
+  n = static_cast<int>(names.size());
+  const auto rows = static_cast<std::int64_t>(n);  // the inputs: rows of the small tensors
+  const TensorInfo* latent_info = f.find(model_format::kLatent);
+  if (!latent_info || latent_info->shape.size() != 2 || latent_info->shape[0] != rows || latent_info->shape[1] < 1 ||
+      latent_info->shape[1] > 64)
     throw file_error(path, "corrupted model: latent tensor missing or of the wrong shape (expected [" +
-                               std::to_string(n) + ", q], 1 <= q <= 64)");
-  const std::int64_t q = latent->shape[1];
-  if (m->meta.contains("dim") && metadata_integer(path, m->meta, "dim", 1, 64) != q)
+                               std::to_string(rows) + ", q], 1 <= q <= 64)");
+  const std::int64_t q = latent_info->shape[1];
+  if (meta.contains("dim") && metadata_integer(path, meta, "dim", 1, 64) != q)
     throw file_error(path, "corrupted model metadata: 'dim' differs from the latent tensor's shape");
-  m->latent = read_matrix(f, model_format::kLatent, n, q);
-  m->gram = read_matrix(f, model_format::kGram, n, n);
-  m->albedo = Eigen::Map<const RowMajor>(
-      f.view<double>(model_format::kAlbedo, DType::F64, {n, kAlbedoAngles, 3}).data(), n,
+  latent = read_matrix(f, model_format::kLatent, rows, q);
+  gram = read_matrix(f, model_format::kGram, rows, rows);
+  albedo = Eigen::Map<const RowMajor>(
+      f.view<double>(model_format::kAlbedo, DType::F64, {rows, kAlbedoAngles, 3}).data(), rows,
       kAlbedoAngles * 3);
-  require_finite(path, m->latent, model_format::kLatent);
-  require_finite(path, m->gram, model_format::kGram);
-  require_finite(path, m->albedo, model_format::kAlbedo);
-  const TensorInfo& mean = f.require(model_format::kMean, DType::F32);
-  if (mean.shape.size() != 1) throw file_error(path, "corrupted model: mean tensor shape");
-  m->kept = static_cast<std::size_t>(mean.shape[0]);
-  if (m->kept == 0) throw file_error(path, "corrupted model: no kept columns");
-  if (m->meta.contains("kept_columns") &&
-      metadata_integer(path, m->meta, "kept_columns", 0, std::numeric_limits<std::int64_t>::max()) !=
-          static_cast<std::int64_t>(m->kept))
+  require_finite(path, latent, model_format::kLatent);
+  require_finite(path, gram, model_format::kGram);
+  require_finite(path, albedo, model_format::kAlbedo);
+  const TensorInfo& mean_info = f.require(model_format::kMean, DType::F32);
+  if (mean_info.shape.size() != 1) throw file_error(path, "corrupted model: mean tensor shape");
+  kept = static_cast<std::size_t>(mean_info.shape[0]);
+  if (kept == 0) throw file_error(path, "corrupted model: no kept columns");
+  if (meta.contains("kept_columns") &&
+      metadata_integer(path, meta, "kept_columns", 0, std::numeric_limits<std::int64_t>::max()) !=
+          static_cast<std::int64_t>(kept))
     throw file_error(path, "corrupted model metadata: 'kept_columns' differs from the mean tensor's length");
-  const std::byte* mean_bytes = f.bytes(mean);
+  const std::byte* mean_bytes = f.bytes(mean_info);
   if (reinterpret_cast<std::uintptr_t>(mean_bytes) % alignof(float) == 0) {
-    m->mean = reinterpret_cast<const float*>(mean_bytes);
+    mean = reinterpret_cast<const float*>(mean_bytes);
   } else {
-    m->mean_copy.resize(m->kept);
-    std::memcpy(m->mean_copy.data(), mean_bytes, m->kept * sizeof(float));
-    m->mean = m->mean_copy.data();
+    mean_copy.resize(kept);
+    std::memcpy(mean_copy.data(), mean_bytes, kept * sizeof(float));
+    mean = mean_copy.data();
   }
-  require_finite(path, Eigen::Map<const Eigen::VectorXf>(m->mean, static_cast<Eigen::Index>(m->kept)),
+  require_finite(path, Eigen::Map<const Eigen::VectorXf>(mean, static_cast<Eigen::Index>(kept)),
                  model_format::kMean);
   const auto columns = f.view<std::int32_t>(model_format::kValueColumn, DType::I32,
-                                            {static_cast<std::int64_t>(3 * m->dims.bins())});
-  m->value_column = columns.data();
-  const auto d = static_cast<std::int64_t>(m->kept);
-  if (m->storage == "F32")
-    m->data_f32 = f.view<float>(model_format::kData, DType::F32, {d, n}).data();
-  else if (m->storage == "F16")
-    m->data_f16 = f.view<std::uint16_t>(model_format::kData, DType::F16, {d, n}).data();
+                                            {static_cast<std::int64_t>(3 * dims.bins())});
+  value_column = columns.data();
+  const auto d = static_cast<std::int64_t>(kept);
+  if (storage == "F32")
+    data_f32 = f.view<float>(model_format::kData, DType::F32, {d, rows}).data();
+  else if (storage == "F16")
+    data_f16 = f.view<std::uint16_t>(model_format::kData, DType::F16, {d, rows}).data();
   else
-    throw file_error(path, "corrupted model: unknown storage '" + m->storage + "'");
+    throw file_error(path, "corrupted model: unknown storage '" + storage + "'");
+}
 
+void Model::Impl::check_integrity() const {
+  const SafetensorsFile& f = file;
+  const bool has_layout_gram = f.find(model_format::kLayoutGram) != nullptr;
+  const auto columns = std::span<const std::int32_t>(value_column, static_cast<std::size_t>(3 * dims.bins()));
+  const auto d = static_cast<std::int64_t>(kept);
   // Integrity of everything but the bulk data: checksum, and the column map's consistency.
   Xxh3Hasher h;
-  const bool has_layout_gram = f.find(model_format::kLayoutGram) != nullptr;
   for (const char* name : {model_format::kLatent, model_format::kGram, model_format::kAlbedo,
                            model_format::kMean, model_format::kValueColumn, model_format::kLayoutGram}) {
     if (std::string_view(name) == model_format::kLayoutGram && !has_layout_gram) continue;  // optional (older models)
@@ -242,8 +272,8 @@ Model Model::open(const fs::path& path) {
     h.update(f.bytes(*t), t->bytes());
   }
   const std::string checksum = hex64(h.digest());
-  const auto stored_checksum = m->meta.find("small_tensors_xxh3_64");
-  if (stored_checksum == m->meta.end() || !stored_checksum->is_string() ||
+  const auto stored_checksum = meta.find("small_tensors_xxh3_64");
+  if (stored_checksum == meta.end() || !stored_checksum->is_string() ||
       checksum != stored_checksum->get<std::string>())
     throw file_error(path, "corrupted model: checksum mismatch in the latent/mean/column tensors");
   // The column map: kept columns numbered 0, 1, ... in value order, every other entry exactly -1
@@ -254,9 +284,13 @@ Model Model::open(const fs::path& path) {
       throw file_error(path, "corrupted model: inconsistent column map");
   }
   if (next != d) throw file_error(path, "corrupted model: column map does not match the data");
+}
 
+void Model::Impl::build_interpolation(const gp::Kernel& kernel) {
+  const SafetensorsFile& f = file;
+  const bool has_layout_gram = f.find(model_format::kLayoutGram) != nullptr;
   try {
-    m->posterior = std::make_unique<gp::GpPosterior>(m->latent, gp::Kernel{lengthscale, nugget});
+    posterior = std::make_unique<gp::GpPosterior>(latent, kernel);
   } catch (const Error& e) {
     throw file_error(path, std::string("corrupted model: ") + e.what());
   }
@@ -264,8 +298,8 @@ Model Model::open(const fs::path& path) {
   // Interpolation mode: "interpolation": {"mode": "convex", "ridge": r} (absent: the paper's GP).
   double ridge = gp::ConvexProjection::kDefaultRidge;
   try {
-    if (const auto it = m->meta.find("interpolation"); it != m->meta.end()) {
-      m->interpolation = interpolation_from_string(it->at("mode").get<std::string>());
+    if (const auto it = meta.find("interpolation"); it != meta.end()) {
+      interpolation = interpolation_from_string(it->at("mode").get<std::string>());
       ridge = it->value("ridge", ridge);
     }
   } catch (const json::exception& e) {
@@ -274,13 +308,11 @@ Model Model::open(const fs::path& path) {
     throw file_error(path, std::string("corrupted model metadata: ") + e.what());
   }
   try {
-    const Eigen::MatrixXd metric = has_layout_gram ? read_matrix(f, model_format::kLayoutGram, n, n) : m->gram;
-    m->convex = std::make_unique<gp::ConvexProjection>(metric, ridge);
+    const Eigen::MatrixXd metric = has_layout_gram ? read_matrix(f, model_format::kLayoutGram, n, n) : gram;
+    convex = std::make_unique<gp::ConvexProjection>(metric, ridge);
   } catch (const Error& e) {
     throw file_error(path, std::string("corrupted model: ") + e.what());
   }
-  const Interpolation built = m->interpolation;
-  return Model(std::move(m), built);
 }
 
 const fs::path& Model::path() const { return impl_->path; }
