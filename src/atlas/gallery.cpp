@@ -97,6 +97,71 @@ Eigen::MatrixXd AppearanceFeatures::operator()(const Eigen::MatrixXd& W) const {
   return raw(W).array().rowwise() / scale_.transpose().array();
 }
 
+namespace {
+
+/// The candidates of generated materials: between each material and its `neighbours` nearest
+/// latent neighbours, at jittered fractions 0.15, 0.3, 0.5, 0.7, 0.85 of the way (those near a
+/// material are variants of it, those in the middle mixes of two), each pair once.
+Eigen::MatrixXd candidate_points(const Eigen::MatrixXd& X, int neighbours, SampleStream& rng) {
+  const int n = static_cast<int>(X.rows());
+  std::vector<std::pair<int, int>> pairs;
+  const int k = std::clamp(neighbours, 1, n - 1);
+  for (int i = 0; i < n; ++i) {
+    std::vector<std::pair<double, int>> near;
+    for (int j = 0; j < n; ++j)
+      if (j != i) near.push_back({(X.row(j) - X.row(i)).squaredNorm(), j});
+    std::partial_sort(near.begin(), near.begin() + k, near.end());
+    for (int t = 0; t < k; ++t) pairs.push_back({std::min(i, near[static_cast<std::size_t>(t)].second),
+                                                std::max(i, near[static_cast<std::size_t>(t)].second)});
+  }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  static constexpr double kFractions[] = {0.15, 0.3, 0.5, 0.7, 0.85};
+  const int per_pair = 5;
+  const int m = static_cast<int>(pairs.size()) * per_pair;
+  Eigen::MatrixXd points(m, X.cols());
+  for (std::size_t p = 0; p < pairs.size(); ++p)
+    for (int s = 0; s < per_pair; ++s) {
+      const double t = kFractions[s] + 0.1 * (rng.next() - 0.5);
+      const auto c = static_cast<Eigen::Index>(p) * per_pair + s;
+      points.row(c) = (1 - t) * X.row(pairs[p].first) + t * X.row(pairs[p].second);
+    }
+  return points;
+}
+
+/// The candidates to choose generated materials from: low variance, plausible (with
+/// `plausible_only`) and novel; the filters relaxed from the last one when fewer than `o.random`
+/// pass, down to the lowest-variance candidates. Counts what each filter rejected in `stats`.
+std::vector<int> candidate_pool(const Eigen::VectorXd& variance, const std::vector<bool>& plausible,
+                                const Eigen::VectorXd& novelty, const GalleryOptions& o, GalleryStats& stats) {
+  const int m = static_cast<int>(variance.size());
+  stats.candidates = m;
+  std::vector<int> low, fine, fresh;
+  for (int c = 0; c < m; ++c)
+    if (variance[c] <= o.max_variance) low.push_back(c);
+  for (int c : low)
+    if (!o.plausible_only || plausible[static_cast<std::size_t>(c)]) fine.push_back(c);
+  for (int c : fine)
+    if (novelty[c] >= o.min_novelty) fresh.push_back(c);
+  stats.rejected_variance = m - static_cast<int>(low.size());
+  stats.rejected_implausible = static_cast<int>(low.size() - fine.size());
+  stats.rejected_copies = static_cast<int>(fine.size() - fresh.size());
+  std::vector<int> pool = fresh;
+  if (static_cast<int>(pool.size()) < o.random) stats.relaxed.push_back("novelty"), pool = fine;
+  if (static_cast<int>(pool.size()) < o.random && o.plausible_only) stats.relaxed.push_back("plausibility"), pool = low;
+  if (static_cast<int>(pool.size()) < o.random) {
+    // Too little near the data: the lowest-variance candidates.
+    stats.relaxed.push_back("variance");
+    pool.resize(static_cast<std::size_t>(m));
+    std::iota(pool.begin(), pool.end(), 0);
+    std::stable_sort(pool.begin(), pool.end(), [&](int a, int b) { return variance[a] < variance[b]; });
+    pool.resize(static_cast<std::size_t>(std::min(m, std::max(o.random, m / 4))));
+  }
+  return pool;
+}
+
+}  // namespace
+
 std::vector<GalleryEntry> pick_gallery(const Model& model, const GalleryOptions& o, GalleryStats* stats_out) {
   const int n = model.count();
   if (o.random < 0 || o.real < 0 || o.random + o.real == 0) throw Error("gallery: nothing to show");
@@ -137,31 +202,8 @@ std::vector<GalleryEntry> pick_gallery(const Model& model, const GalleryOptions&
   }
 
   if (o.random > 0) {
-    // Candidates: between each material and its nearest latent neighbours, at jittered
-    // fractions 0.15, 0.3, 0.5, 0.7, 0.85 of the way (those near a material are variants of it,
-    // those in the middle mixes of two).
-    std::vector<std::pair<int, int>> pairs;
-    const int k = std::clamp(o.neighbours, 1, n - 1);
-    for (int i = 0; i < n; ++i) {
-      std::vector<std::pair<double, int>> near;
-      for (int j = 0; j < n; ++j)
-        if (j != i) near.push_back({(X.row(j) - X.row(i)).squaredNorm(), j});
-      std::partial_sort(near.begin(), near.begin() + k, near.end());
-      for (int t = 0; t < k; ++t) pairs.push_back({std::min(i, near[static_cast<std::size_t>(t)].second),
-                                                  std::max(i, near[static_cast<std::size_t>(t)].second)});
-    }
-    std::sort(pairs.begin(), pairs.end());
-    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-    static constexpr double kFractions[] = {0.15, 0.3, 0.5, 0.7, 0.85};
-    const int per_pair = 5;
-    const int m = static_cast<int>(pairs.size()) * per_pair;
-    Eigen::MatrixXd points(m, model.dim());
-    for (std::size_t p = 0; p < pairs.size(); ++p)
-      for (int s = 0; s < per_pair; ++s) {
-        const double t = kFractions[s] + 0.1 * (rng.next() - 0.5);
-        const auto c = static_cast<Eigen::Index>(p) * per_pair + s;
-        points.row(c) = (1 - t) * X.row(pairs[p].first) + t * X.row(pairs[p].second);
-      }
+    const Eigen::MatrixXd points = candidate_points(X, o.neighbours, rng);
+    const int m = static_cast<int>(points.rows());
     // All candidates' weights and variances in one batch (products with K^-1 over blocks of
     // points, convex solves warm-started from the previous candidate, in parallel): the same
     // values as weights() and variance() point by point, which at n = 1000 and ~5n candidates
@@ -177,29 +219,9 @@ std::vector<GalleryEntry> pick_gallery(const Model& model, const GalleryOptions&
       const Plausibility& p = plausibility[static_cast<std::size_t>(c)];
       return p.negative_fraction == 0 && p.min_albedo >= 0 && p.max_albedo <= input_max_albedo * (1 + 1e-9);
     };
-    stats.candidates = m;
-    // Filters, relaxed from the last one when too few candidates pass.
-    std::vector<int> low, fine, fresh;
-    for (int c = 0; c < m; ++c)
-      if (variance[c] <= o.max_variance) low.push_back(c);
-    for (int c : low)
-      if (!o.plausible_only || plausible(c)) fine.push_back(c);
-    for (int c : fine)
-      if (novelty[c] >= o.min_novelty) fresh.push_back(c);
-    stats.rejected_variance = m - static_cast<int>(low.size());
-    stats.rejected_implausible = static_cast<int>(low.size() - fine.size());
-    stats.rejected_copies = static_cast<int>(fine.size() - fresh.size());
-    std::vector<int> pool = fresh;
-    if (static_cast<int>(pool.size()) < o.random) stats.relaxed.push_back("novelty"), pool = fine;
-    if (static_cast<int>(pool.size()) < o.random && o.plausible_only) stats.relaxed.push_back("plausibility"), pool = low;
-    if (static_cast<int>(pool.size()) < o.random) {
-      // Too little near the data: the lowest-variance candidates.
-      stats.relaxed.push_back("variance");
-      pool.resize(static_cast<std::size_t>(m));
-      std::iota(pool.begin(), pool.end(), 0);
-      std::stable_sort(pool.begin(), pool.end(), [&](int a, int b) { return variance[a] < variance[b]; });
-      pool.resize(static_cast<std::size_t>(std::min(m, std::max(o.random, m / 4))));
-    }
+    std::vector<bool> plausible_flags(static_cast<std::size_t>(m));
+    for (int c = 0; c < m; ++c) plausible_flags[static_cast<std::size_t>(c)] = plausible(c);
+    std::vector<int> pool = candidate_pool(variance, plausible_flags, novelty, o, stats);
     std::sort(pool.begin(), pool.end());
     Eigen::VectorXd nearest = Eigen::VectorXd::Constant(m, std::numeric_limits<double>::infinity());
     for (int c : pool) nearest[c] = picked.rows() > 0 ? min_distance_to(F.row(c), picked) : nearest[c];
