@@ -248,6 +248,14 @@ struct AtlasServer::Impl {
   }
 
   void configure() {
+    configure_connections();
+    route_api();
+    route_web_root();
+    install_handlers();
+  }
+
+  /// Body limit, TCP_NODELAY, keep-alive, and the upload slot's release after every request.
+  void configure_connections() {
     http.set_payload_max_length(options.max_upload_bytes + (64u << 10));
     // Headers and body go out in separate writes: without TCP_NODELAY, Nagle + delayed ACK add
     // ~40 ms to every keep-alive response.
@@ -260,7 +268,10 @@ struct AtlasServer::Impl {
         uploads.fetch_sub(1);
       }
     };
+  }
 
+  /// The JSON API's endpoints (docs/API.md), each answered by Api through serve_api.
+  void route_api() {
     http.Get("/api/model", [this](const httplib::Request&, httplib::Response& res) {
       serve_api(res, [&](Api& api) { return api.model_info(); });
     });
@@ -334,7 +345,11 @@ struct AtlasServer::Impl {
         return api.thumbnail(index, req.get_param_value("env"), req.get_param_value("object"), size);
       });
     });
+  }
 
+  /// The web UI's built files (content-hashed assets cached for good), or a page saying there is
+  /// no UI.
+  void route_web_root() {
     if (web_root) {
       http.set_mount_point("/", web_root->string());
       http.set_file_request_handler([](const httplib::Request& req, httplib::Response& res) {
@@ -349,7 +364,10 @@ struct AtlasServer::Impl {
         res.set_content(kNoUiPage, "text/html; charset=utf-8");
       });
     }
+  }
 
+  /// Error and exception handlers, admission before routing, and the request log.
+  void install_handlers() {
     // The error and exception handlers run outside httplib's try/catch: nothing here may throw
     // (an exception would end the process), whatever the request's path holds (GET /%FF).
     http.set_error_handler(httplib::Server::HandlerWithResponse(
