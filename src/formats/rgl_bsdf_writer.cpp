@@ -32,6 +32,145 @@ std::vector<float> to_floats(const std::vector<double>& v) {
 
 }  // namespace
 
+namespace {
+
+/// The NDF and projected-area tables written to the file: D and sigma as float32 rows (two equal
+/// rows: the azimuth axis of an isotropic material), and their warps for lookups.
+struct NdfTables {
+  std::vector<float> ndf, sigma;
+  RglWarp2D ndf_warp, sigma_warp;
+
+  NdfTables(const MicrofacetNdf& extracted, std::size_t sigma_resolution) {
+    const std::size_t nd = extracted.nodes().size(), ns = sigma_resolution;
+    std::vector<double> ndf_rows(2 * nd), sigma_rows(2 * ns);
+    for (std::size_t x = 0; x < nd; ++x) ndf_rows[x] = ndf_rows[nd + x] = extracted.nodes()[x];
+    for (std::size_t x = 0; x < ns; ++x) {
+      const double u = static_cast<double>(x) / static_cast<double>(ns - 1);
+      sigma_rows[x] = sigma_rows[ns + x] = std::max(extracted.projected_area(0.5 * kPi * u * u), 1e-12);
+    }
+    ndf = to_floats(ndf_rows);
+    sigma = to_floats(sigma_rows);
+    ndf_warp = RglWarp2D(ndf, nd, 2, 1, false);
+    sigma_warp = RglWarp2D(sigma, ns, 2, 1, false);
+  }
+};
+
+/// The incident elevations: denser towards grazing incidence, where the peak of a glossy table
+/// grows fastest with theta_i (and where cos(theta_o) of the mirror direction goes to 0).
+std::vector<float> incident_elevations(const RglExportOptions& o) {
+  const auto nt = static_cast<std::size_t>(o.theta_i);
+  std::vector<float> theta(nt);
+  for (std::size_t t = 0; t < nt; ++t) {
+    const double x = static_cast<double>(t) / static_cast<double>(nt - 1);
+    const double g = o.grazing_refinement;
+    const double spread = (1.0 - g) * x + g * std::sin(0.5 * kPi * x);
+    theta[t] = static_cast<float>(spread * o.theta_max_deg * kPi / 180.0);
+  }
+  return theta;
+}
+
+/// What the fields are computed from: the table, its NDF tables and the incident elevations.
+struct FieldSource {
+  const BrdfTable& table;
+  const RglExportOptions& o;
+  const NdfTables& ndf;
+  const std::vector<float>& theta;
+
+  Vec3 incident(std::size_t t) const {
+    const double th = theta[t];
+    return Vec3(std::sin(th), 0.0, std::max(std::cos(th), 0.0));  // float(pi / 2) is a bit above pi / 2
+  }
+  double sigma_at(std::size_t t) const { return ndf.sigma_warp.eval(writer_unit_of_theta(theta[t]), 0.5, ParamBlend{}); }
+  /// VNDF per incident elevation: D(m) max(0, wi.m) / sigma(wi), times the unit square's
+  /// Jacobian. The density of the VNDF on the unit square (unnormalised: its integral is 1 up to
+  /// the grid).
+  double vndf_density(const Vec3& wi, double sigma, double u, double v) const {
+    const Vec3 m = writer_direction(u, v);
+    const double jacobian = 2.0 * kPi * kPi * u * std::sin(0.5 * kPi * u * u);
+    return ndf.ndf_warp.eval(u, v, ParamBlend{}) * std::max(0.0, wi.dot(m)) * jacobian / sigma;
+  }
+
+  /// The warp written: the VNDF mixed with a density of theta_m alone, 1 / sqrt(u + u0) (u0 =
+  /// one cell), which puts samples where the table varies faster than the extracted NDF predicts
+  /// (near the specular peak, at grazing angles); the luminance field carries the ratio, so that
+  /// the file's sampling still follows the reflected light (docs/EXPORT.md).
+  std::vector<float> vndf_field() const {
+    const std::size_t nt = theta.size();
+    const auto nv = static_cast<std::size_t>(o.vndf_resolution);
+    const double u0 = 1.0 / static_cast<double>(nv - 1);
+    std::vector<float> vndf(nt * nv * nv);
+    parallel_for_each(0, nt, [&](std::size_t t) {
+      const Vec3 wi = incident(t);
+      const double sigma = sigma_at(t);
+      std::vector<double> a(nv * nv), b(nv * nv);
+      double sa = 0, sb = 0;
+      for (std::size_t y = 0; y < nv; ++y)
+        for (std::size_t x = 0; x < nv; ++x) {
+          const double u = static_cast<double>(x) / static_cast<double>(nv - 1);
+          const double v = static_cast<double>(y) / static_cast<double>(nv - 1);
+          a[y * nv + x] = vndf_density(wi, sigma, u, v);
+          b[y * nv + x] = 1.0 / std::sqrt(u + u0);
+          sa += a[y * nv + x];
+          sb += b[y * nv + x];
+        }
+      for (std::size_t k = 0; k < nv * nv; ++k)
+        vndf[t * nv * nv + k] = static_cast<float>((1.0 - o.resolution_mix) * a[k] / sa + o.resolution_mix * b[k] / sb);
+    });
+    return vndf;
+  }
+
+  /// Reflectance samples at the nodes of the unit square, through the VNDF's sample warp: rgb,
+  /// the luminance that samples them, and whether each is above the horizon.
+  void reflectance_fields(const RglWarp2D& vndf_w, std::vector<float>& rgb, std::vector<float>& lum,
+                          std::vector<std::uint8_t>& valid) const {
+    const std::size_t nt = theta.size();
+    const auto nr = static_cast<std::size_t>(o.rgb_resolution);
+    const std::size_t grid = nr * nr;
+    rgb.assign(nt * 3 * grid, 0.0f);
+    lum.assign(nt * grid, 0.0f);
+    valid.assign(nt * grid, 0);
+    parallel_for_each(0, nt, [&](std::size_t t) {
+      const Vec3 wi = incident(t);
+      const double sigma = sigma_at(t);
+      ParamBlend slice;
+      slice.slice[0] = t;
+      for (std::size_t y = 0; y < nr; ++y)
+        for (std::size_t x = 0; x < nr; ++x) {
+          const auto u_m = vndf_w.sample(static_cast<double>(x) / static_cast<double>(nr - 1),
+                                         static_cast<double>(y) / static_cast<double>(nr - 1), slice);
+          const Vec3 m = writer_direction(u_m[0], u_m[1]);
+          const double c = wi.dot(m);
+          const Vec3 wo = 2.0 * c * m - wi;
+          Rgb value = Rgb::Zero();
+          const std::size_t at = y * nr + x;
+          if (c > 0 && wo.z() > 0) {
+            const double d = ndf.ndf_warp.eval(u_m[0], u_m[1], ParamBlend{});
+            value = table.lookup_smooth(wi, wo.normalized()).max(0.0) * (wo.z() * 4.0 * sigma / d);
+            valid[t * grid + at] = 1;
+          }
+          double l = 0;
+          for (std::size_t ch = 0; ch < 3; ++ch) {
+            rgb[(t * 3 + ch) * grid + at] = static_cast<float>(value[static_cast<Eigen::Index>(ch)]);
+            l += kWriterLuminance[ch] * value[static_cast<Eigen::Index>(ch)];
+          }
+          // The integrand on the reflectance's square: luminance times the VNDF over the warp's density.
+          const double warp = vndf_w.eval(u_m[0], u_m[1], slice);
+          const double ratio = warp > 0 ? vndf_density(wi, sigma, u_m[0], u_m[1]) / warp : 0.0;
+          lum[t * grid + at] = static_cast<float>(std::max(l * ratio, 0.0));
+        }
+      // The luminance is a sampling density: a slice that is black everywhere is sampled
+      // uniformly, and a small floor (1e-4 of the slice's mean) keeps every region reachable.
+      double mean = 0;
+      for (std::size_t k = 0; k < grid; ++k) mean += lum[t * grid + k];
+      mean /= static_cast<double>(grid);
+      for (std::size_t k = 0; k < grid; ++k)
+        lum[t * grid + k] = mean > 0 ? static_cast<float>(lum[t * grid + k] + 1e-4 * mean) : 1.0f;
+    });
+  }
+};
+
+}  // namespace
+
 std::vector<TensorField> rgl_fields_from_table(const BrdfTable& table, const RglExportOptions& o,
                                                RglExportReport* report) {
   MATLAS_CHECK_GE(o.theta_i, 2);
@@ -40,115 +179,19 @@ std::vector<TensorField> rgl_fields_from_table(const BrdfTable& table, const Rgl
   MATLAS_CHECK_GE(o.sigma_resolution, 2);
   MATLAS_CHECK(o.theta_max_deg > 0 && o.theta_max_deg <= 90, "theta_max_deg out of (0, 90]");
   RglExportReport r;
-  const MicrofacetNdf ndf = extract_ndf(table, o.ndf, &r.ndf);
-
-  // D and sigma, as float32 rows (two equal rows: the azimuth axis of an isotropic material).
-  const std::size_t nd = ndf.nodes().size(), ns = static_cast<std::size_t>(o.sigma_resolution);
-  std::vector<double> ndf_rows(2 * nd), sigma_rows(2 * ns);
-  for (std::size_t x = 0; x < nd; ++x) ndf_rows[x] = ndf_rows[nd + x] = ndf.nodes()[x];
-  for (std::size_t x = 0; x < ns; ++x) {
-    const double u = static_cast<double>(x) / static_cast<double>(ns - 1);
-    sigma_rows[x] = sigma_rows[ns + x] = std::max(ndf.projected_area(0.5 * kPi * u * u), 1e-12);
-  }
-  const std::vector<float> ndf_f = to_floats(ndf_rows), sigma_f = to_floats(sigma_rows);
-  const RglWarp2D ndf_w(ndf_f, nd, 2, 1, false), sigma_w(sigma_f, ns, 2, 1, false);
-
-  const auto nt = static_cast<std::size_t>(o.theta_i);
-  std::vector<float> theta_f(nt);
-  for (std::size_t t = 0; t < nt; ++t)
-  {
-    // Denser towards grazing incidence, where the peak of a glossy table grows fastest with
-    // theta_i (and where cos(theta_o) of the mirror direction goes to 0).
-    const double x = static_cast<double>(t) / static_cast<double>(nt - 1);
-    const double g = o.grazing_refinement;
-    const double spread = (1.0 - g) * x + g * std::sin(0.5 * kPi * x);
-    theta_f[t] = static_cast<float>(spread * o.theta_max_deg * kPi / 180.0);
-  }
-  const ParamBlend none;
-  auto incident = [&](std::size_t t) {
-    const double theta = theta_f[t];
-    return Vec3(std::sin(theta), 0.0, std::max(std::cos(theta), 0.0));  // float(pi / 2) is a bit above pi / 2
-  };
-  auto sigma_at = [&](std::size_t t) { return sigma_w.eval(writer_unit_of_theta(theta_f[t]), 0.5, none); };
-
-  // VNDF per incident elevation: D(m) max(0, wi.m) / sigma(wi), times the unit square's Jacobian.
-  // The density of the VNDF on the unit square (unnormalised: its integral is 1 up to the grid).
-  auto vndf_density = [&](const Vec3& wi, double sigma, double u, double v) {
-    const Vec3 m = writer_direction(u, v);
-    const double jacobian = 2.0 * kPi * kPi * u * std::sin(0.5 * kPi * u * u);
-    return ndf_w.eval(u, v, none) * std::max(0.0, wi.dot(m)) * jacobian / sigma;
-  };
-  // The warp written: the VNDF mixed with a density of theta_m alone, 1 / sqrt(u + u0) (u0 = one
-  // cell), which puts samples where the table varies faster than the extracted NDF predicts
-  // (near the specular peak, at grazing angles); the luminance field carries the ratio, so that
-  // the file's sampling still follows the reflected light (docs/EXPORT.md).
-  const auto nv = static_cast<std::size_t>(o.vndf_resolution);
-  const double u0 = 1.0 / static_cast<double>(nv - 1);
-  std::vector<float> vndf_f(nt * nv * nv);
-  parallel_for_each(0, nt, [&](std::size_t t) {
-    const Vec3 wi = incident(t);
-    const double sigma = sigma_at(t);
-    std::vector<double> a(nv * nv), b(nv * nv);
-    double sa = 0, sb = 0;
-    for (std::size_t y = 0; y < nv; ++y)
-      for (std::size_t x = 0; x < nv; ++x) {
-        const double u = static_cast<double>(x) / static_cast<double>(nv - 1);
-        const double v = static_cast<double>(y) / static_cast<double>(nv - 1);
-        a[y * nv + x] = vndf_density(wi, sigma, u, v);
-        b[y * nv + x] = 1.0 / std::sqrt(u + u0);
-        sa += a[y * nv + x];
-        sb += b[y * nv + x];
-      }
-    for (std::size_t k = 0; k < nv * nv; ++k)
-      vndf_f[t * nv * nv + k] = static_cast<float>((1.0 - o.resolution_mix) * a[k] / sa + o.resolution_mix * b[k] / sb);
-  });
+  const NdfTables ndf(extract_ndf(table, o.ndf, &r.ndf), static_cast<std::size_t>(o.sigma_resolution));
+  const std::vector<float> theta_f = incident_elevations(o);
+  const FieldSource source{table, o, ndf, theta_f};
+  const std::size_t nt = theta_f.size(), nv = static_cast<std::size_t>(o.vndf_resolution);
+  const std::vector<float> vndf_f = source.vndf_field();
   const RglWarp2D vndf_w(vndf_f, nv, nv, nt, true);
   for (std::size_t t = 0; t < nt; ++t) MATLAS_CHECK_GT(vndf_w.slice_integral(t), 0.0);
+  std::vector<float> rgb_f, lum_f;
+  std::vector<std::uint8_t> valid;
+  source.reflectance_fields(vndf_w, rgb_f, lum_f, valid);
 
-  // Reflectance samples at the nodes of the unit square, through the VNDF's sample warp.
   const auto nr = static_cast<std::size_t>(o.rgb_resolution);
-  const std::size_t grid = nr * nr;
-  std::vector<float> rgb_f(nt * 3 * grid), lum_f(nt * grid);
-  std::vector<std::uint8_t> valid(nt * grid, 0);
-  parallel_for_each(0, nt, [&](std::size_t t) {
-    const Vec3 wi = incident(t);
-    const double sigma = sigma_at(t);
-    ParamBlend slice;
-    slice.slice[0] = t;
-    for (std::size_t y = 0; y < nr; ++y)
-      for (std::size_t x = 0; x < nr; ++x) {
-        const auto u_m = vndf_w.sample(static_cast<double>(x) / static_cast<double>(nr - 1),
-                                       static_cast<double>(y) / static_cast<double>(nr - 1), slice);
-        const Vec3 m = writer_direction(u_m[0], u_m[1]);
-        const double c = wi.dot(m);
-        const Vec3 wo = 2.0 * c * m - wi;
-        Rgb value = Rgb::Zero();
-        const std::size_t at = y * nr + x;
-        if (c > 0 && wo.z() > 0) {
-          const double d = ndf_w.eval(u_m[0], u_m[1], none);
-          value = table.lookup_smooth(wi, wo.normalized()).max(0.0) * (wo.z() * 4.0 * sigma / d);
-          valid[t * grid + at] = 1;
-        }
-        double lum = 0;
-        for (std::size_t ch = 0; ch < 3; ++ch) {
-          rgb_f[(t * 3 + ch) * grid + at] = static_cast<float>(value[static_cast<Eigen::Index>(ch)]);
-          lum += kWriterLuminance[ch] * value[static_cast<Eigen::Index>(ch)];
-        }
-        // The integrand on the reflectance's square: luminance times the VNDF over the warp's density.
-        const double warp = vndf_w.eval(u_m[0], u_m[1], slice);
-        const double ratio = warp > 0 ? vndf_density(wi, sigma, u_m[0], u_m[1]) / warp : 0.0;
-        lum_f[t * grid + at] = static_cast<float>(std::max(lum * ratio, 0.0));
-      }
-    // The luminance is a sampling density: a slice that is black everywhere is sampled uniformly,
-    // and a small floor (1e-4 of the slice's mean) keeps every region reachable.
-    double mean = 0;
-    for (std::size_t k = 0; k < grid; ++k) mean += lum_f[t * grid + k];
-    mean /= static_cast<double>(grid);
-    for (std::size_t k = 0; k < grid; ++k)
-      lum_f[t * grid + k] = mean > 0 ? static_cast<float>(lum_f[t * grid + k] + 1e-4 * mean) : 1.0f;
-  });
-
-  r.samples = nt * grid;
+  r.samples = nt * nr * nr;
   for (std::size_t k = 0; k < valid.size(); ++k) r.below_horizon += valid[k] ? 0 : 1;
   for (float v : rgb_f) {
     MATLAS_CHECK(std::isfinite(v), "a reflectance sample is not finite");
@@ -161,14 +204,15 @@ std::vector<TensorField> rgl_fields_from_table(const BrdfTable& table, const Rgl
   const std::string description = o.description.empty() ? std::string("matlas export") : o.description;
   const std::uint8_t version[2] = {1, 0}, jacobian[1] = {1};
   const float phi_i[1] = {0.0f};
+  const std::size_t nd = ndf.ndf.size() / 2, ns = ndf.sigma.size() / 2;
   std::vector<TensorField> fields;
   fields.push_back(uint8_field("version", {2}, version));
   fields.push_back(uint8_field("description", {description.size()},
                                {reinterpret_cast<const std::uint8_t*>(description.data()), description.size()}));
   fields.push_back(float32_field("phi_i", {1}, phi_i));
   fields.push_back(float32_field("theta_i", {nt}, theta_f));
-  fields.push_back(float32_field("sigma", {2, ns}, sigma_f));
-  fields.push_back(float32_field("ndf", {2, nd}, ndf_f));
+  fields.push_back(float32_field("sigma", {2, ns}, ndf.sigma));
+  fields.push_back(float32_field("ndf", {2, nd}, ndf.ndf));
   fields.push_back(float32_field("vndf", {1, nt, nv, nv}, vndf_f));
   fields.push_back(float32_field("luminance", {1, nt, nr, nr}, lum_f));
   fields.push_back(float32_field("rgb", {1, nt, 3, nr, nr}, rgb_f));
