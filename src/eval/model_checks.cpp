@@ -180,6 +180,119 @@ InterpolationCheck check_interpolation(const Model& model, const MaterialSet& se
   return r;
 }
 
+/// 2. Reciprocity on tables exported at `points`: f(wi, wo) against f(wo, wi) at random pairs.
+ReciprocityCheck check_reciprocity(const Model& model, const std::vector<Eigen::VectorXd>& points,
+                                   const ModelCheckOptions& options, ProgressSink& progress) {
+  ReciprocityCheck check;
+  ProgressTask task(progress, "checking reciprocity", points.size());
+  std::mt19937_64 rng(options.seed * 7919u + 17u);
+  for (const Eigen::VectorXd& x : points) {
+    const BrdfTable t = export_table(model, model.weights(x));
+    for (int p = 0; p < options.reciprocity_pairs; ++p) {
+      const Vec3 wi = random_direction(rng), wo = random_direction(rng);
+      const Rgb a = t.lookup(wi, wo), b = t.lookup(wo, wi);
+      const double diff = (a - b).abs().maxCoeff();
+      if (diff != 0.0) ++check.unequal;
+      const double scale = std::max({a.abs().maxCoeff(), b.abs().maxCoeff(), 1e-12});
+      check.max_relative_difference = std::max(check.max_relative_difference, diff / scale);
+    }
+    ++check.points;
+    check.pairs += options.reciprocity_pairs;
+    task.advance();
+  }
+  return check;
+}
+
+/// 3. Albedo linearity at `points`: the albedo of m(x) against the same combination of the
+/// inputs' albedos (signed, clamped on export, and the model's fast curve).
+AlbedoCheck check_albedo(const Model& model, const std::vector<Eigen::VectorXd>& points,
+                         const ModelCheckOptions& options, ProgressSink& progress) {
+  const int n = model.count();
+  AlbedoCheck check;
+  const std::vector<int> angle_index = {0, 30, 60, 80};
+  for (int a : angle_index) check.angles_degrees.push_back(a + 0.5);
+  ProgressTask task(progress, "checking albedo linearity", static_cast<std::uint64_t>(n) + points.size());
+  std::vector<std::vector<Rgb>> input_albedo(static_cast<std::size_t>(n));  // [material][angle]
+  for (int i = 0; i < n; ++i)
+    for (double deg : check.angles_degrees)
+      input_albedo[static_cast<std::size_t>(i)].push_back(
+          signed_albedo(model, model.material_weights(i), deg * kPi / 180.0, options.albedo_quadrature));
+  task.advance(static_cast<std::uint64_t>(n));
+  for (std::size_t p = 0; p < points.size(); ++p) {
+    const Eigen::VectorXd w = model.weights(points[p]);
+    const Eigen::VectorXd c = Combination(w).affine();
+    const BrdfTable clamped = export_table(model, w);
+    const std::vector<Rgb> curve = model.albedo_curve(w);
+    for (std::size_t k = 0; k < angle_index.size(); ++k) {
+      const double theta = check.angles_degrees[k] * kPi / 180.0;
+      Rgb expected = Rgb::Zero();
+      for (int i = 0; i < n; ++i) expected += c(i) * input_albedo[static_cast<std::size_t>(i)][k];
+      const Rgb got = signed_albedo(model, w, theta, options.albedo_quadrature);
+      const Rgb got_clamped = directional_albedo(clamped, theta, options.albedo_quadrature);
+      const Rgb fast = curve[static_cast<std::size_t>(angle_index[k])];
+      for (int ch = 0; ch < 3; ++ch) {
+        check.max_relative_error = std::max(check.max_relative_error, relative(got[ch], expected[ch]));
+        check.max_relative_error_clamped =
+            std::max(check.max_relative_error_clamped, relative(got_clamped[ch], expected[ch]));
+        check.max_relative_error_model = std::max(check.max_relative_error_model, relative(fast[ch], expected[ch]));
+        check.rows.push_back({static_cast<double>(p), check.angles_degrees[k], static_cast<double>(ch),
+                                   got[ch], expected[ch], got_clamped[ch]});
+      }
+    }
+    task.advance();
+  }
+  return check;
+}
+
+/// 4. Plausibility map: negative values, largest albedo and variance over a grid of the latent
+/// plane through the centre of the inputs (axes 0 and 1), 10 % beyond their extent.
+PlausibilityMap plausibility_map(const Model& model, const ModelCheckOptions& options, ProgressSink& progress) {
+  const int n = model.count();
+  PlausibilityMap map;
+  const int res = std::max(2, options.map_resolution);
+  const Eigen::VectorXd lo = model.latent_min(), hi = model.latent_max();
+  const Eigen::VectorXd centre = model.latent().colwise().mean().transpose();
+  map.resolution = res;
+  map.axis_x = 0;
+  map.axis_y = model.dim() > 1 ? 1 : 0;
+  auto range = [&](int axis, double& a, double& b) {
+    const double margin = 0.1 * std::max(hi(axis) - lo(axis), 1e-9);
+    a = lo(axis) - margin, b = hi(axis) + margin;
+  };
+  range(map.axis_x, map.x_min, map.x_max);
+  range(map.axis_y, map.y_min, map.y_max);
+  const int rows = model.dim() > 1 ? res : 1;
+  Eigen::MatrixXd W(n, res * rows);
+  std::vector<Eigen::VectorXd> xs;
+  for (int yi = 0; yi < rows; ++yi)
+    for (int xi = 0; xi < res; ++xi) {
+      Eigen::VectorXd x = centre;
+      x(map.axis_x) = map.x_min + (xi + 0.5) / res * (map.x_max - map.x_min);
+      if (model.dim() > 1) x(map.axis_y) = map.y_min + (yi + 0.5) / rows * (map.y_max - map.y_min);
+      W.col(static_cast<Eigen::Index>(xs.size())) = model.weights(x);
+      xs.push_back(x);
+    }
+  progress.message("plausibility map: " + std::to_string(xs.size()) + " grid points");
+  const std::vector<std::size_t> negatives = count_negative_values(model, W);
+  map.values = model.kept_columns();
+  std::size_t worst = 0;
+  for (std::size_t k = 0; k < xs.size(); ++k) {
+    const double frac = map.values ? static_cast<double>(negatives[k]) / static_cast<double>(map.values) : 0.0;
+    map.negative_fraction.push_back(frac);
+    double most = 0;
+    for (const Rgb& a : model.albedo_curve(W.col(static_cast<Eigen::Index>(k)))) most = std::max(most, a.maxCoeff());
+    map.max_albedo.push_back(most);
+    map.variance.push_back(model.variance(xs[k]));
+    if (frac > map.worst_negative_fraction) map.worst_negative_fraction = frac, worst = k;
+    map.worst_max_albedo = std::max(map.worst_max_albedo, most);
+  }
+  map.data_max_albedo = model.material_albedo().maxCoeff();
+  ExportStats stats;
+  (void)export_table(model, W.col(static_cast<Eigen::Index>(worst)), &stats);
+  map.export_clamped_at_worst = stats.clamped;
+  return map;
+}
+
 }  // namespace
 
 ModelChecks run_model_checks(const Model& model, const MaterialSet* sources, const ModelCheckOptions& options,
@@ -190,7 +303,6 @@ ModelChecks run_model_checks(const Model& model, const MaterialSet* sources, con
   out.dim = model.dim();
   out.layout = model.metadata().value("layout_transform", std::string("?"));
   out.latent = model.latent();
-  const int n = model.count();
 
   // 1. Exact interpolation.
   if (sources) out.interpolation = check_interpolation(model, *sources, progress);
@@ -198,107 +310,9 @@ ModelChecks run_model_checks(const Model& model, const MaterialSet* sources, con
 
   const std::vector<Eigen::VectorXd> points = sample_points(model, options.sample_points, options.seed);
 
-  // 2. Reciprocity on exported tables.
-  {
-    ProgressTask task(progress, "checking reciprocity", points.size());
-    std::mt19937_64 rng(options.seed * 7919u + 17u);
-    for (const Eigen::VectorXd& x : points) {
-      const BrdfTable t = export_table(model, model.weights(x));
-      for (int p = 0; p < options.reciprocity_pairs; ++p) {
-        const Vec3 wi = random_direction(rng), wo = random_direction(rng);
-        const Rgb a = t.lookup(wi, wo), b = t.lookup(wo, wi);
-        const double diff = (a - b).abs().maxCoeff();
-        if (diff != 0.0) ++out.reciprocity.unequal;
-        const double scale = std::max({a.abs().maxCoeff(), b.abs().maxCoeff(), 1e-12});
-        out.reciprocity.max_relative_difference = std::max(out.reciprocity.max_relative_difference, diff / scale);
-      }
-      ++out.reciprocity.points;
-      out.reciprocity.pairs += options.reciprocity_pairs;
-      task.advance();
-    }
-  }
-
-  // 3. Albedo linearity.
-  {
-    const std::vector<int> angle_index = {0, 30, 60, 80};
-    for (int a : angle_index) out.albedo.angles_degrees.push_back(a + 0.5);
-    ProgressTask task(progress, "checking albedo linearity", static_cast<std::uint64_t>(n) + points.size());
-    std::vector<std::vector<Rgb>> input_albedo(static_cast<std::size_t>(n));  // [material][angle]
-    for (int i = 0; i < n; ++i)
-      for (double deg : out.albedo.angles_degrees)
-        input_albedo[static_cast<std::size_t>(i)].push_back(
-            signed_albedo(model, model.material_weights(i), deg * kPi / 180.0, options.albedo_quadrature));
-    task.advance(static_cast<std::uint64_t>(n));
-    for (std::size_t p = 0; p < points.size(); ++p) {
-      const Eigen::VectorXd w = model.weights(points[p]);
-      const Eigen::VectorXd c = Combination(w).affine();
-      const BrdfTable clamped = export_table(model, w);
-      const std::vector<Rgb> curve = model.albedo_curve(w);
-      for (std::size_t k = 0; k < angle_index.size(); ++k) {
-        const double theta = out.albedo.angles_degrees[k] * kPi / 180.0;
-        Rgb expected = Rgb::Zero();
-        for (int i = 0; i < n; ++i) expected += c(i) * input_albedo[static_cast<std::size_t>(i)][k];
-        const Rgb got = signed_albedo(model, w, theta, options.albedo_quadrature);
-        const Rgb got_clamped = directional_albedo(clamped, theta, options.albedo_quadrature);
-        const Rgb fast = curve[static_cast<std::size_t>(angle_index[k])];
-        for (int ch = 0; ch < 3; ++ch) {
-          out.albedo.max_relative_error = std::max(out.albedo.max_relative_error, relative(got[ch], expected[ch]));
-          out.albedo.max_relative_error_clamped =
-              std::max(out.albedo.max_relative_error_clamped, relative(got_clamped[ch], expected[ch]));
-          out.albedo.max_relative_error_model = std::max(out.albedo.max_relative_error_model, relative(fast[ch], expected[ch]));
-          out.albedo.rows.push_back({static_cast<double>(p), out.albedo.angles_degrees[k], static_cast<double>(ch),
-                                     got[ch], expected[ch], got_clamped[ch]});
-        }
-      }
-      task.advance();
-    }
-  }
-
-  // 4. Plausibility map.
-  {
-    PlausibilityMap& map = out.map;
-    const int res = std::max(2, options.map_resolution);
-    const Eigen::VectorXd lo = model.latent_min(), hi = model.latent_max();
-    const Eigen::VectorXd centre = model.latent().colwise().mean().transpose();
-    map.resolution = res;
-    map.axis_x = 0;
-    map.axis_y = model.dim() > 1 ? 1 : 0;
-    auto range = [&](int axis, double& a, double& b) {
-      const double margin = 0.1 * std::max(hi(axis) - lo(axis), 1e-9);
-      a = lo(axis) - margin, b = hi(axis) + margin;
-    };
-    range(map.axis_x, map.x_min, map.x_max);
-    range(map.axis_y, map.y_min, map.y_max);
-    const int rows = model.dim() > 1 ? res : 1;
-    Eigen::MatrixXd W(n, res * rows);
-    std::vector<Eigen::VectorXd> xs;
-    for (int yi = 0; yi < rows; ++yi)
-      for (int xi = 0; xi < res; ++xi) {
-        Eigen::VectorXd x = centre;
-        x(map.axis_x) = map.x_min + (xi + 0.5) / res * (map.x_max - map.x_min);
-        if (model.dim() > 1) x(map.axis_y) = map.y_min + (yi + 0.5) / rows * (map.y_max - map.y_min);
-        W.col(static_cast<Eigen::Index>(xs.size())) = model.weights(x);
-        xs.push_back(x);
-      }
-    progress.message("plausibility map: " + std::to_string(xs.size()) + " grid points");
-    const std::vector<std::size_t> negatives = count_negative_values(model, W);
-    map.values = model.kept_columns();
-    std::size_t worst = 0;
-    for (std::size_t k = 0; k < xs.size(); ++k) {
-      const double frac = map.values ? static_cast<double>(negatives[k]) / static_cast<double>(map.values) : 0.0;
-      map.negative_fraction.push_back(frac);
-      double most = 0;
-      for (const Rgb& a : model.albedo_curve(W.col(static_cast<Eigen::Index>(k)))) most = std::max(most, a.maxCoeff());
-      map.max_albedo.push_back(most);
-      map.variance.push_back(model.variance(xs[k]));
-      if (frac > map.worst_negative_fraction) map.worst_negative_fraction = frac, worst = k;
-      map.worst_max_albedo = std::max(map.worst_max_albedo, most);
-    }
-    map.data_max_albedo = model.material_albedo().maxCoeff();
-    ExportStats stats;
-    (void)export_table(model, W.col(static_cast<Eigen::Index>(worst)), &stats);
-    map.export_clamped_at_worst = stats.clamped;
-  }
+  out.reciprocity = check_reciprocity(model, points, options, progress);
+  out.albedo = check_albedo(model, points, options, progress);
+  out.map = plausibility_map(model, options, progress);
   return out;
 }
 
