@@ -43,30 +43,13 @@ struct FitArgs {
   bool json = false, skip_invalid = false, least_squares = false;
 };
 
-void run_fit_samples(const FitArgs& a, const Io& io) {
-  if (a.output.empty() && a.report.empty() && !a.json)
-    throw Error("nothing to write: give -o OUT.binary for the table, --report R.json, or --json");
-  std::vector<fs::path> inputs{a.model, a.samples};
-  if (!a.output.empty()) refuse_output_among_inputs(a.output, inputs);
-  if (!a.report.empty()) refuse_output_among_inputs(a.report, inputs);
-  const Model model = Model::open(a.model);
-  SampleReadOptions ro;
-  ro.skip_invalid = a.skip_invalid;
-  const SampleFile file = read_samples(a.samples, ro);
-  acquisition::SparseFitOptions options;
-  options.transform = acquisition::model_transform(model);
-  options.robust = !a.least_squares;
-  acquisition::ModelFit result;
-  const auto start = std::chrono::steady_clock::now();
-  try {
-    result = acquisition::fit_samples(model, file.samples, options);
-  } catch (const Error& e) {
-    throw file_error(a.samples, e.what());
-  }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+/// What fit-samples found, for --json and --report: the point, its uncertainty, the weights,
+/// per sample the measured and predicted RGB, and what was unusable or skipped. `worst` receives
+/// the largest residual in the fit's space.
+json fit_report(const FitArgs& a, const Model& model, const SampleFile& file, const acquisition::ModelFit& result,
+                const acquisition::SparseFitOptions& options, double seconds, double* worst_residual) {
   const acquisition::SparseFit& fit = result.fit;
   const std::vector<MeasuredSample> measured = file.measured();
-
   // Per sample: measured and predicted RGB, the residual in the fit's space, the rows' weight.
   json samples = json::array();
   std::vector<int> row_of(measured.size(), -1);
@@ -118,16 +101,20 @@ void run_fit_samples(const FitArgs& a, const Io& io) {
                  {"evaluations", fit.evaluations},
                  {"seconds", seconds}};
   for (Eigen::Index i = 0; i < fit.latent_covariance.rows(); ++i) report["latent_covariance"].push_back(vector_of(fit.latent_covariance.row(i).transpose()));
+  *worst_residual = worst;
+  return report;
+}
 
-  if (!a.output.empty()) {
-    ExportStats stats;
-    write_merl(a.output, export_table(model, result.weights, &stats));
-  }
-  if (!a.report.empty()) write_file_atomic(a.report, report.dump(2));
-  if (a.json) {
-    print(io.out, "%s\n", report.dump(2).c_str());
-    return;
-  }
+/// The summary printed without --json.
+void print_fit_summary(const FitArgs& a, const Io& io, const Model& model, const SampleFile& file,
+                       const acquisition::ModelFit& result, const acquisition::SparseFitOptions& options,
+                       const json& report, double worst) {
+  const acquisition::SparseFit& fit = result.fit;
+  const std::vector<MeasuredSample> measured = file.measured();
+  const Eigen::VectorXd sigma = fit.latent_covariance.diagonal().cwiseMax(0).cwiseSqrt();
+  const std::size_t weights = report["weights"].size();
+  std::vector<int> outlier_lines;
+  for (int o : fit.outliers) outlier_lines.push_back(file.samples[static_cast<std::size_t>(o)].line);
   std::string x, s;
   for (Eigen::Index d = 0; d < fit.x.size(); ++d) {
     x += (d ? "," : "") + std::to_string(fit.x(d));
@@ -142,7 +129,7 @@ void run_fit_samples(const FitArgs& a, const Io& io) {
         options.transform.to_string().c_str());
   if (fit.combined)
     print(io.out, "  table             a convex combination of %zu inputs near the point (held-out samples preferred it "
-                  "to the map point; strength %g)\n", weights.size(), fit.combination_strength);
+                  "to the map point; strength %g)\n", weights, fit.combination_strength);
   else
     print(io.out, "  table             the map point's (held-out samples preferred it to a free combination)\n");
   if (!outlier_lines.empty()) {
@@ -156,6 +143,41 @@ void run_fit_samples(const FitArgs& a, const Io& io) {
     print(io.out, "  note: %zu samples pin a point of a %d-dimensional map down loosely; 10 or more are better\n",
           measured.size(), model.dim());
   if (!a.output.empty()) print(io.out, "  written           %s\n", a.output.c_str());
+}
+
+void run_fit_samples(const FitArgs& a, const Io& io) {
+  if (a.output.empty() && a.report.empty() && !a.json)
+    throw Error("nothing to write: give -o OUT.binary for the table, --report R.json, or --json");
+  std::vector<fs::path> inputs{a.model, a.samples};
+  if (!a.output.empty()) refuse_output_among_inputs(a.output, inputs);
+  if (!a.report.empty()) refuse_output_among_inputs(a.report, inputs);
+  const Model model = Model::open(a.model);
+  SampleReadOptions ro;
+  ro.skip_invalid = a.skip_invalid;
+  const SampleFile file = read_samples(a.samples, ro);
+  acquisition::SparseFitOptions options;
+  options.transform = acquisition::model_transform(model);
+  options.robust = !a.least_squares;
+  acquisition::ModelFit result;
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    result = acquisition::fit_samples(model, file.samples, options);
+  } catch (const Error& e) {
+    throw file_error(a.samples, e.what());
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  double worst = 0;
+  const json report = fit_report(a, model, file, result, options, seconds, &worst);
+  if (!a.output.empty()) {
+    ExportStats stats;
+    write_merl(a.output, export_table(model, result.weights, &stats));
+  }
+  if (!a.report.empty()) write_file_atomic(a.report, report.dump(2));
+  if (a.json) {
+    print(io.out, "%s\n", report.dump(2).c_str());
+    return;
+  }
+  print_fit_summary(a, io, model, file, result, options, report, worst);
 }
 
 // ---- sample-plan
