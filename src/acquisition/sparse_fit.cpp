@@ -259,6 +259,72 @@ void choose_combination(const Objective& objective, const MapView& map, const Ei
   fit.combined = true;
 }
 
+/// How many distinct samples the rows come from.
+int distinct_samples(std::vector<int> sample) {
+  std::sort(sample.begin(), sample.end());
+  return static_cast<int>(std::unique(sample.begin(), sample.end()) - sample.begin());
+}
+
+/// Rows with a given uncertainty sigma get it carried into the transform's space as their scale
+/// (half the spread of t(y +- sigma), at least 1e-9 of the `typical` magnitude); returns which
+/// rows have one (the others get the robust scale).
+std::vector<bool> scale_known_rows(Objective& objective, const SampleRows& rows, const LayoutTransform& transform,
+                                   double typical) {
+  const Eigen::Index R = rows.rows();
+  std::vector<bool> known(static_cast<std::size_t>(R));
+  for (Eigen::Index r = 0; r < R; ++r) {
+    const double s = rows.sigma(r), y = rows.measured(r), c = rows.cosine(r);
+    known[static_cast<std::size_t>(r)] = s > 0;
+    if (s > 0)
+      objective.scale(r) = std::max(0.5 * std::abs(transform_value(transform, y + s, c) -
+                                                   transform_value(transform, y - s, c)),
+                                    1e-9 * typical);
+  }
+  return known;
+}
+
+/// Outliers: samples all of whose rows weigh less than 0.1.
+std::vector<int> outlier_samples(const std::vector<int>& sample, const Eigen::VectorXd& weight, int samples) {
+  std::vector<double> heaviest(static_cast<std::size_t>(samples), 0.0);
+  for (Eigen::Index r = 0; r < weight.size(); ++r) {
+    auto& h = heaviest[static_cast<std::size_t>(sample[static_cast<std::size_t>(r)])];
+    h = std::max(h, weight(r));
+  }
+  std::vector<int> outliers;
+  for (int s = 0; s < samples; ++s)
+    if (std::count(sample.begin(), sample.end(), s) > 0 && heaviest[static_cast<std::size_t>(s)] < 0.1)
+      outliers.push_back(s);
+  return outliers;
+}
+
+/// The covariance of the fitted point fit.x: Gauss-Newton on the weighted, scaled residuals
+/// (central differences of step h), times their spread; directions the samples do not constrain
+/// get a large variance.
+Eigen::MatrixXd latent_covariance(const Objective& objective, const MapView& map, const SampleRows& rows,
+                                  const SparseFit& fit, double h) {
+  const Eigen::Index R = rows.rows(), q = fit.x.size();
+  Eigen::MatrixXd J(R, q);
+  for (Eigen::Index d = 0; d < q; ++d) {
+    Eigen::VectorXd a = fit.x, b = fit.x;
+    a(d) += h;
+    b(d) -= h;
+    J.col(d) = (objective.transformed(rows.inputs * map.coefficients(a)) -
+                objective.transformed(rows.inputs * map.coefficients(b))) / (2 * h);
+  }
+  for (Eigen::Index r = 0; r < R; ++r) J.row(r) *= std::sqrt(fit.weight(r)) / objective.scale(r);
+  double spread = 0;
+  for (Eigen::Index r = 0; r < R; ++r) {
+    const double u = fit.residual(r) / objective.scale(r);
+    spread += fit.weight(r) * u * u;
+  }
+  spread /= static_cast<double>(std::max<Eigen::Index>(R - q, 1));
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(J.transpose() * J);
+  const Eigen::VectorXd lambda = eigen.eigenvalues();
+  const double floor = std::max(lambda.maxCoeff(), 1e-300) * 1e-12;
+  const Eigen::VectorXd inverse = lambda.unaryExpr([&](double l) { return 1.0 / std::max(l, floor); });
+  return spread * eigen.eigenvectors() * inverse.asDiagonal() * eigen.eigenvectors().transpose();
+}
+
 }  // namespace
 
 SparseFit fit_rows(const MapView& map, const SampleRows& rows, const SparseFitOptions& options) {
@@ -268,12 +334,7 @@ SparseFit fit_rows(const MapView& map, const SampleRows& rows, const SparseFitOp
     throw Error("sparse fit: the sample rows (" + std::to_string(rows.inputs.rows()) + " x " +
                 std::to_string(rows.inputs.cols()) + ") do not match the map's " + std::to_string(n) + " inputs");
   const int samples = R == 0 ? 0 : 1 + *std::max_element(rows.sample.begin(), rows.sample.end());
-  int distinct = 0;
-  {
-    std::vector<int> s = rows.sample;
-    std::sort(s.begin(), s.end());
-    distinct = static_cast<int>(std::unique(s.begin(), s.end()) - s.begin());
-  }
+  const int distinct = distinct_samples(rows.sample);
   if (distinct < q + 1)
     throw Error(std::to_string(distinct) + " measured sample" + (distinct == 1 ? "" : "s") +
                 " cannot place a point on a map of dimension " + std::to_string(q) + ": at least " +
@@ -286,15 +347,7 @@ SparseFit fit_rows(const MapView& map, const SampleRows& rows, const SparseFitOp
   std::vector<double> magnitudes;
   for (Eigen::Index r = 0; r < R; ++r) magnitudes.push_back(std::abs(objective.target(r)));
   const double typical = std::max(median_of(magnitudes), 1e-12);
-  std::vector<bool> known(static_cast<std::size_t>(R));
-  for (Eigen::Index r = 0; r < R; ++r) {
-    const double s = rows.sigma(r), y = rows.measured(r), c = rows.cosine(r);
-    known[static_cast<std::size_t>(r)] = s > 0;
-    if (s > 0)
-      objective.scale(r) = std::max(0.5 * std::abs(transform_value(options.transform, y + s, c) -
-                                                   transform_value(options.transform, y - s, c)),
-                                    1e-9 * typical);
-  }
+  const std::vector<bool> known = scale_known_rows(objective, rows, options.transform, typical);
   const bool any_unknown = std::find(known.begin(), known.end(), false) != known.end();
   auto set_tau = [&](double tau) {
     for (Eigen::Index r = 0; r < R; ++r)
@@ -343,39 +396,9 @@ SparseFit fit_rows(const MapView& map, const SampleRows& rows, const SparseFitOp
   fit.input_loss.resize(n);
   for (Eigen::Index i = 0; i < n; ++i) fit.input_loss(i) = objective.loss_of_prediction(rows.inputs.col(i));
   fit.input_loss.minCoeff(&fit.best_input);
-  // Outliers: samples all of whose rows weigh less than 0.1.
-  std::vector<double> heaviest(static_cast<std::size_t>(samples), 0.0);
-  for (Eigen::Index r = 0; r < R; ++r) {
-    auto& h = heaviest[static_cast<std::size_t>(rows.sample[static_cast<std::size_t>(r)])];
-    h = std::max(h, fit.weight(r));
-  }
-  for (int s = 0; s < samples; ++s)
-    if (std::count(rows.sample.begin(), rows.sample.end(), s) > 0 && heaviest[static_cast<std::size_t>(s)] < 0.1)
-      fit.outliers.push_back(s);
+  fit.outliers = outlier_samples(rows.sample, fit.weight, samples);
 
-  // Covariance of x: Gauss-Newton on the weighted, scaled residuals (central differences),
-  // times their spread; directions the samples do not constrain get a large variance.
-  const double h = 1e-4 * extent;
-  Eigen::MatrixXd J(R, q);
-  for (Eigen::Index d = 0; d < q; ++d) {
-    Eigen::VectorXd a = x, b = x;
-    a(d) += h;
-    b(d) -= h;
-    J.col(d) = (objective.transformed(rows.inputs * map.coefficients(a)) -
-                objective.transformed(rows.inputs * map.coefficients(b))) / (2 * h);
-  }
-  for (Eigen::Index r = 0; r < R; ++r) J.row(r) *= std::sqrt(fit.weight(r)) / objective.scale(r);
-  double spread = 0;
-  for (Eigen::Index r = 0; r < R; ++r) {
-    const double u = fit.residual(r) / objective.scale(r);
-    spread += fit.weight(r) * u * u;
-  }
-  spread /= static_cast<double>(std::max<Eigen::Index>(R - q, 1));
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(J.transpose() * J);
-  const Eigen::VectorXd lambda = eigen.eigenvalues();
-  const double floor = std::max(lambda.maxCoeff(), 1e-300) * 1e-12;
-  const Eigen::VectorXd inverse = lambda.unaryExpr([&](double l) { return 1.0 / std::max(l, floor); });
-  fit.latent_covariance = spread * eigen.eigenvectors() * inverse.asDiagonal() * eigen.eigenvectors().transpose();
+  fit.latent_covariance = latent_covariance(objective, map, rows, fit, 1e-4 * extent);
   fit.evaluations = objective.evaluations;
   return fit;
 }
