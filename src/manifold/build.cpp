@@ -213,29 +213,10 @@ void place_slices(SafetensorsWriter& writer, AtomicFile* share_file, const GramR
   });
 }
 
-/// Rank 0's rest of a build after the pass: the mean, the latent placement, the small tensors and
-/// the metadata, then commit.
-void finish_model(const MaterialSet& set, const BuildOptions& options, const GramResult& g,
-                  SafetensorsWriter& writer, json& meta, BuildReport& report,
-                  std::chrono::steady_clock::time_point t0, ProgressSink& progress, int ranks) {
+/// The latent placement: MAP optimisation of the GP likelihood over the layout Gram matrix (sparse
+/// when options.sparse is on), from PCA; the result and its figures go into `report`.
+void place_latent(const BuildOptions& options, const GramResult& g, BuildReport& report, ProgressSink& progress) {
   const int q = options.dim;
-  const bool slices_placed = ranks > 1;  // mean and value_column written by the ranks (place_slices)
-  Eigen::VectorXf mean_f;
-  if (!slices_placed) {
-    writer.end_growing();
-    mean_f = g.mean.cast<float>();
-    writer.append(mean_f.data(), static_cast<std::size_t>(mean_f.size()) * 4u);
-    writer.end_growing();
-  }
-  report.pass_seconds = seconds_since(t0);
-  reject_duplicates(set, g.gram, g.layout_gram);
-  progress.message("kept " + std::to_string(g.kept_columns) + " of " +
-                   std::to_string(set.value_count()) + " columns (" +
-                   std::to_string(report.dropped_columns) +
-                   " dropped: not measured in every material)");
-
-  // Latent placement.
-  t0 = std::chrono::steady_clock::now();
   gp::LikelihoodProblem problem;
   problem.gram = g.layout_gram;
   problem.columns = static_cast<double>(g.kept_columns);
@@ -251,12 +232,15 @@ void finish_model(const MaterialSet& set, const BuildOptions& options, const Gra
     report.optimization = gp::optimize_latent(problem, x0, BuildOptions::resolved(options.optimize, q), progress);
   }
   report.log_likelihood = report.optimization.value;
-  report.optimize_seconds = seconds_since(t0);
-  const gp::GpPosterior posterior(report.optimization.latent, problem.kernel);  // checks K is PD
+  // Constructing the posterior checks that K is positive definite (matlas::Error otherwise).
+  [[maybe_unused]] const gp::GpPosterior posterior(report.optimization.latent, problem.kernel);
+}
 
-  // The small tensors, the metadata, then commit (the data went to disk during the pass, with
-  // direct I/O where the file system has it).
-  t0 = std::chrono::steady_clock::now();
+/// Writes the small tensors (latent, Gram matrices, albedo, and the column map when this process
+/// made it) and returns their checksum, with the mean (`mean_f`, read back from the file when the
+/// ranks placed it: `slices_placed`).
+std::uint64_t write_small_tensors(const MaterialSet& set, const GramResult& g, const BuildReport& report,
+                                  SafetensorsWriter& writer, bool slices_placed, Eigen::VectorXf& mean_f) {
   std::vector<std::int32_t> columns;
   if (slices_placed) {  // read back for the checksum
     const auto mean_bytes = read_from(writer.temporary(), writer.tensor_offset(model_format::kMean), g.kept_columns * 4u);
@@ -290,7 +274,37 @@ void finish_model(const MaterialSet& set, const BuildOptions& options, const Gra
         {columns.data(), columns.size() * 4u},
         {layout_gram_rows.data(), layout_gram_rows.size() * 8u}})
     small_hash.update(ptr, bytes);
-  const std::uint64_t small_checksum = small_hash.digest();
+  return small_hash.digest();
+}
+
+/// Rank 0's rest of a build after the pass: the mean, the latent placement, the small tensors and
+/// the metadata, then commit.
+void finish_model(const MaterialSet& set, const BuildOptions& options, const GramResult& g,
+                  SafetensorsWriter& writer, json& meta, BuildReport& report,
+                  std::chrono::steady_clock::time_point t0, ProgressSink& progress, int ranks) {
+  const bool slices_placed = ranks > 1;  // mean and value_column written by the ranks (place_slices)
+  Eigen::VectorXf mean_f;
+  if (!slices_placed) {
+    writer.end_growing();
+    mean_f = g.mean.cast<float>();
+    writer.append(mean_f.data(), static_cast<std::size_t>(mean_f.size()) * 4u);
+    writer.end_growing();
+  }
+  report.pass_seconds = seconds_since(t0);
+  reject_duplicates(set, g.gram, g.layout_gram);
+  progress.message("kept " + std::to_string(g.kept_columns) + " of " +
+                   std::to_string(set.value_count()) + " columns (" +
+                   std::to_string(report.dropped_columns) +
+                   " dropped: not measured in every material)");
+
+  t0 = std::chrono::steady_clock::now();
+  place_latent(options, g, report, progress);
+  report.optimize_seconds = seconds_since(t0);
+
+  // The small tensors, the metadata, then commit (the data went to disk during the pass, with
+  // direct I/O where the file system has it).
+  t0 = std::chrono::steady_clock::now();
+  const std::uint64_t small_checksum = write_small_tensors(set, g, report, writer, slices_placed, mean_f);
 
   for (std::size_t i = 0; i < set.size(); ++i) {
     if (ranks == 1) {
