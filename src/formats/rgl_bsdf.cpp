@@ -1,9 +1,11 @@
 #include "formats/rgl_bsdf.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <optional>
 
 #include "core/error.h"
 #include "core/parallel.h"
@@ -94,6 +96,48 @@ RglBsdf::RglBsdf(const TensorFile& file) : path_(file.path()) { load(file, nullp
 
 RglBsdf::RglBsdf(TensorFile&& file) : path_(file.path()) { load(file, &file); }
 
+namespace {
+
+/// Spectral reflectance (per slice, `channels` = wavelengths.size() planes of `grid` values)
+/// reduced to RGB planes with the CIE-to-linear-sRGB weights of the wavelengths.
+std::vector<float> spectra_to_rgb(const std::vector<float>& spectra, const std::vector<float>& wavelengths,
+                                  std::size_t slices, std::size_t grid) {
+  const auto weights = spectral_to_rgb_weights(wavelengths);
+  const std::size_t channels = wavelengths.size();
+  std::vector<float> reduced(slices * 3 * grid, 0.0f);
+  for (std::size_t s = 0; s < slices; ++s)
+    for (std::size_t l = 0; l < channels; ++l)
+      for (std::size_t c = 0; c < 3; ++c) {
+        const float* src = spectra.data() + (s * channels + l) * grid;
+        float* dst = reduced.data() + (s * 3 + c) * grid;
+        const auto w = static_cast<float>(weights[l][c]);
+        for (std::size_t k = 0; k < grid; ++k) dst[k] += w * src[k];
+      }
+  return reduced;
+}
+
+/// The file's luminance warp, for sampling only: when it has the reflectance's shape (`shape`:
+/// phi_i, theta_i, rows, columns), finite non-negative values and a positive integral in every
+/// slice; else none (sampling follows the VNDF alone, as Mitsuba without it). Its bytes in the
+/// file are freed when `owned`.
+std::optional<RglWarp2D> luminance_warp(const TensorFile& file, TensorFile* owned, const std::array<std::size_t, 4>& shape) {
+  const TensorField* lum = file.find("luminance");
+  if (!lum || lum->dtype != TensorType::Float32 || lum->shape.size() != 4) return std::nullopt;
+  for (std::size_t k = 0; k < 4; ++k)
+    if (lum->shape[k] != shape[k]) return std::nullopt;
+  std::vector<float> lum_v(lum->count());
+  if (!lum_v.empty()) std::memcpy(lum_v.data(), lum->data.data(), lum_v.size() * sizeof(float));
+  if (owned) owned->drop_data(lum->name);
+  if (!std::all_of(lum_v.begin(), lum_v.end(), [](float v) { return std::isfinite(v) && v >= 0; })) return std::nullopt;
+  const std::size_t slices = shape[0] * shape[1];
+  RglWarp2D warp(lum_v, shape[3], shape[2], slices, true);
+  for (std::size_t sl = 0; sl < slices; ++sl)
+    if (!(warp.slice_integral(sl) > 0)) return std::nullopt;
+  return warp;
+}
+
+}  // namespace
+
 void RglBsdf::load(const TensorFile& file, TensorFile* owned) {
   if (const TensorField* d = file.find("description")) {
     require(file, d->dtype == TensorType::UInt8 && d->shape.size() == 1, "field 'description' is " + d->describe());
@@ -145,20 +189,7 @@ void RglBsdf::load(const TensorFile& file, TensorFile* owned) {
           "field '" + refl.name + "' is " + refl.describe() + ", expected [phi_i, theta_i, " + std::to_string(channels) +
               ", >=2, >=2]");
   const std::size_t ry = refl.shape[3], rx = refl.shape[4];
-  if (!rgb) {
-    const auto weights = spectral_to_rgb_weights(wavelengths);
-    const std::size_t grid = rx * ry, slices = np * nt;
-    std::vector<float> reduced(slices * 3 * grid, 0.0f);
-    for (std::size_t s = 0; s < slices; ++s)
-      for (std::size_t l = 0; l < channels; ++l)
-        for (std::size_t c = 0; c < 3; ++c) {
-          const float* src = rgb_v.data() + (s * channels + l) * grid;
-          float* dst = reduced.data() + (s * 3 + c) * grid;
-          const auto w = static_cast<float>(weights[l][c]);
-          for (std::size_t k = 0; k < grid; ++k) dst[k] += w * src[k];
-        }
-    rgb_v = std::move(reduced);
-  }
+  if (!rgb) rgb_v = spectra_to_rgb(rgb_v, wavelengths, np * nt, rx * ry);
 
   isotropic_ = np <= 2;
   if (!isotropic_) {
@@ -178,19 +209,9 @@ void RglBsdf::load(const TensorFile& file, TensorFile* owned) {
 
   // The luminance warp, for sampling only: used when it has the reflectance's shape and a
   // positive integral everywhere (else sampling follows the VNDF alone, as Mitsuba without it).
-  if (const TensorField* lum = file.find("luminance")) {
-    if (lum->dtype == TensorType::Float32 && lum->shape.size() == 4 && lum->shape[0] == np && lum->shape[1] == nt &&
-        lum->shape[2] == ry && lum->shape[3] == rx) {
-      std::vector<float> lum_v(lum->count());
-      if (!lum_v.empty()) std::memcpy(lum_v.data(), lum->data.data(), lum_v.size() * sizeof(float));
-      if (owned) owned->drop_data(lum->name);
-      if (std::all_of(lum_v.begin(), lum_v.end(), [](float v) { return std::isfinite(v) && v >= 0; })) {
-        luminance_ = RglWarp2D(lum_v, rx, ry, np * nt, true);
-        has_luminance_ = true;
-        for (std::size_t sl = 0; sl < np * nt; ++sl) has_luminance_ = has_luminance_ && luminance_.slice_integral(sl) > 0;
-        if (!has_luminance_) luminance_ = RglWarp2D();
-      }
-    }
+  if (std::optional<RglWarp2D> lum = luminance_warp(file, owned, {np, nt, ry, rx})) {
+    luminance_ = std::move(*lum);
+    has_luminance_ = true;
   }
 }
 
