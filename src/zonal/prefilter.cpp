@@ -63,21 +63,14 @@ Rgb bilinear(const std::vector<float>& map, int h, const Vec3& d) {
   return sum;
 }
 
-}  // namespace
+/// The real SH coefficients of a radiance map up to band L (cosine and sine parts).
+struct Coefficients {
+  std::vector<Rgb> cos, sin;
+};
 
-PrefilteredEnvironment::PrefilteredEnvironment(const render::Environment& env, const PrefilterSettings& settings)
-    : settings_(settings) {
-  const int bands = settings.bands;
-  if (bands < 0 || bands > 128) throw Error("prefilter bands must be between 0 and 128, got " + std::to_string(bands));
-  validate_lobes(settings.lobes);
-  if (!settings.lobes.empty() && (settings.lobe_bands < 1 || settings.lobe_bands > 512 || settings.lobe_rows < 8 ||
-                                  settings.lobe_rows > 4097))
-    throw Error("prefilter lobe resolution out of range");
-  // The SH of the environment up to L: the bands' and, with lobes, the lobes' highest band.
-  const int L = settings.lobes.empty() ? bands : std::max(bands, settings.lobe_bands);
-  if (!(settings.texels_per_band > 0) || settings.texels_per_band > 64 || settings.supersample < 1 ||
-      settings.supersample > 16 || settings.constant_grid < 4)
-    throw Error("prefilter resolution out of range");
+/// Projects the environment on the SH up to band L by quadrature over a lat-long grid (the map's
+/// rows times `supersample`, or `constant_grid` rows for a constant environment).
+Coefficients project_environment(const render::Environment& env, int L, const PrefilterSettings& settings) {
   const bool constant = env.height() <= 0;  // a constant environment has no map
   const int rows = constant ? settings.constant_grid : env.height() * settings.supersample;
   const int cols = 2 * rows;
@@ -111,68 +104,95 @@ PrefilteredEnvironment::PrefilteredEnvironment(const render::Environment& env, c
         row_sin[r][lm_index(l, m)] = y * fs[static_cast<std::size_t>(m)];
       }
   });
-  cos_coeffs_.assign(n, Rgb::Zero());
-  sin_coeffs_.assign(n, Rgb::Zero());
+  Coefficients sh;
+  sh.cos.assign(n, Rgb::Zero());
+  sh.sin.assign(n, Rgb::Zero());
   for (int r = 0; r < rows; ++r)
     for (std::size_t i = 0; i < n; ++i) {
-      cos_coeffs_[i] += row_cos[static_cast<std::size_t>(r)][i];
-      sin_coeffs_[i] += row_sin[static_cast<std::size_t>(r)][i];
+      sh.cos[i] += row_cos[static_cast<std::size_t>(r)][i];
+      sh.sin[i] += row_sin[static_cast<std::size_t>(r)][i];
     }
+  return sh;
+}
 
-  // Tabulate every band.
+/// Band l of the radiance on a lat-long grid of max(8, ceil(texels_per_band (l + 1))) rows
+/// (poles as rows) and 2 (rows - 1) columns, RGB float; `rows` receives the row count.
+std::vector<float> tabulate_band(int l, double texels_per_band, const Coefficients& sh, int* rows) {
+  const int h = std::max(8, static_cast<int>(std::ceil(texels_per_band * (l + 1)))), w = 2 * (h - 1);
+  std::vector<float> map(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 3);
+  std::vector<double> p;
+  const double scale = std::sqrt(4.0 * kPi / (2.0 * l + 1.0));
+  const Trig trig(l, w, 0.0);
+  for (int y = 0; y < h; ++y) {
+    normalized_legendre(l, std::cos(y * kPi / (h - 1)), p);
+    for (int x = 0; x < w; ++x) {
+      Rgb e = Rgb::Zero();
+      for (int m = 0; m <= l; ++m) {
+        const double pl = real_factor(m) * p[lm_index(l, m)];
+        e += pl * (sh.cos[lm_index(l, m)] * trig.cos(x, m) + sh.sin[lm_index(l, m)] * trig.sin(x, m));
+      }
+      float* out = &map[(static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)) * 3];
+      for (int c = 0; c < 3; ++c) out[c] = static_cast<float>(scale * e[c]);
+    }
+  }
+  *rows = h;
+  return map;
+}
+
+/// The radiance convolved with a lobe of sharpness kappa (zonal coefficients k_l, truncated
+/// where k_l < e^-9) on a lat-long grid of h rows: per row, A_m = sum_l k_l sqrt(2)^(m>0)
+/// Pbar_l^m L_l^m (and B_m for sin), then per column sum_m A_m cos(m phi) + B_m sin(m phi).
+std::vector<float> lobe_map(double kappa, int L, int h, const Coefficients& sh) {
+  const int w = 2 * (h - 1);
+  const std::vector<double> k = lobe_legendre(kappa, L);
+  int top = 0;  // the lobe's highest band: k_l >= e^-9
+  while (top < L && k[static_cast<std::size_t>(top) + 1] >= std::exp(-9.0)) ++top;
+  const Trig trig(top, w, 0.0);
+  std::vector<float> map(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 3);
+  parallel_for_each(0, static_cast<std::size_t>(h), [&](std::size_t row) {
+    std::vector<double> p;
+    normalized_legendre(top, std::cos(static_cast<double>(row) * kPi / (h - 1)), p);
+    std::vector<Rgb> a(static_cast<std::size_t>(top) + 1, Rgb::Zero()), b(a);
+    for (int l = 0; l <= top; ++l)
+      for (int m = 0; m <= l; ++m) {
+        const double y = k[static_cast<std::size_t>(l)] * real_factor(m) * p[lm_index(l, m)];
+        a[static_cast<std::size_t>(m)] += y * sh.cos[lm_index(l, m)];
+        b[static_cast<std::size_t>(m)] += y * sh.sin[lm_index(l, m)];
+      }
+    for (int x = 0; x < w; ++x) {
+      Rgb e = Rgb::Zero();
+      for (int m = 0; m <= top; ++m) e += a[static_cast<std::size_t>(m)] * trig.cos(x, m) + b[static_cast<std::size_t>(m)] * trig.sin(x, m);
+      float* out = &map[(row * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)) * 3];
+      for (int c = 0; c < 3; ++c) out[c] = static_cast<float>(e[c]);
+    }
+  });
+  return map;
+}
+
+}  // namespace
+
+PrefilteredEnvironment::PrefilteredEnvironment(const render::Environment& env, const PrefilterSettings& settings)
+    : settings_(settings) {
+  const int bands = settings.bands;
+  if (bands < 0 || bands > 128) throw Error("prefilter bands must be between 0 and 128, got " + std::to_string(bands));
+  validate_lobes(settings.lobes);
+  if (!settings.lobes.empty() && (settings.lobe_bands < 1 || settings.lobe_bands > 512 || settings.lobe_rows < 8 ||
+                                  settings.lobe_rows > 4097))
+    throw Error("prefilter lobe resolution out of range");
+  // The SH of the environment up to L: the bands' and, with lobes, the lobes' highest band.
+  const int L = settings.lobes.empty() ? bands : std::max(bands, settings.lobe_bands);
+  if (!(settings.texels_per_band > 0) || settings.texels_per_band > 64 || settings.supersample < 1 ||
+      settings.supersample > 16 || settings.constant_grid < 4)
+    throw Error("prefilter resolution out of range");
+  Coefficients sh = project_environment(env, L, settings);
   heights_.resize(static_cast<std::size_t>(bands) + 1);
   maps_.resize(static_cast<std::size_t>(bands) + 1);
   parallel_for_each(0, static_cast<std::size_t>(bands) + 1, [&](std::size_t band) {
-    const int l = static_cast<int>(band);
-    const int h = std::max(8, static_cast<int>(std::ceil(settings.texels_per_band * (l + 1)))), w = 2 * (h - 1);
-    heights_[band] = h;
-    std::vector<float>& map = maps_[band];
-    map.resize(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 3);
-    std::vector<double> p;
-    const double scale = std::sqrt(4.0 * kPi / (2.0 * l + 1.0));
-    const Trig trig(l, w, 0.0);
-    for (int y = 0; y < h; ++y) {
-      normalized_legendre(l, std::cos(y * kPi / (h - 1)), p);
-      for (int x = 0; x < w; ++x) {
-        Rgb e = Rgb::Zero();
-        for (int m = 0; m <= l; ++m) {
-          const double pl = real_factor(m) * p[lm_index(l, m)];
-          e += pl * (cos_coeffs_[lm_index(l, m)] * trig.cos(x, m) + sin_coeffs_[lm_index(l, m)] * trig.sin(x, m));
-        }
-        float* out = &map[(static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)) * 3];
-        for (int c = 0; c < 3; ++c) out[c] = static_cast<float>(scale * e[c]);
-      }
-    }
+    maps_[band] = tabulate_band(static_cast<int>(band), settings.texels_per_band, sh, &heights_[band]);
   });
-
-  // Lobe maps: per row, A_m = sum_l k_l sqrt(2)^(m>0) Pbar_l^m L_l^m (and B_m for sin), then per
-  // column sum_m A_m cos(m phi) + B_m sin(m phi).
-  const int h = settings.lobe_rows, w = 2 * (h - 1);
-  for (double kappa : settings.lobes) {
-    const std::vector<double> k = lobe_legendre(kappa, L);
-    int top = 0;  // the lobe's highest band: k_l >= e^-9
-    while (top < L && k[static_cast<std::size_t>(top) + 1] >= std::exp(-9.0)) ++top;
-    const Trig trig(top, w, 0.0);
-    std::vector<float> map(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 3);
-    parallel_for_each(0, static_cast<std::size_t>(h), [&](std::size_t row) {
-      std::vector<double> p;
-      normalized_legendre(top, std::cos(static_cast<double>(row) * kPi / (h - 1)), p);
-      std::vector<Rgb> a(static_cast<std::size_t>(top) + 1, Rgb::Zero()), b(a);
-      for (int l = 0; l <= top; ++l)
-        for (int m = 0; m <= l; ++m) {
-          const double y = k[static_cast<std::size_t>(l)] * real_factor(m) * p[lm_index(l, m)];
-          a[static_cast<std::size_t>(m)] += y * cos_coeffs_[lm_index(l, m)];
-          b[static_cast<std::size_t>(m)] += y * sin_coeffs_[lm_index(l, m)];
-        }
-      for (int x = 0; x < w; ++x) {
-        Rgb e = Rgb::Zero();
-        for (int m = 0; m <= top; ++m) e += a[static_cast<std::size_t>(m)] * trig.cos(x, m) + b[static_cast<std::size_t>(m)] * trig.sin(x, m);
-        float* out = &map[(row * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)) * 3];
-        for (int c = 0; c < 3; ++c) out[c] = static_cast<float>(e[c]);
-      }
-    });
-    lobe_maps_.push_back(std::move(map));
-  }
+  for (double kappa : settings.lobes) lobe_maps_.push_back(lobe_map(kappa, L, settings.lobe_rows, sh));
+  cos_coeffs_ = std::move(sh.cos);
+  sin_coeffs_ = std::move(sh.sin);
 }
 
 Rgb PrefilteredEnvironment::lobe_lookup(std::size_t i, const Vec3& d) const {
