@@ -185,8 +185,30 @@ double SparseLikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, const Eig
     throw Error("sparse likelihood: " + std::to_string(X.rows()) + " latent points for " + std::to_string(n) + " items");
   if (m == 0 || Z.cols() != q) throw Error("sparse likelihood: the inducing points must be m x q with m >= 1");
   if (!X.allFinite() || !Z.allFinite()) throw Error("sparse likelihood: latent or inducing points contain NaN or infinity");
-  const double nd = static_cast<double>(n), inv_l2 = 1.0 / (kernel_.lengthscale * kernel_.lengthscale);
+  const double nd = static_cast<double>(n);
 
+  const double log_det = factorize(X, Z);
+
+  // t = tr(K~^-1 Y Y^T) + eps tr(K~^-1), tr(K~^-1) = sum_b |L_b^-1|^2 - |U|^2.
+  apply_inverse(Y_, B_);
+  double trace_inv = -U_.squaredNorm();
+  for (const Eigen::MatrixXd& Li : block_inv_) trace_inv += Li.triangularView<Eigen::Lower>().toDenseMatrix().squaredNorm();
+  const double t = (Y_.array() * B_.array()).sum() + eps_ * trace_inv;
+  if (!(t > 0) || !std::isfinite(t))
+    throw Error("sparse likelihood: tr(K^-1 S) is not positive (" + std::to_string(t) + "): K is too ill-conditioned");
+  double value = -beta_ * log_det - nd * std::log(t / nd) - nd;
+  if (grad_X != nullptr) grad_X->setZero(n, q);
+  value += sparse_repulsion(X, repulsion_, radius_, grad_X);
+  value -= 0.5 * precision_ * X.squaredNorm();
+  if (grad_X == nullptr && grad_Z == nullptr) return value;
+
+  add_gradient(X, Z, t, grad_X, grad_Z);
+  return value;
+}
+
+double SparseLikelihoodEvaluator::factorize(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Z) {
+  const Eigen::Index n = Y_.rows(), m = Z.rows(), q = X.cols();
+  const double inv_l2 = 1.0 / (kernel_.lengthscale * kernel_.lengthscale);
   // C_nm (no nugget) and C_mm + jitter I.
   Cnm_.setZero(n, m);
   for (Eigen::Index d = 0; d < q; ++d)
@@ -228,20 +250,13 @@ double SparseLikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, const Eig
   log_det += log_det_A;
   dense_gemm(true, true, 1.0, V_, LAinv, 0.0, H1_);
   apply_block_inverse(H1_, U_);
+  return log_det;
+}
 
-  // t = tr(K~^-1 Y Y^T) + eps tr(K~^-1), tr(K~^-1) = sum_b |L_b^-1|^2 - |U|^2.
-  apply_inverse(Y_, B_);
-  double trace_inv = -U_.squaredNorm();
-  for (const Eigen::MatrixXd& Li : block_inv_) trace_inv += Li.triangularView<Eigen::Lower>().toDenseMatrix().squaredNorm();
-  const double t = (Y_.array() * B_.array()).sum() + eps_ * trace_inv;
-  if (!(t > 0) || !std::isfinite(t))
-    throw Error("sparse likelihood: tr(K^-1 S) is not positive (" + std::to_string(t) + "): K is too ill-conditioned");
-  double value = -beta_ * log_det - nd * std::log(t / nd) - nd;
-  if (grad_X != nullptr) grad_X->setZero(n, q);
-  value += sparse_repulsion(X, repulsion_, radius_, grad_X);
-  value -= 0.5 * precision_ * X.squaredNorm();
-  if (grad_X == nullptr && grad_Z == nullptr) return value;
-
+void SparseLikelihoodEvaluator::add_gradient(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Z, double t,
+                                             Eigen::MatrixXd* grad_X, Eigen::MatrixXd* grad_Z) {
+  const Eigen::Index m = Z.rows(), q = X.cols();
+  const double nd = static_cast<double>(Y_.rows()), inv_l2 = 1.0 / (kernel_.lengthscale * kernel_.lengthscale);
   // dl/dK~ = G = -beta K~^-1 + (n/t) (B B^T + eps K~^-2). K~ = Q + blockdiag(C - Q) + delta I, so
   // dl = tr(G' dQ) + sum_b tr(G_bb dC_bb) with G' = G - blockdiag(G), and with
   // P^T = C_nm C_mm^-1 = V^T L_m^-1:  dl/dC_nm = 2 G' P^T = 2 W,  dl/dC_mm = -P G' P^T = -P W.
@@ -305,7 +320,6 @@ double SparseLikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, const Eig
     *grad_Z += Amm * Z;
     *grad_Z -= Amm.rowwise().sum().asDiagonal() * Z;
   }
-  return value;
 }
 
 double SparseLikelihoodEvaluator::to_log_likelihood(double normalized_value) const {

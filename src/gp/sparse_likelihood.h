@@ -72,6 +72,13 @@ public:
   const std::vector<std::vector<Eigen::Index>>& blocks() const { return blocks_; }
 
 private:
+  /// normalized()'s first half: C_nm, C_mm, V, the blocks' Lambda_b^-1 factors, A and U for the
+  /// points X and inducing points Z; returns log|K~|.
+  double factorize(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Z);
+  /// normalized()'s second half: the gradients of the likelihood part (t = tr(K~^-1 S)) added to
+  /// grad_X (which holds the repulsion's) and written to grad_Z, from the state factorize() left.
+  void add_gradient(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Z, double t, Eigen::MatrixXd* grad_X,
+                    Eigen::MatrixXd* grad_Z);
   void apply_inverse(const Eigen::MatrixXd& M, Eigen::MatrixXd& out) const;        // out = K~^-1 M
   void apply_block_inverse(const Eigen::MatrixXd& M, Eigen::MatrixXd& out) const;  // out = Lambda^-1 M
 
