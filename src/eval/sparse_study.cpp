@@ -13,6 +13,7 @@
 #include "acquisition/sample_plan.h"
 #include "acquisition/sparse_fit.h"
 #include "core/combination.h"
+#include "core/check.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "eval/brdf_distance.h"
@@ -164,12 +165,73 @@ struct MaterialOutcome {
   double clean = 0, corrupted = 0, corrupted_least_squares = 0, nearest = 0, fit_seconds = 0;
 };
 
+/// The PCA baseline (Nielsen et al. 2015) for the left-out material h: principal components of
+/// the other materials' transformed values at the candidate directions, fitted to h's samples by
+/// ridge regression at each of o.pca_ridges, and its own choice of directions (the
+/// condition-number plan).
+class PcaBaseline {
+public:
+  PcaBaseline(const StudyData& d, Eigen::Index h, const std::vector<int>& subset, const Eigen::MatrixXd& inputs,
+              const Eigen::MatrixXd& centred, const SparseStudyOptions& o, int K)
+      : d_(d), h_(h), o_(o), pca_(SparsePca::fit(centred)) {
+    const auto n = static_cast<int>(d.gram.rows());
+    const auto m = static_cast<Eigen::Index>(subset.size());
+    const auto C = d.candidate_cosine.size();
+    Eigen::VectorXd row_cosine(3 * C);
+    for (Eigen::Index c = 0; c < C; ++c) row_cosine.segment(3 * c, 3).setConstant(d.candidate_cosine(c));
+    Eigen::MatrixXd T(3 * C, m);
+    for (Eigen::Index k = 0; k < m; ++k)
+      for (Eigen::Index r = 0; r < 3 * C; ++r) T(r, k) = acquisition::transform_value(o.layout, inputs(r, k), row_cosine(r));
+    U_ = pca_.components(T);
+    mean_rows_ = T.rowwise().mean();
+    conditioned_ = condition_number_plan(U_, 3, K, o.pca_condition_components);
+    // The components and the mean at the evaluation values, from all n columns with h's zeroed.
+    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n, pca_.coefficients.cols());
+    for (Eigen::Index k = 0; k < m; ++k) A.row(subset[static_cast<std::size_t>(k)]) = pca_.coefficients.row(k);
+    mean_eval_ = (d.evaluation_t.rowwise().sum() - d.evaluation_t.col(h)) / static_cast<double>(m);
+    U_eval_ = d.evaluation_t * A - mean_eval_ * A.colwise().sum();
+  }
+
+  const std::vector<int>& conditioned() const { return conditioned_; }
+
+  /// The reconstruction's distance to h from the first `count` of `chosen`, per ridge.
+  std::vector<double> errors(const std::vector<int>& chosen, int count) const {
+    Eigen::MatrixXd U_S(3 * count, U_.cols());
+    Eigen::VectorXd r(3 * count);
+    for (int s = 0; s < count; ++s) {
+      const Eigen::Index c = chosen[static_cast<std::size_t>(s)];
+      U_S.middleRows(3 * s, 3) = U_.middleRows(3 * c, 3);
+      for (int ch = 0; ch < 3; ++ch)
+        r(3 * s + ch) = acquisition::transform_value(o_.layout, d_.candidate(3 * c + ch, h_), d_.candidate_cosine(c)) -
+                        mean_rows_(3 * c + ch);
+    }
+    std::vector<double> errors;
+    for (double eta : o_.pca_ridges) {
+      const Eigen::VectorXd t = mean_eval_ + U_eval_ * pca_.solve(U_S, r, eta);
+      Eigen::VectorXd f(t.size());
+      for (Eigen::Index e = 0; e < t.size(); ++e) f(e) = inverse_transform(o_.layout, t(e), d_.evaluation_cosine(e));
+      errors.push_back(distance(d_, f, h_));
+    }
+    return errors;
+  }
+
+private:
+  const StudyData& d_;
+  Eigen::Index h_;
+  const SparseStudyOptions& o_;
+  SparsePca pca_;
+  Eigen::MatrixXd U_, U_eval_;
+  Eigen::VectorXd mean_rows_, mean_eval_;
+  std::vector<int> conditioned_;
+};
+
 MaterialOutcome study_material(const StudyData& d, Eigen::Index h, const SparseStudyOptions& o) {
   const auto n = static_cast<int>(d.gram.rows());
   const std::vector<int> subset = indices_without(n, static_cast<int>(h));
   const auto m = static_cast<Eigen::Index>(subset.size());
   const auto C = d.candidate_cosine.size();
-  const int K = *std::max_element(o.counts.begin(), o.counts.end());
+  // The plans serve every K and the robustness test's count (which may exceed every K).
+  const int K = std::max(*std::max_element(o.counts.begin(), o.counts.end()), o.robustness_count);
   const Eigen::MatrixXd centred = centred_subset_gram(d.gram, subset);
   const LatentFit fit = fit_latent(centred, d.columns, o.dim, o.fit);
 
@@ -211,50 +273,20 @@ MaterialOutcome study_material(const StudyData& d, Eigen::Index h, const SparseS
   acquisition::PlanOptions po;
   po.transform = o.layout;
   const std::vector<int> planned = acquisition::plan_directions(space, Eigen::VectorXd::Ones(m), nullptr, K, po).chosen;
+  MATLAS_CHECK_GE(planned.size(), static_cast<std::size_t>(K));
   std::vector<int> random(static_cast<std::size_t>(C));
   std::iota(random.begin(), random.end(), 0);
   std::mt19937_64 rng(o.seed * 7919 + static_cast<unsigned>(h));
   std::shuffle(random.begin(), random.end(), rng);
-  Eigen::VectorXd row_cosine(3 * C);
-  for (Eigen::Index c = 0; c < C; ++c) row_cosine.segment(3 * c, 3).setConstant(d.candidate_cosine(c));
-  Eigen::MatrixXd T(3 * C, m);
-  for (Eigen::Index k = 0; k < m; ++k)
-    for (Eigen::Index r = 0; r < 3 * C; ++r) T(r, k) = acquisition::transform_value(o.layout, inputs(r, k), row_cosine(r));
-  const SparsePca pca = SparsePca::fit(centred);
-  const Eigen::MatrixXd U = pca.components(T);
-  const Eigen::VectorXd mean_rows = T.rowwise().mean();
-  const std::vector<int> conditioned = condition_number_plan(U, 3, K, o.pca_condition_components);
-  // The components and the mean at the evaluation values, from all n columns with h's zeroed.
-  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n, pca.coefficients.cols());
-  for (Eigen::Index k = 0; k < m; ++k) A.row(subset[static_cast<std::size_t>(k)]) = pca.coefficients.row(k);
-  Eigen::VectorXd mean_eval = (d.evaluation_t.rowwise().sum() - d.evaluation_t.col(h)) / static_cast<double>(m);
-  const Eigen::MatrixXd U_eval = d.evaluation_t * A - mean_eval * A.colwise().sum();
-  auto pca_errors = [&](const std::vector<int>& chosen, int count) {
-    Eigen::MatrixXd U_S(3 * count, U.cols());
-    Eigen::VectorXd r(3 * count);
-    for (int s = 0; s < count; ++s) {
-      const Eigen::Index c = chosen[static_cast<std::size_t>(s)];
-      U_S.middleRows(3 * s, 3) = U.middleRows(3 * c, 3);
-      for (int ch = 0; ch < 3; ++ch)
-        r(3 * s + ch) = acquisition::transform_value(o.layout, d.candidate(3 * c + ch, h), d.candidate_cosine(c)) - mean_rows(3 * c + ch);
-    }
-    std::vector<double> errors;
-    for (double eta : o.pca_ridges) {
-      const Eigen::VectorXd t = mean_eval + U_eval * pca.solve(U_S, r, eta);
-      Eigen::VectorXd f(t.size());
-      for (Eigen::Index e = 0; e < t.size(); ++e) f(e) = inverse_transform(o.layout, t(e), d.evaluation_cosine(e));
-      errors.push_back(distance(d, f, h));
-    }
-    return errors;
-  };
+  const PcaBaseline pca(d, h, subset, inputs, centred, o, K);
 
   for (int count : o.counts) {
     const Clock::time_point start = Clock::now();
     out.error[{"matlas-planned", count}] = fitted_error(planned, count, 1, fo);
     if (count == K) out.fit_seconds = since(start);
     out.error[{"matlas-random", count}] = fitted_error(random, count, 1, fo);
-    out.pca_error[{"pca-condition", count}] = pca_errors(conditioned, count);
-    out.pca_error[{"pca-random", count}] = pca_errors(random, count);
+    out.pca_error[{"pca-condition", count}] = pca.errors(pca.conditioned(), count);
+    out.pca_error[{"pca-random", count}] = pca.errors(random, count);
   }
   out.clean = fitted_error(planned, o.robustness_count, 1, fo);
   out.corrupted = fitted_error(planned, o.robustness_count, o.outlier_factor, fo);
