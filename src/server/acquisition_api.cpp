@@ -43,6 +43,54 @@ SampleFile parse_upload(const std::string& text) {
   }
 }
 
+/// Per fitted sample: its line, angles, measured and predicted RGB, residual, weights, whether it is
+/// an outlier (model_rows adds a sample's three rows or none); `sum2` receives the residuals'
+/// sum of squares.
+nlohmann::json fitted_samples_json(const std::vector<MeasuredSample>& measured, const acquisition::SampleRows& rows,
+                                   const acquisition::SparseFit& f, double* sum2_out) {
+  nlohmann::json samples = nlohmann::json::array();
+  double sum2 = 0;
+  for (Eigen::Index r = 0; r + 2 < rows.rows(); r += 3) {
+    const auto s = static_cast<std::size_t>(rows.sample[static_cast<std::size_t>(r)]);
+    nlohmann::json value = nlohmann::json::array(), predicted = nlohmann::json::array(),
+                   residual = nlohmann::json::array(), weight = nlohmann::json::array();
+    for (Eigen::Index c = r; c < r + 3; ++c) {
+      value.push_back(rows.measured[c]);
+      predicted.push_back(f.predicted[c]);
+      residual.push_back(f.residual[c]);
+      weight.push_back(f.weight[c]);
+      sum2 += f.residual[c] * f.residual[c];
+    }
+    const bool outlier = std::find(f.outliers.begin(), f.outliers.end(), static_cast<int>(s)) != f.outliers.end();
+    const auto [theta_i, phi_i] = direction_angles(measured[s].wi);
+    const auto [theta_o, phi_o] = direction_angles(measured[s].wo);
+    samples.push_back({{"line", measured[s].line},
+                       {"theta_i", theta_i}, {"phi_i", phi_i}, {"theta_o", theta_o}, {"phi_o", phi_o},
+                       {"rgb", value}, {"predicted", predicted}, {"residual", residual}, {"weight", weight},
+                       {"outlier", outlier}});
+  }
+  *sum2_out = sum2;
+  return samples;
+}
+
+/// The latent covariance (q x q; NaN where it does not exist) and the 1-sigma per axis, with
+/// null for what is not finite.
+void covariance_json(const Eigen::MatrixXd& latent_covariance, int q, nlohmann::json* covariance_out,
+                     nlohmann::json* sigma_out) {
+  Eigen::MatrixXd cov = latent_covariance;
+  if (cov.rows() != q || cov.cols() != q) cov = Eigen::MatrixXd::Constant(q, q, std::nan(""));
+  nlohmann::json covariance = nlohmann::json::array(), sigma = nlohmann::json::array();
+  for (int a = 0; a < q; ++a) {
+    nlohmann::json row = nlohmann::json::array();
+    for (int b = 0; b < q; ++b) row.push_back(std::isfinite(cov(a, b)) ? nlohmann::json(cov(a, b)) : nlohmann::json());
+    covariance.push_back(row);
+    const double v = cov(a, a);
+    sigma.push_back(std::isfinite(v) && v >= 0 ? nlohmann::json(std::sqrt(v)) : nlohmann::json());
+  }
+  *covariance_out = std::move(covariance);
+  *sigma_out = std::move(sigma);
+}
+
 }  // namespace
 
 Reply Api::fit_samples(const std::string& file_text, const std::string& robust) {
@@ -79,39 +127,10 @@ Reply Api::fit_samples(const std::string& file_text, const std::string& robust) 
   const acquisition::SparseFit& f = fit.fit;
   if (rows.rows() != f.residual.size()) throw HttpError(500, "the fit's rows do not match the samples");
 
-  // Per sample: its three rows (model_rows adds all three or none).
-  nlohmann::json samples = nlohmann::json::array();
   double sum2 = 0;
-  for (Eigen::Index r = 0; r + 2 < rows.rows(); r += 3) {
-    const auto s = static_cast<std::size_t>(rows.sample[static_cast<std::size_t>(r)]);
-    nlohmann::json value = nlohmann::json::array(), predicted = nlohmann::json::array(),
-                   residual = nlohmann::json::array(), weight = nlohmann::json::array();
-    for (Eigen::Index c = r; c < r + 3; ++c) {
-      value.push_back(rows.measured[c]);
-      predicted.push_back(f.predicted[c]);
-      residual.push_back(f.residual[c]);
-      weight.push_back(f.weight[c]);
-      sum2 += f.residual[c] * f.residual[c];
-    }
-    const bool outlier = std::find(f.outliers.begin(), f.outliers.end(), static_cast<int>(s)) != f.outliers.end();
-    const auto [theta_i, phi_i] = direction_angles(measured[s].wi);
-    const auto [theta_o, phi_o] = direction_angles(measured[s].wo);
-    samples.push_back({{"line", measured[s].line},
-                       {"theta_i", theta_i}, {"phi_i", phi_i}, {"theta_o", theta_o}, {"phi_o", phi_o},
-                       {"rgb", value}, {"predicted", predicted}, {"residual", residual}, {"weight", weight},
-                       {"outlier", outlier}});
-  }
-  const int q = model_.dim();
-  Eigen::MatrixXd cov = f.latent_covariance;
-  if (cov.rows() != q || cov.cols() != q) cov = Eigen::MatrixXd::Constant(q, q, std::nan(""));
-  nlohmann::json covariance = nlohmann::json::array(), sigma = nlohmann::json::array();
-  for (int a = 0; a < q; ++a) {
-    nlohmann::json row = nlohmann::json::array();
-    for (int b = 0; b < q; ++b) row.push_back(std::isfinite(cov(a, b)) ? nlohmann::json(cov(a, b)) : nlohmann::json());
-    covariance.push_back(row);
-    const double v = cov(a, a);
-    sigma.push_back(std::isfinite(v) && v >= 0 ? nlohmann::json(std::sqrt(v)) : nlohmann::json());
-  }
+  const nlohmann::json samples = fitted_samples_json(measured, rows, f, &sum2);
+  nlohmann::json covariance, sigma;
+  covariance_json(f.latent_covariance, model_.dim(), &covariance, &sigma);
   // The weights that make the point, largest first (every one above 0.1 % of the largest, at most 16).
   const double largest = fit.weights.size() ? fit.weights.cwiseAbs().maxCoeff() : 0.0;
   int shown = 0;
