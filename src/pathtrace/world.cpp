@@ -36,9 +36,8 @@ std::filesystem::path object_mesh_path(const std::string& name) {
 }
 
 ObjectTriangles mesh_triangles(const ObjectSpec& o) {
-  TriangleMesh mesh = read_mesh(object_mesh_path(o.mesh));
-  render::normalize_mesh(mesh);
-  if (mesh.normals.size() != mesh.positions.size()) mesh.compute_normals();
+  // Into the unit sphere at the origin with vertex normals, as previews place their object.
+  TriangleMesh mesh = *render::place_object(read_mesh(object_mesh_path(o.mesh))).mesh;
   const double a = o.rotate_y * kPi / 180.0, c = std::cos(a), s = std::sin(a);
   const auto turn = [&](const Eigen::Vector3f& v) {
     const Vec3 d = v.cast<double>();
