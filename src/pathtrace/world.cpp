@@ -72,6 +72,8 @@ World::World(SceneSpec spec) : spec_(std::move(spec)), impl_(std::make_unique<Im
     environment_ = render::Environment::load(resolve_environment(e.map), e.rotation, e.intensity);
   else if ((e.constant * e.intensity).maxCoeff() > 0)
     environment_ = render::Environment::constant(e.constant * e.intensity);
+  for (const render::DirectionalLight& l : spec_.lights)
+    if (l.irradiance.maxCoeff() > 0) directional_lights_.push_back({l.direction.normalized(), l.irradiance});
 
   Impl& s = *impl_;
   double area = 0;
