@@ -48,8 +48,8 @@ const SceneDescription& validated(const SceneDescription& d) {
   return d;
 }
 
-}  // namespace
-
+/// Scales and centres a mesh into the unit sphere at the origin (bounding-box centre, radius of
+/// the farthest vertex = 1).
 void normalize_mesh(TriangleMesh& mesh) {
   const auto [lo, hi] = mesh.bounds();
   const Eigen::Vector3f centre = 0.5f * (lo + hi);
@@ -58,6 +58,8 @@ void normalize_mesh(TriangleMesh& mesh) {
   if (!(radius > 0)) throw Error("mesh has no extent");
   for (auto& p : mesh.positions) p = (p - centre) / radius;
 }
+
+}  // namespace
 
 PlacedObject place_object(std::optional<TriangleMesh> mesh) {
   float lowest = -1.0f;

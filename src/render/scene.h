@@ -85,15 +85,13 @@ private:
   std::unique_ptr<Impl> impl_;
 };
 
-/// Scales and centres a mesh into the unit sphere at the origin (bounding-box centre, radius of
-/// the farthest vertex = 1).
-void normalize_mesh(TriangleMesh& mesh);
-
 /// A preview's object as its scene places it, and the ground under it: the one placement of
-/// previews, used by Scene and by the GI scene of a preview (pathtrace/preview_scene.h).
+/// previews, used by Scene and by the GI scene of a preview (pathtrace/preview_scene.h); GI
+/// scenes' meshes and the real-time viewer's take their mesh from it too.
 struct PlacedObject {
-  /// The mesh scaled into the unit sphere at the origin (normalize_mesh), with vertex normals
-  /// (the file's, else computed); nullopt: the exact unit sphere at the origin.
+  /// The mesh scaled and centred into the unit sphere at the origin (bounding-box centre, radius
+  /// of the farthest vertex = 1), with vertex normals (the file's, else computed); nullopt: the
+  /// exact unit sphere at the origin.
   std::optional<TriangleMesh> mesh;
   /// The ground (SceneDescription::ground), facing +y: a square of 100 x 100 centred under the
   /// origin at the object's lowest point (its lowest vertex; y = -1 under the sphere), corners in
