@@ -115,7 +115,7 @@ double bounded(const json& j, double lo, double hi, const std::string& source, c
 Rgb rgb(const json& j, const std::string& source, const std::string& where, double max = 1e30) {
   const Vec3 v = vec3(j, source, where);
   if (v.minCoeff() < 0 || v.maxCoeff() > max)
-    fail(source, where + " must be in [0, " + (max < 1e29 ? std::to_string(max) : std::string("inf")) + "]");
+    fail(source, where + " must be in [0, " + (max < 1e29 ? show(max) : std::string("inf")) + "]");
   return v.array();
 }
 
@@ -166,6 +166,16 @@ ObjectSpec parse_object(const json& j, const std::string& source, const std::str
   return o;
 }
 
+render::DirectionalLight parse_light(const json& j, const std::string& source, const std::string& where) {
+  check_keys(j, {"direction", "irradiance"}, source, where);
+  render::DirectionalLight l;
+  if (!j.contains("direction")) fail(source, where + ": a light needs \"direction\"");
+  l.direction = point(j["direction"], source, where + ".direction");
+  if (!(l.direction.norm() >= 1e-6)) fail(source, where + ".direction must have a length of 1e-6 at least");
+  if (j.contains("irradiance")) l.irradiance = rgb(j["irradiance"], source, where + ".irradiance", kMaxSceneCoordinate);
+  return l;
+}
+
 json to_json(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
 json to_json(const Rgb& v) { return json::array({v.x(), v.y(), v.z()}); }
 
@@ -179,7 +189,7 @@ SceneSpec builtin(const char* text, const std::string& object) {
 }  // namespace
 
 SceneSpec parse_scene(const json& j, const std::string& source) {
-  check_keys(j, {"name", "camera", "environment", "objects"}, source, "scene");
+  check_keys(j, {"name", "camera", "environment", "lights", "objects"}, source, "scene");
   SceneSpec s;
   s.name = string_at(j, "name", "scene", source, "");
   if (j.contains("camera")) {
@@ -197,12 +207,21 @@ SceneSpec parse_scene(const json& j, const std::string& source) {
   }
   if (j.contains("environment")) {
     const json& e = j["environment"];
-    check_keys(e, {"map", "constant", "rotation", "intensity"}, source, "environment");
+    check_keys(e, {"map", "constant", "rotation", "intensity", "visible"}, source, "environment");
     s.environment.map = string_at(e, "map", "", source, "environment.");
     if (e.contains("constant")) s.environment.constant = rgb(e["constant"], source, "environment.constant");
     if (e.contains("rotation")) s.environment.rotation = bounded(e["rotation"], -kMaxSceneCoordinate, kMaxSceneCoordinate, source, "environment.rotation");
     if (e.contains("intensity"))
       s.environment.intensity = bounded(e["intensity"], 0, kMaxSceneCoordinate, source, "environment.intensity");
+    if (e.contains("visible")) {
+      if (!e["visible"].is_boolean()) fail(source, "environment.visible must be true or false");
+      s.environment.visible = e["visible"].get<bool>();
+    }
+  }
+  if (j.contains("lights")) {
+    if (!j["lights"].is_array()) fail(source, "\"lights\" must be an array");
+    for (std::size_t i = 0; i < j["lights"].size(); ++i)
+      s.lights.push_back(parse_light(j["lights"][i], source, "lights[" + std::to_string(i) + "]"));
   }
   if (!j.contains("objects") || !j["objects"].is_array() || j["objects"].empty())
     fail(source, "\"objects\" must be a non-empty array");
@@ -227,7 +246,14 @@ json scene_to_json(const SceneSpec& s) {
   json env = {{"constant", to_json(s.environment.constant)}, {"rotation", s.environment.rotation},
               {"intensity", s.environment.intensity}};
   if (!s.environment.map.empty()) env["map"] = s.environment.map;
+  // Scenes without the keys added later keep the JSON (and the GI bases' keys) they had.
+  if (!s.environment.visible) env["visible"] = false;
   j["environment"] = env;
+  if (!s.lights.empty()) {
+    j["lights"] = json::array();
+    for (const render::DirectionalLight& l : s.lights)
+      j["lights"].push_back({{"direction", to_json(l.direction)}, {"irradiance", to_json(l.irradiance)}});
+  }
   j["objects"] = json::array();
   for (const ObjectSpec& o : s.objects) {
     static const char* kinds[] = {"lambert", "ggx", "measured"};

@@ -11,6 +11,7 @@
 
 #include "brdf/types.h"
 #include "render/camera.h"
+#include "render/directional_light.h"
 
 namespace matlas::pathtrace {
 
@@ -49,6 +50,9 @@ struct EnvironmentSpec {
   Rgb constant = Rgb::Zero();
   double rotation = 0.0;   ///< degrees about +y
   double intensity = 1.0;
+  /// Whether camera rays that escape see the environment (false: black there; the environment
+  /// still lights the scene, and reflections show it).
+  bool visible = true;
 };
 
 struct SceneSpec {
@@ -57,13 +61,15 @@ struct SceneSpec {
   /// preview's: at (0, 1, 5), 35 degrees.
   render::Camera camera{.orthographic = false, .position = Vec3(0, 1, 5), .target = Vec3::Zero(), .fov_degrees = 35.0};
   EnvironmentSpec environment;
+  /// Lights infinitely far away, sampled at every vertex (docs/GI.md).
+  std::vector<render::DirectionalLight> lights;
   std::vector<ObjectSpec> objects;
 };
 
 /// Parses a scene; `source` names the file in error messages (matlas::Error naming the key for
-/// unknown keys, wrong types, bad values (coordinates, radii, angles and intensities beyond
-/// render::kMaxSceneCoordinate, a camera target within 1e-6 of its position), several measured
-/// objects).
+/// unknown keys, wrong types, bad values (coordinates, radii, angles, intensities and
+/// irradiances beyond render::kMaxSceneCoordinate, a camera target within 1e-6 of its position, a
+/// light direction shorter than 1e-6), several measured objects).
 SceneSpec parse_scene(const nlohmann::json& j, const std::string& source);
 /// The scene as JSON (parse_scene(scene_to_json(s)) gives s back): stored in GI bases.
 nlohmann::json scene_to_json(const SceneSpec& scene);

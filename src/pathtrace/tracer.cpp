@@ -69,7 +69,8 @@ public:
       for (double& x : u) x = rng.next();
       const auto hit = world_.intersect(origin, dir);
       if (!hit) {
-        if (world_.has_environment()) {
+        // An invisible environment lights the scene but camera rays that escape see black.
+        if (world_.has_environment() && (depth > 0 || world_.spec().environment.visible)) {
           const render::Environment& env = world_.environment();
           const Rgb le = depth == 0 ? env.eval_smooth(dir) : env.eval(dir);
           const double w = depth == 0 ? 1.0 : power_heuristic(prev_pdf, env.pdf(dir));
@@ -138,6 +139,13 @@ public:
           const double w = power_heuristic(pdf_l, bsdf_pdf(frame.to_local(wl)));
           connect(wl, beta * l.emission * (cos_i * w / pdf_l));
         }
+      }
+      // Next-event estimation: every directional light (delta lights: no surface sample reaches
+      // them, so no MIS weight; no random numbers).
+      for (const render::DirectionalLight& l : world_.directional_lights()) {
+        const double cos_i = frame.to_local(l.direction).z();
+        if (cos_i > 0 && l.direction.dot(ng) > 0 && !world_.occluded(p, l.direction, 0.0, 1e30))
+          connect(l.direction, beta * l.irradiance * cos_i);
       }
 
       // Continue the path.

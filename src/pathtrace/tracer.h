@@ -1,7 +1,10 @@
 #pragma once
 // The path tracer (docs/GI.md). Unidirectional paths from the camera with next-event estimation
 // (environment and area lights, one sample each per vertex) combined with the surfaces' sampling
-// densities by multiple importance sampling (power heuristic), and Russian roulette.
+// densities by multiple importance sampling (power heuristic), and Russian roulette. Directional
+// lights (delta lights) are connected at every vertex, each by one shadow ray, without MIS. With
+// max_depth = 1 the image is the direct lighting alone: what the previews' estimator computes
+// (render/render.h) for the same scene (pathtrace/preview_scene.h).
 //
 // The measured object is sampled with a FixedDensity and its BRDF enters a path only as a
 // factor f(bin); nothing else on the path (directions, weights, roulette) depends on it. So each
@@ -30,7 +33,7 @@ struct TraceSettings {
   int height = 256;
   int spp = 64;
   std::uint64_t seed = 1;
-  int max_depth = 8;       ///< scattering vertices per path
+  int max_depth = 8;       ///< scattering vertices per path (1: direct lighting only)
   int roulette_depth = 3;  ///< Russian roulette from this many vertices on
   FixedDensity density = default_fixed_density();  ///< the measured object's sampling density
   /// Throws matlas::Error for non-positive sizes, spp or depth, or a bad density.

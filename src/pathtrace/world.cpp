@@ -36,9 +36,8 @@ std::filesystem::path object_mesh_path(const std::string& name) {
 }
 
 ObjectTriangles mesh_triangles(const ObjectSpec& o) {
-  TriangleMesh mesh = read_mesh(object_mesh_path(o.mesh));
-  render::normalize_mesh(mesh);
-  if (mesh.normals.size() != mesh.positions.size()) mesh.compute_normals();
+  // Into the unit sphere at the origin with vertex normals, as previews place their object.
+  TriangleMesh mesh = *render::place_object(read_mesh(object_mesh_path(o.mesh))).mesh;
   const double a = o.rotate_y * kPi / 180.0, c = std::cos(a), s = std::sin(a);
   const auto turn = [&](const Eigen::Vector3f& v) {
     const Vec3 d = v.cast<double>();
@@ -73,6 +72,8 @@ World::World(SceneSpec spec) : spec_(std::move(spec)), impl_(std::make_unique<Im
     environment_ = render::Environment::load(resolve_environment(e.map), e.rotation, e.intensity);
   else if ((e.constant * e.intensity).maxCoeff() > 0)
     environment_ = render::Environment::constant(e.constant * e.intensity);
+  for (const render::DirectionalLight& l : spec_.lights)
+    if (l.irradiance.maxCoeff() > 0) directional_lights_.push_back({l.direction.normalized(), l.irradiance});
 
   Impl& s = *impl_;
   double area = 0;

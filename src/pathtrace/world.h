@@ -1,8 +1,8 @@
 #pragma once
 // A scene ready to trace: the objects of a SceneSpec as one render::Geometry (render/geometry.h:
 // exact spheres; quads and meshes as triangles, their geometric normals from the double
-// positions), the environment, the area lights (every emitting triangle, sampled by area) and
-// the camera.
+// positions), the environment, the area lights (every emitting triangle, sampled by area), the
+// directional lights and the camera.
 #include <memory>
 #include <optional>
 #include <vector>
@@ -50,6 +50,9 @@ public:
   bool has_environment() const { return environment_.has_value(); }
   const render::Environment& environment() const { return *environment_; }
 
+  /// The scene's directional lights that give light, their directions unit vectors.
+  const std::vector<render::DirectionalLight>& directional_lights() const { return directional_lights_; }
+
   bool has_lights() const { return light_area_ > 0; }
   /// A point uniformly distributed by area over every emitting triangle.
   LightSample sample_light(double u0, double u1, double u2) const;
@@ -67,6 +70,7 @@ private:
   SceneSpec spec_;
   int measured_ = -1;
   std::optional<render::Environment> environment_;
+  std::vector<render::DirectionalLight> directional_lights_;
   double light_area_ = 0;
   std::unique_ptr<Impl> impl_;
 };

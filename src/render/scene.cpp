@@ -19,11 +19,6 @@ Environment load_environment(const SceneDescription& d) {
   return Environment::load(resolve_environment(d.environment), d.environment_rotation, d.environment_intensity);
 }
 
-std::optional<TriangleMesh> load_object(const SceneDescription& d) {
-  if (d.object == "sphere") return std::nullopt;
-  return read_mesh(resolve_mesh(d.object));
-}
-
 /// Refuses what would reach Embree as infinities or lose all precision in single precision (a
 /// camera at 1e308 tripped an assertion in Embree: SIGABRT), naming the field.
 void validate_description(const SceneDescription& d) {
@@ -44,8 +39,8 @@ const SceneDescription& validated(const SceneDescription& d) {
   return d;
 }
 
-}  // namespace
-
+/// Scales and centres a mesh into the unit sphere at the origin (bounding-box centre, radius of
+/// the farthest vertex = 1).
 void normalize_mesh(TriangleMesh& mesh) {
   const auto [lo, hi] = mesh.bounds();
   const Eigen::Vector3f centre = 0.5f * (lo + hi);
@@ -55,12 +50,31 @@ void normalize_mesh(TriangleMesh& mesh) {
   for (auto& p : mesh.positions) p = (p - centre) / radius;
 }
 
+}  // namespace
+
+PlacedObject place_object(std::optional<TriangleMesh> mesh) {
+  float lowest = -1.0f;
+  if (mesh) {
+    normalize_mesh(*mesh);
+    if (mesh->normals.size() != mesh->positions.size()) mesh->compute_normals();
+    lowest = 1.0f;
+    for (const Eigen::Vector3f& p : mesh->positions) lowest = std::min(lowest, p.y());
+  }
+  const double h = kGroundHalfSize, y = lowest;
+  return {std::move(mesh), {Vec3(-h, y, -h), Vec3(-h, y, h), Vec3(h, y, h), Vec3(h, y, -h)}};
+}
+
+std::optional<TriangleMesh> read_object(const SceneDescription& d) {
+  if (d.object == "sphere") return std::nullopt;
+  return read_mesh(resolve_mesh(d.object));
+}
+
 struct Scene::Impl {
   Geometry geometry;  // shape kObjectGeometry, then the ground
 };
 
 Scene::Scene(const SceneDescription& description)
-    : Scene(description, load_object(validated(description)), load_environment(validated(description))) {}
+    : Scene(description, read_object(validated(description)), load_environment(validated(description))) {}
 
 Scene::Scene(const SceneDescription& description, std::optional<TriangleMesh> mesh, Environment environment)
     : description_(description), environment_(std::move(environment)) {
@@ -75,28 +89,20 @@ Scene::~Scene() = default;
 void Scene::build(std::optional<TriangleMesh> mesh) {
   impl_ = std::make_unique<Impl>();
   Impl& s = *impl_;
-  float ground_y = -1.0f;
-  if (!mesh) {
+  PlacedObject placed = place_object(std::move(mesh));
+  if (!placed.mesh) {
     s.geometry.add_sphere(Vec3::Zero(), 1.0);
   } else {
-    normalize_mesh(*mesh);
-    if (mesh->normals.size() != mesh->positions.size()) mesh->compute_normals();
+    TriangleMesh& m = *placed.mesh;
     Geometry::Triangles t;
-    t.positions.reserve(mesh->positions.size());
-    t.normals.reserve(mesh->normals.size());
-    ground_y = 1.0f;
-    for (const Eigen::Vector3f& p : mesh->positions) {
-      t.positions.push_back(p.cast<double>());
-      ground_y = std::min(ground_y, p.y());
-    }
-    for (const Eigen::Vector3f& n : mesh->normals) t.normals.push_back(n.cast<double>());
-    t.indices = std::move(mesh->triangles);
+    t.positions.reserve(m.positions.size());
+    t.normals.reserve(m.normals.size());
+    for (const Eigen::Vector3f& p : m.positions) t.positions.push_back(p.cast<double>());
+    for (const Eigen::Vector3f& n : m.normals) t.normals.push_back(n.cast<double>());
+    t.indices = std::move(m.triangles);
     s.geometry.add_triangles(std::move(t), Geometry::GeometricNormal::embree);
   }
-  if (description_.ground) {
-    const double h = kGroundHalfSize, y = ground_y;
-    s.geometry.add_quad({Vec3(-h, y, -h), Vec3(-h, y, h), Vec3(h, y, h), Vec3(h, y, -h)}, Vec3(0, 1, 0));
-  }
+  if (description_.ground) s.geometry.add_quad(placed.ground, Vec3(0, 1, 0));
   s.geometry.commit();
 }
 

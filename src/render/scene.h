@@ -3,6 +3,7 @@
 // the unit sphere at the origin), an optional diffuse ground plane under it, an environment map,
 // directional lights and a camera. Ray queries go through render::Geometry (render/geometry.h):
 // the exact sphere, or the mesh with Embree's geometric normals, then the ground as a quad.
+#include <array>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -12,16 +13,10 @@
 #include "brdf/types.h"
 #include "formats/mesh_io.h"
 #include "render/camera.h"
+#include "render/directional_light.h"
 #include "render/environment.h"
 
 namespace matlas::render {
-
-/// A light infinitely far away: radiance arriving from `direction` (towards the light, unit)
-/// producing `irradiance` on a surface facing it.
-struct DirectionalLight {
-  Vec3 direction = Vec3(0, 1, 0);
-  Rgb irradiance = Rgb::Constant(1.0);
-};
 
 /// What the scene is made of (the part of a render request that is not the material).
 struct SceneDescription {
@@ -84,8 +79,26 @@ private:
   std::unique_ptr<Impl> impl_;
 };
 
-/// Scales and centres a mesh into the unit sphere at the origin (bounding-box centre, radius of
-/// the farthest vertex = 1).
-void normalize_mesh(TriangleMesh& mesh);
+/// A preview's object as its scene places it, and the ground under it: the one placement of
+/// previews, used by Scene and by the GI scene of a preview (pathtrace/preview_scene.h); GI
+/// scenes' meshes and the real-time viewer's take their mesh from it too.
+struct PlacedObject {
+  /// The mesh scaled and centred into the unit sphere at the origin (bounding-box centre, radius
+  /// of the farthest vertex = 1), with vertex normals (the file's, else computed); nullopt: the
+  /// exact unit sphere at the origin.
+  std::optional<TriangleMesh> mesh;
+  /// The ground (SceneDescription::ground), facing +y: a square of 100 x 100 centred under the
+  /// origin at the object's lowest point (its lowest vertex; y = -1 under the sphere), corners in
+  /// order around it.
+  std::array<Vec3, 4> ground;
+};
+
+/// Places an object as read from its file (nullopt: the sphere). matlas::Error for a mesh
+/// without extent.
+PlacedObject place_object(std::optional<TriangleMesh> mesh);
+
+/// The mesh of a description's object as read from its file (resolve_mesh; matlas::Error naming
+/// the file), nullopt for "sphere".
+std::optional<TriangleMesh> read_object(const SceneDescription& description);
 
 }  // namespace matlas::render

@@ -133,9 +133,7 @@ std::pair<nlohmann::json, std::shared_ptr<const std::string>> Realtime::environm
 std::string Realtime::mesh(const std::string& name) const {
   if (name == "sphere" || std::find(objects_.begin(), objects_.end(), name) == objects_.end())
     throw HttpError(404, "no mesh " + quoted_excerpt(name) + " (the sphere is built by the page)");
-  TriangleMesh mesh = read_mesh(resolve_mesh(name));
-  render::normalize_mesh(mesh);
-  if (mesh.normals.size() != mesh.positions.size()) mesh.compute_normals();
+  const TriangleMesh mesh = *render::place_object(read_mesh(resolve_mesh(name))).mesh;
   const auto v = static_cast<std::uint32_t>(mesh.vertex_count()), t = static_cast<std::uint32_t>(mesh.triangle_count());
   std::string out(8 + (std::size_t{v} * 6 + std::size_t{t} * 3) * 4, '\0');
   char* p = out.data();

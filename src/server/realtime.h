@@ -52,7 +52,7 @@ public:
   /// followed by the detail atlas (zonal::pack_detail: the lobe maps and the background)
   /// at detail.offset floats, [detail.layers, detail.height, detail.width, 3].
   std::pair<nlohmann::json, std::shared_ptr<const std::string>> environment(const std::string& name);
-  /// An offered mesh ("bunny", "suzi") as the renderer places it (render::normalize_mesh):
+  /// An offered mesh ("bunny", "suzi") as the renderer places it (render::place_object):
   /// uint32 vertex and triangle counts, float32 positions [v][3], normals [v][3], uint32 [t][3].
   std::string mesh(const std::string& name) const;
   /// RGBA PNG: the sphere of the reference camera with weights w under `env` (rotated by

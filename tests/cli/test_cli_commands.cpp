@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "atlas/gi_density.h"
 #include "atlas/model_material.h"
 #include "atlas/sampling_fit.h"
 #include "brdf/catalog.h"
@@ -18,6 +19,8 @@
 #include "formats/merl_file.h"
 #include "formats/synth_database.h"
 #include "manifold/model.h"
+#include "pathtrace/preview_scene.h"
+#include "pathtrace/tracer.h"
 #include "render/render.h"
 #include "render/scene.h"
 #include "support/temp_dir.h"
@@ -150,6 +153,50 @@ TEST_F(CliCommands, RenderTakesTheSamplerAndGrazingSamplesOptions) {
       ASSERT_NEAR(written.rgb[i], expected.rgb[i], 1e-6 * (1.0 + std::abs(expected.rgb[i]))) << sampler << " value " << i;
   }
   EXPECT_NE(read_image(dir_->path() / "r-light-and-lobe.exr").rgb, read_image(dir_->path() / "r-stratified.exr").rgb);
+}
+
+TEST_F(CliCommands, RenderIntegratorPathTracesThePreviewsScene) {
+  // One scene, two integrators: --integrator path traces the preview's scene (every preview
+  // option: ground, light, black background) as the library does with pathtrace::preview_scene.
+  const std::string name = material(2).stem().string();
+  const Model m = Model::open(model());
+  const fs::path out = dir_->path() / "path.exr";
+  const std::vector<std::string> args = {"render", model().string(), "--material", name, "-o", out.string(),
+                                         "--width", "16", "--height", "12", "--spp", "4", "--env", "constant",
+                                         "--ground", "--light", "0.3,1,0.5,2", "--black-background"};
+  std::vector<std::string> path = args;
+  path.insert(path.end(), {"--integrator", "path", "--max-depth", "2"});
+  const Output r = call(path);
+  ASSERT_EQ(r.code, 0) << r.err;
+  render::SceneDescription d;
+  d.environment = "constant";
+  d.ground = true;
+  d.camera.position = Vec3(0.0, 0.9, 3.9);  // --ground's camera
+  d.lights.push_back({Vec3(0.3, 1, 0.5).normalized(), Rgb::Constant(2.0)});
+  d.show_environment = false;
+  const atlas::ModelTableMaterial table(m, m.material_weights(m.index_of(name)));
+  const render::MaterialList bank({&table});
+  pathtrace::TraceSettings t;
+  t.width = 16;
+  t.height = 12;
+  t.spp = 4;
+  t.max_depth = 2;
+  t.density = atlas::fit_gi_density(m);
+  const Image expected = pathtrace::trace(pathtrace::World(pathtrace::preview_scene(d)), &bank, t).full(0);
+  const Image written = read_image(out);
+  ASSERT_EQ(written.rgb.size(), expected.rgb.size());
+  for (std::size_t i = 0; i < expected.rgb.size(); ++i)
+    ASSERT_NEAR(written.rgb[i], expected.rgb[i], 1e-6 * (1.0 + std::abs(expected.rgb[i]))) << "value " << i;
+  EXPECT_GT(*std::max_element(written.rgb.begin(), written.rgb.end()), 0.0f);
+
+  std::vector<std::string> direct = args;
+  direct.insert(direct.end(), {"--max-depth", "2"});
+  const Output bad = call(direct);
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_CONTAINS(bad.err, "--max-depth applies to --integrator path");
+  std::vector<std::string> other = args;
+  other.insert(other.end(), {"--integrator", "photons"});
+  EXPECT_CONTAINS(call(other).err, "--integrator must be direct or path");
 }
 
 TEST_F(CliCommands, ProjectFindsAnInputAndErrorsGoToTheErrorStream) {

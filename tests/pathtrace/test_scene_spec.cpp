@@ -120,6 +120,53 @@ TEST(SceneSpec, CameraKeysRoundTripAndOldFilesKeepTheirKeys) {
             "s.json: camera.ortho_height must be in (0, 1e6]");
 }
 
+TEST(SceneSpec, LightsAndAnInvisibleEnvironmentRoundTripAndOldFilesKeepTheirKeys) {
+  // Without the keys: no lights, a visible environment, and the JSON without them (GI bases'
+  // keys of earlier scenes unchanged).
+  const SceneSpec old = parse_scene(minimal_scene(), "s.json");
+  EXPECT_TRUE(old.lights.empty());
+  EXPECT_TRUE(old.environment.visible);
+  EXPECT_FALSE(scene_to_json(old).contains("lights"));
+  EXPECT_FALSE(scene_to_json(old)["environment"].contains("visible"));
+  json file = minimal_scene();
+  file["environment"] = {{"constant", {0.5, 0.5, 0.5}}, {"visible", false}};
+  file["lights"] = {{{"direction", {1, 2, 0.5}}, {"irradiance", {3, 2.5, 2}}}, {{"direction", {0, 0, -4}}}};
+  const SceneSpec s = parse_scene(file, "s.json");
+  EXPECT_FALSE(s.environment.visible);
+  ASSERT_EQ(s.lights.size(), 2u);
+  EXPECT_EQ(s.lights[0].direction, Vec3(1, 2, 0.5));
+  EXPECT_EQ(s.lights[0].irradiance.matrix(), Vec3(3, 2.5, 2));
+  EXPECT_EQ(s.lights[1].irradiance.matrix(), Vec3(1, 1, 1));  // the default: 1 on a surface facing it
+  const SceneSpec back = parse_scene(scene_to_json(s), "again");
+  EXPECT_FALSE(back.environment.visible);
+  ASSERT_EQ(back.lights.size(), 2u);
+  EXPECT_EQ(back.lights[1].direction, Vec3(0, 0, -4));
+  EXPECT_EQ(scene_to_json(back), scene_to_json(s));
+  // The world keeps the lights that give light, their directions normalised.
+  const World world(s);
+  ASSERT_EQ(world.directional_lights().size(), 2u);
+  EXPECT_NEAR((world.directional_lights()[1].direction - Vec3(0, 0, -1)).norm(), 0.0, 1e-15);
+
+  EXPECT_EQ(error_with([](json& j) { j["lights"] = json::array({1.5}); }), "s.json: lights[0] must be an object");
+  EXPECT_EQ(error_with([](json& j) { j["lights"] = 3; }), "s.json: \"lights\" must be an array");
+  EXPECT_EQ(error_with([](json& j) { j["lights"] = {{{"irradiance", {1, 1, 1}}}}; }),
+            "s.json: lights[0]: a light needs \"direction\"");
+  EXPECT_EQ(error_with([](json& j) { j["lights"] = {{{"direction", {0, 1, 0}}, {"colour", 1}}}; }),
+            "s.json: lights[0]: unknown key 'colour'");
+  EXPECT_EQ(error_with([](json& j) { j["lights"] = {{{"direction", {0, 0, 0}}}}; }),
+            "s.json: lights[0].direction must have a length of 1e-6 at least");
+  EXPECT_EQ(error_with([](json& j) { j["lights"] = {{{"direction", {0, 1e300, 0}}}}; }),
+            "s.json: lights[0].direction must have coordinates within +-1000000");
+  EXPECT_EQ(error_with([](json& j) { j["lights"] = {{{"direction", {0, 1, 0}}, {"irradiance", {1, -1, 1}}}}; }),
+            "s.json: lights[0].irradiance must be in [0, 1000000]");
+  EXPECT_EQ(error_with([](json& j) { j["lights"] = {{{"direction", {0, 1, 0}}, {"irradiance", {1, 1e7, 1}}}}; }),
+            "s.json: lights[0].irradiance must be in [0, 1000000]");
+  EXPECT_EQ(error_with([](json& j) { j["environment"] = {{"visible", "no"}}; }),
+            "s.json: environment.visible must be true or false");
+  EXPECT_EQ(error_with([](json& j) { j["objects"][1]["material"] = {{"albedo", {2, 0, 0}}}; }),
+            "s.json: objects[1].material.albedo must be in [0, 1]");
+}
+
 TEST(SceneSpec, GiAndPreviewsShareTheCameraRays) {
   // The same camera gives the same rays, bit for bit, in a GI world and a preview scene; straight
   // down too (the top of the image towards -z).

@@ -90,6 +90,61 @@ double ggx_albedo_at_normal_incidence(double alpha) {
   return sum * (kPi / 2) / steps;
 }
 
+TEST(PathTracer, LambertianSphereUnderDirectionalLightIsAlbedoOverPiTimesCosine) {
+  // No environment: the image is the directional light's next-event estimate (and the light's
+  // bounces, none on a convex object), with no random numbers but the pixel jitter.
+  SceneSpec s;
+  s.camera.orthographic = true;
+  s.camera.position = Vec3(0, 0, 5);
+  s.camera.ortho_height = 2.2;
+  const Vec3 light = Vec3(0.3, 0.5, 0.8).normalized();
+  s.lights.push_back({3.0 * light, Rgb(2.0, 1.0, 0.5)});  // directions need not be unit
+  ObjectSpec o;
+  o.surface.albedo = Rgb(0.9, 0.6, 0.3);
+  s.objects.push_back(o);
+  TraceSettings settings;
+  settings.width = settings.height = 48;
+  settings.spp = 16;
+  const Image image = trace(World(s), nullptr, settings).p;
+  int checked = 0;
+  for (int y = 0; y < settings.height; ++y)
+    for (int x = 0; x < settings.width; ++x) {
+      const double sx = (2.0 * (x + 0.5) / settings.width - 1.0) * 1.1;
+      const double sy = (1.0 - 2.0 * (y + 0.5) / settings.height) * 1.1;
+      const double r2 = sx * sx + sy * sy;
+      if (r2 > 0.8) continue;  // away from the silhouette
+      const Vec3 n(sx, sy, std::sqrt(1.0 - r2));
+      const double cos_theta = n.dot(light);
+      if (std::abs(cos_theta) < 0.1) continue;  // and from the terminator
+      ++checked;
+      for (int c = 0; c < 3; ++c) {
+        const double expected = o.surface.albedo[c] / kPi * s.lights[0].irradiance[c] * std::max(cos_theta, 0.0);
+        EXPECT_NEAR(image.pixel(x, y)[c], expected, 0.01) << x << "," << y;
+      }
+    }
+  EXPECT_GT(checked, 800);
+}
+
+TEST(PathTracer, AnInvisibleEnvironmentLightsTheSceneButIsNotSeen) {
+  SurfaceSpec white;
+  white.albedo = Rgb(0.8, 0.6, 0.4);
+  SceneSpec s = sphere_scene(white, 0.7);
+  s.camera.fov_degrees = 30.0;  // the sphere in the middle, the environment around it
+  s.environment.visible = false;
+  TraceSettings settings = small(1024);
+  settings.width = settings.height = 15;
+  const Image hidden = trace(World(s), nullptr, settings).p;
+  s.environment.visible = true;
+  const Image seen = trace(World(s), nullptr, settings).p;
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_EQ(hidden.pixel(0, 0)[c], 0.0f);
+    EXPECT_NEAR(seen.pixel(0, 0)[c], 0.7, 1e-6);
+    // The object is lit as before, by the same samples.
+    EXPECT_EQ(hidden.pixel(7, 7)[c], seen.pixel(7, 7)[c]);
+    EXPECT_NEAR(centre_mean(hidden, c), 0.7 * white.albedo[c], 1e-2 * white.albedo[c]) << c;
+  }
+}
+
 TEST(PathTracer, GgxSphereMatchesTheClosedForm) {
   SurfaceSpec ggx;
   ggx.kind = SurfaceSpec::Kind::ggx;
