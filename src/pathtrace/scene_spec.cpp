@@ -170,9 +170,9 @@ render::DirectionalLight parse_light(const json& j, const std::string& source, c
   check_keys(j, {"direction", "irradiance"}, source, where);
   render::DirectionalLight l;
   if (!j.contains("direction")) fail(source, where + ": a light needs \"direction\"");
-  l.direction = point(j["direction"], source, where + ".direction");
-  if (!(l.direction.norm() >= 1e-6)) fail(source, where + ".direction must have a length of 1e-6 at least");
-  if (j.contains("irradiance")) l.irradiance = rgb(j["irradiance"], source, where + ".irradiance", kMaxSceneCoordinate);
+  l.direction = vec3(j["direction"], source, where + ".direction");
+  if (j.contains("irradiance")) l.irradiance = vec3(j["irradiance"], source, where + ".irradiance").array();
+  if (const std::string problem = render::light_problem(l, where); !problem.empty()) fail(source, problem);
   return l;
 }
 

@@ -16,6 +16,7 @@
 #include <string_view>
 
 #include "brdf/types.h"
+#include "render/scene_bounds.h"
 
 namespace matlas::render {
 
@@ -28,12 +29,6 @@ struct Camera {
   double fov_degrees = 32.0;     ///< vertical field of view (perspective)
   double ortho_height = 2.3;     ///< height of the view in world units (orthographic)
 };
-
-/// The largest camera coordinate (and orthographic height) a scene accepts; also the bound of
-/// path-traced scenes' coordinates, radii, angles and intensities (pathtrace/scene_spec.h).
-/// Embree builds in single precision: beyond, scenes lose their precision, and infinities (a
-/// camera at 1e308) trip its assertions.
-inline constexpr double kMaxSceneCoordinate = 1e6;
 
 /// What makes a camera unusable, as a message naming the field ("camera.position must be finite,
 /// with coordinates within +-1e6"), or "" for a usable one: a position or target not finite or

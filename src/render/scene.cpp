@@ -24,10 +24,9 @@ Environment load_environment(const SceneDescription& d) {
 void validate_description(const SceneDescription& d) {
   auto fail = [](const std::string& what) { throw Error("scene: " + what); };
   if (const std::string problem = camera_problem(d.camera); !problem.empty()) fail(problem);
-  for (const DirectionalLight& l : d.lights) {
-    if (!l.direction.allFinite() || !(l.direction.norm() > 0)) fail("a light's direction must be finite and non-zero");
-    if (!l.irradiance.allFinite()) fail("a light's irradiance must be finite");
-  }
+  for (std::size_t i = 0; i < d.lights.size(); ++i)
+    if (const std::string problem = light_problem(d.lights[i], "lights[" + std::to_string(i) + "]"); !problem.empty())
+      fail(problem);
   if (!std::isfinite(d.environment_rotation)) fail("environment_rotation must be finite");
   if (!std::isfinite(d.environment_intensity)) fail("environment_intensity must be finite");
 }

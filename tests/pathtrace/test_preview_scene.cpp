@@ -88,7 +88,7 @@ TEST(PreviewScene, IsAGiSceneThatRaysSeeTheSame) {
   EXPECT_EQ(test::error_of([&] { preview_scene(bright); }), "scene: objects[1].material.albedo must be in [0, 1]");
   render::SceneDescription negative;
   negative.lights.push_back({Vec3(0, 1, 0), Rgb(-1, 1, 1)});
-  EXPECT_EQ(test::error_of([&] { preview_scene(negative); }), "scene: lights[0].irradiance must be in [0, 1000000]");
+  EXPECT_EQ(test::error_of([&] { preview_scene(negative); }), "scene: lights[0].irradiance must be in [0, 1e6]");
 }
 
 /// A preview's scene with everything direct lighting can show: the object on the ground, a

@@ -156,11 +156,11 @@ TEST(SceneSpec, LightsAndAnInvisibleEnvironmentRoundTripAndOldFilesKeepTheirKeys
   EXPECT_EQ(error_with([](json& j) { j["lights"] = {{{"direction", {0, 0, 0}}}}; }),
             "s.json: lights[0].direction must have a length of 1e-6 at least");
   EXPECT_EQ(error_with([](json& j) { j["lights"] = {{{"direction", {0, 1e300, 0}}}}; }),
-            "s.json: lights[0].direction must have coordinates within +-1000000");
+            "s.json: lights[0].direction must be finite, with coordinates within +-1e6");
   EXPECT_EQ(error_with([](json& j) { j["lights"] = {{{"direction", {0, 1, 0}}, {"irradiance", {1, -1, 1}}}}; }),
-            "s.json: lights[0].irradiance must be in [0, 1000000]");
+            "s.json: lights[0].irradiance must be in [0, 1e6]");
   EXPECT_EQ(error_with([](json& j) { j["lights"] = {{{"direction", {0, 1, 0}}, {"irradiance", {1, 1e7, 1}}}}; }),
-            "s.json: lights[0].irradiance must be in [0, 1000000]");
+            "s.json: lights[0].irradiance must be in [0, 1e6]");
   EXPECT_EQ(error_with([](json& j) { j["environment"] = {{"visible", "no"}}; }),
             "s.json: environment.visible must be true or false");
   EXPECT_EQ(error_with([](json& j) { j["objects"][1]["material"] = {{"albedo", {2, 0, 0}}}; }),

@@ -33,7 +33,9 @@ TEST(SceneValidation, CamerasAndLightsBeyondReasonAreRefusedNamingTheField) {
   EXPECT_EQ(error_with([](SceneDescription& d) { d.camera.ortho_height = std::numeric_limits<double>::infinity(); }),
             "scene: camera.ortho_height must be in (0, 1e6]");
   EXPECT_EQ(error_with([](SceneDescription& d) { d.lights.push_back({Vec3::Zero(), Rgb::Ones()}); }),
-            "scene: a light's direction must be finite and non-zero");
+            "scene: lights[0].direction must have a length of 1e-6 at least");
+  EXPECT_EQ(error_with([](SceneDescription& d) { d.lights.push_back({Vec3(0, 1, 0), Rgb(1, -1, 1)}); }),
+            "scene: lights[0].irradiance must be in [0, 1e6]");
   // Refused before the mesh is looked for: the error is the camera's, not a missing file's.
   EXPECT_EQ(error_with([](SceneDescription& d) {
               d.object = "/nonexistent/mesh.obj";
