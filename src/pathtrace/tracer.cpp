@@ -57,6 +57,12 @@ public:
   PathTracer(const World& world, const render::MaterialBank* bank, const TraceSettings& settings)
       : world_(world), bank_(bank), s_(settings) {}
 
+  /// One camera path through pixel position (px, py), its contributions added to `acc`.
+  /// Long (about 120 lines) by choice: one loop iteration is one path vertex, and its emission,
+  /// next-event estimation (environment, area lights, directional lights) and continuation share
+  /// the vertex's frame, throughput and product of measured evaluations; split into functions they
+  /// would pass that state back and forth on every call (pbrt-v4's PathIntegrator::Li is one
+  /// function for the same reason).
   void trace_sample(render::SampleStream& rng, double px, double py, Accumulator& acc,
                     std::vector<double>& prod, std::vector<double>& scratch) const {
     Vec3 origin, dir;
