@@ -23,21 +23,11 @@
 #include "render/scene.h"
 #include "server/cancellable_sink.h"
 #include "server/http_error.h"
+#include "server/lru_cache.h"
 
 namespace matlas::server {
 
 namespace {
-
-/// Drops the least recently used entries of a map of {..., used} until `keep` are left.
-template <class Map>
-void drop_least_used(Map& map, std::size_t keep) {
-  while (map.size() > keep) {
-    auto oldest = map.begin();
-    for (auto it = map.begin(); it != map.end(); ++it)
-      if (it->second.used < oldest->second.used) oldest = it;
-    map.erase(oldest);
-  }
-}
 
 std::string safe_name(const std::string& s) {
   std::string out;
@@ -55,11 +45,10 @@ struct BasisPreviews::Impl {
 
   struct Entry {
     std::shared_ptr<const render::ImageBasis> full, half;
-    std::uint64_t used = 0;
   };
   mutable std::mutex mutex;
-  mutable std::map<std::string, Entry> loaded;
-  mutable std::uint64_t clock = 0;
+  /// The bases in memory; the default scene's is pinned.
+  mutable LruCache<Entry> loaded{static_cast<std::size_t>(std::max(1, options.max_loaded))};
   mutable std::deque<std::pair<std::string, std::string>> queue;
   mutable std::set<std::string> queued;
   mutable std::map<std::string, std::string> failed;
@@ -91,19 +80,11 @@ struct BasisPreviews::Impl {
     const Impl& impl_;
   };
 
-  /// Refinements (point, scene) and the scenes they render, least recently used dropped.
-  struct Refinement {
-    std::shared_ptr<render::ProgressiveRender> render;
-    std::uint64_t used = 0;
-  };
+  /// Refinements (point, scene) and the last two scenes they render, least recently used dropped.
   mutable std::mutex refine_mutex;
-  mutable std::map<std::string, Refinement> refinements;
-  struct RefinedScene {
-    std::shared_ptr<const render::Scene> scene;
-    std::uint64_t used = 0;
-  };
-  mutable std::map<std::string, RefinedScene> scenes;
-  mutable std::uint64_t refine_clock = 0;
+  mutable LruCache<std::shared_ptr<render::ProgressiveRender>> refinements{
+      static_cast<std::size_t>(std::max(1, options.max_refinements))};
+  mutable LruCache<std::shared_ptr<const render::Scene>> scenes{2};
   /// The database's sampling mixture (the bases'), fitted once: half of every refinement's.
   render::SamplingMixture database_mixture;
   std::thread worker;
@@ -128,6 +109,7 @@ struct BasisPreviews::Impl {
         }
       }
     }
+    loaded.pin(key(envs.front(), objects.front()));
     database_mixture = atlas::model_render_settings(model, settings()).mixture;
     worker = std::thread([this] { work(); });
   }
@@ -201,22 +183,12 @@ struct BasisPreviews::Impl {
           resize_area(full->mean_image(), half, half), images);
     }
     if (small->low_rank() == 0) small->convert_to_half();
-    return Entry{full, small, 0};
+    return Entry{full, small};
   }
 
   void insert(const std::string& k, Entry e) const {
     std::lock_guard lock(mutex);
-    e.used = ++clock;
-    loaded[k] = std::move(e);
-    const std::string pinned = key(envs.front(), objects.front());
-    while (static_cast<int>(loaded.size()) > std::max(1, options.max_loaded)) {
-      auto oldest = loaded.end();
-      for (auto it = loaded.begin(); it != loaded.end(); ++it)
-        if (it->first != pinned && it->first != k && (oldest == loaded.end() || it->second.used < oldest->second.used))
-          oldest = it;
-      if (oldest == loaded.end()) break;
-      loaded.erase(oldest);
-    }
+    loaded.put(k, std::move(e));
   }
 
   void work() {
@@ -299,13 +271,8 @@ BasisPreviews::Refined BasisPreviews::refine(const Eigen::VectorXd& w, const std
   std::shared_ptr<const render::Scene> scene;
   {
     std::lock_guard lock(im.refine_mutex);
-    if (const auto it = im.refinements.find(key); it != im.refinements.end()) {
-      it->second.used = ++im.refine_clock;
-      refinement = it->second.render;
-    } else if (const auto sc = im.scenes.find(scene_key); sc != im.scenes.end()) {
-      sc->second.used = ++im.refine_clock;
-      scene = sc->second.scene;
-    }
+    if (const auto* found = im.refinements.find(key)) refinement = *found;
+    else if (const auto* known = im.scenes.find(scene_key)) scene = *known;
   }
   if (!refinement) {
     // Built outside the lock (a scene and a table take a few hundred milliseconds); a
@@ -330,13 +297,8 @@ BasisPreviews::Refined BasisPreviews::refine(const Eigen::VectorXd& w, const std
     settings.limits.target_error = im.options.refine_target_error;
     auto made = std::make_shared<render::ProgressiveRender>(scene, material, settings);
     std::lock_guard lock(im.refine_mutex);
-    auto& slot = im.refinements[key];
-    if (!slot.render) slot.render = std::move(made);
-    slot.used = ++im.refine_clock;
-    refinement = slot.render;
-    im.scenes[scene_key] = {scene, im.refine_clock};
-    drop_least_used(im.refinements, static_cast<std::size_t>(std::max(1, im.options.max_refinements)));
-    drop_least_used(im.scenes, 2);
+    refinement = *im.refinements.put(key, std::move(made), /*keep_existing=*/true);
+    im.scenes.put(scene_key, scene);
   }
   CancellableSink sink(progress, im.stop);
   Refined out;
@@ -388,10 +350,9 @@ Image BasisPreviews::render(const Eigen::VectorXd& w, const std::string& environ
   std::shared_ptr<const render::ImageBasis> full, half;
   {
     std::lock_guard lock(impl_->mutex);
-    if (const auto it = impl_->loaded.find(k); it != impl_->loaded.end()) {
-      it->second.used = ++impl_->clock;
-      full = it->second.full;
-      half = it->second.half;
+    if (const auto* entry = impl_->loaded.find(k)) {
+      full = entry->full;
+      half = entry->half;
     } else if (const auto f = impl_->failed.find(k); f != impl_->failed.end()) {
       throw HttpError(500, "the preview scene (" + environment + ", " + object + ") failed: " + f->second);
     } else {

@@ -22,6 +22,7 @@
 #include "pathtrace/world.h"
 #include "server/cancellable_sink.h"
 #include "server/http_error.h"
+#include "server/lru_cache.h"
 
 namespace matlas::server {
 
@@ -154,14 +155,10 @@ struct GiScenes::Impl {
   }
 
   // Refinement at rest: per scene its world, per point a progressive trace (the last few).
-  struct Refinement {
-    std::shared_ptr<pathtrace::ProgressiveTrace> trace;
-    std::uint64_t used = 0;
-  };
   mutable std::mutex refine_mutex;
   mutable std::map<std::string, std::shared_ptr<const pathtrace::World>> worlds;
-  mutable std::map<std::string, Refinement> refinements;
-  mutable std::uint64_t refine_clock = 0;
+  mutable LruCache<std::shared_ptr<pathtrace::ProgressiveTrace>> refinements{
+      static_cast<std::size_t>(std::max(1, options.max_refinements))};
 
   /// The world of an offered scene and the size of its images. Caller holds refine_mutex.
   std::pair<std::shared_ptr<const pathtrace::World>, std::pair<int, int>> world_of(const std::string& scene) const {
@@ -259,9 +256,8 @@ GiScenes::Refined GiScenes::refine(const std::string& scene, const Eigen::Vector
   std::shared_ptr<pathtrace::ProgressiveTrace> trace;
   {
     std::lock_guard lock(im.refine_mutex);
-    if (const auto it = im.refinements.find(key); it != im.refinements.end()) {
-      it->second.used = ++im.refine_clock;
-      trace = it->second.trace;
+    if (const auto* found = im.refinements.find(key)) {
+      trace = *found;
     } else {
       const auto [world, size] = im.world_of(scene);
       pathtrace::ProgressiveTraceSettings settings;
@@ -271,13 +267,7 @@ GiScenes::Refined GiScenes::refine(const std::string& scene, const Eigen::Vector
       settings.trace.spp = 1;
       trace = std::make_shared<pathtrace::ProgressiveTrace>(
           world, atlas::model_point_bank(im.model, w), settings);
-      im.refinements[key] = {trace, ++im.refine_clock};
-      while (im.refinements.size() > static_cast<std::size_t>(std::max(1, im.options.max_refinements))) {
-        auto oldest = im.refinements.begin();
-        for (auto r = im.refinements.begin(); r != im.refinements.end(); ++r)
-          if (r->second.used < oldest->second.used) oldest = r;
-        im.refinements.erase(oldest);
-      }
+      im.refinements.put(key, trace);
     }
   }
   const render::RefinementState state = trace->refine(seconds, progress);
@@ -286,9 +276,9 @@ GiScenes::Refined GiScenes::refine(const std::string& scene, const Eigen::Vector
 
 std::optional<GiScenes::Refined> GiScenes::refined(const std::string& scene, const std::string& point) const {
   std::lock_guard lock(impl_->refine_mutex);
-  const auto it = impl_->refinements.find(scene + "|" + point);
-  if (it == impl_->refinements.end()) return std::nullopt;
-  return Refined{it->second.trace->image(), it->second.trace->state()};
+  const auto* trace = impl_->refinements.peek(scene + "|" + point);
+  if (!trace) return std::nullopt;
+  return Refined{(*trace)->image(), (*trace)->state()};
 }
 
 }  // namespace matlas::server

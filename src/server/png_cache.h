@@ -1,28 +1,26 @@
 #pragma once
-// A small thread-safe LRU cache of encoded images by key (previews of points already seen,
-// thumbnails, path strips).
+// A small thread-safe cache of encoded images by key (previews of points already seen,
+// thumbnails, path strips): an LruCache behind a lock.
 #include <cstddef>
-#include <list>
 #include <mutex>
 #include <optional>
 #include <string>
-#include <unordered_map>
+
+#include "server/lru_cache.h"
 
 namespace matlas::server {
 
 class PngCache {
 public:
-  explicit PngCache(std::size_t capacity) : capacity_(capacity) {}
+  explicit PngCache(std::size_t capacity) : items_(capacity) {}
 
   std::optional<std::string> get(const std::string& key);
   void put(const std::string& key, std::string value);
   std::size_t size() const;
 
 private:
-  std::size_t capacity_;
   mutable std::mutex mutex_;
-  std::list<std::pair<std::string, std::string>> items_;  // most recent first
-  std::unordered_map<std::string, std::list<std::pair<std::string, std::string>>::iterator> index_;
+  LruCache<std::string> items_;
 };
 
 }  // namespace matlas::server
