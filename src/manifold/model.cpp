@@ -9,8 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/combination.h"
 #include "core/check.h"
+#include "core/combination.h"
 #include "core/error.h"
 #include "core/hash.h"
 #include "core/parallel.h"
@@ -59,7 +59,6 @@ struct Model::Impl {
 
   /// sum_i w_i z_i[column] over the stored inputs.
   double data_dot(std::size_t column, const Eigen::Ref<const Eigen::VectorXd>& w) const {
-    MATLAS_DCHECK(column < kept && w.size() == n, "a kept column and a weight per material");
     const std::size_t base = column * static_cast<std::size_t>(n);
     if (data_f32) return dot_f32_f64(data_f32 + base, w.data(), n);
     const std::uint16_t* row = data_f16 + base;
@@ -387,8 +386,6 @@ Model::Prediction Model::predict_batch(const Eigen::MatrixXd& points, Interpolat
                 std::to_string(dim()));
   if (!points.allFinite()) throw Error("latent point has a NaN or infinite coordinate");
   gp::GpPosterior::Batch b = impl_->posterior->predict_batch(points);
-  MATLAS_CHECK(b.weights.rows() == count() && b.weights.cols() == points.rows() && b.variance.size() == points.rows(),
-               "a weight column and a variance per point");
   // Convex mode: each point's solve starts from the previous point's solution, in one run per
   // worker (gp/convex_weights.h, project_batch): fastest when consecutive points are neighbours
   // (latent_grid passes its cells in that order).
@@ -411,24 +408,14 @@ double Model::variance(const Eigen::Ref<const Eigen::VectorXd>& x) const {
   return impl_->posterior->variance(x);
 }
 
-bool Model::kept(std::size_t v) const {
-  MATLAS_DCHECK_LT(v, 3 * impl_->dims.bins());
-  return impl_->value_column[v] >= 0;
-}
-int Model::column_of(std::size_t v) const {
-  MATLAS_DCHECK_LT(v, 3 * impl_->dims.bins());
-  return impl_->value_column[v];
-}
-float Model::mean(std::size_t column) const {
-  MATLAS_DCHECK_LT(column, impl_->kept);
-  return impl_->mean[column];
-}
+bool Model::kept(std::size_t v) const { return impl_->value_column[v] >= 0; }
+int Model::column_of(std::size_t v) const { return impl_->value_column[v]; }
+float Model::mean(std::size_t column) const { return impl_->mean[column]; }
 const float* Model::data_f32(std::size_t column) const {
   return impl_->data_f32 ? impl_->data_f32 + column * static_cast<std::size_t>(impl_->n) : nullptr;
 }
 
 void Model::data(std::size_t column, float* out) const {
-  MATLAS_DCHECK_LT(column, impl_->kept);
   const std::size_t base = column * static_cast<std::size_t>(impl_->n);
   for (int i = 0; i < impl_->n; ++i)
     out[i] = impl_->data_f32 ? impl_->data_f32[base + static_cast<std::size_t>(i)]
@@ -436,8 +423,6 @@ void Model::data(std::size_t column, float* out) const {
 }
 
 double Model::value(std::size_t v, const Eigen::Ref<const Eigen::VectorXd>& w) const {
-  MATLAS_DCHECK_LT(v, 3 * impl_->dims.bins());
-  MATLAS_DCHECK_EQ(w.size(), Eigen::Index{count()});
   const std::int32_t c = impl_->value_column[v];
   if (c < 0) return std::numeric_limits<double>::quiet_NaN();
   // mean + sum_i w_i (z_i - mean), written so that w = e_i returns z_i exactly.
@@ -447,7 +432,6 @@ double Model::value(std::size_t v, const Eigen::Ref<const Eigen::VectorXd>& w) c
 Rgb Model::bin_rgb(std::size_t bin, const Eigen::Ref<const Eigen::VectorXd>& w) const {
   Rgb rgb;
   const std::size_t bins = impl_->dims.bins();
-  MATLAS_DCHECK_LT(bin, bins);
   for (int c = 0; c < 3; ++c) {
     const double v = value(static_cast<std::size_t>(c) * bins + bin, w);
     rgb[c] = std::isnan(v) ? 0.0 : v;
@@ -498,7 +482,6 @@ BrdfTable Model::table(const Eigen::Ref<const Eigen::VectorXd>& w) const {
 
 std::vector<Rgb> Model::albedo_curve(const Eigen::Ref<const Eigen::VectorXd>& w) const {
   MATLAS_CHECK_EQ(w.size(), Eigen::Index{count()});
-  MATLAS_CHECK_EQ(impl_->albedo.cols(), Eigen::Index{3 * kAlbedoAngles});
   const Eigen::RowVectorXd mean = impl_->albedo.colwise().mean();
   const Eigen::RowVectorXd a = mean + w.transpose() * (impl_->albedo.rowwise() - mean);
   std::vector<Rgb> curve(kAlbedoAngles);
