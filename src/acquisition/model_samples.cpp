@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <string>
 
+#include "core/check.h"
 #include "core/combination.h"
 #include "core/error.h"
 #include "manifold/model_metadata.h"
@@ -21,6 +22,7 @@ namespace {
 /// The inputs' values at one bin, 3 x n; false when a channel is not kept.
 bool bin_values(const Model& model, std::size_t bin, Eigen::MatrixXd& out) {
   const std::size_t bins = model.dims().bins();
+  MATLAS_DCHECK_LT(bin, bins);
   const int n = model.count();
   out.resize(3, n);
   std::vector<float> buffer(static_cast<std::size_t>(n));
@@ -74,7 +76,11 @@ ModelFit fit_samples(const Model& model, const std::vector<MeasuredSample>& samp
   std::vector<int> index;
   for (std::size_t s = 0; s < samples.size(); ++s)
     if (samples[s].measured) index.push_back(static_cast<int>(s));
-  for (int& o : out.fit.outliers) o = index[static_cast<std::size_t>(o)];
+  MATLAS_CHECK_EQ(out.weights.size(), Eigen::Index{model.count()});
+  for (int& o : out.fit.outliers) {
+    MATLAS_CHECK(o >= 0 && static_cast<std::size_t>(o) < index.size(), "an outlier is one of the measured samples");
+    o = index[static_cast<std::size_t>(o)];
+  }
   return out;
 }
 

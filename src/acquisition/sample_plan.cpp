@@ -8,6 +8,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
+#include "core/check.h"
 #include "core/error.h"
 
 namespace matlas::acquisition {
@@ -39,6 +40,7 @@ namespace {
 /// Rows of `values` (physical, rows 3c + channel) in the transform's space.
 Eigen::MatrixXd transformed_rows(const Eigen::MatrixXd& values, const Eigen::VectorXd& row_cosine,
                                  const LayoutTransform& transform) {
+  MATLAS_CHECK_EQ(row_cosine.size(), values.rows());
   Eigen::MatrixXd t(values.rows(), values.cols());
   for (Eigen::Index i = 0; i < values.cols(); ++i)
     for (Eigen::Index r = 0; r < values.rows(); ++r) t(r, i) = transform_value(transform, values(r, i), row_cosine(r));

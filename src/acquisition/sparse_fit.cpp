@@ -285,8 +285,11 @@ std::vector<bool> scale_known_rows(Objective& objective, const SampleRows& rows,
 
 /// Outliers: samples all of whose rows weigh less than 0.1.
 std::vector<int> outlier_samples(const std::vector<int>& sample, const Eigen::VectorXd& weight, int samples) {
+  MATLAS_CHECK_EQ(sample.size(), static_cast<std::size_t>(weight.size()));
   std::vector<double> heaviest(static_cast<std::size_t>(samples), 0.0);
   for (Eigen::Index r = 0; r < weight.size(); ++r) {
+    MATLAS_DCHECK(sample[static_cast<std::size_t>(r)] >= 0 && sample[static_cast<std::size_t>(r)] < samples,
+                  "a row's sample index");
     auto& h = heaviest[static_cast<std::size_t>(sample[static_cast<std::size_t>(r)])];
     h = std::max(h, weight(r));
   }
@@ -333,6 +336,7 @@ SparseFit fit_rows(const MapView& map, const SampleRows& rows, const SparseFitOp
   if (rows.inputs.rows() != R || rows.inputs.cols() != n || rows.sigma.size() != R || rows.cosine.size() != R)
     throw Error("sparse fit: the sample rows (" + std::to_string(rows.inputs.rows()) + " x " +
                 std::to_string(rows.inputs.cols()) + ") do not match the map's " + std::to_string(n) + " inputs");
+  MATLAS_CHECK_EQ(rows.sample.size(), static_cast<std::size_t>(R));  // SampleRows::add keeps them together
   const int samples = R == 0 ? 0 : 1 + *std::max_element(rows.sample.begin(), rows.sample.end());
   const int distinct = distinct_samples(rows.sample);
   if (distinct < q + 1)
@@ -379,6 +383,7 @@ SparseFit fit_rows(const MapView& map, const SampleRows& rows, const SparseFitOp
   SparseFit fit;
   fit.x = x;
   fit.map_coefficients = map.coefficients(x);
+  MATLAS_CHECK_EQ(fit.map_coefficients.size(), n);  // the map's coefficient function: one per input
   fit.coefficients = fit.map_coefficients;
   fit.combination_strength = std::numeric_limits<double>::infinity();
   if (options.combination && map.metric.rows() == n && distinct >= 4)
@@ -399,6 +404,7 @@ SparseFit fit_rows(const MapView& map, const SampleRows& rows, const SparseFitOp
   fit.outliers = outlier_samples(rows.sample, fit.weight, samples);
 
   fit.latent_covariance = latent_covariance(objective, map, rows, fit, 1e-4 * extent);
+  MATLAS_CHECK(fit.latent_covariance.rows() == q && fit.latent_covariance.cols() == q, "a q x q covariance");
   fit.evaluations = objective.evaluations;
   return fit;
 }

@@ -7,6 +7,7 @@
 #include <numeric>
 
 #include "atlas/model_material.h"
+#include "core/check.h"
 #include "core/error.h"
 #include "manifold/model.h"
 #include "manifold/plausibility.h"
@@ -30,6 +31,8 @@ constexpr double kLuma[3] = {0.2126, 0.7152, 0.0722};
 /// `first` is taken first). Returns the chosen rows in order.
 std::vector<int> farthest_points(const Eigen::MatrixXd& F, const std::vector<int>& allowed, Eigen::VectorXd nearest,
                                  int count, int first) {
+  MATLAS_CHECK_EQ(nearest.size(), F.rows());
+  MATLAS_CHECK_LT(first, static_cast<int>(F.rows()));
   std::vector<int> chosen;
   std::vector<bool> used(static_cast<std::size_t>(F.rows()), false);
   for (int k = 0; k < count && k < static_cast<int>(allowed.size()); ++k) {

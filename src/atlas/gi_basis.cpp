@@ -12,6 +12,7 @@
 #include "atlas/gi_density.h"
 #include "atlas/model_bank.h"
 #include "atlas/model_basis.h"
+#include "core/check.h"
 #include "core/combination.h"
 #include "core/cpu_features.h"
 #include "core/error.h"
@@ -143,6 +144,7 @@ GiBasis::GiBasis(Image p, const std::vector<Image>& linear, const std::vector<Im
     l.push_back(linear[k].rgb.data());
     f.push_back(full[k].rgb.data());
   }
+  MATLAS_CHECK(p_.rgb.size() == 3 * p_.pixel_count(), "an RGB image");
   linear_ = tile_images(l, p_.rgb.size());
   full_ = tile_images(f, p_.rgb.size());
 }
@@ -166,6 +168,7 @@ double GiBasis::convert_to_half() {
 }
 
 Image GiBasis::image(Part part, int k) const {
+  MATLAS_CHECK(k >= 0 && static_cast<std::size_t>(k) <= names_.size(), "image index in 0..n (the mean and n materials)");
   Image out(width(), height());
   untile(tiles(part), names_.size() + 1, static_cast<std::size_t>(k), out.rgb.size(), out.rgb.data());
   return out;
@@ -182,6 +185,7 @@ void GiBasis::compose_into(const Eigen::Ref<const Eigen::VectorXd>& w, Part part
                                        std::to_string(count()) + " materials");
   const Eigen::VectorXd a = Combination(w).coefficients();  // over the mean and the n inputs
   const std::size_t k_count = a.size(), values = p_.rgb.size();
+  MATLAS_CHECK_EQ(k_count, names_.size() + 1);  // the mean and the n materials, as tiled
   const std::vector<float>& data = tiles(part);
   const std::vector<std::uint16_t>* half =
       is_half() ? (part == Part::i1 ? &linear_half_ : &full_half_) : nullptr;

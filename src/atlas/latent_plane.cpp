@@ -8,6 +8,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "core/check.h"
 #include "core/error.h"
 
 namespace matlas::atlas {
@@ -118,6 +119,9 @@ int frame_core(const Model& model, LatentPlane& plane, double margin) {
 
 LatentGrid latent_grid(const Model& model, const LatentPlane& plane, int cols, int rows) {
   if (cols <= 0 || rows <= 0) throw Error("latent map: grid size must be positive");
+  MATLAS_CHECK(plane.origin.size() == model.dim() && plane.axis_u.size() == model.dim() &&
+                   plane.axis_v.size() == model.dim(),
+               "a plane in the model's latent space");
   LatentGrid g;
   g.cols = cols, g.rows = rows;
   g.points.resize(static_cast<Eigen::Index>(cols) * rows, model.dim());

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <vector>
 
+#include "core/check.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "formats/image_io.h"
@@ -96,9 +97,11 @@ Eigen::Array3d implausible_colour() { return linear_of(kImplausibleSrgb); }
 
 LayerCells layer_cells(const Model& model, const LatentGrid& grid, MapLayer layer, const LayerStyle& style,
                        const PlausibilityProbe* probe) {
-  if (layer == MapLayer::image) throw Error("latent map: the image layer is composed from a basis (internal error)");
-  if (layer == MapLayer::plausibility && !probe) throw Error("plausibility layer without a probe (internal error)");
+  MATLAS_CHECK(layer != MapLayer::image, "the image layer is composed from a basis, not coloured per cell");
+  MATLAS_CHECK(layer != MapLayer::plausibility || probe != nullptr, "a plausibility layer has a probe");
   const auto cells = static_cast<std::size_t>(grid.points.rows());
+  MATLAS_CHECK(grid.weights.cols() == grid.points.rows() && grid.variance.size() == grid.points.rows(),
+               "a weight column and a variance per grid cell");
   LayerCells out;
   out.colour.resize(cells);
   out.fade.assign(cells, 0.0);
@@ -108,6 +111,7 @@ LayerCells layer_cells(const Model& model, const LatentGrid& grid, MapLayer laye
   if (layer != MapLayer::variance) {
     albedo = normal_albedo(model, grid.weights);
     if (layer == MapLayer::plausibility) plausibility = plausibility_of(*probe, grid.weights);
+    MATLAS_CHECK(albedo.rows() >= 3 && albedo.cols() == grid.weights.cols(), "an albedo column per cell");
   }
   for (std::size_t k = 0; k < cells; ++k) {
     const auto j = static_cast<Eigen::Index>(k);

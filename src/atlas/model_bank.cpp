@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "core/check.h"
 #include "core/error.h"
 
 namespace matlas::atlas {
@@ -17,6 +18,7 @@ ModelBank::ModelBank(const Model& model, int first, int last) : model_(model), f
 void ModelBank::eval_all(const Vec3& wi, const Vec3& wo, double* out) const {
   const std::size_t bins = model_.dims().bins();
   const std::size_t bin = bin_of(model_.dims(), wi, wo);
+  MATLAS_DCHECK_LT(bin, bins);
   thread_local std::vector<float> run;
   run.resize(static_cast<std::size_t>(model_.count()));
   for (int c = 0; c < 3; ++c) {

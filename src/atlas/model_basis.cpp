@@ -5,6 +5,7 @@
 
 #include "atlas/model_bank.h"
 #include "atlas/sampling_fit.h"
+#include "core/check.h"
 #include "core/hash.h"
 #include "manifold/model_metadata.h"
 #include "render/render.h"
@@ -45,6 +46,7 @@ render::ImageBasis render_basis(const Model& model, const render::Scene& scene,
   const ModelBank bank(model);
   const render::RenderSettings settings = model_render_settings(model, requested);
   std::vector<Image> images = render::render_bank(scene, bank, settings, progress);
+  MATLAS_CHECK_EQ(images.size(), static_cast<std::size_t>(model.count()) + 1);  // the mean, then the n materials
   Image mean = std::move(images.front());
   images.erase(images.begin());
   const render::SceneDescription& d = scene.description();

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "brdf/merl_grid.h"
+#include "core/check.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "eval/model_checks.h"
@@ -25,6 +26,7 @@ Eigen::MatrixXd latent_squared_distances(const Eigen::MatrixXd& X) {
 
 /// Indices 0..n-1 except i, sorted by D(i, .) (ties by index).
 std::vector<int> neighbours_by(const Eigen::MatrixXd& D, int i) {
+  MATLAS_CHECK(D.rows() == D.cols() && i >= 0 && i < D.rows(), "a row of a square distance matrix");
   std::vector<int> order(static_cast<std::size_t>(D.rows()));
   std::iota(order.begin(), order.end(), 0);
   order.erase(order.begin() + i);
@@ -38,6 +40,7 @@ Eigen::MatrixXd perceptual_squared_distances(const Model& model, int stride) {
   const int n = model.count();
   const std::vector<double> cosine = bin_cosine_factors(model.dims());
   const std::size_t bins = model.dims().bins();
+  MATLAS_CHECK_EQ(cosine.size(), bins);
   std::vector<std::size_t> columns;
   for (std::size_t v = 0; v < 3 * bins; v += static_cast<std::size_t>(stride))
     if (model.kept(v) && cosine[v % bins] > 0) columns.push_back(v);
@@ -66,6 +69,7 @@ ModePlausibility summarise(const Model& model, const Eigen::MatrixXd& W, double 
   p.points = static_cast<int>(W.cols());
   if (W.cols() == 0) return p;
   const std::vector<std::size_t> negatives = count_negative_values(model, W);
+  MATLAS_CHECK_EQ(negatives.size(), static_cast<std::size_t>(W.cols()));
   const Eigen::MatrixXd albedo = model.albedo_batch(W);
   const double kept = static_cast<double>(model.kept_columns());
   double sum = 0;
@@ -99,7 +103,10 @@ double trustworthiness(const Eigen::MatrixXd& high, const Eigen::MatrixXd& laten
     }
   }
   const double nd = n, kd = k;
-  return 1.0 - 2.0 / (nd * kd * (2.0 * nd - 3.0 * kd - 1.0)) * penalty;
+  const double value = 1.0 - 2.0 / (nd * kd * (2.0 * nd - 3.0 * kd - 1.0)) * penalty;
+  // The normalisation is the largest possible penalty for k < n / 2 (Venna and Kaski).
+  MATLAS_CHECK(value >= -1e-9 && value <= 1.0, "trustworthiness in [0, 1]");
+  return value;
 }
 
 LayoutReadability layout_readability(const Eigen::MatrixXd& latent, double fraction) {

@@ -6,6 +6,7 @@
 #include <random>
 
 #include "brdf/albedo.h"
+#include "core/check.h"
 #include "core/combination.h"
 #include "core/error.h"
 #include "core/parallel.h"
@@ -32,6 +33,7 @@ std::vector<Eigen::VectorXd> sample_points(const Model& model, int count, unsign
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const Eigen::VectorXd lo = model.latent_min(), hi = model.latent_max();
   const int n = model.count();
+  MATLAS_CHECK_GT(n, 0);  // a model has materials (the reader refuses an empty one)
   for (int k = 0; k < count; ++k) {
     if (k % 2 == 0) {
       const int a = k % n, b = (k + 1 + k / 2) % n;
@@ -50,6 +52,7 @@ std::vector<Eigen::VectorXd> sample_points(const Model& model, int count, unsign
 /// would take negative values for "missing"); dropped columns read as 0.
 Rgb signed_albedo(const Model& model, const Eigen::VectorXd& w, double theta_o, const AlbedoQuadrature& q) {
   const std::size_t bins = model.dims().bins();
+  MATLAS_CHECK_EQ(w.size(), Eigen::Index{model.count()});
   Rgb sum = Rgb::Zero();
   for (const AlbedoTerm& t : albedo_rule(model.dims(), theta_o, q))
     for (int c = 0; c < 3; ++c) {

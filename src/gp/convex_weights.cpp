@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/blas.h"
+#include "core/check.h"
 #include "core/combination.h"
 #include "core/error.h"
 #include "core/parallel.h"
@@ -51,6 +52,7 @@ struct ConvexProjection::Iterate {
   void start_from(const Eigen::MatrixXd& A, const Eigen::Ref<const Eigen::VectorXd>& g) {
     const Eigen::Index n = g.size();
     c = g.cwiseMax(0.0);
+    MATLAS_DCHECK(c.sum() > 0, "coefficients summing to 1 have a positive part");
     c /= c.sum();
     order.clear();
     pos.assign(static_cast<std::size_t>(n), -1);
@@ -152,6 +154,7 @@ void ConvexProjection::project_from(Eigen::Ref<Eigen::VectorXd> g, Iterate& it, 
   else
     it.b.noalias() = A_ * g;
   solve(it.b, it);
+  MATLAS_DCHECK(it.c.size() == g.size() && it.c.minCoeff() >= 0, "the active-set iterate stays feasible");
   g = it.c;
 }
 
@@ -250,6 +253,7 @@ void ConvexProjection::project_batch(Eigen::Ref<Eigen::MatrixXd> G, Eigen::Index
                 " inputs");
   if (run <= 0 || run > m) run = m;
   const Eigen::Index runs = (m + run - 1) / run;
+  MATLAS_CHECK(runs >= 1 && (runs - 1) * run < m, "every run starts at a column");
   // The runs' first columns in turn, each from the one before; their iterates start the runs.
   std::vector<Iterate> starts(static_cast<std::size_t>(runs));
   Iterate it;

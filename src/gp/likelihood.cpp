@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "core/check.h"
 #include "core/blas.h"
 #include "core/error.h"
 #include "core/vector_math.h"
@@ -57,6 +58,7 @@ LikelihoodEvaluator::LikelihoodEvaluator(const LikelihoodProblem& p)
   Eigen::Index first = 0;
   while (first < lambda.size() && lambda[first] <= 1e-13 * top) ++first;
   const Eigen::Index r = lambda.size() - first;
+  MATLAS_CHECK_GT(r, Eigen::Index{0});  // lambda sums to n > 0, so the largest is kept
   R_ = eig.eigenvectors().rightCols(r) * lambda.tail(r).cwiseSqrt().asDiagonal();
 }
 
@@ -85,6 +87,7 @@ double LikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, Eigen::MatrixXd
     throw Error("likelihood: the covariance matrix of the latent points is not positive definite (duplicate "
                 "latent points with nugget " + std::to_string(kernel_.nugget) + "?); use a nugget > 0");
   const double log_det = 2.0 * L_.diagonal().array().log().sum();
+  MATLAS_CHECK(std::isfinite(log_det), "log|K| after an accepted Cholesky factor");
   Kinv_ = L_;
   info = blas::inverse_from_cholesky(nn, Kinv_.data(), nn);  // lower triangle of K^-1
   if (info != 0) throw Error("likelihood: inverting the covariance matrix failed (LAPACK info " + std::to_string(info) + ")");
@@ -119,6 +122,7 @@ double LikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, Eigen::MatrixXd
       F_.diagonal().setZero();
     }
   }
+  MATLAS_CHECK(std::isfinite(value), "the likelihood's determinant, trace and barrier terms");
   value -= 0.5 * precision_ * X.squaredNorm();
   if (gradient == nullptr) return value;
 

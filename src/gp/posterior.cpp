@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "core/check.h"
 #include "core/blas.h"
 #include "core/error.h"
 #include "core/parallel.h"
@@ -17,6 +18,7 @@ GpPosterior::GpPosterior(Eigen::MatrixXd X, Kernel k) : X_(std::move(X)), kernel
   if (X_.rows() == 0 || X_.cols() == 0) throw Error("GP posterior: no latent points (X is empty)");
   if (!X_.allFinite()) throw Error("GP posterior: latent points contain NaN or infinity");
   llt_.compute(covariance_matrix(X_, kernel_));
+  MATLAS_CHECK_EQ(llt_.matrixLLT().rows(), X_.rows());
   if (!is_positive_definite(llt_))
     throw Error("GP posterior: the covariance matrix of the " + std::to_string(X_.rows()) +
                 " latent points is not positive definite (duplicate points with nugget " +
@@ -48,6 +50,8 @@ double taper_weight(double r, double distance) {
 void cross_block(const Eigen::MatrixXd& X, const Kernel& kernel, const Eigen::VectorXd& radius, const double* points,
                  Eigen::Index count, double* out, double* noise) {
   const Eigen::Index n = X.rows(), q = X.cols();
+  MATLAS_CHECK_EQ(radius.size(), n);
+  MATLAS_CHECK_GE(count, Eigen::Index{0});
   Eigen::Map<Eigen::MatrixXd> k(out, n, count);
   const double scale = -1.0 / (kernel.lengthscale * kernel.lengthscale);
   auto squared_distance = [&](Eigen::Index i, Eigen::Index j) {
@@ -100,7 +104,9 @@ Eigen::MatrixXd GpPosterior::weights_batch(const Eigen::MatrixXd& points) const 
                 " but the latent space has " + std::to_string(X_.cols()));
   Eigen::MatrixXd k(X_.rows(), points.rows());
   for (Eigen::Index j = 0; j < points.rows(); ++j) k.col(j) = cross(points.row(j).transpose());
-  return llt_.solve(k);
+  Eigen::MatrixXd w = llt_.solve(k);
+  MATLAS_CHECK(w.rows() == X_.rows() && w.cols() == points.rows());
+  return w;
 }
 
 double GpPosterior::variance(const Eigen::Ref<const Eigen::VectorXd>& x) const {
@@ -119,6 +125,7 @@ GpPosterior::Batch GpPosterior::predict_batch(const Eigen::MatrixXd& points) con
   b.weights.resize(n, m);
   b.variance.resize(m);
   if (m == 0) return b;
+  MATLAS_CHECK_EQ(llt_.matrixLLT().rows(), n);
   // W = K^-1 k(x) as one product with K^-1 (from the Cholesky factor; 41 us at n = 100) in
   // OpenBLAS's dsymm: Eigen's triangular solves of many right-hand sides (compiled for baseline
   // x86-64) ran at a few GFLOP/s. Variance = c(x, x) - k^T K^-1 k = 1 + noise - k . w.
@@ -138,14 +145,19 @@ GpPosterior::Batch GpPosterior::predict_batch(const Eigen::MatrixXd& points) con
     double* w = b.weights.data() + first * n;
     blas::openblas().dsymm(CblasColMajor, CblasLeft, CblasLower, nn, static_cast<int>(count), 1.0, Kinv.data(), nn,
                            k.data(), nn, 0.0, w, nn);
-    for (Eigen::Index j = 0; j < count; ++j)
+    for (Eigen::Index j = 0; j < count; ++j) {
+      MATLAS_DCHECK(noise[j] >= 0, "the tapered nugget's self-covariance is a sum of squares");
       b.variance[first + j] = std::max(0.0, 1.0 + noise[j] - k.col(j).dot(b.weights.col(first + j)));
+    }
   });
   return b;
 }
 
 double GpPosterior::log_det() const {
-  return 2.0 * llt_.matrixLLT().diagonal().array().log().sum();
+  // The constructor accepted the factor's pivots (all positive), so the logarithm is finite.
+  const double value = 2.0 * llt_.matrixLLT().diagonal().array().log().sum();
+  MATLAS_CHECK(std::isfinite(value), "log|K| of a positive definite K");
+  return value;
 }
 
 double GpPosterior::condition_estimate() const {
@@ -171,6 +183,7 @@ double GpPosterior::condition_estimate() const {
     inv_lambda_min = v.dot(w);
     v = w.normalized();
   }
+  MATLAS_CHECK(lambda_max > 0 && inv_lambda_min > 0, "Rayleigh quotients of a positive definite K");
   return lambda_max * inv_lambda_min;
 }
 

@@ -46,7 +46,11 @@ Eigen::MatrixXd inverse_cholesky_factor(const Eigen::MatrixXd& A, double* log_de
   const Eigen::LLT<Eigen::MatrixXd> llt(A);
   if (!is_positive_definite(llt))
     throw Error(std::string("sparse likelihood: ") + what + " is not positive definite");
-  if (log_det != nullptr) *log_det = 2.0 * llt.matrixLLT().diagonal().array().log().sum();
+  MATLAS_CHECK_EQ(A.rows(), A.cols());
+  if (log_det != nullptr) {
+    *log_det = 2.0 * llt.matrixLLT().diagonal().array().log().sum();
+    MATLAS_CHECK(std::isfinite(*log_det), "log|A| after an accepted Cholesky factor");
+  }
   Eigen::MatrixXd inv = Eigen::MatrixXd::Identity(A.rows(), A.cols());
   llt.matrixL().solveInPlace(inv);
   return inv;
@@ -138,6 +142,8 @@ SparseLikelihoodEvaluator::SparseLikelihoodEvaluator(const SparseProblem& p)
 }
 
 void SparseLikelihoodEvaluator::apply_block_inverse(const Eigen::MatrixXd& M, Eigen::MatrixXd& out) const {
+  MATLAS_CHECK_EQ(M.rows(), Y_.rows());
+  MATLAS_CHECK_EQ(block_inv_.size(), blocks_.size());
   out.resize(M.rows(), M.cols());
   Eigen::MatrixXd Mb;
   for (std::size_t k = 0; k < blocks_.size(); ++k) {
@@ -197,6 +203,7 @@ double SparseLikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, const Eig
   if (!(t > 0) || !std::isfinite(t))
     throw Error("sparse likelihood: tr(K^-1 S) is not positive (" + std::to_string(t) + "): K is too ill-conditioned");
   double value = -beta_ * log_det - nd * std::log(t / nd) - nd;
+  MATLAS_CHECK(std::isfinite(value), "the sparse likelihood's determinant and trace terms");
   if (grad_X != nullptr) grad_X->setZero(n, q);
   value += sparse_repulsion(X, repulsion_, radius_, grad_X);
   value -= 0.5 * precision_ * X.squaredNorm();
@@ -396,6 +403,7 @@ std::vector<Eigen::Index> farthest_point_indices(const Eigen::MatrixXd& X, int m
   const Eigen::Index n = X.rows();
   if (n == 0 || m < 1) throw Error("farthest_point_subset: need points and m >= 1");
   const Eigen::Index count = std::min<Eigen::Index>(m, n);
+  MATLAS_CHECK(X.allFinite(), "farthest points of finite latent points");
   const Eigen::RowVectorXd centroid = X.colwise().mean();
   Eigen::Index next = 0;
   (X.rowwise() - centroid).rowwise().squaredNorm().minCoeff(&next);

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/check.h"
 #include "core/error.h"
 #include "gp/initialize.h"
 #include "gp/lbfgs_driver.h"
@@ -132,7 +133,10 @@ std::string run_sparse_lbfgs(SparseRun& run, const OptimizeOptions& o) {
 
 Eigen::MatrixXd gather_rows(const Eigen::MatrixXd& X, const std::vector<Eigen::Index>& rows) {
   Eigen::MatrixXd out(static_cast<Eigen::Index>(rows.size()), X.cols());
-  for (std::size_t k = 0; k < rows.size(); ++k) out.row(static_cast<Eigen::Index>(k)) = X.row(rows[k]);
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    MATLAS_CHECK(rows[k] >= 0 && rows[k] < X.rows(), "a chosen row of X");
+    out.row(static_cast<Eigen::Index>(k)) = X.row(rows[k]);
+  }
   return out;
 }
 
@@ -165,6 +169,9 @@ std::vector<std::vector<Eigen::Index>> local_blocks(const Eigen::MatrixXd& X, co
       blocks.emplace_back(cell.begin() + static_cast<std::ptrdiff_t>(begin), cell.begin() + static_cast<std::ptrdiff_t>(end));
     }
   }
+  std::size_t assigned = 0;
+  for (const auto& b : blocks) assigned += b.size();
+  MATLAS_CHECK_EQ(assigned, static_cast<std::size_t>(X.rows()));  // every item in exactly one block
   return blocks;
 }
 

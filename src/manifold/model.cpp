@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/check.h"
 #include "core/combination.h"
 #include "core/error.h"
 #include "core/hash.h"
@@ -359,6 +360,7 @@ Interpolation Model::interpolation() const { return interpolation_; }
 Model Model::with_interpolation(Interpolation mode) const { return Model(impl_, mode); }
 
 Eigen::VectorXd Model::weights_from_gp(const Eigen::Ref<const Eigen::VectorXd>& w, Interpolation mode) const {
+  MATLAS_CHECK_EQ(w.size(), Eigen::Index{count()});
   if (mode == Interpolation::gp) return w;
   return impl_->convex->from_centred(w);
 }
@@ -479,6 +481,7 @@ BrdfTable Model::table(const Eigen::Ref<const Eigen::VectorXd>& w) const {
 }
 
 std::vector<Rgb> Model::albedo_curve(const Eigen::Ref<const Eigen::VectorXd>& w) const {
+  MATLAS_CHECK_EQ(w.size(), Eigen::Index{count()});
   const Eigen::RowVectorXd mean = impl_->albedo.colwise().mean();
   const Eigen::RowVectorXd a = mean + w.transpose() * (impl_->albedo.rowwise() - mean);
   std::vector<Rgb> curve(kAlbedoAngles);
@@ -487,6 +490,7 @@ std::vector<Rgb> Model::albedo_curve(const Eigen::Ref<const Eigen::VectorXd>& w)
 }
 
 Eigen::MatrixXd Model::albedo_batch(const Eigen::MatrixXd& W) const {
+  MATLAS_CHECK_EQ(W.rows(), Eigen::Index{count()});
   const Eigen::RowVectorXd mean = impl_->albedo.colwise().mean();
   Eigen::MatrixXd a = blas_product((impl_->albedo.rowwise() - mean).transpose(), W);
   a.colwise() += mean.transpose();

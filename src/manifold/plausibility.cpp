@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "core/check.h"
 #include "manifold/dense_product.h"
 #include "manifold/model.h"
 
@@ -21,6 +22,7 @@ PlausibilityProbe::PlausibilityProbe(const Model& model, std::size_t samples) : 
   for (Eigen::Index s = 0; s < count; ++s) {
     // The centre of each of `count` equal strata of the kept columns.
     const std::size_t c = (2 * static_cast<std::size_t>(s) + 1) * kept / (2 * static_cast<std::size_t>(count));
+    MATLAS_CHECK_LT(c, kept);
     model.data(c, z.data());
     means_[s] = model.mean(c);
     for (int i = 0; i < n; ++i) centred_(s, i) = static_cast<double>(z[static_cast<std::size_t>(i)]) - means_[s];
@@ -31,6 +33,7 @@ namespace {
 
 /// Share of negative entries of mean + column j of `centred_values`.
 double negative_share(const Eigen::Ref<const Eigen::VectorXd>& centred_values, const Eigen::VectorXd& means) {
+  MATLAS_CHECK_EQ(centred_values.size(), means.size());
   if (means.size() == 0) return 0.0;
   // Values below -1e-12 of their column's mean: a combination summing to 1 reads an exact zero of
   // the inputs as mean + sum_i w_i (0 - mean), which rounds to +-1e-16 of the mean.
@@ -42,6 +45,7 @@ double negative_share(const Eigen::Ref<const Eigen::VectorXd>& centred_values, c
 
 std::vector<Plausibility> PlausibilityProbe::batch(const Eigen::MatrixXd& W) const {
   // A value is mean + sum_i w_i (z_i - mean) = (1 - sum w) mean + sum_i w_i z_i.
+  MATLAS_CHECK_EQ(W.rows(), centred_.cols());
   const Eigen::MatrixXd values = blas_product(centred_, W);
   const Eigen::MatrixXd albedo = model_.albedo_batch(W);
   std::vector<Plausibility> out(static_cast<std::size_t>(W.cols()));
@@ -55,6 +59,7 @@ std::vector<Plausibility> PlausibilityProbe::batch(const Eigen::MatrixXd& W) con
 }
 
 Plausibility PlausibilityProbe::operator()(const Eigen::Ref<const Eigen::VectorXd>& w) const {
+  MATLAS_CHECK_EQ(w.size(), centred_.cols());
   Plausibility p;
   p.negative_fraction = negative_share(centred_ * w, means_);
   const std::vector<Rgb> albedo = model_.albedo_curve(w);

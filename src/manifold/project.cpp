@@ -6,6 +6,7 @@
 #include <optional>
 
 
+#include "core/check.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "gp/kernel.h"
@@ -95,6 +96,8 @@ MaterialInnerProducts inner_products(const Model& model, const BrdfTable& table)
 double projection_residual(const Model& model, const MaterialInnerProducts& ip,
                            const Eigen::VectorXd& x, Eigen::VectorXd* gradient) {
   const Eigen::MatrixXd& s = model.gram();
+  MATLAS_CHECK(ip.distance2.size() == model.count() && ip.g.size() == model.count(), "inner products of this model");
+  MATLAS_CHECK(ip.anchor >= 0 && ip.anchor < model.count(), "the anchor is a material");
   Eigen::VectorXd u = model.weights(x);
   u[ip.anchor] -= 1.0;
   const Eigen::VectorXd su = s * u;
@@ -138,6 +141,7 @@ Projection project_material(const Model& model, const BrdfTable& table, int star
   p.missing = ip.missing;
   // Nearest materials in data space.
   const std::vector<int> order = nearest_materials(ip.distance2, std::max(starts, 1));
+  MATLAS_CHECK(!order.empty(), "a model has at least one material");
   p.nearest = order[0];
   const double norm2 = std::max(ip.norm2, 1e-300);
   p.nearest_relative_error = std::sqrt(ip.distance2[p.nearest] / norm2);

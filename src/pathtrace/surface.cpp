@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/check.h"
 #include "render/sampling.h"
 
 namespace matlas::pathtrace {
@@ -51,6 +52,7 @@ Rgb surface_eval(const SurfaceSpec& s, const Vec3& wi, const Vec3& wo) {
 
 double surface_sample(const SurfaceSpec& s, const Vec3& wo, double u0, double u1, double u2, Vec3* wi) {
   const double ps = specular_probability(s);
+  MATLAS_DCHECK(ps >= 0 && ps <= 1, "a probability");
   *wi = u0 < ps ? render::sample_ggx_reflection(wo, s.alpha, u1, u2) : render::sample_cosine(u1, u2);
   if (wi->z() <= 0) return 0.0;
   return surface_pdf(s, wo, *wi);
@@ -60,6 +62,7 @@ double surface_pdf(const SurfaceSpec& s, const Vec3& wo, const Vec3& wi) {
   const double ps = specular_probability(s);
   double p = (1.0 - ps) * render::cosine_pdf(wi);
   if (ps > 0) p += ps * render::ggx_reflection_pdf(wo, wi, s.alpha);
+  MATLAS_DCHECK(p >= 0, "a mixture of densities");
   return p;
 }
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <mutex>
 
+#include "core/check.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "render/sampling.h"
@@ -16,6 +17,7 @@ namespace {
 constexpr int kDrawsPerVertex = 9;  // fixed, so that every path uses the same numbers for every material
 
 double power_heuristic(double a, double b) {
+  MATLAS_DCHECK(a >= 0 && b >= 0, "densities");
   const double a2 = a * a, b2 = b * b;
   return a2 + b2 > 0 ? a2 / (a2 + b2) : 0.0;
 }
@@ -38,6 +40,7 @@ struct Accumulator {
       return;
     }
     std::vector<double>& out = touches == 1 ? once : more;
+    MATLAS_DCHECK(factor != nullptr || out.empty(), "a product of measured evaluations");
     for (std::size_t i = 0; i < out.size(); i += 3)
       for (std::size_t ch = 0; ch < 3; ++ch) out[i + ch] += c[static_cast<Eigen::Index>(ch)] * factor[i + ch];
   }
@@ -84,6 +87,8 @@ public:
         }
         return;
       }
+      MATLAS_DCHECK(hit->object >= 0 && static_cast<std::size_t>(hit->object) < world_.spec().objects.size(),
+                    "a hit names one of the scene's objects");
       const ObjectSpec& obj = world_.object(hit->object);
       if (obj.emission.maxCoeff() > 0) {  // area lights emit from their front and reflect nothing
         if (hit->front) {
@@ -111,6 +116,7 @@ public:
       const auto connect = [&](const Vec3& wi_world, const Rgb& c) {
         const Vec3 wi = frame.to_local(wi_world);
         if (measured) {
+          MATLAS_DCHECK_EQ(scratch.size(), 3 * static_cast<std::size_t>(bank_->count()));
           bank_->eval_all(wi, wo, scratch.data());
           if (touches > 0)
             for (std::size_t i = 0; i < scratch.size(); ++i) scratch[i] *= prod[i];
@@ -158,6 +164,7 @@ public:
       Vec3 wi;
       const double pdf = measured ? s_.density.sample(wo, u[5], u[6], u[7], &wi)
                                   : surface_sample(obj.surface, wo, u[5], u[6], u[7], &wi);
+      MATLAS_DCHECK(!(pdf < 0), "a sampling density");
       if (!(pdf > 0)) return;
       const Vec3 wi_world = frame.to_world(wi);
       if (wi_world.dot(ng) <= 0) return;
@@ -201,6 +208,7 @@ void TraceSettings::validate() const {
 }
 
 Image TraceImages::i1(int k) const {
+  MATLAS_CHECK(k >= 0 && static_cast<std::size_t>(k) < once.size(), "material index in range");
   Image out = p;
   const Image& n = once[static_cast<std::size_t>(k)];
   for (std::size_t i = 0; i < out.rgb.size(); ++i) out.rgb[i] += n.rgb[i];
@@ -209,6 +217,7 @@ Image TraceImages::i1(int k) const {
 
 Image TraceImages::full(int k) const {
   Image out = i1(k);
+  MATLAS_CHECK_EQ(more.size(), once.size());
   const Image& m = more[static_cast<std::size_t>(k)];
   for (std::size_t i = 0; i < out.rgb.size(); ++i) out.rgb[i] += m.rgb[i];
   return out;
@@ -223,6 +232,7 @@ TraceImages trace(const World& world, const render::MaterialBank* bank, const Tr
   out.p = Image(settings.width, settings.height);
   out.once.assign(static_cast<std::size_t>(k), Image(settings.width, settings.height));
   out.more.assign(static_cast<std::size_t>(k), Image(settings.width, settings.height));
+  MATLAS_CHECK(used == nullptr || used->count() == k, "the accumulators hold a value per material of the bank");
   const PathTracer tracer(world, used, settings);
   std::atomic<std::uint64_t> rows_done{0};
   std::mutex progress_mutex;

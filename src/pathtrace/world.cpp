@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/check.h"
 #include "core/error.h"
 #include "formats/mesh_io.h"
 #include "render/assets.h"
@@ -121,11 +122,13 @@ bool World::occluded(const Vec3& origin, const Vec3& dir, double tmin, double tm
 
 LightSample World::sample_light(double u0, double u1, double u2) const {
   const Impl& s = *impl_;
+  MATLAS_DCHECK(!s.lights.empty() && s.light_cdf.size() == s.lights.size(), "sampled only when there are lights");
   const double target = u0 * light_area_;
   std::size_t k = static_cast<std::size_t>(std::upper_bound(s.light_cdf.begin(), s.light_cdf.end(), target) - s.light_cdf.begin());
   if (k >= s.lights.size()) k = s.lights.size() - 1;
   const auto [obj, tri_index] = s.lights[k];
   const ObjectTriangles& tr = s.geometry.triangles(static_cast<unsigned>(obj));
+  MATLAS_DCHECK_LT(static_cast<std::size_t>(tri_index), tr.indices.size());
   const auto& tri = tr.indices[tri_index];
   const double su = std::sqrt(u1);
   const double b0 = 1.0 - su, b1 = u2 * su;

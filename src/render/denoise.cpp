@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "core/check.h"
 #include "core/error.h"
 #include "core/parallel.h"
 
@@ -54,6 +55,7 @@ std::vector<float> difference_variance(const Plane& plane, const Image& a, const
           sum += raw[q];
           ++count;
         }
+      MATLAS_DCHECK(count > 0, "a pixel is in its own region");
       out[p] = static_cast<float>(sum / count);
     }
   return out;
@@ -175,6 +177,7 @@ DenoiseResult denoise_halves(const Image& a, const Image& b, double samples_a, d
   const double eps = 1e-12 * (mean_square / std::max<std::size_t>(1, a.rgb.size())) + 1e-30;
   const std::vector<float> fa = cross_filter(plane, a.rgb, b.rgb, var_b, region, settings, eps);
   const std::vector<float> fb = cross_filter(plane, b.rgb, a.rgb, var_a, region, settings, eps);
+  MATLAS_CHECK(fa.size() == a.rgb.size() && fb.size() == b.rgb.size(), "filtered halves of the input's size");
 
   DenoiseResult result;
   result.image = Image(a.width, a.height);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/check.h"
 #include "core/error.h"
 
 namespace matlas::render {
@@ -88,6 +89,7 @@ Vec3 Environment::sample(double u0, double u1, double* pdf_out) const {
   distribution_.sample(u0, u1, &u, &v, &pdf_uv);
   const double sin_theta = std::sin(kPi * v);
   *pdf_out = sin_theta > 0 ? pdf_uv / (2.0 * kPi * kPi * sin_theta) : 0.0;
+  MATLAS_DCHECK(*pdf_out >= 0);
   return from_uv(u, v);
 }
 

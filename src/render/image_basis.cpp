@@ -65,6 +65,7 @@ ImageBasis::ImageBasis(Image mean, const std::vector<Image>& images, std::vector
 
 void ImageBasis::pack(const float* mean, const std::vector<const float*>& images) {
   const std::size_t pixels = static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_);
+  MATLAS_CHECK_EQ(images.size(), static_cast<std::size_t>(n_));
   active_.clear();
   for (std::size_t p = 0; p < pixels; ++p) {
     bool differs = false;
@@ -113,6 +114,7 @@ double ImageBasis::convert_to_half() {
 }
 
 void ImageBasis::unpack_into(int i, float* rgb) const {
+  MATLAS_CHECK(i >= 0 && i < n_, "material index in range");
   std::copy(mean_.begin(), mean_.end(), rgb);
   const auto rows = static_cast<std::size_t>(n_);
   for (std::size_t a = 0; a < active_.size(); ++a)

@@ -4,6 +4,7 @@
 #include <array>
 #include <numeric>
 
+#include "core/check.h"
 #include "core/error.h"
 
 namespace matlas::render {
@@ -124,6 +125,7 @@ StrategyPlan plan_strategies(const SamplingMixture& mixture, int spp) {
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return remainder[a] > remainder[b]; });
   for (std::size_t i = 0; used < spp; i = (i + 1) % order.size())
     if (remainder[order[i]] >= 0) ++plan.counts[order[i]], ++used;
+  MATLAS_CHECK_EQ(std::accumulate(plan.counts.begin(), plan.counts.end(), 0), spp);
   // The density: the same mixture with the allocated counts as its probabilities.
   plan.density = mixture;
   plan.density.environment = plan.counts[0];

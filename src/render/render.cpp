@@ -7,6 +7,7 @@
 #include <map>
 #include <mutex>
 
+#include "core/check.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "render/pixel_sampler.h"
@@ -47,6 +48,7 @@ struct Draw {
 /// lobes' b (the density's two parts), `own` the one that drew it. Balance: 1 / (a + b); power:
 /// own / (a^2 + b^2) (Veach's multi-sample power heuristic, each technique's count folded in).
 double mis_weight(bool power, double a, double b, double own) {
+  MATLAS_DCHECK(a >= 0 && b >= 0 && a + b > 0, "densities of a drawn direction");
   return power ? own / (a * a + b * b) : 1.0 / (a + b);
 }
 
@@ -240,6 +242,7 @@ void for_each_sample(const Scene& scene, const Sampling& sampling, int x, int y,
       static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(settings.width) + static_cast<std::uint64_t>(x);
   Vec3 o, d;
   const int n = sampling.count(x, y);
+  MATLAS_DCHECK(n > 0, "every pixel takes a sample");
   if (!sampling.stratified) {
     for (int s = 0; s < n; ++s) {
       SampleStream rng(settings.seed, pixel, static_cast<std::uint64_t>(s));
@@ -274,6 +277,7 @@ void for_each_sample(const Scene& scene, const Sampling& sampling, int x, int y,
       body(o, d, draw);
     }
   }
+  MATLAS_DCHECK_EQ(s, n);  // the plan's counts sum to the pixel's samples
 }
 
 /// Returns the sum over the pixel's samples of the material-independent radiance; tap(wi, wo,
@@ -344,6 +348,7 @@ std::vector<Image> render_bank(const Scene& scene, const MaterialBank& bank, con
   const int k_count = bank.count();
   if (k_count <= 0) throw Error("material bank is empty");
   std::vector<Image> images(static_cast<std::size_t>(k_count), Image(settings.width, settings.height));
+  MATLAS_CHECK(sampling.counts.empty() || sampling.counts.size() == images[0].pixel_count(), "a sample count per pixel");
   std::atomic<std::uint64_t> taps{0};
   const std::size_t values = 3 * static_cast<std::size_t>(k_count);
   for_each_pixel(settings, progress, "render basis", [&](int x, int y) {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/check.h"
+
 namespace matlas::render {
 
 Distribution1D::Distribution1D(std::span<const double> weights) : weights_(weights.begin(), weights.end()) {
@@ -22,6 +24,7 @@ Distribution1D::Distribution1D(std::span<const double> weights) : weights_(weigh
 }
 
 double Distribution1D::sample(double u, int* cell, double* pdf_out) const {
+  MATLAS_DCHECK(!weights_.empty() && cdf_.size() == weights_.size() + 1, "a constructed distribution");
   const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), u);
   std::size_t i = static_cast<std::size_t>(std::max<std::ptrdiff_t>(it - cdf_.begin() - 1, 0));
   i = std::min(i, weights_.size() - 1);
@@ -30,12 +33,17 @@ double Distribution1D::sample(double u, int* cell, double* pdf_out) const {
   double t = span > 0 ? (u - cdf_[i]) / span : 0.5;
   t = std::clamp(t, 0.0, std::nextafter(1.0, 0.0));
   if (cell) *cell = static_cast<int>(i);
-  if (pdf_out) *pdf_out = pdf(static_cast<int>(i));
+  if (pdf_out) {
+    *pdf_out = pdf(static_cast<int>(i));
+    MATLAS_DCHECK(*pdf_out >= 0);
+  }
   return std::min((static_cast<double>(i) + t) * cell_width(), std::nextafter(1.0, 0.0));
 }
 
 Distribution2D::Distribution2D(std::span<const double> weights, int cols, int rows)
     : cols_(cols), rows_(rows) {
+  MATLAS_CHECK(cols > 0 && rows > 0, "a non-empty 2D distribution");
+  MATLAS_CHECK_EQ(weights.size(), static_cast<std::size_t>(cols) * static_cast<std::size_t>(rows));
   std::vector<double> row_weight(static_cast<std::size_t>(rows));
   conditional_.reserve(static_cast<std::size_t>(rows));
   for (int r = 0; r < rows; ++r) {
@@ -52,6 +60,7 @@ void Distribution2D::sample(double u0, double u1, double* u, double* v, double* 
   int row = 0, col = 0;
   double pdf_row = 0, pdf_col = 0;
   *v = marginal_.sample(u1, &row, &pdf_row);
+  MATLAS_DCHECK(row >= 0 && row < rows_, "the marginal picks a row");
   *u = conditional_[static_cast<std::size_t>(row)].sample(u0, &col, &pdf_col);
   *pdf_out = pdf_row * pdf_col;
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/check.h"
 #include "core/error.h"
 #include "render/sampling.h"
 
@@ -55,6 +56,7 @@ Vec3 SamplingMixture::sample_local(const Vec3& wo, double u, double u0, double u
     if (profile_.empty()) return sample_cosine(u0, u1);
     // A bin by u0, then cos(theta_h) uniform over the bin by u0's position inside it.
     const std::size_t n = profile_.size();
+    MATLAS_DCHECK_EQ(cdf_.size(), n + 1);
     std::size_t i = static_cast<std::size_t>(std::upper_bound(cdf_.begin(), cdf_.end(), u0) - cdf_.begin());
     i = std::min(std::max<std::size_t>(i, 1), n) - 1;
     while (profile_[i] <= 0 && i + 1 < n) ++i;
@@ -67,6 +69,7 @@ Vec3 SamplingMixture::sample_local(const Vec3& wo, double u, double u0, double u
   }
   std::size_t k = 0;
   while (k + 1 < lobes.size() && pick >= lobes[k].second) pick -= lobes[k++].second;
+  MATLAS_DCHECK_LT(k, lobes.size());
   return sample_ggx_reflection(wo, lobes[k].first, u0, u1);
 }
 
@@ -84,6 +87,7 @@ double SamplingMixture::local_pdf(const Vec3& wo, const Vec3& wi) const {
       p += tabulated * density_[i] / (4.0 * o_h);
     }
   }
+  MATLAS_DCHECK(p >= 0, "a mixture of densities");
   return p / total();
 }
 

@@ -5,6 +5,7 @@
 
 #include <Eigen/SVD>
 
+#include "core/check.h"
 #include "core/error.h"
 #include "zonal/sh.h"
 
@@ -31,6 +32,7 @@ ZonalBasis::ZonalBasis(int L) : L_(L) {
 }
 
 Vec3 ZonalBasis::direction(std::size_t j) const {
+  MATLAS_DCHECK_LT(j, alpha_.size());
   return {std::sin(alpha_[j]), 0.0, std::cos(alpha_[j])};
 }
 

@@ -16,6 +16,7 @@ void ZonalCoefficients::interpolation(double theta, int* t0, double* f) const {
 
 void ZonalCoefficients::interpolate(double theta, std::vector<double>& out) const {
   const std::size_t n = 3 * size();
+  MATLAS_DCHECK_EQ(values.size(), static_cast<std::size_t>(theta_o_count) * n);
   out.resize(n);
   int t0;
   double f;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "core/check.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "zonal/lobes.h"
@@ -196,10 +197,12 @@ PrefilteredEnvironment::PrefilteredEnvironment(const render::Environment& env, c
 }
 
 Rgb PrefilteredEnvironment::lobe_lookup(std::size_t i, const Vec3& d) const {
+  MATLAS_DCHECK_LT(i, lobe_maps_.size());
   return bilinear(lobe_maps_[i], settings_.lobe_rows, d);
 }
 
 Rgb PrefilteredEnvironment::coefficient(int l, int m) const {
+  MATLAS_CHECK(l >= 0 && m >= -l && m <= l && lm_index(l, std::abs(m)) < cos_coeffs_.size(), "a coefficient (l, m)");
   return m >= 0 ? cos_coeffs_[lm_index(l, m)] : sin_coeffs_[lm_index(l, -m)];
 }
 
@@ -216,6 +219,7 @@ Rgb PrefilteredEnvironment::exact(int l, const Vec3& d) const {
 }
 
 Rgb PrefilteredEnvironment::lookup(int l, const Vec3& d) const {
+  MATLAS_DCHECK(l >= 0 && static_cast<std::size_t>(l) < maps_.size(), "a band of the environment");
   return bilinear(maps_[static_cast<std::size_t>(l)], heights_[static_cast<std::size_t>(l)], d);
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "core/check.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "zonal/sh.h"
@@ -108,6 +109,7 @@ ZonalProjector::ZonalProjector(const ProjectionSettings& settings, MerlDims dims
 }
 
 void ZonalProjector::fit_lobes(std::size_t t, Eigen::VectorXd& a, const Eigen::VectorXd& b, double* c) const {
+  MATLAS_DCHECK_LT(t, lobe_fits_.size());
   const LobeFit& f = lobe_fits_[t];
   const Eigen::VectorXd weights = f.fit * (b - f.spectra.transpose() * a);
   a -= f.spectra * weights;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "core/check.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "render/sampling.h"
@@ -24,12 +25,14 @@ Rgb shade_with(const ZonalBasis& basis, const ZonalCoefficients& c, const Prefil
   x.normalize();
   c.interpolate(std::acos(cos_o), lambda);
   const std::size_t K = c.zonal_size();
+  MATLAS_DCHECK_EQ(lambda.size(), 3 * c.size());
   const std::size_t terms = window ? std::min(K, window->size() * (window->size() + 1) / 2) : K;  // bands 0..L'
   Rgb sum = Rgb::Zero();
   for (std::size_t j = 0; j < terms; ++j) {
     const double a = basis.alpha(j);
     const int l = basis.band(j);
     const Rgb e = env.lookup(l, std::sin(a) * x + std::cos(a) * n);
+    MATLAS_DCHECK(!window || static_cast<std::size_t>(l) < window->size(), "terms stop at the window's last band");
     const double w = window ? (*window)[static_cast<std::size_t>(l)] : 1.0;
     sum += w * Rgb(lambda[3 * j], lambda[3 * j + 1], lambda[3 * j + 2]) * e;
   }

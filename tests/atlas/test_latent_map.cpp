@@ -7,6 +7,7 @@
 #include "atlas/latent_map.h"
 #include "atlas/model_basis.h"
 #include "brdf/catalog.h"
+#include "core/check.h"
 #include "core/error.h"
 #include "formats/image_io.h"
 #include "formats/synth_database.h"
@@ -343,7 +344,8 @@ TEST_F(LatentMapTest, ServerLayersArePerPointQueriesOnTheRectangle) {
     }
   EXPECT_THROW(LatentPlane::rectangle(base, 0, 0, 0, 1, 0, 1), Error);
   EXPECT_THROW(LatentPlane::rectangle(base, 0, 1, 1, 0, 0, 1), Error);
-  EXPECT_THROW(map_layer_pixels(*model_, plane, w, h, MapLayer::plausibility), Error);  // no probe
+  // No probe: a caller's bug (the server and `matlas map` always pass one), not a user's error.
+  EXPECT_THROW(map_layer_pixels(*model_, plane, w, h, MapLayer::plausibility), InternalError);
 }
 
 TEST_F(LatentMapTest, AlbedoLayerIsTransparentFarFromTheDataAndOpaqueAtIt) {

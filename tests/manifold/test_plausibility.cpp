@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 
+#include "core/check.h"
 #include "manifold/build.h"
 #include "manifold/material_set.h"
 #include "manifold/model.h"
@@ -70,6 +72,43 @@ TEST(Plausibility, InputsArePlausibleAndExtrapolationIsCaught) {
     EXPECT_NEAR(batch[static_cast<std::size_t>(j)].max_albedo, single.max_albedo, 1e-9) << j;
     EXPECT_NEAR(batch[static_cast<std::size_t>(j)].min_albedo, single.min_albedo, 1e-9) << j;
   }
+}
+
+/// Runs f, expecting InternalError whose message names `condition`; the message when it does not.
+template <class F>
+std::string internal_error_of(F&& f) {
+  try {
+    f();
+  } catch (const InternalError& e) {
+    return e.what();
+  }
+  return "no InternalError";
+}
+
+TEST(Plausibility, WeightsOfTheWrongLengthAreACallersBug) {
+  // A weight vector comes from the model itself (Model::weights, material_weights, a grid's
+  // prediction): one of another length is a bug in matlas, refused by a check that names the
+  // condition instead of reading past the end of the model's matrices.
+  test::TempDir dir;
+  test::write_database(dir / "db", 5);
+  BuildOptions o;
+  o.dim = 2;
+  build_model(MaterialSet::open({dir / "db"}), o, dir / "m.matlas");
+  const Model m = Model::open(dir / "m.matlas");
+  const PlausibilityProbe probe(m, 50);
+  const Eigen::VectorXd wrong = Eigen::VectorXd::Constant(m.count() + 1, 1.0 / (m.count() + 1));
+  EXPECT_NE(internal_error_of([&] { probe(wrong); }).find("w.size() == centred_.cols() (6 vs 5)"), std::string::npos)
+      << internal_error_of([&] { probe(wrong); });
+  EXPECT_NE(internal_error_of([&] { probe.batch(Eigen::MatrixXd::Zero(m.count() - 1, 3)); }).find("W.rows() == centred_.cols()"),
+            std::string::npos);
+  EXPECT_NE(internal_error_of([&] { m.albedo_curve(wrong); }).find("w.size() == Eigen::Index{count()}"),
+            std::string::npos);
+  EXPECT_NE(internal_error_of([&] { m.albedo_batch(Eigen::MatrixXd::Zero(m.count() + 2, 4)); }).find("W.rows()"),
+            std::string::npos);
+  EXPECT_NE(internal_error_of([&] { m.weights_from_gp(wrong, Interpolation::convex); }).find("w.size()"),
+            std::string::npos);
+  // The right length passes.
+  EXPECT_NO_THROW(probe(m.material_weights(0)));
 }
 
 }  // namespace

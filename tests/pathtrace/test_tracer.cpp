@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "brdf/tabulate.h"
+#include "core/check.h"
 #include "core/error.h"
 #include "formats/mesh_io.h"
 #include "pathtrace/tracer.h"
@@ -321,6 +322,18 @@ TEST(SceneSpec, BuiltInScenesRoundTripAndBadFilesAreNamed) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("x.json: objects[0].shape"), std::string::npos) << e.what();
   }
+}
+
+TEST(Tracer, AMaterialIndexOutOfRangeIsACallersBug) {
+  // The parts hold one image per material of the bank the trace used: asking for another is a
+  // bug in matlas, refused by a check instead of reading past the end of `once`.
+  TraceImages t;
+  t.p = Image(2, 2);
+  t.once.assign(1, Image(2, 2));
+  t.more.assign(1, Image(2, 2));
+  EXPECT_NO_THROW(t.full(0));
+  EXPECT_THROW(t.i1(1), InternalError);
+  EXPECT_THROW(t.full(-1), InternalError);
 }
 
 }  // namespace

@@ -2,7 +2,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
+#include <vector>
 
+#include "core/check.h"
 #include "core/error.h"
 #include "render/assets.h"
 #include "render/environment.h"
@@ -94,6 +97,21 @@ TEST(Environment, InstalledAssetsDecode) {
   EXPECT_EQ(env.width(), 512);
   EXPECT_EQ(env.height(), 256);
   EXPECT_GT(env.eval(Vec3(0, 1, 0)).sum(), 0.0);
+}
+
+TEST(Environment, ADistributionOfTheWrongShapeIsACallersBug) {
+  // The environment builds its weights from the map it holds: weights that do not fill the
+  // cols x rows table are a bug in matlas, refused by name rather than read past their end.
+  const std::vector<double> weights(5, 1.0);
+  try {
+    const Distribution2D d(weights, 2, 3);
+    ADD_FAILURE() << "a 2 x 3 distribution of 5 weights was accepted";
+  } catch (const InternalError& e) {
+    EXPECT_NE(std::string(e.what()).find("weights.size() == "), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("(5 vs 6)"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(Distribution2D(std::vector<double>{}, 0, 0), InternalError);
+  EXPECT_NO_THROW(Distribution2D(std::vector<double>(6, 1.0), 2, 3));
 }
 
 }  // namespace
