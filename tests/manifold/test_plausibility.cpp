@@ -17,13 +17,18 @@
 namespace matlas {
 namespace {
 
-TEST(Plausibility, InputsArePlausibleAndExtrapolationIsCaught) {
-  test::TempDir dir;
-  test::write_database(dir / "db", 6);
+/// A model of `count` synthetic materials (q = 2) built in `dir`.
+Model small_model(const test::TempDir& dir, int count) {
+  test::write_database(dir / "db", count);
   BuildOptions o;
   o.dim = 2;
   build_model(MaterialSet::open({dir / "db"}), o, dir / "m.matlas");
-  const Model m = Model::open(dir / "m.matlas");
+  return Model::open(dir / "m.matlas");
+}
+
+TEST(Plausibility, InputsArePlausibleAndExtrapolationIsCaught) {
+  test::TempDir dir;
+  const Model m = small_model(dir, 6);
   const PlausibilityProbe probe(m, 400);
   EXPECT_EQ(probe.samples(), 400u);
 
@@ -90,11 +95,7 @@ TEST(Plausibility, WeightsOfTheWrongLengthAreACallersBug) {
   // prediction): one of another length is a bug in matlas, refused by a check that names the
   // condition instead of reading past the end of the model's matrices.
   test::TempDir dir;
-  test::write_database(dir / "db", 5);
-  BuildOptions o;
-  o.dim = 2;
-  build_model(MaterialSet::open({dir / "db"}), o, dir / "m.matlas");
-  const Model m = Model::open(dir / "m.matlas");
+  const Model m = small_model(dir, 5);
   const PlausibilityProbe probe(m, 50);
   const Eigen::VectorXd wrong = Eigen::VectorXd::Constant(m.count() + 1, 1.0 / (m.count() + 1));
   EXPECT_NE(internal_error_of([&] { probe(wrong); }).find("w.size() == centred_.cols() (6 vs 5)"), std::string::npos)
