@@ -68,7 +68,10 @@ void ImageBasis::pack(const float* mean, const std::vector<const float*>& images
   MATLAS_CHECK_EQ(images.size(), static_cast<std::size_t>(n_));
   active_.clear();
   for (std::size_t p = 0; p < pixels; ++p) {
+    // Inactive: every material and the mean have one value there, so any weights give it
+    // (the coefficients sum to one).
     bool differs = false;
+    for (std::size_t c = 0; c < 3; ++c) differs = differs || !same_value(mean[3 * p + c], images[0][3 * p + c]);
     for (std::size_t i = 1; i < images.size() && !differs; ++i)
       for (std::size_t c = 0; c < 3; ++c)
         if (!same_value(images[i][3 * p + c], images[0][3 * p + c])) differs = true;
@@ -85,8 +88,29 @@ void ImageBasis::pack(const float* mean, const std::vector<const float*>& images
       for (std::size_t i = 0; i < images.size(); ++i)
         values_f32_[tiled(i, 3 * a + c, images.size())] = images[i][3 * active_[a] + c];
     }
+  pack_offset();
   rank_ = 0;
   factors_.clear();
+}
+
+void ImageBasis::pack_offset() {
+  packed_offset_.clear();
+  if (offset_.empty()) return;
+  packed_offset_.resize(packed_);
+  for (std::size_t a = 0; a < active_.size(); ++a)
+    for (std::size_t c = 0; c < 3; ++c) packed_offset_[3 * a + c] = offset_[3 * active_[a] + c];
+}
+
+void ImageBasis::set_offset(const Image& offset) {
+  if (offset.width != width_ || offset.height != height_) throw Error("image basis: the offset image differs in size");
+  offset_ = offset.rgb;
+  pack_offset();
+}
+
+Image ImageBasis::offset_image() const {
+  Image im(width_, height_);
+  if (!offset_.empty()) im.rgb = offset_;
+  return im;
 }
 
 double ImageBasis::active_fraction() const {
@@ -139,18 +163,32 @@ Image ImageBasis::material_image(int i) const {
 
 // --- composition ------------------------------------------------------------------------------
 
-void ImageBasis::compose_tiles(const float* w, std::size_t rows, float mean_weight, const float* f32,
+void ImageBasis::compose_tiles(const Terms& terms, std::size_t rows, float mean_weight, const float* f32,
                                const std::uint16_t* f16, float* rgb) const {
-  // rgb = mean_weight * mean + sum_r w[r] * row_r on the active pixels, the full-image mean elsewhere.
-  std::copy(mean_.begin(), mean_.end(), rgb);
-  const int n = static_cast<int>(rows);
+  // rgb = offset + mean_weight * mean + sum_t weight_t * row_{index_t} on the active pixels, the
+  // full-image offset + mean elsewhere. When every pixel is active the packed values are the
+  // image's, written in place.
+  const bool dense = active_.size() == static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_);
+  const bool offset = !offset_.empty();
+  if (!dense)
+    parallel_for(0, mean_.size(), [&](std::size_t v0, std::size_t v1) {
+      for (std::size_t v = v0; v < v1; ++v) rgb[v] = offset ? offset_[v] + mean_[v] : mean_[v];
+    }, std::size_t(1) << 16);
+  const int n = static_cast<int>(terms.index.size());
   parallel_for(0, tile_count(packed_), [&](std::size_t t0, std::size_t t1) {
     alignas(64) float acc[kChunk];
     for (std::size_t t = t0; t < t1; ++t) {
       const std::size_t begin = t * kChunk, len = std::min(kChunk, packed_ - begin), base = t * kChunk * rows;
-      for (std::size_t j = 0; j < len; ++j) acc[j] = mean_weight * packed_mean_[begin + j];
-      if (f16) accumulate_f16(f16 + base, kChunk, 0, len, w, n, acc);
-      else accumulate_f32(f32 + base, kChunk, 0, len, w, n, acc);
+      if (offset)
+        for (std::size_t j = 0; j < len; ++j) acc[j] = packed_offset_[begin + j] + mean_weight * packed_mean_[begin + j];
+      else
+        for (std::size_t j = 0; j < len; ++j) acc[j] = mean_weight * packed_mean_[begin + j];
+      if (f16) accumulate_f16(f16 + base, kChunk, 0, len, terms.index.data(), terms.weight.data(), n, acc);
+      else accumulate_f32(f32 + base, kChunk, 0, len, terms.index.data(), terms.weight.data(), n, acc);
+      if (dense) {
+        std::copy_n(acc, len, rgb + begin);
+        continue;
+      }
       for (std::size_t j = 0; j < len; ++j) {
         const std::size_t k = begin + j;
         rgb[3 * static_cast<std::size_t>(active_[k / 3]) + k % 3] = acc[j];
@@ -161,11 +199,16 @@ void ImageBasis::compose_tiles(const float* w, std::size_t rows, float mean_weig
 
 void ImageBasis::compose(const Eigen::Ref<const Eigen::VectorXd>& w, float* rgb) const {
   MATLAS_CHECK_EQ(w.size(), n_);
-  // I(w) = (1 - sum w) I_mean + sum_i w_i I_i.
-  std::vector<float> wf(static_cast<std::size_t>(n_));
-  for (int i = 0; i < n_; ++i) wf[static_cast<std::size_t>(i)] = static_cast<float>(w[i]);
+  // I(w) = (1 - sum w) I_mean + sum_i w_i I_i, reading only the images of non-zero weights (convex
+  // weights have a handful).
+  Terms terms;
+  for (int i = 0; i < n_; ++i)
+    if (const auto wi = static_cast<float>(w[i]); wi != 0.0f) {
+      terms.index.push_back(i);
+      terms.weight.push_back(wi);
+    }
   const bool half = precision_ == BasisPrecision::f16;
-  compose_tiles(wf.data(), static_cast<std::size_t>(n_), static_cast<float>(Combination::mean_weight(w)),
+  compose_tiles(terms, static_cast<std::size_t>(n_), static_cast<float>(Combination::mean_weight(w)),
                 half ? nullptr : values_f32_.data(), half ? values_f16_.data() : nullptr, rgb);
 }
 
@@ -180,9 +223,12 @@ void ImageBasis::compose_low_rank(const Eigen::Ref<const Eigen::VectorXd>& w, fl
   MATLAS_CHECK_EQ(w.size(), n_);
   // I(w) ~ I_mean + sum_k c_k F_k with c = C^T w.
   const Eigen::VectorXd c = coefficients_.transpose() * w;
-  std::vector<float> cf(static_cast<std::size_t>(rank_));
-  for (int k = 0; k < rank_; ++k) cf[static_cast<std::size_t>(k)] = static_cast<float>(c[k]);
-  compose_tiles(cf.data(), static_cast<std::size_t>(rank_), 1.0f, factors_.data(), nullptr, rgb);
+  Terms terms;
+  for (int k = 0; k < rank_; ++k) {
+    terms.index.push_back(k);
+    terms.weight.push_back(static_cast<float>(c[k]));
+  }
+  compose_tiles(terms, static_cast<std::size_t>(rank_), 1.0f, factors_.data(), nullptr, rgb);
 }
 
 Image ImageBasis::compose_low_rank(const Eigen::Ref<const Eigen::VectorXd>& w) const {
@@ -287,6 +333,7 @@ void ImageBasis::save(const std::filesystem::path& path, BasisPrecision precisio
   for (const auto& [k, v] : meta) writer.add_metadata(k, v);
   if (rank_ > 0) writer.declare("lowrank_coefficients", DType::F64, {n_, rank_});
   writer.declare("mean", DType::F32, {h, w, 3});
+  if (!offset_.empty()) writer.declare("offset", DType::F32, {h, w, 3});
   if (rank_ > 0) writer.declare("lowrank_factors", DType::F32, {rank_, h, w, 3});
   writer.declare("images", precision == BasisPrecision::f16 ? DType::F16 : DType::F32, {n_, h, w, 3});
   writer.begin(path);
@@ -295,6 +342,7 @@ void ImageBasis::save(const std::filesystem::path& path, BasisPrecision precisio
     writer.write(c.data(), static_cast<std::size_t>(c.size()) * sizeof(double));
   }
   writer.write(mean_.data(), pixels3 * sizeof(float));
+  if (!offset_.empty()) writer.write(offset_.data(), pixels3 * sizeof(float));
   std::vector<float> buffer(pixels3);
   for (int k = 0; k < rank_; ++k) {
     std::fill(buffer.begin(), buffer.end(), 0.0f);
@@ -372,6 +420,13 @@ ImageBasis ImageBasis::open(const std::filesystem::path& path) {
   }
   for (float x : basis.mean_)
     if (!std::isfinite(x)) throw file_error(path, "image basis has NaN or infinite pixels");
+  if (file.find("offset")) {
+    const auto offset = file.view<float>("offset", DType::F32, {h, w, 3});
+    for (float x : offset)
+      if (!std::isfinite(x)) throw file_error(path, "image basis has NaN or infinite pixels");
+    basis.offset_.assign(offset.begin(), offset.end());
+    basis.pack_offset();
+  }
   if (const TensorInfo* f = file.find("lowrank_factors")) {
     if (f->shape.empty()) throw file_error(path, "bad low-rank factors");
     const std::int64_t r = f->shape[0];

@@ -1,5 +1,6 @@
 #pragma once
-// ImageBasis: instant previews of any manifold point.
+// ImageBasis: an image affine in a map point's weights, the one type behind instant previews of
+// any map point and the two parts of a GI basis (atlas/gi_basis.h).
 //
 // The renderer is linear in the BRDF and uses the same samples for every material, and the
 // manifold's BRDF is m(w) = mean + sum_i w_i (z_i - mean). So with I_mean the image of the mean
@@ -12,6 +13,7 @@
 // Storage (safetensors, float32 or float16 images):
 //   "mean"    F32 [H, W, 3]      image of the mean table
 //   "images"  F32|F16 [n, H, W, 3] image of each database material
+//   optional "offset" F32 [H, W, 3] (added to every composition; set_offset)
 //   optional "lowrank_factors" F32 [r, H, W, 3] and "lowrank_coefficients" F64 [n, r]
 //   metadata: format=matlas-image-basis, version, width, height, count, names (JSON), precision,
 //             and what the caller adds (scene, env, camera, spp, seed, model name and fingerprint).
@@ -23,7 +25,8 @@
 // sum_k c_k(w) F_k with rank r <= n, its error measured.
 //
 // A basis of a model (its mean and database materials, rendered with identical samples) is made
-// by atlas/model_basis.h; this class only stores and composes images.
+// by atlas/model_basis.h, a GI basis's parts by atlas/gi_basis.h; this class only stores and
+// composes images.
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -71,11 +74,12 @@ public:
   BasisPrecision precision() const { return precision_; }
   /// Fraction of pixels where some material differs from the mean.
   double active_fraction() const;
-  /// Bytes read by one compose() (the packed image values).
+  /// Bytes read by one compose() of weights that are all non-zero (the packed image values).
   std::size_t compose_bytes() const;
 
   /// Linear RGB of the image for weights w (length n): width * height * 3 floats written to rgb.
-  /// Multi-threaded; float16 storage uses F16C when the CPU has it. Thread-safe.
+  /// Reads only the images of non-zero weights (convex weights have a handful). Multi-threaded;
+  /// float16 storage uses F16C when the CPU has it. Thread-safe.
   void compose(const Eigen::Ref<const Eigen::VectorXd>& w, float* rgb) const;
   Image compose(const Eigen::Ref<const Eigen::VectorXd>& w) const;
   /// The same through the low-rank form (compress() first); falls back to compose() without it.
@@ -84,6 +88,11 @@ public:
 
   Image mean_image() const;
   Image material_image(int i) const;
+
+  /// A constant image added to every composition, I(w) = offset + (1 - sum w) I_mean + sum_i
+  /// w_i I_i (a GI basis's paths that never touch the object); saved with the basis. None: zero.
+  void set_offset(const Image& offset);
+  Image offset_image() const;  ///< zeros when none was set
 
   /// Stores the images in float16 (what save(f16) writes) and returns the relative L2 error of
   /// the material images against the previous values.
@@ -98,9 +107,16 @@ public:
 private:
   void pack(const float* mean, const std::vector<const float*>& images);
   void unpack_into(int i, float* rgb) const;
-  /// rgb = mean_weight * mean + sum_r w[r] * row_r over tiled rows (f32 or f16, the other null).
-  void compose_tiles(const float* w, std::size_t rows, float mean_weight, const float* f32, const std::uint16_t* f16,
-                     float* rgb) const;
+  void pack_offset();
+  /// The rows a composition reads and their weights.
+  struct Terms {
+    std::vector<int> index;
+    std::vector<float> weight;
+  };
+  /// rgb = mean_weight * mean + sum_t weight_t * row_{index_t} over `rows` tiled rows (f32 or
+  /// f16, the other null).
+  void compose_tiles(const Terms& terms, std::size_t rows, float mean_weight, const float* f32,
+                     const std::uint16_t* f16, float* rgb) const;
 
   int width_ = 0, height_ = 0, n_ = 0;
   std::vector<std::string> names_;
@@ -110,6 +126,8 @@ private:
   std::vector<std::uint32_t> active_;     // active pixel indices (ascending)
   std::size_t packed_ = 0;                // 3 * active_.size()
   std::vector<float> packed_mean_;        // mean at the active pixels
+  std::vector<float> offset_;             // width * height * 3, or empty: no offset
+  std::vector<float> packed_offset_;      // offset at the active pixels (empty without one)
   std::vector<float> values_f32_;         // n rows of packed_ values, tiled (image_basis.cpp)
   std::vector<std::uint16_t> values_f16_; // the same in float16 when precision_ == f16
   int rank_ = 0;
