@@ -63,7 +63,7 @@ void BM_GiCompose512n100(benchmark::State& state) {
   Eigen::VectorXd w = Eigen::VectorXd::Constant(kCount, 0.5 / kCount);  // dense: every image read
   Image out(kSize, kSize);
   for (auto _ : state) {
-    b.compose_into(w, GiBasis::Part::all, out.rgb.data());
+    b.compose(w, GiBasis::Part::all, out.rgb.data());
     benchmark::DoNotOptimize(out.rgb.data());
   }
   state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations()) * static_cast<std::int64_t>(kBytes));
@@ -79,7 +79,7 @@ void BM_GiCompose512n100Half(benchmark::State& state) {
   Eigen::VectorXd w = Eigen::VectorXd::Constant(kCount, 0.5 / kCount);
   Image out(kSize, kSize);
   for (auto _ : state) {
-    b.compose_into(w, GiBasis::Part::all, out.rgb.data());
+    b.compose(w, GiBasis::Part::all, out.rgb.data());
     benchmark::DoNotOptimize(out.rgb.data());
   }
   state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations()) * static_cast<std::int64_t>(kBytes / 2));
@@ -96,7 +96,7 @@ void BM_GiCompose512n100Convex(benchmark::State& state) {
   for (int i = 0; i < k; ++i) w[(i * 37) % kCount] = 1.0 / k;
   Image out(kSize, kSize);
   for (auto _ : state) {
-    b.compose_into(w, GiBasis::Part::all, out.rgb.data());
+    b.compose(w, GiBasis::Part::all, out.rgb.data());
     benchmark::DoNotOptimize(out.rgb.data());
   }
 }
@@ -118,7 +118,7 @@ void BM_GiComposeSceneView192x144Convex(benchmark::State& state) {
   w[77] = 0.2;
   Image out(192, 144);
   for (auto _ : state) {
-    b.compose_into(w, GiBasis::Part::all, out.rgb.data());
+    b.compose(w, GiBasis::Part::all, out.rgb.data());
     benchmark::DoNotOptimize(out.rgb.data());
   }
 }

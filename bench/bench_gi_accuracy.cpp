@@ -139,7 +139,7 @@ int main(int argc, char** argv) {
     t = std::chrono::steady_clock::now();
     const Eigen::VectorXd w = model.weights(latent.row(0).transpose());
     Image out(basis.width(), basis.height());
-    for (int r = 0; r < 20; ++r) basis.compose_into(w, GiBasis::Part::all, out.rgb.data());
+    for (int r = 0; r < 20; ++r) basis.compose(w, GiBasis::Part::all, out.rgb.data());
     std::printf("compose %dx%d from n = %d: %.2f ms\n", basis.width(), basis.height(), n, 1e3 * seconds(t) / 20);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());

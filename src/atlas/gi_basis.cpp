@@ -1,11 +1,8 @@
 #include "atlas/gi_basis.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
-
-#if defined(__x86_64__) && defined(__GNUC__)
-#include <immintrin.h>
-#endif
 
 #include <nlohmann/json.hpp>
 
@@ -13,63 +10,12 @@
 #include "atlas/model_bank.h"
 #include "atlas/model_basis.h"
 #include "core/check.h"
-#include "core/combination.h"
-#include "core/cpu_features.h"
 #include "core/error.h"
-#include "core/parallel.h"
-#include "core/simd_clones.h"
-#include "formats/half_float.h"
 #include "formats/safetensors.h"
 
 namespace matlas::atlas {
 
 namespace {
-
-constexpr std::size_t kTile = 2048;
-
-std::size_t tile_count(std::size_t values) { return (values + kTile - 1) / kTile; }
-
-MATLAS_SIMD_CLONES void add_scaled(float a, const float* x, float* y, std::size_t n) {
-  for (std::size_t j = 0; j < n; ++j) y[j] += a * x[j];
-}
-
-#if defined(__x86_64__) && defined(__GNUC__)
-// y += a x for float16 x, 8 values per step (n is a multiple of 8: whole tiles).
-__attribute__((target("avx2,fma,f16c"))) void add_scaled_half_f16c(float a, const std::uint16_t* x, float* y,
-                                                                    std::size_t n) {
-  const __m256 va = _mm256_set1_ps(a);
-  for (std::size_t j = 0; j < n; j += 8) {
-    const __m256 v = _mm256_cvtph_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(x + j)));
-    _mm256_storeu_ps(y + j, _mm256_fmadd_ps(va, v, _mm256_loadu_ps(y + j)));
-  }
-}
-#endif
-
-void add_scaled_half(float a, const std::uint16_t* x, float* y, std::size_t n) {
-#if defined(__x86_64__) && defined(__GNUC__)
-  static const bool fast = cpu_has_avx2_fma_f16c();
-  if (fast) return add_scaled_half_f16c(a, x, y, n);
-#endif
-  for (std::size_t j = 0; j < n; ++j) y[j] += a * half_to_float(x[j]);
-}
-
-std::vector<float> tile_images(const std::vector<const float*>& images, std::size_t values) {
-  const std::size_t k = images.size();
-  std::vector<float> out(tile_count(values) * k * kTile, 0.0f);
-  for (std::size_t t = 0; t < tile_count(values); ++t)
-    for (std::size_t i = 0; i < k; ++i) {
-      const std::size_t begin = t * kTile, n = std::min(kTile, values - begin);
-      std::copy_n(images[i] + begin, n, out.data() + (t * k + i) * kTile);
-    }
-  return out;
-}
-
-void untile(const std::vector<float>& tiles, std::size_t k_count, std::size_t k, std::size_t values, float* out) {
-  for (std::size_t t = 0; t < tile_count(values); ++t) {
-    const std::size_t begin = t * kTile, n = std::min(kTile, values - begin);
-    std::copy_n(tiles.data() + (t * k_count + k) * kTile, n, out + begin);
-  }
-}
 
 Error file_error(const std::filesystem::path& path, const std::string& what) {
   return Error(path.string() + ": " + what);
@@ -134,84 +80,48 @@ bool read_images(const std::filesystem::path& path, const std::string& key, int 
 GiBasis::GiBasis(Image p, const std::vector<Image>& linear, const std::vector<Image>& full,
                  std::vector<std::string> names, std::map<std::string, std::string> metadata)
     : p_(std::move(p)), names_(std::move(names)), metadata_(std::move(metadata)) {
+  if (names_.empty()) throw Error("GI basis: no materials");
   if (linear.size() != names_.size() + 1 || full.size() != linear.size())
     throw Error("GI basis: expected n + 1 images per part for n names");
-  std::vector<const float*> l, f;
-  for (std::size_t k = 0; k < linear.size(); ++k) {
+  for (std::size_t k = 0; k < linear.size(); ++k)
     if (linear[k].width != p_.width || linear[k].height != p_.height || full[k].width != p_.width ||
         full[k].height != p_.height)
       throw Error("GI basis: images of different sizes");
-    l.push_back(linear[k].rgb.data());
-    f.push_back(full[k].rgb.data());
-  }
   MATLAS_CHECK(p_.rgb.size() == 3 * p_.pixel_count(), "an RGB image");
-  linear_ = tile_images(l, p_.rgb.size());
-  full_ = tile_images(f, p_.rgb.size());
+  // Each part: its mean image X_0, the material images X_1..X_n and P as the offset.
+  linear_ = render::ImageBasis(linear[0], std::vector<Image>(linear.begin() + 1, linear.end()));
+  full_ = render::ImageBasis(full[0], std::vector<Image>(full.begin() + 1, full.end()));
+  linear_.set_offset(p_);
+  full_.set_offset(p_);
 }
 
-double GiBasis::convert_to_half() {
-  if (is_half()) return 0.0;
-  const std::size_t k_count = names_.size() + 1;
-  double worst = 0;
-  for (auto [from, to] : {std::pair{&linear_, &linear_half_}, std::pair{&full_, &full_half_}}) {
-    to->resize(from->size());
-    std::vector<float> scale(k_count, 0.0f);  // per image, its largest magnitude
-    for (std::size_t i = 0; i < from->size(); ++i)
-      scale[(i / kTile) % k_count] = std::max(scale[(i / kTile) % k_count], std::abs((*from)[i]));
-    for (std::size_t i = 0; i < from->size(); ++i) {
-      (*to)[i] = float_to_half((*from)[i]);
-      const float s = scale[(i / kTile) % k_count];
-      if (s > 0) worst = std::max(worst, static_cast<double>(std::abs(half_to_float((*to)[i]) - (*from)[i]) / s));
-    }
-  }
-  return worst;
-}
+double GiBasis::convert_to_half() { return std::max(linear_.convert_to_half(), full_.convert_to_half()); }
 
-Image GiBasis::image(Part part, int k) const {
+Image GiBasis::image(Part which, int k) const {
   MATLAS_CHECK(k >= 0 && static_cast<std::size_t>(k) <= names_.size(), "image index in 0..n (the mean and n materials)");
+  return k == 0 ? part(which).mean_image() : part(which).material_image(k - 1);
+}
+
+Image GiBasis::compose(const Eigen::Ref<const Eigen::VectorXd>& w, Part which) const {
   Image out(width(), height());
-  untile(tiles(part), names_.size() + 1, static_cast<std::size_t>(k), out.rgb.size(), out.rgb.data());
+  compose(w, which, out.rgb.data());
   return out;
 }
 
-Image GiBasis::compose(const Eigen::Ref<const Eigen::VectorXd>& w, Part part) const {
-  Image out(width(), height());
-  compose_into(w, part, out.rgb.data());
-  return out;
-}
-
-void GiBasis::compose_into(const Eigen::Ref<const Eigen::VectorXd>& w, Part part, float* rgb) const {
+void GiBasis::compose(const Eigen::Ref<const Eigen::VectorXd>& w, Part which, float* rgb) const {
   if (w.size() != count()) throw Error("GI basis: weights of length " + std::to_string(w.size()) + " for " +
                                        std::to_string(count()) + " materials");
-  const Eigen::VectorXd a = Combination(w).coefficients();  // over the mean and the n inputs
-  const std::size_t k_count = a.size(), values = p_.rgb.size();
-  MATLAS_CHECK_EQ(k_count, names_.size() + 1);  // the mean and the n materials, as tiled
-  const std::vector<float>& data = tiles(part);
-  const std::vector<std::uint16_t>* half =
-      is_half() ? (part == Part::i1 ? &linear_half_ : &full_half_) : nullptr;
-  parallel_for(0, tile_count(values), [&](std::size_t t0, std::size_t t1) {
-    alignas(64) float acc[kTile];
-    for (std::size_t t = t0; t < t1; ++t) {
-      const std::size_t begin = t * kTile, n = std::min(kTile, values - begin);
-      std::copy_n(p_.rgb.data() + begin, n, acc);
-      std::fill(acc + n, acc + kTile, 0.0f);
-      for (std::size_t k = 0; k < k_count; ++k) {
-        const auto ak = static_cast<float>(a[static_cast<Eigen::Index>(k)]);
-        if (ak == 0) continue;
-        const std::size_t at = (t * k_count + k) * kTile;
-        if (half) add_scaled_half(ak, half->data() + at, acc, kTile);
-        else add_scaled(ak, data.data() + at, acc, kTile);
-      }
-      std::copy_n(acc, n, rgb + begin);
-    }
-  });
+  part(which).compose(w, rgb);  // P + sum_k a_k X_k, a = (1 - sum w, w)
 }
 
 void GiBasis::save(const std::filesystem::path& path) const {
   // load() refuses NaN and infinite pixels: such a basis is not written.
-  if (!all_finite(p_.rgb.data(), p_.rgb.size()) || !all_finite(linear_.data(), linear_.size()) ||
-      !all_finite(full_.data(), full_.size()))
-    throw file_error(path, "the GI basis has NaN or infinite pixels: not written (it could not be read back)");
+  std::vector<Image> images;  // linear 0..n, then full 0..n
+  for (const Part which : {Part::i1, Part::all})
+    for (int k = 0; k <= count(); ++k) images.push_back(image(which, k));
+  bool finite = all_finite(p_.rgb.data(), p_.rgb.size());
+  for (const Image& im : images) finite = finite && all_finite(im.rgb.data(), im.rgb.size());
+  if (!finite) throw file_error(path, "the GI basis has NaN or infinite pixels: not written (it could not be read back)");
   const std::int64_t k = count() + 1, h = height(), wd = width();
   SafetensorsWriter w;
   for (const auto& [key, value] : metadata_) w.add_metadata(key, value);
@@ -222,12 +132,7 @@ void GiBasis::save(const std::filesystem::path& path) const {
   w.declare("full", DType::F32, {k, h, wd, 3});
   w.begin(path);
   w.write(std::span<const float>(p_.rgb));
-  std::vector<float> buffer(p_.rgb.size());
-  for (const Part part : {Part::i1, Part::all})
-    for (std::int64_t i = 0; i < k; ++i) {
-      untile(tiles(part), static_cast<std::size_t>(k), static_cast<std::size_t>(i), buffer.size(), buffer.data());
-      w.write(std::span<const float>(buffer));
-    }
+  for (const Image& im : images) w.write(std::span<const float>(im.rgb));
   w.commit();
 }
 
@@ -242,6 +147,7 @@ GiBasis GiBasis::load(const std::filesystem::path& path) {
   } catch (const std::exception&) {
     throw file_error(path, "bad \"names\" metadata");
   }
+  if (names.empty()) throw file_error(path, "a GI basis of no materials");
   const TensorInfo& pt = f.require("p", DType::F32);
   if (pt.shape.size() != 3 || pt.shape[2] != 3 || pt.shape[0] <= 0 || pt.shape[1] <= 0)
     throw file_error(path, "tensor p is not [H, W, 3]");
@@ -250,8 +156,7 @@ GiBasis GiBasis::load(const std::filesystem::path& path) {
   const auto linear = f.view<float>("linear", DType::F32, {k, h, wd, 3});
   const auto full = f.view<float>("full", DType::F32, {k, h, wd, 3});
   for (const auto& span : {p, linear, full})
-    for (const float x : span)
-      if (!std::isfinite(x)) throw file_error(path, "GI basis has NaN or infinite pixels");
+    if (!all_finite(span.data(), span.size())) throw file_error(path, "GI basis has NaN or infinite pixels");
   Image pi(static_cast<int>(wd), static_cast<int>(h));
   std::copy(p.begin(), p.end(), pi.rgb.begin());
   std::vector<Image> l, fu;

@@ -10,7 +10,6 @@
 //
 // The second is exact at the inputs (and at w = 0) and approximates I2(x), which is quadratic
 // and higher in m(x), elsewhere.
-#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -22,9 +21,12 @@
 #include "formats/image_io.h"
 #include "manifold/model.h"
 #include "pathtrace/tracer.h"
+#include "render/image_basis.h"
 
 namespace matlas::atlas {
 
+/// A GI basis is one render::ImageBasis per part (its "mean" image X_0, its material images
+/// X_1..X_n, P its offset): composing one is an image basis's composition.
 class GiBasis {
 public:
   enum class Part { all, i1 };
@@ -40,20 +42,22 @@ public:
   const std::vector<std::string>& names() const { return names_; }
   const std::map<std::string, std::string>& metadata() const { return metadata_; }
   const Image& p() const { return p_; }
+  /// A part's images as an image basis (its mean image: k = 0, the mean table's).
+  const render::ImageBasis& part(Part part) const { return part == Part::i1 ? linear_ : full_; }
   /// Image k (0: mean table) of a part: N z_k (i1) or N z_k + I2_k (all).
   Image image(Part part, int k) const;
 
-  /// The image of weights w (length n): P + sum_k a_k X_k, X the part's images. Float sums in
-  /// blocks over the worker threads.
+  /// The image of weights w (length n): P + sum_k a_k X_k, X the part's images
+  /// (render::ImageBasis::compose, multi-threaded).
   Image compose(const Eigen::Ref<const Eigen::VectorXd>& w, Part part = Part::all) const;
   /// The same into `rgb` (width * height * 3 floats), without allocating.
-  void compose_into(const Eigen::Ref<const Eigen::VectorXd>& w, Part part, float* rgb) const;
+  void compose(const Eigen::Ref<const Eigen::VectorXd>& w, Part part, float* rgb) const;
 
-  /// Adds a float16 copy of the images that compose() reads from then on (half the bytes per
-  /// composition; relative rounding 2^-11; image() and save() keep the float32 values). Returns the largest relative error of an image value (against its image's
-  /// largest magnitude).
+  /// Stores both parts' images in float16 (half the bytes per composition; relative rounding
+  /// 2^-11); image() and save() return the rounded values from then on. Returns the relative L2
+  /// error of the rounded images (render::ImageBasis::convert_to_half), the larger of the parts'.
   double convert_to_half();
-  bool is_half() const { return !linear_half_.empty(); }
+  bool is_half() const { return linear_.precision() == render::BasisPrecision::f16; }
 
   /// safetensors (float32 whatever the memory form): p F32 [H,W,3], linear and full F32 [n+1,H,W,3]; metadata plus "names" (JSON).
   void save(const std::filesystem::path& path) const;
@@ -61,11 +65,8 @@ public:
   static GiBasis load(const std::filesystem::path& path);
 
 private:
-  const std::vector<float>& tiles(Part part) const { return part == Part::i1 ? linear_ : full_; }
   Image p_;
-  // Tiled: per tile of kTile values, the n + 1 images one after the other (one contiguous run).
-  std::vector<float> linear_, full_;
-  std::vector<std::uint16_t> linear_half_, full_half_;  // the same in float16 after convert_to_half
+  render::ImageBasis linear_, full_;
   std::vector<std::string> names_;
   std::map<std::string, std::string> metadata_;
 };
