@@ -1,15 +1,9 @@
 #include "server/basis_previews.h"
 
 #include <algorithm>
-#include <chrono>
-#include <atomic>
 #include <cctype>
-#include <condition_variable>
-#include <deque>
 #include <map>
 #include <mutex>
-#include <set>
-#include <thread>
 
 #include "atlas/model_basis.h"
 #include "atlas/model_material.h"
@@ -24,6 +18,7 @@
 #include "server/cancellable_sink.h"
 #include "server/http_error.h"
 #include "server/lru_cache.h"
+#include "server/preparations.h"
 
 namespace matlas::server {
 
@@ -46,39 +41,6 @@ struct BasisPreviews::Impl {
   struct Entry {
     std::shared_ptr<const render::ImageBasis> full, half;
   };
-  mutable std::mutex mutex;
-  /// The bases in memory; the default scene's is pinned.
-  mutable LruCache<Entry> loaded{static_cast<std::size_t>(std::max(1, options.max_loaded))};
-  mutable std::deque<std::pair<std::string, std::string>> queue;
-  mutable std::set<std::string> queued;
-  mutable std::map<std::string, std::string> failed;
-  mutable std::condition_variable cv;
-  std::atomic<bool> stop{false};
-
-  /// The scene the worker prepares now: its progress as the render reports it.
-  struct Preparing {
-    std::string key;
-    std::string stage = "starting";
-    double progress = 0;
-    std::chrono::steady_clock::time_point started;
-  };
-  mutable Preparing preparing;
-
-  /// Records the worker's progress in `preparing` (under the mutex).
-  class PreparingSink final : public ProgressSink {
-  public:
-    explicit PreparingSink(const Impl& impl) : impl_(impl) {}
-    void update(const std::string& label, std::uint64_t done, std::uint64_t total) override {
-      std::lock_guard lock(impl_.mutex);
-      impl_.preparing.stage = label;
-      impl_.preparing.progress = total ? static_cast<double>(done) / static_cast<double>(total) : 0.0;
-    }
-    void message(const std::string&) override {}
-    void finish(const std::string&) override {}
-
-  private:
-    const Impl& impl_;
-  };
 
   /// Refinements (point, scene) and the last two scenes they render, least recently used dropped.
   mutable std::mutex refine_mutex;
@@ -87,7 +49,13 @@ struct BasisPreviews::Impl {
   mutable LruCache<std::shared_ptr<const render::Scene>> scenes{2};
   /// The database's sampling mixture (the bases'), fitted once: half of every refinement's.
   render::SamplingMixture database_mixture;
-  std::thread worker;
+  /// The bases, prepared in the background by key(env, object); the default scene's is pinned.
+  /// Last: its worker uses the members above.
+  Preparations<Entry> bases{[this](const std::string& k, ProgressSink& progress) {
+                              const auto split = k.find('\n');
+                              return std::make_shared<const Entry>(build(k.substr(0, split), k.substr(split + 1), progress));
+                            },
+                            static_cast<std::size_t>(std::max(1, options.max_loaded))};
 
   Impl(const Model& m, BasisPreviewOptions o) : model(m), options(std::move(o)) {
     fingerprint = atlas::model_fingerprint(model);
@@ -109,18 +77,8 @@ struct BasisPreviews::Impl {
         }
       }
     }
-    loaded.pin(key(envs.front(), objects.front()));
+    bases.pin(key(envs.front(), objects.front()));
     database_mixture = atlas::model_render_settings(model, settings()).mixture;
-    worker = std::thread([this] { work(); });
-  }
-
-  ~Impl() {
-    {
-      std::lock_guard lock(mutex);
-      stop = true;
-    }
-    cv.notify_all();
-    worker.join();
   }
 
   static std::string key(const std::string& env, const std::string& object) { return env + "\n" + object; }
@@ -162,8 +120,7 @@ struct BasisPreviews::Impl {
       desc.environment = env;
       desc.object = object;
       const render::Scene scene(desc);
-      CancellableSink sink(progress, stop);
-      full = std::make_shared<render::ImageBasis>(atlas::render_basis(model, scene, settings(), sink));
+      full = std::make_shared<render::ImageBasis>(atlas::render_basis(model, scene, settings(), progress));
       full->convert_to_half();
       if (!path.empty()) {
         std::filesystem::create_directories(path.parent_path());
@@ -186,48 +143,6 @@ struct BasisPreviews::Impl {
     return Entry{full, small};
   }
 
-  void insert(const std::string& k, Entry e) const {
-    std::lock_guard lock(mutex);
-    loaded.put(k, std::move(e));
-  }
-
-  void work() {
-    for (;;) {
-      std::pair<std::string, std::string> job;
-      {
-        std::unique_lock lock(mutex);
-        cv.wait(lock, [&] { return stop || !queue.empty(); });
-        if (stop) return;
-        job = queue.front();
-        queue.pop_front();
-      }
-      const std::string k = key(job.first, job.second);
-      {
-        std::lock_guard lock(mutex);
-        preparing = Preparing{k, "starting", 0.0, std::chrono::steady_clock::now()};
-      }
-      try {
-        PreparingSink sink(*this);
-        insert(k, build(job.first, job.second, sink));
-      } catch (const Cancelled&) {
-        return;
-      } catch (const std::exception& e) {
-        std::lock_guard lock(mutex);
-        failed[k] = e.what();
-      }
-      std::lock_guard lock(mutex);
-      queued.erase(k);
-      preparing = Preparing{};
-    }
-  }
-
-  /// Queues a scene for the worker unless it is queued already (under the mutex).
-  void enqueue(const std::string& env, const std::string& object) const {
-    if (queued.insert(key(env, object)).second) {
-      queue.emplace_back(env, object);
-      cv.notify_one();
-    }
-  }
 };
 
 BasisPreviews::SceneStatus BasisPreviews::status(const std::string& environment, const std::string& object) const {
@@ -235,26 +150,15 @@ BasisPreviews::SceneStatus BasisPreviews::status(const std::string& environment,
   if (std::find(im.envs.begin(), im.envs.end(), environment) == im.envs.end() ||
       std::find(im.objects.begin(), im.objects.end(), object) == im.objects.end())
     throw HttpError(400, "no preview scene (" + quoted_excerpt(environment) + ", " + quoted_excerpt(object) + ")");
-  const std::string k = Impl::key(environment, object);
-  std::lock_guard lock(im.mutex);
-  if (im.loaded.contains(k)) return {};
+  const auto prepared = im.bases.request(Impl::key(environment, object));
+  if (prepared.value) return {};
   SceneStatus s;
   s.ready = false;
-  s.progress = 0;
-  if (const auto f = im.failed.find(k); f != im.failed.end()) {
-    s.error = f->second;
-    s.stage = "failed";
-    return s;
-  }
-  im.enqueue(environment, object);
-  if (im.preparing.key != k) {
-    s.stage = "waiting for another scene";
-    return s;
-  }
-  s.stage = im.preparing.stage;
-  s.progress = im.preparing.progress;
-  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - im.preparing.started).count();
-  if (s.progress >= 0.02 && s.seconds >= 1.0) s.seconds_left = s.seconds * (1.0 - s.progress) / s.progress;
+  s.progress = prepared.progress;
+  s.stage = prepared.stage;
+  s.seconds = prepared.seconds;
+  s.seconds_left = prepared.seconds_left;
+  s.error = prepared.error;
   return s;
 }
 
@@ -300,7 +204,7 @@ BasisPreviews::Refined BasisPreviews::refine(const Eigen::VectorXd& w, const std
     refinement = *im.refinements.put(key, std::move(made), /*keep_existing=*/true);
     im.scenes.put(scene_key, scene);
   }
-  CancellableSink sink(progress, im.stop);
+  CancellableSink sink(progress, im.bases.stopping());
   Refined out;
   try {
     out.state = refinement->refine(seconds, sink);
@@ -329,7 +233,7 @@ BasisPreviews::~BasisPreviews() = default;
 void BasisPreviews::prepare_default(ProgressSink& progress) {
   const auto& env = impl_->envs.front();
   const auto& object = impl_->objects.front();
-  impl_->insert(Impl::key(env, object), impl_->build(env, object, progress));
+  impl_->bases.put(Impl::key(env, object), std::make_shared<const Impl::Entry>(impl_->build(env, object, progress)));
 }
 
 std::filesystem::path BasisPreviews::cache_path(const std::string& environment, const std::string& object) const {
@@ -346,21 +250,13 @@ ToneMap BasisPreviews::tone() const { return impl_->options.tone; }
 
 Image BasisPreviews::render(const Eigen::VectorXd& w, const std::string& environment, const std::string& object,
                             int size) const {
-  const std::string k = Impl::key(environment, object);
-  std::shared_ptr<const render::ImageBasis> full, half;
-  {
-    std::lock_guard lock(impl_->mutex);
-    if (const auto* entry = impl_->loaded.find(k)) {
-      full = entry->full;
-      half = entry->half;
-    } else if (const auto f = impl_->failed.find(k); f != impl_->failed.end()) {
-      throw HttpError(500, "the preview scene (" + environment + ", " + object + ") failed: " + f->second);
-    } else {
-      impl_->enqueue(environment, object);
-      throw HttpError(503, "the preview scene (" + environment + ", " + object +
-                               ") is being prepared; try again in a few seconds");
-    }
-  }
+  const auto prepared = impl_->bases.request(Impl::key(environment, object));
+  if (!prepared.error.empty())
+    throw HttpError(500, "the preview scene (" + environment + ", " + object + ") failed: " + prepared.error);
+  if (!prepared.value)
+    throw HttpError(503, "the preview scene (" + environment + ", " + object +
+                             ") is being prepared; try again in a few seconds");
+  const std::shared_ptr<const render::ImageBasis> full = prepared.value->full, half = prepared.value->half;
   Image image = size <= half->width() ? half->compose_low_rank(w) : full->compose(w);
   if (image.width != size) image = resize_area(image, size, size);
   return image;

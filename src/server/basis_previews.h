@@ -7,8 +7,8 @@
 // Bases are rendered once per scene and cached on disk (cache_dir, keyed by the model's
 // fingerprint, the scene and the render settings), so a restart loads them in a moment. The
 // default scene is prepared before serving (prepare_default); any other scene is rendered in the
-// background on its first request, which gets 503 "being prepared" meanwhile. At most
-// `max_loaded` bases stay in memory (least recently used dropped).
+// background on its first request (server/preparations.h), which gets 503 "being prepared"
+// meanwhile. At most `max_loaded` bases stay in memory (least recently used dropped).
 //
 // Refinement: the point a user rests on is rendered directly (render/progressive_render.h): its
 // table is built once (atlas::ModelTableMaterial), sampled with the defensive mixture of the one

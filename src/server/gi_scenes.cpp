@@ -1,14 +1,11 @@
 #include "server/gi_scenes.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cctype>
 #include <cmath>
-#include <condition_variable>
-#include <deque>
+#include <limits>
 #include <map>
 #include <mutex>
-#include <thread>
 #include <utility>
 
 #include <nlohmann/json.hpp>
@@ -20,9 +17,9 @@
 #include "manifold/model.h"
 #include "pathtrace/scene_spec.h"
 #include "pathtrace/world.h"
-#include "server/cancellable_sink.h"
 #include "server/http_error.h"
 #include "server/lru_cache.h"
+#include "server/preparations.h"
 
 namespace matlas::server {
 
@@ -53,45 +50,44 @@ struct GiScenes::Impl {
   std::vector<std::string> given;     // of them, those loaded from options.bases
   int passes = 1;                     // tracing passes of a scene (progress)
 
-  mutable std::mutex mutex;
-  mutable std::condition_variable changed;
-  mutable std::map<std::string, GiSceneState> states;  // scenes loaded, queued or being traced
-  mutable std::deque<std::string> queue;
-  std::atomic<bool> stop{false};
-  std::thread worker;
-
-  /// Records a scene's progress in its state: the passes of build_gi_basis, each reported as
-  /// "tracing materials a..b" then per row.
-  class Recorder final : public ProgressSink {
+  /// Reports build_gi_basis's passes ("tracing materials a..b", then per row) as one fraction
+  /// of the whole, each pass's line as the stage.
+  class PassProgress final : public ProgressSink {
   public:
-    Recorder(const Impl& impl, std::string scene) : impl_(impl), scene_(std::move(scene)) {}
+    PassProgress(ProgressSink& inner, int passes) : inner_(inner), passes_(passes) {}
     void update(const std::string&, std::uint64_t done, std::uint64_t total) override {
       const double pass = total > 0 ? static_cast<double>(done) / static_cast<double>(total) : 0.0;
-      set((std::max(0, started_ - 1) + std::min(1.0, pass)) / impl_.passes);
+      fraction_ = std::clamp(std::max(fraction_, (std::max(0, started_ - 1) + std::min(1.0, pass)) / passes_), 0.0, 1.0);
+      inner_.update(line_, static_cast<std::uint64_t>(std::llround(fraction_ * kSteps)), kSteps);
     }
     void message(const std::string& line) override {
       ++started_;
-      std::lock_guard lock(impl_.mutex);
-      impl_.states[scene_].stage = line;
+      line_ = line;
+      inner_.update(line_, static_cast<std::uint64_t>(std::llround(fraction_ * kSteps)), kSteps);
     }
     void finish(const std::string&) override {}
 
   private:
-    void set(double fraction) {
-      std::lock_guard lock(impl_.mutex);
-      auto& s = impl_.states[scene_];
-      s.progress = std::clamp(std::max(s.progress, fraction), 0.0, 1.0);
-    }
-    const Impl& impl_;
-    std::string scene_;
+    static constexpr std::uint64_t kSteps = 1000000;
+    ProgressSink& inner_;
+    int passes_;
     int started_ = 0;
+    double fraction_ = 0;
+    std::string line_ = "tracing";
   };
+
+  /// The scenes' bases: given ones put (and pinned) at start-up, the others traced in the
+  /// background when first asked for. Made in the constructor, once the options are final.
+  std::unique_ptr<Preparations<atlas::GiBasis>> bases;
 
   Impl(const Model& m, GiSceneOptions o) : model(m), options(std::move(o)) {
     if (options.fit_density) options.trace.density = atlas::fit_gi_density(model);
     options.trace.validate();
     if (options.batch <= 0) throw Error("GI scenes: the batch must be positive");
     passes = (model.count() + 1 + options.batch - 1) / options.batch;
+    bases = std::make_unique<Preparations<atlas::GiBasis>>(
+        [this](const std::string& scene, ProgressSink& progress) { return trace(scene, progress); },
+        std::numeric_limits<std::size_t>::max());
     for (const auto& path : options.bases) {
       auto basis = std::make_shared<const atlas::GiBasis>(atlas::GiBasis::load(path));
       atlas::require_basis_of_model(*basis, model, path);
@@ -100,22 +96,13 @@ struct GiScenes::Impl {
       if (std::find(given.begin(), given.end(), name) != given.end())
         throw Error(path.string() + ": a second basis of the scene '" + name + "'");
       given.push_back(name);
-      states[name] = GiSceneState{std::move(basis), 1.0, "ready", ""};
+      bases->pin(name);
+      bases->put(name, std::move(basis));
     }
     names = given;
     for (const auto& s : options.scenes)
       if (std::find(names.begin(), names.end(), s) == names.end()) names.push_back(s);
     if (options.cache_dir.empty()) options.cache_dir = model.path().string() + ".gi";
-    worker = std::thread([this] { work(); });
-  }
-
-  ~Impl() {
-    {
-      std::lock_guard lock(mutex);
-      stop = true;
-    }
-    changed.notify_all();
-    worker.join();
   }
 
   std::filesystem::path basis_path(const std::string& scene) const {
@@ -125,33 +112,13 @@ struct GiScenes::Impl {
                                 std::to_string(t.seed) + ".safetensors");
   }
 
-  void work() {
-    for (;;) {
-      std::string scene;
-      {
-        std::unique_lock lock(mutex);
-        changed.wait(lock, [&] { return stop || !queue.empty(); });
-        if (stop) return;
-        scene = queue.front();
-        queue.pop_front();
-      }
-      try {
-        const pathtrace::World world(pathtrace::load_scene(scene, options.object));
-        Recorder recorder(*this, scene);
-        CancellableSink sink(recorder, stop);
-        std::filesystem::create_directories(options.cache_dir);
-        auto basis = std::make_shared<const atlas::GiBasis>(
-            atlas::open_or_build_gi_basis(model, world, options.trace, basis_path(scene), options.batch, sink));
-        std::lock_guard lock(mutex);
-        states[scene] = GiSceneState{std::move(basis), 1.0, "ready", ""};
-      } catch (const Cancelled&) {
-        return;
-      } catch (const std::exception& e) {
-        std::lock_guard lock(mutex);
-        states[scene].error = e.what();
-      }
-      changed.notify_all();
-    }
+  /// Traces a scene's basis (or loads it from its file): on the worker of `bases`.
+  std::shared_ptr<const atlas::GiBasis> trace(const std::string& scene, ProgressSink& progress) const {
+    const pathtrace::World world(pathtrace::load_scene(scene, options.object));
+    PassProgress passes_progress(progress, passes);
+    std::filesystem::create_directories(options.cache_dir);
+    return std::make_shared<const atlas::GiBasis>(
+        atlas::open_or_build_gi_basis(model, world, options.trace, basis_path(scene), options.batch, passes_progress));
   }
 
   // Refinement at rest: per scene its world, per point a progressive trace (the last few).
@@ -162,12 +129,9 @@ struct GiScenes::Impl {
 
   /// The world of an offered scene and the size of its images. Caller holds refine_mutex.
   std::pair<std::shared_ptr<const pathtrace::World>, std::pair<int, int>> world_of(const std::string& scene) const {
-    std::shared_ptr<const atlas::GiBasis> given_basis;
-    {
-      std::lock_guard lock(mutex);
-      require_offered(scene);
-      if (std::find(given.begin(), given.end(), scene) != given.end()) given_basis = states.at(scene).basis;
-    }
+    require_offered(scene);
+    const std::shared_ptr<const atlas::GiBasis> given_basis =
+        std::find(given.begin(), given.end(), scene) != given.end() ? bases->find(scene) : nullptr;
     auto& world = worlds[scene];
     if (!world) {
       if (given_basis) {
@@ -203,14 +167,11 @@ struct GiScenes::Impl {
     throw Error("unknown GI scene " + quoted_excerpt(scene) + "; offered: " + (list.empty() ? "none" : list));
   }
 
-  /// The state, queueing the scene when it is new. Caller holds the mutex.
-  GiSceneState locked_state(const std::string& scene) const {
+  /// The state of an offered scene, queueing it when it is new.
+  GiSceneState state(const std::string& scene) const {
     require_offered(scene);
-    if (const auto it = states.find(scene); it != states.end()) return it->second;
-    states[scene] = GiSceneState{nullptr, 0.0, "queued", ""};
-    queue.push_back(scene);
-    changed.notify_all();
-    return states[scene];
+    const auto s = bases->request(scene);
+    return GiSceneState{s.value, s.progress, s.stage, s.error};
   }
 };
 
@@ -232,21 +193,13 @@ std::map<std::string, std::vector<std::string>> GiScenes::views() const {
 ToneMap GiScenes::tone() const { return impl_->options.tone; }
 std::filesystem::path GiScenes::basis_path(const std::string& scene) const { return impl_->basis_path(scene); }
 
-GiSceneState GiScenes::state(const std::string& scene) const {
-  std::lock_guard lock(impl_->mutex);
-  return impl_->locked_state(scene);
-}
+GiSceneState GiScenes::state(const std::string& scene) const { return impl_->state(scene); }
 
 std::shared_ptr<const atlas::GiBasis> GiScenes::wait(const std::string& scene) const {
-  std::unique_lock lock(impl_->mutex);
-  impl_->locked_state(scene);
-  impl_->changed.wait(lock, [&] {
-    const auto& s = impl_->states[scene];
-    return s.basis || !s.error.empty() || impl_->stop;
-  });
-  const auto& s = impl_->states[scene];
-  if (!s.basis) throw Error("the GI scene '" + scene + "' failed: " + s.error);
-  return s.basis;
+  impl_->require_offered(scene);
+  const auto s = impl_->bases->wait(scene);
+  if (!s.value) throw Error("the GI scene '" + scene + "' failed: " + s.error);
+  return s.value;
 }
 
 GiScenes::Refined GiScenes::refine(const std::string& scene, const Eigen::VectorXd& w, const std::string& point,

@@ -5,7 +5,8 @@
 // checked against the model) or traced in the background on the scene's first request (the
 // built-in scenes, at a small default size), saved beside the model (MODEL.gi/) with its
 // per-material cache, so that an interrupted build resumes and a restart loads it in a moment.
-// While a scene is being traced its state says how far it got.
+// While a scene is being traced its state says how far it got (server/preparations.h, the
+// background service of the preview bases too).
 #include <cstdint>
 #include <filesystem>
 #include <map>

@@ -243,8 +243,9 @@ TEST_F(HostileRequests, AFloodFromOneAddressDoesNotStarveAnother) {
   so.waiting_per_client = 3;
   so.queue_timeout = std::chrono::milliseconds(120000);  // no timeouts here, however loaded the machine
   Live live(so);
-  // CPU references of the real-time view: heavy requests of a second or so each.
-  const std::string heavy = post("/api/realtime/reference", "{\"x\":" + live.x() + ",\"size\":128}");
+  // CPU references of the real-time view at 512 x 512: heavy requests of seconds each (at 128 x
+  // 128 an idle 2-core machine finished one before all eight had arrived, admitting a fifth).
+  const std::string heavy = post("/api/realtime/reference", "{\"x\":" + live.x() + ",\"size\":512}");
   std::mutex m;
   std::vector<std::string> done;  // who, in order of completion
   std::atomic<int> flood_ok{0}, flood_refused{0};
