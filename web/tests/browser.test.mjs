@@ -516,13 +516,22 @@ test("a scene being prepared shows its progress and a first image of the point, 
 });
 
 test("a preview error disappears once a later preview succeeds", async () => {
-  await page.route("**/api/preview", (route) => route.fulfill({
-    status: 500, contentType: "application/json", body: JSON.stringify({ error: "injected failure" }),
-  }), { times: 1 });
+  // Only the preview's own request fails: the path tool's strip (96 px, still open from an earlier
+  // test) redraws on a scene change and may still be asking when this test starts.
+  let injected = false;
+  const failOnce = (route) => {
+    if (injected || route.request().postDataJSON()?.size === 96) return route.fallback();
+    injected = true;
+    return route.fulfill({
+      status: 500, contentType: "application/json", body: JSON.stringify({ error: "injected failure" }),
+    });
+  };
+  await page.route("**/api/preview", failOnce);
   await page.locator("#map").focus();
   await page.keyboard.press("ArrowRight");
   await page.waitForFunction(() => document.getElementById("status").classList.contains("error"), null, { timeout: 10_000 });
   assert.match(await page.textContent("#status"), /preview: injected failure/);
+  await page.unroute("**/api/preview", failOnce);
   await page.locator(".preview-card").screenshot({ path: join(results, "error-shown.png") });
   await page.keyboard.press("ArrowLeft");
   await settled();
