@@ -12,6 +12,7 @@
 
 #include "core/error.h"
 #include "gp/optimize_methods.h"
+#include "gp/optimize_run.h"
 
 namespace matlas::gp {
 
@@ -97,9 +98,9 @@ OptimizeResult optimize_latent(const LikelihoodProblem& p, Eigen::MatrixXd X0, c
   if (o.starts < 1) throw Error("optimize_latent: starts must be >= 1 (got " + std::to_string(o.starts) + ")");
   if (o.starts == 1) return optimize_one(p, X0, o, sink);
 
-  const auto begin = std::chrono::steady_clock::now();
   // Starts in parallel when none can stop the others (a time limit or target is checked serially):
   // one thread per start (up to 16), so that 3 starts on 2 cores take 1.5 starts' time, not 2.
+  detail::BestOfStarts starts(o);
   const int threads = std::min(o.starts, 16);
   const bool concurrent =
       std::thread::hardware_concurrency() > 1 && o.time_limit_seconds == 0 && std::isinf(o.target_value);
@@ -107,36 +108,17 @@ OptimizeResult optimize_latent(const LikelihoodProblem& p, Eigen::MatrixXd X0, c
   if (concurrent) done_starts = run_starts_concurrently(p, X0, o, sink, threads);
 
   const Eigen::RowVectorXd centroid = X0.colwise().mean();
-  OptimizeResult best;
-  int iterations = 0, evaluations = 0;
-  for (int k = 0; k < o.starts; ++k) {
-    OptimizeResult r;
+  for (int k = 0; k < o.starts && !starts.done(); ++k) {
     if (concurrent) {
-      r = std::move(done_starts[static_cast<std::size_t>(k)]);
-    } else {
-      OptimizeOptions one = o;
-      if (o.time_limit_seconds > 0) {
-        const double used = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
-        if (k > 0 && used >= o.time_limit_seconds) break;
-        one.time_limit_seconds = std::max(o.time_limit_seconds - used, 1e-9);
-      }
-      sink.message(start_message(k, o.starts, start_scale(k)));
-      r = optimize_one(p, scaled_start(X0, centroid, k), one, sink);
+      starts.add(std::move(done_starts[static_cast<std::size_t>(k)]), k);
+      continue;
     }
-    iterations += r.iterations;
-    evaluations += r.evaluations;
-    const bool done = r.stop_reason == "target value reached" || r.stop_reason == "time limit reached";
-    if (k == 0 || r.value > best.value) {
-      best = std::move(r);
-      best.best_start = k;
-    }
-    if (done) break;
+    const std::optional<OptimizeOptions> one = starts.start(k);
+    if (!one) break;
+    sink.message(start_message(k, o.starts, start_scale(k)));
+    starts.add(optimize_one(p, scaled_start(X0, centroid, k), *one, sink), k);
   }
-  best.iterations = iterations;
-  best.evaluations = evaluations;
-  best.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
-  best.stop_reason += " (best of " + std::to_string(o.starts) + " starts: start " + std::to_string(best.best_start + 1) + ")";
-  return best;
+  return starts.finish();
 }
 
 const char* to_string(Optimizer method) {

@@ -1,9 +1,11 @@
 #include "gp/optimize_run.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 
+#include "core/check.h"
 #include "core/error.h"
 
 namespace matlas::gp::detail {
@@ -80,6 +82,43 @@ OptimizeResult OptimizationRun::finish(std::string reason) {
   report(true);
   sink_.message(std::string(to_string(options_.method)) + " stopped: " + r.stop_reason);
   return r;
+}
+
+double BestOfStarts::elapsed() const {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - begin_).count();
+}
+
+std::optional<OptimizeOptions> BestOfStarts::start(int k) const {
+  OptimizeOptions one = options_;
+  if (options_.time_limit_seconds > 0) {
+    const double used = elapsed();
+    if (k > 0 && used >= options_.time_limit_seconds) return std::nullopt;
+    one.time_limit_seconds = std::max(options_.time_limit_seconds - used, 1e-9);
+  }
+  return one;
+}
+
+bool BestOfStarts::add(OptimizeResult r, int k) {
+  iterations_ += r.iterations;
+  evaluations_ += r.evaluations;
+  done_ = r.stop_reason == "target value reached" || r.stop_reason == "time limit reached";
+  if (any_ && !(r.value > best_.value)) return false;
+  best_ = std::move(r);
+  best_.best_start = k;
+  any_ = true;
+  return true;
+}
+
+OptimizeResult BestOfStarts::finish() {
+  MATLAS_CHECK(any_, "at least one start ran");
+  OptimizeResult best = std::move(best_);
+  best.iterations = iterations_;
+  best.evaluations = evaluations_;
+  best.seconds = elapsed();
+  if (options_.starts > 1)
+    best.stop_reason += " (best of " + std::to_string(options_.starts) + " starts: start " +
+                        std::to_string(best.best_start + 1) + ")";
+  return best;
 }
 
 }  // namespace matlas::gp::detail

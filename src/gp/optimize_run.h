@@ -2,6 +2,7 @@
 // Internal to src/gp: the bookkeeping shared by the optimisers (evaluation counting, best point,
 // history, progress lines, time/iteration/target limits). Not part of the public API.
 #include <chrono>
+#include <optional>
 #include <string>
 
 #include "gp/optimize.h"
@@ -59,6 +60,32 @@ private:
   std::vector<double> history_normalized_;
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
   std::chrono::steady_clock::time_point last_report_{};
+};
+
+/// Several starts of one optimisation (OptimizeOptions::starts), the dense and the sparse one's:
+/// each start's share of the time limit, the totals over the starts, the best result kept.
+class BestOfStarts {
+public:
+  explicit BestOfStarts(const OptimizeOptions& o) : options_(o) {}
+  /// The options of start k, its time limit what is left of the whole; nullopt once the time is
+  /// spent (never for the first start).
+  std::optional<OptimizeOptions> start(int k) const;
+  /// Counts start k's result; true when it is the best so far (the caller keeps what goes with it).
+  bool add(OptimizeResult r, int k);
+  /// The last start reached the target value or the time limit: no more starts.
+  bool done() const { return done_; }
+  /// The best result with the iterations and evaluations of all starts, the time since the
+  /// first, and (with several starts) which one won.
+  OptimizeResult finish();
+
+private:
+  double elapsed() const;
+
+  OptimizeOptions options_;
+  std::chrono::steady_clock::time_point begin_ = std::chrono::steady_clock::now();
+  OptimizeResult best_;
+  int iterations_ = 0, evaluations_ = 0;
+  bool any_ = false, done_ = false;
 };
 
 }  // namespace matlas::gp::detail

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,7 @@
 #include "core/error.h"
 #include "gp/initialize.h"
 #include "gp/lbfgs_driver.h"
+#include "gp/optimize_run.h"
 
 namespace matlas::gp {
 
@@ -228,18 +230,12 @@ OptimizeResult optimize_sparse_latent(const SparseProblem& p, const Eigen::Matri
   if (X0.rows() != evaluator.count())
     throw Error("optimize_sparse_latent: X0 has " + std::to_string(X0.rows()) + " rows for " +
                 std::to_string(evaluator.count()) + " items");
-  const auto begin = std::chrono::steady_clock::now();
+  detail::BestOfStarts starts(o);
   const Eigen::RowVectorXd centroid = X0.colwise().mean();
-  OptimizeResult best;
   Eigen::MatrixXd best_Z;
-  int iterations = 0, evaluations = 0;
-  for (int k = 0; k < o.starts; ++k) {
-    OptimizeOptions one = o;
-    if (o.time_limit_seconds > 0) {
-      const double used = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
-      if (k > 0 && used >= o.time_limit_seconds) break;
-      one.time_limit_seconds = std::max(o.time_limit_seconds - used, 1e-9);
-    }
+  for (int k = 0; k < o.starts && !starts.done(); ++k) {
+    const std::optional<OptimizeOptions> one = starts.start(k);
+    if (!one) break;
     if (o.starts > 1) sink.message("start " + std::to_string(k + 1) + "/" + std::to_string(o.starts));
     const Eigen::MatrixXd Xk = (sparse_start_scale(k) * (X0.rowwise() - centroid)).rowwise() + centroid;
     std::vector<Eigen::Index> chosen = farthest_point_indices(Xk, inducing);
@@ -250,30 +246,16 @@ OptimizeResult optimize_sparse_latent(const SparseProblem& p, const Eigen::Matri
       chosen.clear();
     }
     evaluator.set_blocks(local_blocks(Xk, s.free_inducing ? Z0 : gather_rows(Xk, chosen), s.block));
-    SparseRun run(evaluator, Xk, Z0, std::move(chosen), one, sink);
+    SparseRun run(evaluator, Xk, Z0, std::move(chosen), *one, sink);
     Eigen::MatrixXd Z;
     std::string reason;
     if (evaluator.to_log_likelihood(run.best_value()) >= o.target_value) reason = "target value reached";
     else if (o.max_iterations == 0) reason = "iteration limit reached";
-    else reason = run_sparse_lbfgs(run, one);
-    OptimizeResult r = run.finish(reason, &Z);
-    iterations += r.iterations;
-    evaluations += r.evaluations;
-    const bool done = r.stop_reason == "target value reached" || r.stop_reason == "time limit reached";
-    if (k == 0 || r.value > best.value) {
-      best = std::move(r);
-      best.best_start = k;
-      best_Z = std::move(Z);
-    }
-    if (done) break;
+    else reason = run_sparse_lbfgs(run, *one);
+    if (starts.add(run.finish(reason, &Z), k)) best_Z = std::move(Z);
   }
-  best.iterations = iterations;
-  best.evaluations = evaluations;
-  best.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
-  if (o.starts > 1)
-    best.stop_reason += " (best of " + std::to_string(o.starts) + " starts: start " + std::to_string(best.best_start + 1) + ")";
   if (inducing_out != nullptr) *inducing_out = std::move(best_Z);
-  return best;
+  return starts.finish();
 }
 
 }  // namespace matlas::gp
