@@ -158,58 +158,70 @@ void ConvexProjection::project_from(Eigen::Ref<Eigen::VectorXd> g, Iterate& it, 
   g = it.c;
 }
 
+double ConvexProjection::free_set_optimum(const Eigen::VectorXd& b, Iterate& it) const {
+  // A_FF c_F = b_F + nu 1, sum c_F = 1: c_F = u + nu v with u = A_FF^-1 b_F, v = A_FF^-1 1 (v
+  // changes only with F).
+  const std::size_t m = it.size();
+  it.u.resize(m), it.cF.resize(m);
+  if (!it.v_valid) {
+    it.v.assign(m, 1.0);
+    it.forward(it.v.data(), it.v.data());
+    it.backward(it.v.data());
+    it.v_valid = true;
+  }
+  for (std::size_t s = 0; s < m; ++s) it.u[s] = b[it.order[s]];
+  it.forward(it.u.data(), it.u.data());
+  it.backward(it.u.data());
+  double usum = 0, vsum = 0;
+  for (std::size_t s = 0; s < m; ++s) usum += it.u[s], vsum += it.v[s];
+  const double nu = (1.0 - usum) / vsum;
+  for (std::size_t s = 0; s < m; ++s) it.cF[s] = it.u[s] + nu * it.v[s];
+  return nu;
+}
+
+Eigen::Index ConvexProjection::most_negative_multiplier(const Eigen::VectorXd& b, double nu, double tolerance,
+                                                       Iterate& it) const {
+  const Eigen::Index n = A_.rows();
+  const std::size_t m = it.size();
+  // (A c)_j of the bound j: the free columns summed (vectorised) while F is the smaller part,
+  // else one dot product over F per bound j.
+  const bool by_columns = 2 * m <= static_cast<std::size_t>(n);
+  if (by_columns) {
+    it.r.setZero(n);
+    for (std::size_t s = 0; s < m; ++s) it.r.noalias() += it.cF[s] * A_.col(it.order[s]);
+  }
+  Eigen::Index worst = -1;
+  double most_negative = -tolerance;
+  for (Eigen::Index j = 0; j < n; ++j) {
+    if (it.free(j)) continue;
+    double Ac = 0;
+    if (by_columns)
+      Ac = it.r[j];
+    else
+      for (std::size_t s = 0; s < m; ++s) Ac += A_(it.order[s], j) * it.cF[s];
+    const double lambda = Ac - b[j] - nu;
+    if (lambda < most_negative) {
+      most_negative = lambda;
+      worst = j;
+    }
+  }
+  return worst;
+}
+
 void ConvexProjection::solve(const Eigen::VectorXd& b, Iterate& it) const {
   const Eigen::Index n = A_.rows();
   Eigen::VectorXd& c = it.c;
   const double tolerance = 1e-11 * (1.0 + b.cwiseAbs().maxCoeff());
   const int max_iterations = 10 * static_cast<int>(n) + 10;
   for (int iteration = 0; iteration < max_iterations; ++iteration) {
-    // Equality-constrained problem on the free set: A_FF c_F = b_F + nu 1, sum c_F = 1:
-    // c_F = u + nu v with u = A_FF^-1 b_F, v = A_FF^-1 1 (v changes only with F).
+    const double nu = free_set_optimum(b, it);
     const std::size_t m = it.size();
-    it.u.resize(m), it.cF.resize(m);
-    if (!it.v_valid) {
-      it.v.assign(m, 1.0);
-      it.forward(it.v.data(), it.v.data());
-      it.backward(it.v.data());
-      it.v_valid = true;
-    }
-    for (std::size_t s = 0; s < m; ++s) it.u[s] = b[it.order[s]];
-    it.forward(it.u.data(), it.u.data());
-    it.backward(it.u.data());
-    double usum = 0, vsum = 0;
-    for (std::size_t s = 0; s < m; ++s) usum += it.u[s], vsum += it.v[s];
-    const double nu = (1.0 - usum) / vsum;
-    double cF_min = 1.0;
-    for (std::size_t s = 0; s < m; ++s) it.cF[s] = it.u[s] + nu * it.v[s], cF_min = std::min(cF_min, it.cF[s]);
-
-    if (cF_min >= 0) {
-      // At the optimum of the free set: optimal if every bound's multiplier
-      // lambda_j = (A c - b)_j - nu is >= 0; otherwise free the most negative one.
+    if (it.cF.empty() || *std::min_element(it.cF.begin(), it.cF.end()) >= 0) {
+      // At the optimum of the free set: optimal if every bound's multiplier is >= 0; otherwise
+      // free the most negative one.
       c.setZero();
       for (std::size_t s = 0; s < m; ++s) c[it.order[s]] = it.cF[s];
-      // (A c)_j of the bound j: the free columns summed (vectorised) while F is the smaller part,
-      // else one dot product over F per bound j.
-      const bool by_columns = 2 * m <= static_cast<std::size_t>(n);
-      if (by_columns) {
-        it.r.setZero(n);
-        for (std::size_t s = 0; s < m; ++s) it.r.noalias() += it.cF[s] * A_.col(it.order[s]);
-      }
-      Eigen::Index worst = -1;
-      double most_negative = -tolerance;
-      for (Eigen::Index j = 0; j < n; ++j) {
-        if (it.free(j)) continue;
-        double Ac = 0;
-        if (by_columns)
-          Ac = it.r[j];
-        else
-          for (std::size_t s = 0; s < m; ++s) Ac += A_(it.order[s], j) * it.cF[s];
-        const double lambda = Ac - b[j] - nu;
-        if (lambda < most_negative) {
-          most_negative = lambda;
-          worst = j;
-        }
-      }
+      const Eigen::Index worst = most_negative_multiplier(b, nu, tolerance, it);
       if (worst < 0) {
         c /= c.sum();
         return;

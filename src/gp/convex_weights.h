@@ -75,6 +75,12 @@ private:
   double check(const Eigen::Ref<const Eigen::VectorXd>& g) const;
   /// Runs the active-set method for b = A g from `it` (feasible) to the optimum, left in `it`.
   void solve(const Eigen::VectorXd& b, Iterate& it) const;
+  /// The optimum c_F (into it.cF) of the equality-constrained problem on the free set, and its
+  /// multiplier nu.
+  double free_set_optimum(const Eigen::VectorXd& b, Iterate& it) const;
+  /// The bound whose multiplier (A c - b)_j - nu is the most negative below -tolerance, or -1
+  /// when c (it.c, the free-set optimum) is optimal.
+  Eigen::Index most_negative_multiplier(const Eigen::VectorXd& b, double nu, double tolerance, Iterate& it) const;
   /// c(g) into g, started from `it` (the previous solution; cold when it holds none), which then
   /// holds this solution (left as it was where g is convex already). b: A g if known (n values).
   void project_from(Eigen::Ref<Eigen::VectorXd> g, Iterate& it, const double* b = nullptr) const;
