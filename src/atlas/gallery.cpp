@@ -163,6 +163,96 @@ std::vector<int> candidate_pool(const Eigen::VectorXd& variance, const std::vect
   return pool;
 }
 
+/// The entries picked so far and their appearance features (one row each).
+struct Picked {
+  std::vector<GalleryEntry> entries;
+  Eigen::MatrixXd features = Eigen::MatrixXd(0, AppearanceFeatures::kCount);
+  void add(GalleryEntry e, const Eigen::RowVectorXd& f) {
+    entries.push_back(std::move(e));
+    features.conservativeResize(features.rows() + 1, Eigen::NoChange);
+    features.row(features.rows() - 1) = f;
+  }
+};
+
+/// Real materials: farthest-point sampling over the database, from a random first one.
+void pick_real(const Model& model, const AppearanceFeatures& features, int count, SampleStream& rng, Picked& picked) {
+  const int n = model.count();
+  const Eigen::MatrixXd& Fm = features.materials();
+  const Eigen::MatrixXd raw_m = features.raw(Eigen::MatrixXd::Identity(n, n));
+  std::vector<int> all(static_cast<std::size_t>(n));
+  std::iota(all.begin(), all.end(), 0);
+  const int first = std::min(n - 1, static_cast<int>(rng.next() * n));
+  const std::vector<int> real =
+      farthest_points(Fm, all, Eigen::VectorXd::Constant(n, std::numeric_limits<double>::infinity()), count, first);
+  for (int i : real) {
+    GalleryEntry e;
+    e.real = true;
+    e.name = model.names()[static_cast<std::size_t>(i)];
+    e.x = model.latent().row(i).transpose();
+    for (int c = 0; c < 3; ++c) e.albedo[c] = model.material_albedo()(i, c);
+    e.gloss = raw_m(i, 3);
+    e.novelty = min_distance_to(Fm.row(i), Fm, i);
+    e.max_albedo = model.material_albedo().row(i).maxCoeff();
+    picked.add(std::move(e), Fm.row(i));
+  }
+}
+
+/// Generated materials: plausible, novel candidates near the data (candidate_pool), then
+/// farthest-point sampling among them, away from what is picked already.
+void pick_generated(const Model& model, const AppearanceFeatures& features, const GalleryOptions& o,
+                    SampleStream& rng, GalleryStats& stats, Picked& picked) {
+  double input_max_albedo = 0;
+  for (int i = 0; i < model.count(); ++i)
+    input_max_albedo = std::max(input_max_albedo, model.material_albedo().row(i).maxCoeff());
+  const Eigen::MatrixXd points = candidate_points(model.latent(), o.neighbours, rng);
+  const int m = static_cast<int>(points.rows());
+  // All candidates' weights and variances in one batch (products with K^-1 over blocks of
+  // points, convex solves warm-started from the previous candidate, in parallel): the same
+  // values as weights() and variance() point by point, which at n = 1000 and ~5n candidates
+  // were 5n cold O(n^2) solves in a row.
+  Model::Prediction predicted = model.predict_batch(points);
+  const Eigen::MatrixXd W = std::move(predicted.weights);
+  const Eigen::VectorXd variance = std::move(predicted.variance);
+  const Eigen::MatrixXd F = features(W), raw_c = features.raw(W);
+  const std::vector<Plausibility> plausibility = PlausibilityProbe(model, 4096).batch(W);
+  Eigen::VectorXd novelty(m);
+  for (int c = 0; c < m; ++c) novelty[c] = min_distance_to(F.row(c), features.materials());
+  auto plausible = [&](int c) {
+    const Plausibility& p = plausibility[static_cast<std::size_t>(c)];
+    return p.negative_fraction == 0 && p.min_albedo >= 0 && p.max_albedo <= input_max_albedo * (1 + 1e-9);
+  };
+  std::vector<bool> plausible_flags(static_cast<std::size_t>(m));
+  for (int c = 0; c < m; ++c) plausible_flags[static_cast<std::size_t>(c)] = plausible(c);
+  std::vector<int> pool = candidate_pool(variance, plausible_flags, novelty, o, stats);
+  std::sort(pool.begin(), pool.end());
+  Eigen::VectorXd nearest = Eigen::VectorXd::Constant(m, std::numeric_limits<double>::infinity());
+  for (int c : pool) nearest[c] = picked.features.rows() > 0 ? min_distance_to(F.row(c), picked.features) : nearest[c];
+  const int start = pool.empty() ? -1 : pool[static_cast<std::size_t>(std::min<double>(pool.size() - 1, rng.next() * pool.size()))];
+  for (int c : farthest_points(F, pool, nearest, o.random, start)) {
+    GalleryEntry e;
+    e.name = "generated";
+    e.x = points.row(c).transpose();
+    e.variance = variance[c];
+    const Eigen::MatrixXd a = model.albedo_batch(W.col(c));
+    for (int ch = 0; ch < 3; ++ch) e.albedo[ch] = a(ch, 0);
+    e.gloss = raw_c(c, 3);
+    e.novelty = novelty[c];
+    const Plausibility& p = plausibility[static_cast<std::size_t>(c)];
+    e.plausible = plausible(c);
+    e.negative_fraction = p.negative_fraction;
+    e.max_albedo = p.max_albedo;
+    picked.add(std::move(e), F.row(c));
+  }
+}
+
+/// The smallest distance between two rows (0 for fewer than two).
+double min_pair_distance(const Eigen::MatrixXd& rows) {
+  double d = std::numeric_limits<double>::infinity();
+  for (Eigen::Index a = 0; a < rows.rows(); ++a)
+    for (Eigen::Index b = a + 1; b < rows.rows(); ++b) d = std::min(d, (rows.row(a) - rows.row(b)).norm());
+  return std::isfinite(d) ? d : 0.0;
+}
+
 }  // namespace
 
 std::vector<GalleryEntry> pick_gallery(const Model& model, const GalleryOptions& o, GalleryStats* stats_out) {
@@ -170,90 +260,18 @@ std::vector<GalleryEntry> pick_gallery(const Model& model, const GalleryOptions&
   if (o.random < 0 || o.real < 0 || o.random + o.real == 0) throw Error("gallery: nothing to show");
   if (o.real > n) throw Error("gallery: --real " + std::to_string(o.real) + " exceeds the " + std::to_string(n) + " materials");
   if (o.random > 0 && n < 2) throw Error("gallery: generated materials need at least 2 database materials");
-  const Eigen::MatrixXd& X = model.latent();
   SampleStream rng(o.seed, 0x9a11e7, 0);
   GalleryStats stats;
   const AppearanceFeatures features(model);
-  const Eigen::MatrixXd& Fm = features.materials();
-  const Eigen::MatrixXd raw_m = features.raw(Eigen::MatrixXd::Identity(n, n));
-  double input_max_albedo = 0;
-  for (int i = 0; i < n; ++i) input_max_albedo = std::max(input_max_albedo, model.material_albedo().row(i).maxCoeff());
-
-  // Real materials: farthest-point sampling over the database, from a random first one.
-  std::vector<int> all(static_cast<std::size_t>(n));
-  std::iota(all.begin(), all.end(), 0);
-  const int first = std::min(n - 1, static_cast<int>(rng.next() * n));
-  const std::vector<int> real = farthest_points(Fm, all, Eigen::VectorXd::Constant(n, std::numeric_limits<double>::infinity()),
-                                                o.real, first);
-  std::vector<GalleryEntry> entries;
-  Eigen::MatrixXd picked(0, AppearanceFeatures::kCount);
-  auto add_feature = [&](const Eigen::RowVectorXd& f) {
-    picked.conservativeResize(picked.rows() + 1, Eigen::NoChange);
-    picked.row(picked.rows() - 1) = f;
-  };
-  for (int i : real) {
-    GalleryEntry e;
-    e.real = true;
-    e.name = model.names()[static_cast<std::size_t>(i)];
-    e.x = X.row(i).transpose();
-    for (int c = 0; c < 3; ++c) e.albedo[c] = model.material_albedo()(i, c);
-    e.gloss = raw_m(i, 3);
-    e.novelty = min_distance_to(Fm.row(i), Fm, i);
-    e.max_albedo = model.material_albedo().row(i).maxCoeff();
-    entries.push_back(e);
-    add_feature(Fm.row(i));
-  }
-
-  if (o.random > 0) {
-    const Eigen::MatrixXd points = candidate_points(X, o.neighbours, rng);
-    const int m = static_cast<int>(points.rows());
-    // All candidates' weights and variances in one batch (products with K^-1 over blocks of
-    // points, convex solves warm-started from the previous candidate, in parallel): the same
-    // values as weights() and variance() point by point, which at n = 1000 and ~5n candidates
-    // were 5n cold O(n^2) solves in a row.
-    Model::Prediction predicted = model.predict_batch(points);
-    const Eigen::MatrixXd W = std::move(predicted.weights);
-    const Eigen::VectorXd variance = std::move(predicted.variance);
-    const Eigen::MatrixXd F = features(W), raw_c = features.raw(W);
-    const std::vector<Plausibility> plausibility = PlausibilityProbe(model, 4096).batch(W);
-    Eigen::VectorXd novelty(m);
-    for (int c = 0; c < m; ++c) novelty[c] = min_distance_to(F.row(c), Fm);
-    auto plausible = [&](int c) {
-      const Plausibility& p = plausibility[static_cast<std::size_t>(c)];
-      return p.negative_fraction == 0 && p.min_albedo >= 0 && p.max_albedo <= input_max_albedo * (1 + 1e-9);
-    };
-    std::vector<bool> plausible_flags(static_cast<std::size_t>(m));
-    for (int c = 0; c < m; ++c) plausible_flags[static_cast<std::size_t>(c)] = plausible(c);
-    std::vector<int> pool = candidate_pool(variance, plausible_flags, novelty, o, stats);
-    std::sort(pool.begin(), pool.end());
-    Eigen::VectorXd nearest = Eigen::VectorXd::Constant(m, std::numeric_limits<double>::infinity());
-    for (int c : pool) nearest[c] = picked.rows() > 0 ? min_distance_to(F.row(c), picked) : nearest[c];
-    const int start = pool.empty() ? -1 : pool[static_cast<std::size_t>(std::min<double>(pool.size() - 1, rng.next() * pool.size()))];
-    for (int c : farthest_points(F, pool, nearest, o.random, start)) {
-      GalleryEntry e;
-      e.name = "generated";
-      e.x = points.row(c).transpose();
-      e.variance = variance[c];
-      const Eigen::MatrixXd a = model.albedo_batch(W.col(c));
-      for (int ch = 0; ch < 3; ++ch) e.albedo[ch] = a(ch, 0);
-      e.gloss = raw_c(c, 3);
-      e.novelty = novelty[c];
-      const Plausibility& p = plausibility[static_cast<std::size_t>(c)];
-      e.plausible = plausible(c);
-      e.negative_fraction = p.negative_fraction;
-      e.max_albedo = p.max_albedo;
-      entries.push_back(e);
-      add_feature(F.row(c));
-    }
-  }
-  stats.min_distance = std::numeric_limits<double>::infinity();
-  for (Eigen::Index a = 0; a < picked.rows(); ++a)
-    for (Eigen::Index b = a + 1; b < picked.rows(); ++b) stats.min_distance = std::min(stats.min_distance, (picked.row(a) - picked.row(b)).norm());
-  if (!std::isfinite(stats.min_distance)) stats.min_distance = 0;
-  for (std::size_t i = entries.size() - 1; i > 0; --i)
+  Picked picked;
+  pick_real(model, features, o.real, rng, picked);
+  if (o.random > 0) pick_generated(model, features, o, rng, stats, picked);
+  stats.min_distance = min_pair_distance(picked.features);
+  std::vector<GalleryEntry>& entries = picked.entries;
+  for (std::size_t i = entries.size(); i-- > 1;)  // none picked (no plausible candidate): nothing to shuffle
     std::swap(entries[i], entries[static_cast<std::size_t>(rng.next() * static_cast<double>(i + 1))]);
   if (stats_out) *stats_out = stats;
-  return entries;
+  return std::move(entries);
 }
 
 Image render_gallery(const Model& model, const std::vector<GalleryEntry>& entries, const render::Scene* scene,
