@@ -1,8 +1,16 @@
-// matlas basis: render the image basis of a model (instant previews of any latent point).
+// matlas basis: the basis of a model in a scene, for instant images of any map point (composed
+// by `matlas render --basis`, the browser's previews and scene view):
+// - the previews' scene (--scene sphere, bunny, suzi or a mesh): an image basis rendered by direct
+//   lighting (atlas/model_basis.h), in float16 or float32, optionally with a low-rank form;
+// - a GI scene (--scene floor, box, NAME@VIEW or a .json file): a GI basis path-traced in passes
+//   of materials, resumable from its cache (atlas/gi_basis.h).
+// `gi-basis` is its former name for GI scenes, kept as a deprecated alias with its defaults.
+#include <chrono>
 #include <cstdio>
 #include <memory>
 #include <string>
 
+#include "atlas/gi_basis.h"
 #include "atlas/model_basis.h"
 #include "cli/commands.h"
 #include "cli/print.h"
@@ -10,20 +18,28 @@
 #include "core/error.h"
 #include "core/file_io.h"
 #include "manifold/model.h"
+#include "pathtrace/scene_spec.h"
+#include "pathtrace/world.h"
 
 namespace matlas::cli {
 
 namespace {
 
 struct BasisArgs {
-  std::string model, output;
+  std::string model, output, cache;
   std::string precision = "f16";
   std::string rank = "none";
   double tolerance = 1e-3;
+  int batch = 16;
   RenderOptions options;
+  PathOptions path;
+  std::set<std::string> given;
 };
 
-void run_basis(BasisArgs a, const Io& io) {
+/// The previews' scene: an image basis.
+void run_image_basis(const BasisArgs& a, const Io& io) {
+  refuse_options(a.given, std::array{"--object", "--density", "--max-depth", "--batch", "--cache"},
+                 "the previews' scene (a GI scene's basis: --scene floor, box or a .json file)");
   if (a.precision != "f16" && a.precision != "f32") throw Error("--precision must be f16 or f32");
   refuse_output_among_inputs(a.output, a.options.input_files({a.model}));
   const Model model = Model::open(a.model);
@@ -31,7 +47,7 @@ void run_basis(BasisArgs a, const Io& io) {
   TerminalProgress progress;
   render::ImageBasis basis = atlas::render_basis(model, scene, a.options.settings(), progress);
   print(io.out, "rendered %d material images (%dx%d, %d spp); object covers %.1f%% of the pixels\n", basis.count(),
-              basis.width(), basis.height(), a.options.spp, 100.0 * basis.active_fraction());
+        basis.width(), basis.height(), a.options.spp, 100.0 * basis.active_fraction());
   if (a.rank != "none") {
     int max_rank = 0;
     double tolerance = a.tolerance;
@@ -47,7 +63,7 @@ void run_basis(BasisArgs a, const Io& io) {
     }
     const render::LowRankReport r = basis.compress(tolerance, max_rank);
     print(io.out, "low-rank form: rank %d of %d, relative error %.3g (centred), %.3g (images), max abs %.3g\n", r.rank,
-                basis.count(), r.relative_error, r.image_relative_error, r.max_abs_error);
+          basis.count(), r.relative_error, r.image_relative_error, r.max_abs_error);
   }
   if (a.precision == "f16") {
     render::ImageBasis copy = basis;
@@ -57,20 +73,73 @@ void run_basis(BasisArgs a, const Io& io) {
   print(io.out, "wrote %s\n", a.output.c_str());
 }
 
-void add_basis_command(CLI::App& app, const Io& io) {
-  auto* cmd = app.add_subcommand("basis", "Render the image basis of a model (safetensors) for instant previews");
+/// A GI scene: a GI basis, traced in passes of --batch materials, each cached (a rerun resumes).
+void run_gi_basis(const BasisArgs& a, const Io& io) {
+  refuse_options(a.given, kPreviewSceneOptions,
+                 "a GI scene (--scene " + a.options.scene + ": it says its own lights, camera and environment)");
+  refuse_options(a.given, std::array{"--precision", "--rank", "--tolerance"}, "a GI basis (float32, no low-rank form)");
+  const Model model = Model::open(a.model);
+  const pathtrace::World world(pathtrace::load_scene(a.options.scene, a.path.object));
+  std::vector<std::filesystem::path> inputs{a.model, a.options.scene, a.path.object, world.spec().environment.map};
+  for (const auto& object : world.spec().objects) inputs.emplace_back(object.mesh);
+  refuse_output_among_inputs(a.output, inputs);
+  atlas::GiBasisOptions options;
+  options.batch = a.batch;
+  options.cache = a.cache.empty() ? std::filesystem::path(a.output + ".cache") : std::filesystem::path(a.cache);
+  TerminalProgress progress;
+  const auto start = std::chrono::steady_clock::now();
+  const atlas::GiBasis basis = atlas::build_gi_basis(model, world, a.path.settings(a.options, &model), options, progress);
+  basis.save(a.output);
+  print(io.out, "basis of %d material images + P (%dx%d, %d spp) in %.1f s; cache %s\nwrote %s\n", basis.count() + 1,
+        basis.width(), basis.height(), a.options.spp,
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), options.cache.c_str(),
+        a.output.c_str());
+}
+
+void run_basis(const BasisArgs& a, const Io& io) {
+  if (pathtrace::is_scene(a.options.scene)) run_gi_basis(a, io);
+  else run_image_basis(a, io);
+}
+
+void add_variant(CLI::App& app, const Io& io, const char* name, const char* description, const std::string& scene,
+                 int size) {
+  auto* cmd = app.add_subcommand(name, description);
   auto a = std::make_shared<BasisArgs>();
+  a->options.scene = scene;
+  a->options.width = a->options.height = size;
   cmd->add_option("model", a->model, ".matlas model")->required();
   cmd->add_option("-o,--output", a->output, "Output basis (.safetensors)")->required();
-  cmd->add_option("--precision", a->precision, "Image storage: f16 or f32")->capture_default_str();
-  cmd->add_option("--rank", a->rank, "Low-rank form: none, auto (--tolerance), full, or a rank")->capture_default_str();
-  cmd->add_option("--tolerance", a->tolerance, "Relative error of the automatic rank")->capture_default_str();
   add_render_options(*cmd, a->options);
-  cmd->callback([io, a] { run_basis(*a, io); });
+  cmd->get_option("--scene")
+      ->description("The previews' scene, its object: sphere, bunny, suzi or a .glb/.gltf/.obj file (an image basis); "
+                    "or a GI scene: floor, box, NAME@VIEW (side, above) or a .json file (a GI basis, path-traced)");
+  cmd->add_option("--precision", a->precision, "Image basis: storage f16 or f32")->capture_default_str();
+  cmd->add_option("--rank", a->rank, "Image basis: low-rank form none, auto (--tolerance), full, or a rank")
+      ->capture_default_str();
+  cmd->add_option("--tolerance", a->tolerance, "Image basis: relative error of the automatic rank")->capture_default_str();
+  add_path_options(*cmd, a->path);
+  cmd->add_option("--batch", a->batch, "GI basis: materials traced per pass")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1 << 20));
+  cmd->add_option("--cache", a->cache, "GI basis: folder of per-material images (default OUTPUT.cache): a rerun resumes");
+  cmd->callback([io, a, cmd, former = std::string(name) != "basis", command = std::string(name)] {
+    a->given = given_options(*cmd);
+    if (former) io.err << "matlas " << command << " is deprecated: use matlas basis --scene floor (a GI scene)\n";
+    run_basis(*a, io);
+  });
+  if (std::string(name) != "basis") cmd->group("");  // a former name: not listed
+}
+
+void add_basis_commands(CLI::App& app, const Io& io) {
+  add_variant(app, io, "basis",
+              "Render the basis of a model in a scene for instant images of any point: an image basis (the previews' "
+              "scene) or a GI basis (floor, box, a .json scene: path-traced, resumable)",
+              "sphere", 512);
+  add_variant(app, io, "gi-basis", "", "floor", 256);
 }
 
 }  // namespace
 
-MATLAS_COMMAND(61, add_basis_command);
+MATLAS_COMMAND(61, add_basis_commands);
 
 }  // namespace matlas::cli

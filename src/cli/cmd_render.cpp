@@ -1,24 +1,38 @@
-// matlas render: one picture of a material (a MERL .binary file, or a model point), by the
-// previews' direct lighting or, over the same scene, by the path tracer.
+// matlas render: one picture of a material (a MERL .binary file, or a model point), by one of
+// the integrators over one of the scenes, or composed from a basis:
+// - the previews' scene (--scene sphere, bunny, suzi or a mesh: an object under an environment)
+//   by their direct lighting (--integrator direct) or by the path tracer (--integrator path);
+// - a GI scene (--scene floor, box, NAME@VIEW or a .json file) by the path tracer, any part of
+//   its image (--part all, i1, i2, p);
+// - a basis (--basis: an image basis from `matlas basis`, a GI basis from `matlas basis --scene
+//   floor`) composed at the point.
+// `gi-render` (a GI scene) and `gi` (a GI basis) are its former names, kept as deprecated aliases
+// with their former defaults.
 #include <chrono>
 #include <cstdio>
 #include <memory>
 #include <optional>
 #include <string>
 
-#include "atlas/gi_density.h"
+#include "atlas/gi_basis.h"
+#include "atlas/model_basis.h"
 #include "atlas/model_material.h"
 #include "atlas/sampling_fit.h"
 #include "cli/commands.h"
-#include "cli/print.h"
 #include "cli/latent_point.h"
+#include "cli/print.h"
 #include "cli/render_options.h"
 #include "core/error.h"
 #include "core/file_io.h"
 #include "formats/merl_file.h"
+#include "formats/safetensors.h"
 #include "manifold/model.h"
 #include "pathtrace/preview_scene.h"
+#include "pathtrace/scene_spec.h"
 #include "pathtrace/tracer.h"
+#include "pathtrace/world.h"
+#include "render/auto_exposure.h"
+#include "render/image_basis.h"
 #include "render/material.h"
 #include "render/render.h"
 
@@ -27,94 +41,240 @@ namespace matlas::cli {
 namespace {
 
 struct RenderArgs {
-  std::string input, output, integrator = "direct";
-  std::optional<std::string> at, material;
-  std::optional<int> max_depth;
+  std::string input, output, integrator = "direct", part = "all";
+  std::optional<std::string> at, material, basis;
+  bool auto_exposure = false;
   RenderOptions options;
+  PathOptions path;
+  std::set<std::string> given;  ///< the options given on the command line
 };
 
 bool is_merl(const std::string& path) {
   return path.size() > 7 && path.compare(path.size() - 7, 7, ".binary") == 0;
 }
 
-/// The path tracer over the preview's scene (pathtrace/preview_scene.h): the same picture with
-/// global illumination, or its direct lighting alone with --max-depth 1.
-Image trace_preview(const RenderArgs& a, const pathtrace::World& world, const render::Material& material,
-                    pathtrace::FixedDensity density, ProgressSink& progress, render::RenderStats& stats) {
-  pathtrace::TraceSettings t;
-  t.width = a.options.width;
-  t.height = a.options.height;
-  t.spp = a.options.spp;
-  t.seed = a.options.seed;
-  if (a.max_depth) t.max_depth = *a.max_depth;
-  t.density = std::move(density);
-  const render::MaterialList bank({&material});
-  const auto start = std::chrono::steady_clock::now();
-  Image image = pathtrace::trace(world, &bank, t, progress).full(0);
-  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  stats.camera_samples = static_cast<std::uint64_t>(t.width) * static_cast<std::uint64_t>(t.height) *
-                         static_cast<std::uint64_t>(t.spp);
-  return image;
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-void run_render(const RenderArgs& a, const Io& io) {
-  if (a.integrator != "direct" && a.integrator != "path") throw Error("--integrator must be direct or path");
-  const bool path = a.integrator == "path";
-  if (a.max_depth && !path) throw Error("--max-depth applies to --integrator path");
-  refuse_output_among_inputs(a.output, a.options.input_files({a.input}));
-  const render::RenderSettings settings = a.options.settings();
-  const ToneMap tone = a.options.tone();
-  // One scene, two integrators: the preview's, or its GI scene for the path tracer.
-  std::optional<render::Scene> scene;
-  std::optional<pathtrace::World> world;
-  if (path) world.emplace(pathtrace::preview_scene(a.options.scene_description()));
-  else scene.emplace(a.options.scene_description());
-  TerminalProgress progress;
-  render::RenderStats stats;
-  Image image;
+/// A part of a traced image: all, i1 (paths touching the object at most once), i2 or p.
+Image part_of(const pathtrace::TraceImages& r, const std::string& part) {
+  if (part == "p" || r.once.empty()) return r.p;
+  return part == "i1" ? r.i1(0) : part == "i2" ? r.more[0] : r.full(0);
+}
+
+/// The files a trace reads besides the input: the scene file, the object's mesh, and the meshes
+/// and environment map the scene names (installed names are not files and never match).
+std::vector<std::filesystem::path> scene_inputs(const RenderArgs& a, const pathtrace::World& world) {
+  std::vector<std::filesystem::path> inputs{a.input, a.options.scene, a.path.object, world.spec().environment.map};
+  for (const auto& object : world.spec().objects) inputs.emplace_back(object.mesh);
+  return inputs;
+}
+
+/// The path tracer over `world` for the input (a MERL table, or the model at the point: in a GI
+/// scene as the GI bases see it, extrapolations' negative values kept, so that it is their
+/// reference; in the previews' scene as a table built once, as the previews render it).
+Image trace_input(const RenderArgs& a, const pathtrace::World& world, bool gi_scene, ProgressSink& progress,
+                  render::RenderStats& stats) {
+  const auto start = std::chrono::steady_clock::now();
+  pathtrace::TraceImages r;
+  pathtrace::TraceSettings settings;
   if (is_merl(a.input)) {
     if (a.at || a.material) throw Error("--at/--material apply to models, not to the MERL file " + a.input);
+    if (a.given.contains("--density") && a.path.density == "fitted")
+      throw Error("--density fitted needs a model (its database): a MERL file is traced with the fixed lobes");
     const BrdfTable table = read_merl(a.input);
     const render::TableMaterial material(table);
-    image = path ? trace_preview(a, *world, material, pathtrace::default_fixed_density(), progress, stats)
-                 : render::render(*scene, material, settings, progress, &stats);
+    const render::MaterialList bank({&material});
+    settings = a.path.settings(a.options, nullptr);
+    r = pathtrace::trace(world, &bank, settings, progress);
   } else {
     const Model model = Model::open(a.input);
     const Eigen::VectorXd x = resolve_point(model, a.at, a.material);
     const Eigen::VectorXd w = a.material ? model.material_weights(model.index_of(*a.material)) : model.weights(x);
-    // The model's fitted mixture (previews: the same samples as its bases; GI: its gi-render
-    // density). The table of m(w) is built once: a render's millions of lookups then read one
-    // value per channel, not a dot product of n.
-    const atlas::ModelTableMaterial material(model, w);
-    image = path ? trace_preview(a, *world, material, atlas::fit_gi_density(model), progress, stats)
-                 : render::render(*scene, material, atlas::model_render_settings(model, settings), progress, &stats);
+    settings = a.path.settings(a.options, &model);
+    if (gi_scene) {
+      r = pathtrace::trace(world, atlas::model_point_bank(model, w).get(), settings, progress);
+    } else {
+      const atlas::ModelTableMaterial material(model, w);
+      const render::MaterialList bank({&material});
+      r = pathtrace::trace(world, &bank, settings, progress);
+    }
   }
-  write_image(a.output, image, tone);
-  print(io.out, "wrote %s (%dx%d, %d spp, %.2f s, %.3g camera samples/s)\n", a.output.c_str(), settings.width,
-              settings.height, settings.spp, stats.seconds,
-              static_cast<double>(stats.camera_samples) / std::max(stats.seconds, 1e-9));
+  stats.seconds = seconds_since(start);
+  stats.camera_samples = static_cast<std::uint64_t>(settings.width) * static_cast<std::uint64_t>(settings.height) *
+                         static_cast<std::uint64_t>(settings.spp);
+  return part_of(r, a.part);
 }
 
-void add_render_command(CLI::App& app, const Io& io) {
-  auto* cmd = app.add_subcommand("render", "Render a material (.binary file or model point) to .png or .exr");
+/// The previews' scene: direct lighting (render::render) or the path tracer over the same scene.
+Image render_preview_scene(const RenderArgs& a, ProgressSink& progress, render::RenderStats& stats) {
+  const bool path = a.integrator == "path";
+  refuse_options(a.given, std::array{"--object"}, "the previews' scene (--scene names its object)");
+  if (!path) refuse_options(a.given, std::array{"--max-depth", "--density", "--part"}, "--integrator direct");
+  refuse_output_among_inputs(a.output, a.options.input_files({a.input}));
+  if (path) {
+    const pathtrace::World world(pathtrace::preview_scene(a.options.scene_description()));
+    return trace_input(a, world, false, progress, stats);
+  }
+  const render::Scene scene(a.options.scene_description());
+  const render::RenderSettings settings = a.options.settings();
+  if (is_merl(a.input)) {
+    if (a.at || a.material) throw Error("--at/--material apply to models, not to the MERL file " + a.input);
+    const BrdfTable table = read_merl(a.input);
+    return render::render(scene, render::TableMaterial(table), settings, progress, &stats);
+  }
+  const Model model = Model::open(a.input);
+  const Eigen::VectorXd x = resolve_point(model, a.at, a.material);
+  const Eigen::VectorXd w = a.material ? model.material_weights(model.index_of(*a.material)) : model.weights(x);
+  // The model's fitted mixture (the same samples as its bases). The table of m(w) is built once:
+  // a render's millions of lookups then read one value per channel, not a dot product of n.
+  const atlas::ModelTableMaterial material(model, w);
+  return render::render(scene, material, atlas::model_render_settings(model, settings), progress, &stats);
+}
+
+/// A GI scene (floor, box, a view of one, a .json file): the path tracer.
+Image render_gi_scene(const RenderArgs& a, ProgressSink& progress, render::RenderStats& stats) {
+  refuse_options(a.given, kPreviewSceneOptions,
+                 "a GI scene (--scene " + a.options.scene + ": it says its own lights, camera and environment)");
+  if (a.given.contains("--integrator") && a.integrator != "path")
+    throw Error("--integrator " + a.integrator + ": a GI scene (--scene " + a.options.scene + ") is path-traced");
+  const pathtrace::World world(pathtrace::load_scene(a.options.scene, a.path.object));
+  refuse_output_among_inputs(a.output, scene_inputs(a, world));
+  return trace_input(a, world, true, progress, stats);
+}
+
+/// Whether `path` holds a GI basis (else an image basis, or not a basis: ImageBasis::open says).
+bool is_gi_basis(const std::string& path) {
+  try {
+    const SafetensorsFile f = SafetensorsFile::open(path);
+    const auto it = f.metadata().find("format");
+    return it != f.metadata().end() && it->second == "matlas-gi-basis";
+  } catch (const Error&) {
+    return false;
+  }
+}
+
+/// --basis: the basis composed at the point (the previews' instant image, or the scene view's).
+void compose_basis(const RenderArgs& a, const Io& io) {
+  static constexpr const char* kRenderOptions[] = {"--scene", "--integrator", "--width", "--height", "--spp",
+                                                   "--seed", "--object", "--density", "--max-depth"};
+  refuse_options(a.given, kRenderOptions, "--basis (the basis was rendered with its own)");
+  refuse_options(a.given, kPreviewSceneOptions, "--basis (the basis was rendered with its own)");
+  if (is_merl(a.input)) throw Error("--basis composes a model's basis, not the MERL file " + a.input);
+  refuse_output_among_inputs(a.output, {a.input, *a.basis});
+  const Model model = Model::open(a.input);
+  const Eigen::VectorXd x = resolve_point(model, a.at, a.material);
+  const Eigen::VectorXd w = model.weights(x);
+  ToneMap tone = a.options.tone();
+  Image image;
+  int count = 0;
+  const auto start = std::chrono::steady_clock::now();
+  double ms = 0;
+  if (is_gi_basis(*a.basis)) {
+    if (a.part != "all" && a.part != "i1") throw Error("--part must be all or i1 for a GI basis");
+    const atlas::GiBasis basis = atlas::GiBasis::load(*a.basis);
+    atlas::require_basis_of_model(basis, model, *a.basis);
+    image = basis.compose(w, a.part == "i1" ? atlas::GiBasis::Part::i1 : atlas::GiBasis::Part::all);
+    ms = 1e3 * seconds_since(start);
+    count = basis.count();
+    if (a.auto_exposure) tone.exposure += render::auto_exposure(basis.compose(Eigen::VectorXd::Zero(model.count())));
+  } else {
+    refuse_options(a.given, std::array{"--part"}, "an image basis (its images are whole)");
+    render::ImageBasis basis;
+    try {
+      basis = render::ImageBasis::open(*a.basis);
+    } catch (const Error& e) {
+      throw Error(*a.basis + ": not a matlas basis (an image basis from matlas basis, or a GI basis from matlas basis "
+                             "--scene floor): " + e.what());
+    }
+    const auto fp = basis.metadata().find("model_fingerprint");
+    if (basis.count() != model.count() || fp == basis.metadata().end() || fp->second != atlas::model_fingerprint(model))
+      throw Error(*a.basis + ": the basis was rendered for another model than " + a.input);
+    image = basis.compose(w);
+    ms = 1e3 * seconds_since(start);
+    count = basis.count();
+    if (a.auto_exposure) tone.exposure += render::auto_exposure(basis.compose(Eigen::VectorXd::Zero(model.count())));
+  }
+  write_image(a.output, image, tone);
+  print(io.out, "composed %dx%d from %d materials in %.1f ms; wrote %s\n", image.width, image.height, count, ms,
+        a.output.c_str());
+}
+
+void run_render(const RenderArgs& a, const Io& io) {
+  if (a.integrator != "direct" && a.integrator != "path") throw Error("--integrator must be direct or path");
+  if (a.part != "all" && a.part != "i1" && a.part != "i2" && a.part != "p") throw Error("--part must be all, i1, i2 or p");
+  if (a.basis) return compose_basis(a, io);
+  if (a.auto_exposure) throw Error("--auto-exposure applies to --basis");
+  const ToneMap tone = a.options.tone();
+  TerminalProgress progress;
+  render::RenderStats stats;
+  const Image image = pathtrace::is_scene(a.options.scene) ? render_gi_scene(a, progress, stats)
+                                                           : render_preview_scene(a, progress, stats);
+  write_image(a.output, image, tone);
+  print(io.out, "wrote %s (%dx%d, %d spp, %.2f s, %.3g camera samples/s)\n", a.output.c_str(), image.width,
+        image.height, a.options.spp, stats.seconds,
+        static_cast<double>(stats.camera_samples) / std::max(stats.seconds, 1e-9));
+}
+
+/// The command under a name: `render`, or a former name with its former defaults.
+struct Variant {
+  const char* name;
+  const char* description;
+  std::string scene = "sphere";
+  int width = 512, height = 512;
+  bool basis_required = false;
+};
+
+void add_variant(CLI::App& app, const Io& io, const Variant& v) {
+  auto* cmd = app.add_subcommand(v.name, v.description);
+  if (std::string(v.name) != "render") cmd->group("");  // a former name: not listed
   auto a = std::make_shared<RenderArgs>();
+  a->options.scene = v.scene;
+  a->options.width = v.width;
+  a->options.height = v.height;
   cmd->add_option("input", a->input, "MERL .binary file or .matlas model")->required();
   cmd->add_option("-o,--output", a->output, "Output image: .png (tone mapped sRGB) or .exr (linear)")->required();
-  cmd->add_option("--at", a->at, "Latent point x1,...,xq (models)");
-  cmd->add_option("--material", a->material, "Database material by name (models)");
+  add_point_options(*cmd, a->at, a->material);
   add_render_options(*cmd, a->options);
+  cmd->get_option("--scene")
+      ->description("The previews' scene, its object: sphere, bunny, suzi or a .glb/.gltf/.obj file; or a GI scene: "
+                    "floor, box, NAME@VIEW (side, above) or a .json file (path-traced)");
   cmd->add_option("--integrator", a->integrator,
-                  "direct (the previews' direct lighting) or path (the path tracer over the same scene: light "
-                  "bouncing between the object and the ground; --sampler and --grazing-samples do not apply)")
+                  "The previews' scene: direct (their direct lighting) or path (the path tracer over the same scene: "
+                  "light bouncing between the object and the ground). GI scenes are path-traced")
       ->capture_default_str();
-  cmd->add_option("--max-depth", a->max_depth, "Scattering vertices per path (--integrator path; 8 by default, 1: direct "
-                                               "lighting only)")
-      ->check(CLI::Range(1, 64));
-  cmd->callback([io, a] { run_render(*a, io); });
+  add_path_options(*cmd, a->path);
+  cmd->add_option("--part", a->part,
+                  "Path-traced image: all, i1 (paths touching the object at most once), i2 or p (never touching it); "
+                  "GI basis: all or i1")
+      ->capture_default_str();
+  auto* basis = cmd->add_option("--basis", a->basis,
+                                "Compose this basis at the point instead of rendering: an image basis (matlas basis) or "
+                                "a GI basis (matlas basis --scene floor)");
+  if (v.basis_required) basis->required();
+  cmd->add_flag("--auto-exposure", a->auto_exposure,
+                "With --basis: add the scene's automatic exposure (its log-average luminance with the mean material to "
+                "middle grey), as the browser's scene view does by default");
+  cmd->callback([io, a, cmd, name = std::string(v.name)] {
+    a->given = given_options(*cmd);
+    if (name != "render")
+      io.err << "matlas " << name << " is deprecated: use matlas render (--scene floor for a GI scene, --basis B for a "
+             << "basis)\n";
+    run_render(*a, io);
+  });
+}
+
+void add_render_commands(CLI::App& app, const Io& io) {
+  add_variant(app, io, {"render", "Render a material (.binary file or model point): the previews' scene by direct "
+                                  "lighting or path tracing, a GI scene (floor, box, .json) path-traced, or a basis composed"});
+  // Former names, with their former defaults (not listed in --help).
+  add_variant(app, io, {"gi-render", "", "floor", 256, 256});
+  add_variant(app, io, {"gi", "", "sphere", 512, 512, true});
 }
 
 }  // namespace
 
-MATLAS_COMMAND(60, add_render_command);
+MATLAS_COMMAND(60, add_render_commands);
 
 }  // namespace matlas::cli

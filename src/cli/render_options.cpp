@@ -2,6 +2,7 @@
 
 #include <sstream>
 
+#include "atlas/gi_density.h"
 #include "cli/latent_point.h"
 #include "core/error.h"
 
@@ -72,9 +73,11 @@ void add_render_options(CLI::App& cmd, RenderOptions& o, bool image) {
   cmd.add_option("--fov", o.fov, "Vertical field of view of the perspective camera, degrees")->check(finite_number());
   cmd.add_flag("--black-background", o.black_background, "Black instead of the environment behind the object");
   if (!image) return;
-  cmd.add_option("--width", o.width, "Image width")->capture_default_str();
-  cmd.add_option("--height", o.height, "Image height")->capture_default_str();
-  cmd.add_option("--spp", o.spp, "Samples per pixel")->capture_default_str();
+  cmd.add_option("--width", o.width, "Image width")->capture_default_str()->check(CLI::Range(1, 16384));
+  cmd.add_option("--height", o.height, "Image height")->capture_default_str()->check(CLI::Range(1, 16384));
+  cmd.add_option("--spp", o.spp, "Samples per pixel (paths per pixel for the path tracer)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1 << 20));
   cmd.add_option("--seed", o.seed, "Random seed (same seed: same samples for every material)");
   cmd.add_option("--sampler", o.sampler,
                  "light-and-lobe (an environment and a material-lobe sample per camera sample), stratified "
@@ -87,6 +90,45 @@ void add_render_options(CLI::App& cmd, RenderOptions& o, bool image) {
       ->capture_default_str();
   cmd.add_option("--exposure", o.exposure, "Exposure in stops (PNG output)")->check(finite_number());
   cmd.add_option("--tonemap", o.tonemap, "PNG tone curve: clamp, reinhard or aces")->capture_default_str();
+}
+
+pathtrace::TraceSettings PathOptions::settings(const RenderOptions& image, const Model* model) const {
+  if (density != "fitted" && density != "fixed") throw Error("--density must be fitted or fixed");
+  pathtrace::TraceSettings s;
+  s.width = image.width;
+  s.height = image.height;
+  s.spp = image.spp;
+  s.seed = image.seed;
+  if (max_depth) s.max_depth = *max_depth;
+  s.density = model && density == "fitted" ? atlas::fit_gi_density(*model) : pathtrace::default_fixed_density();
+  s.validate();
+  return s;
+}
+
+void add_path_options(CLI::App& cmd, PathOptions& o) {
+  cmd.add_option("--object", o.object,
+                 "The measured object of a built-in GI scene (--scene floor or box): sphere, bunny, suzi, teapot or a "
+                 "mesh file")
+      ->capture_default_str();
+  cmd.add_option("--density", o.density,
+                 "Path tracer: the measured object's sampling density, fitted (to the model's database: no fireflies "
+                 "from sharp measured peaks) or fixed (the former lobes, for comparison; always for a MERL file)")
+      ->capture_default_str();
+  cmd.add_option("--max-depth", o.max_depth, "Path tracer: scattering vertices per path (8 by default; 1: direct lighting only)")
+      ->check(CLI::Range(1, 64));
+}
+
+std::set<std::string> given_options(const CLI::App& cmd) {
+  std::set<std::string> given;
+  for (const CLI::Option* o : cmd.get_options())
+    if (o->count() > 0)
+      for (const std::string& name : o->get_lnames()) given.insert("--" + name);
+  return given;
+}
+
+void refuse_options(const std::set<std::string>& given, std::span<const char* const> options, const std::string& what) {
+  for (const char* o : options)
+    if (given.contains(o)) throw Error(std::string(o) + " does not apply to " + what);
 }
 
 }  // namespace matlas::cli

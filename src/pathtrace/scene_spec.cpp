@@ -1,5 +1,6 @@
 #include "pathtrace/scene_spec.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <set>
@@ -298,6 +299,13 @@ std::vector<std::string> builtin_views(const std::string& scene) {
   std::vector<std::string> names;
   for (const View& v : builtin_view_list(scene)) names.emplace_back(v.name);
   return names;
+}
+
+bool is_scene(const std::string& name_or_path) {
+  const auto builtin = builtin_scenes();
+  const std::string base = name_or_path.substr(0, name_or_path.find('@'));
+  if (std::find(builtin.begin(), builtin.end(), base) != builtin.end()) return true;
+  return std::filesystem::path(name_or_path).extension() == ".json";
 }
 
 SceneSpec load_scene(const std::string& name_or_path, const std::string& object) {

@@ -84,5 +84,8 @@ std::vector<std::string> builtin_views(const std::string& scene);
 /// file) as its measured object, or a JSON scene file (then `object` is ignored). matlas::Error
 /// otherwise.
 SceneSpec load_scene(const std::string& name_or_path, const std::string& object = "sphere");
+/// Whether `name_or_path` is what load_scene reads: a built-in scene, NAME@VIEW of one, or a
+/// .json file (an object's name or mesh file is not).
+bool is_scene(const std::string& name_or_path);
 
 }  // namespace matlas::pathtrace

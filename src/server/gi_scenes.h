@@ -1,7 +1,7 @@
 #pragma once
 // GiScenes: the scene view of the material browser (docs/GI.md, docs/WEB.md): per scene a GI
 // image basis (atlas/gi_basis.h), composed at a map point's weights exactly as `matlas gi`
-// composes it. A scene's basis is either a file made by `matlas gi-basis` (given at start-up,
+// composes it. A scene's basis is either a file made by `matlas basis --scene` (given at start-up,
 // checked against the model) or traced in the background on the scene's first request (the
 // built-in scenes, at a small default size), saved beside the model (MODEL.gi/) with its
 // per-material cache, so that an interrupted build resumes and a restart loads it in a moment.
@@ -37,7 +37,7 @@ namespace matlas::server {
 pathtrace::TraceSettings default_gi_trace();
 
 struct GiSceneOptions {
-  std::vector<std::filesystem::path> bases;           ///< from `matlas gi-basis`: served as they are
+  std::vector<std::filesystem::path> bases;           ///< from `matlas basis --scene`: served as they are
   std::vector<std::string> scenes = {"floor", "box"};  ///< traced on demand (built-in names or .json files)
   std::string object = "sphere";                       ///< the measured object of the built-in scenes
   pathtrace::TraceSettings trace = default_gi_trace();

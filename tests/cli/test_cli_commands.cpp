@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "atlas/gi_basis.h"
 #include "atlas/gi_density.h"
 #include "atlas/model_material.h"
 #include "atlas/sampling_fit.h"
@@ -20,7 +21,10 @@
 #include "formats/synth_database.h"
 #include "manifold/model.h"
 #include "pathtrace/preview_scene.h"
+#include "pathtrace/scene_spec.h"
+#include "pathtrace/world.h"
 #include "pathtrace/tracer.h"
+#include "render/image_basis.h"
 #include "render/render.h"
 #include "render/scene.h"
 #include "support/temp_dir.h"
@@ -193,10 +197,74 @@ TEST_F(CliCommands, RenderIntegratorPathTracesThePreviewsScene) {
   direct.insert(direct.end(), {"--max-depth", "2"});
   const Output bad = call(direct);
   EXPECT_EQ(bad.code, 1);
-  EXPECT_CONTAINS(bad.err, "--max-depth applies to --integrator path");
+  EXPECT_CONTAINS(bad.err, "--max-depth does not apply to --integrator direct");
   std::vector<std::string> other = args;
   other.insert(other.end(), {"--integrator", "photons"});
   EXPECT_CONTAINS(call(other).err, "--integrator must be direct or path");
+}
+
+TEST_F(CliCommands, OneRenderCommandForEverySceneAndBasis) {
+  // render and basis cover what gi-render, gi-basis and gi did: a GI scene (--scene box) is
+  // path-traced as the library traces it; a basis, image or GI, is composed at the point as the
+  // library composes it; the former names are deprecated aliases of the same code.
+  const Model m = Model::open(model());
+  const Eigen::Vector2d x(0.1, -0.2);
+  const std::string at = "0.1,-0.2";
+  const auto path = [&](const char* name) { return (dir_->path() / name).string(); };
+  // A GI scene, traced.
+  const std::vector<std::string> traced = {"render", model().string(), "--at", at, "--scene", "box", "--width", "8",
+                                           "--height", "6", "--spp", "2", "-o", path("gi.exr")};
+  ASSERT_EQ(call(traced).code, 0);
+  pathtrace::TraceSettings t;
+  t.width = 8;
+  t.height = 6;
+  t.spp = 2;
+  t.density = atlas::fit_gi_density(m);
+  const pathtrace::World box(pathtrace::load_scene("box", "sphere"));
+  const Image expected = pathtrace::trace(box, atlas::model_point_bank(m, m.weights(x)).get(), t).full(0);
+  EXPECT_EQ(read_image(path("gi.exr")).rgb, expected.rgb);
+  std::vector<std::string> former = traced;
+  former[0] = "gi-render";
+  former.back() = path("gi-former.exr");
+  const Output old = call(former);
+  ASSERT_EQ(old.code, 0) << old.err;
+  EXPECT_CONTAINS(old.err, "matlas gi-render is deprecated");
+  EXPECT_EQ(read_image(path("gi-former.exr")).rgb, expected.rgb);
+  // An image basis of the previews' scene, composed.
+  ASSERT_EQ(call({"basis", model().string(), "--env", "constant", "--width", "8", "--height", "8", "--spp", "2",
+                  "--precision", "f32", "-o", path("image-basis.safetensors")})
+                .code,
+            0);
+  ASSERT_EQ(call({"render", model().string(), "--at", at, "--basis", path("image-basis.safetensors"), "-o",
+                  path("composed.exr")})
+                .code,
+            0);
+  const render::ImageBasis image_basis = render::ImageBasis::open(path("image-basis.safetensors"));
+  EXPECT_EQ(read_image(path("composed.exr")).rgb, image_basis.compose(m.weights(x)).rgb);
+  // A GI basis, composed (part i1).
+  ASSERT_EQ(call({"basis", model().string(), "--scene", "box", "--width", "8", "--height", "6", "--spp", "1", "-o",
+                  path("gi-basis.safetensors")})
+                .code,
+            0);
+  ASSERT_EQ(call({"render", model().string(), "--at", at, "--basis", path("gi-basis.safetensors"), "--part", "i1",
+                  "-o", path("gi-composed.exr")})
+                .code,
+            0);
+  const atlas::GiBasis gi_basis = atlas::GiBasis::load(path("gi-basis.safetensors"));
+  EXPECT_EQ(read_image(path("gi-composed.exr")).rgb, gi_basis.compose(m.weights(x), atlas::GiBasis::Part::i1).rgb);
+  // What does not apply is named.
+  EXPECT_CONTAINS(call({"render", model().string(), "--at", at, "--basis", path("image-basis.safetensors"), "--spp",
+                        "4", "-o", path("n.exr")})
+                      .err,
+                  "--spp does not apply to --basis");
+  EXPECT_CONTAINS(call({"render", model().string(), "--at", at, "--basis", path("image-basis.safetensors"), "--part",
+                        "i1", "-o", path("n.exr")})
+                      .err,
+                  "--part does not apply to an image basis");
+  EXPECT_CONTAINS(call({"basis", model().string(), "--scene", "box", "--rank", "auto", "-o", path("n.safetensors")}).err,
+                  "--rank does not apply to a GI basis");
+  EXPECT_CONTAINS(call({"basis", model().string(), "--batch", "4", "-o", path("n.safetensors")}).err,
+                  "--batch does not apply to the previews' scene");
 }
 
 TEST_F(CliCommands, ProjectFindsAnInputAndErrorsGoToTheErrorStream) {

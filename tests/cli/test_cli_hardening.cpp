@@ -338,10 +338,10 @@ TEST_F(CliHardening, CraftedModelsAreRefused) {
   }
 }
 
-TEST_F(CliHardening, GiBasisResumesAndGiRefusesWhatIsNotABasis) {
+TEST_F(CliHardening, AGiBasisResumesAndRenderRefusesWhatIsNotABasis) {
   test::TempDir tmp("matlas-cli-gi");
   const std::string basis = (tmp.path() / "b.safetensors").string();
-  const std::vector<std::string> args = {"gi-basis", model().string(), "--scene", "box", "--width", "8",
+  const std::vector<std::string> args = {"basis", model().string(), "--scene", "box", "--width", "8",
                                          "--height", "6", "--spp", "1", "--batch", "2", "-o", basis};
   const CommandResult first = run(args);
   ASSERT_EQ(first.code, 0) << first.out;
@@ -349,19 +349,31 @@ TEST_F(CliHardening, GiBasisResumesAndGiRefusesWhatIsNotABasis) {
   const CommandResult again = run_process(args);  // progress messages go to the process's stderr
   ASSERT_EQ(again.code, 0) << again.out;
   EXPECT_CONTAINS(again.out, "reused 6 cached material images");
-  const CommandResult gi = run({"gi", model().string(), "--at", "0,0", "--basis", basis, "-o",
-                                (tmp.path() / "x.exr").string()});
-  EXPECT_EQ(gi.code, 0) << gi.out;
+  // The former name still works, says it is deprecated, and reuses the same cache.
+  std::vector<std::string> former = args;
+  former[0] = "gi-basis";
+  const CommandResult old = run_process(former);
+  ASSERT_EQ(old.code, 0) << old.out;
+  EXPECT_CONTAINS(old.out, "matlas gi-basis is deprecated");
+  EXPECT_CONTAINS(old.out, "reused 6 cached material images");
+  const CommandResult composed = run({"render", model().string(), "--at", "0,0", "--basis", basis, "-o",
+                                      (tmp.path() / "x.exr").string()});
+  EXPECT_EQ(composed.code, 0) << composed.out;
   EXPECT_TRUE(fs::exists(tmp.path() / "x.exr"));
-  const CommandResult not_basis = run({"gi", model().string(), "--at", "0,0", "--basis", model().string(), "-o",
+  const CommandResult not_basis = run({"render", model().string(), "--at", "0,0", "--basis", model().string(), "-o",
                                        (tmp.path() / "y.exr").string()});
   EXPECT_EQ(not_basis.code, 1);
-  EXPECT_CONTAINS(not_basis.out, "not a matlas GI basis");
-  EXPECT_EQ(run({"gi-basis", model().string(), "--spp", "0", "-o", basis}).code, 2);
-  const CommandResult scene = run({"gi-render", model().string(), "--at", "0,0", "--scene", "nope.txt", "-o",
+  EXPECT_CONTAINS(not_basis.out, "not a matlas basis");
+  EXPECT_EQ(run({"basis", model().string(), "--scene", "box", "--spp", "0", "-o", basis}).code, 2);
+  const CommandResult scene = run({"render", model().string(), "--at", "0,0", "--scene", "nope.txt", "-o",
                                    (tmp.path() / "z.png").string()});
   EXPECT_EQ(scene.code, 1);
-  EXPECT_CONTAINS(scene.out, "scene 'nope.txt'");
+  EXPECT_CONTAINS(scene.out, "nope.txt");
+  // The previews' lighting options do not apply to a GI scene, which says its own.
+  const CommandResult lit = run({"render", model().string(), "--at", "0,0", "--scene", "box", "--light", "0,1,0", "-o",
+                                 (tmp.path() / "l.png").string()});
+  EXPECT_EQ(lit.code, 1);
+  EXPECT_CONTAINS(lit.out, "--light does not apply to a GI scene");
 }
 
 TEST_F(CliHardening, ServeRefusesABadGiBasisOrSize) {

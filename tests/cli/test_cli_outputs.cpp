@@ -58,7 +58,7 @@ protected:
     write_database(dir_->path() / "db", random_catalog(5, 3), null_progress(), MerlDims{8, 8, 16});
     const OutputsRun r = run_matlas({"build", (dir_->path() / "db").string(), "-o", model().string(), "--quiet", "--dim", "2"});
     ASSERT_EQ(r.code, 0) << r.out;
-    const std::vector<std::string> gi = {"gi-basis", model().string(), "--scene", "box", "--width", "4", "--height",
+    const std::vector<std::string> gi = {"basis", model().string(), "--scene", "box", "--width", "4", "--height",
                                          "3", "--spp", "1", "-o", gi_basis().string()};
     ASSERT_EQ(run_matlas(gi).code, 0);
     std::ofstream(scene()) << pathtrace::scene_to_json(pathtrace::load_scene("box", "sphere")).dump();
@@ -94,12 +94,12 @@ TEST_F(CliOutputs, NoCommandWritesOverOneOfItsInputs) {
       {model(), {"export", m, "--at", "0,0", "-o", "OUT"}},
       {model(), {"zonal", m, "--bands", "2", "--theta-o", "4", "-o", "OUT"}},
       {first_material(), {"zonal", (dir_->path() / "db").string(), "--bands", "2", "--theta-o", "4", "-o", "OUT"}},
-      {model(), with({"gi-basis", m, "--scene", "box", "-o", "OUT"}, tiny)},
-      {scene(), with({"gi-basis", m, "--scene", scene().string(), "-o", "OUT"}, tiny)},
-      {model(), {"gi", m, "--at", "0,0", "--basis", gi, "-o", "OUT"}},
-      {gi_basis(), {"gi", m, "--at", "0,0", "--basis", gi, "-o", "OUT"}},
-      {model(), with({"gi-render", m, "--at", "0,0", "--scene", "box", "-o", "OUT"}, tiny)},
-      {scene(), with({"gi-render", m, "--at", "0,0", "--scene", scene().string(), "-o", "OUT"}, tiny)},
+      {model(), with({"basis", m, "--scene", "box", "-o", "OUT"}, tiny)},
+      {scene(), with({"basis", m, "--scene", scene().string(), "-o", "OUT"}, tiny)},
+      {model(), {"render", m, "--at", "0,0", "--basis", gi, "-o", "OUT"}},
+      {gi_basis(), {"render", m, "--at", "0,0", "--basis", gi, "-o", "OUT"}},
+      {model(), with({"render", m, "--at", "0,0", "--scene", "box", "-o", "OUT"}, tiny)},
+      {scene(), with({"render", m, "--at", "0,0", "--scene", scene().string(), "-o", "OUT"}, tiny)},
       {model(), with({"basis", m, "--env", "constant", "-o", "OUT"}, tiny)},
       {model(), with({"render", m, "--at", "0,0", "--env", "constant", "-o", "OUT"}, tiny)},
       {first_material(), with({"render", material, "--env", "constant", "-o", "OUT"}, tiny)},
@@ -182,7 +182,7 @@ TEST_F(CliOutputs, NoOutputIsCommittedFromAModelTruncatedWhileItWasRead) {
              {"render", model().string(), "--at", "0,0", "--env", "constant", "-o", out.string() + ".png", "--width",
               "4", "--height", "3", "--spp", "1"},
              {"map", model().string(), "--size", "16", "-o", out.string() + ".png"},
-             {"gi", model().string(), "--at", "0,0", "--basis", gi_basis().string(), "-o", out.string() + ".exr"},
+             {"render", model().string(), "--at", "0,0", "--basis", gi_basis().string(), "-o", out.string() + ".exr"},
              {"weights", model().string(), "--at", "0,0"}}) {
       const OutputsRun r = run_matlas(args);
       EXPECT_EQ(r.code, 1) << args[0] << ": " << r.out;
@@ -265,11 +265,11 @@ TEST_F(CliOutputs, MetadataNestedTooDeepIsRefusedOnOpen) {
   test::replace_model_metadata_text(crafted, nested_metadata(model(), 63));
   EXPECT_NO_THROW(Model::open(crafted));
   // 100,000 levels used to load, then overflow the stack where the model is fingerprinted
-  // (gi-basis, serve).
+  // (basis of a GI scene, serve).
   test::replace_model_metadata_text(crafted, nested_metadata(model(), 100000));
   for (const std::vector<std::string>& args :
        {std::vector<std::string>{"latent", crafted.string()},
-        std::vector<std::string>{"gi-basis", crafted.string(), "--scene", "box", "--width", "4", "--height", "3",
+        std::vector<std::string>{"basis", crafted.string(), "--scene", "box", "--width", "4", "--height", "3",
                                  "--spp", "1", "-o", (t.path() / "b.safetensors").string()}}) {
     const OutputsRun r = run_matlas(args);
     EXPECT_EQ(r.code, 1) << args[0] << ": " << r.out;
