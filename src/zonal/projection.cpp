@@ -22,7 +22,16 @@ void ProjectionSettings::validate() const {
 
 ZonalProjector::ZonalProjector(const ProjectionSettings& settings, MerlDims dims)
     : settings_(settings), dims_(dims), basis_((settings.validate(), settings.bands)) {
-  const int L = settings.bands, rows = settings.theta_rows, cols = settings.phi_columns, T = settings.theta_o_count;
+  tabulate_quadrature();
+  tabulate_bins();
+  if (settings.lobes.empty()) return;
+  validate_lobes(settings.lobes);
+  lobe_fits_.resize(static_cast<std::size_t>(settings.theta_o_count));
+  parallel_for_each(0, lobe_fits_.size(), [&](std::size_t t) { lobe_fits_[t] = lobe_fit(t); });
+}
+
+void ZonalProjector::tabulate_quadrature() {
+  const int L = settings_.bands, rows = settings_.theta_rows, cols = settings_.phi_columns;
   const double dtheta = (kPi / 2) / rows, dphi = kPi / cols;
   cos_theta_.resize(static_cast<std::size_t>(rows));
   cosines_.resize(cols, L + 1);
@@ -40,6 +49,11 @@ ZonalProjector::ZonalProjector(const ProjectionSettings& settings, MerlDims dims
         legendre_(r, static_cast<Eigen::Index>(lm_index(l, m))) =
             (m > 0 ? std::sqrt(2.0) : 1.0) * p[lm_index(l, m)] * row_weight;
   }
+}
+
+void ZonalProjector::tabulate_bins() {
+  const int rows = settings_.theta_rows, cols = settings_.phi_columns, T = settings_.theta_o_count;
+  const double dtheta = (kPi / 2) / rows, dphi = kPi / cols;
   const std::size_t per_t = static_cast<std::size_t>(rows) * static_cast<std::size_t>(cols);
   bins_.resize(per_t * static_cast<std::size_t>(T));
   parallel_for_each(0, static_cast<std::size_t>(T), [&](std::size_t t) {
@@ -55,57 +69,58 @@ ZonalProjector::ZonalProjector(const ProjectionSettings& settings, MerlDims dims
       }
     }
   });
-  if (settings.lobes.empty()) return;
-  validate_lobes(settings.lobes);
-  const auto M = static_cast<Eigen::Index>(settings.lobes.size());
+}
+
+ZonalProjector::LobeFit ZonalProjector::lobe_fit(std::size_t t) const {
+  const int L = settings_.bands, rows = settings_.theta_rows, cols = settings_.phi_columns, T = settings_.theta_o_count;
+  const double dtheta = (kPi / 2) / rows, dphi = kPi / cols;
+  const auto M = static_cast<Eigen::Index>(settings_.lobes.size());
   // The fitted functions are the cosine-weighted lobes Kc_i(w) = K_i(r . w) max(w_z, 0): zero
   // below the horizon and continuous across it, as the slice is. Their spectra and Gram matrix
   // (over the upper hemisphere) come from this projector's own quadrature.
-  lobe_fits_.resize(static_cast<std::size_t>(T));
-  parallel_for_each(0, static_cast<std::size_t>(T), [&](std::size_t t) {
-    const double to = ZonalCoefficients::theta_o(static_cast<int>(t), T);
-    const Vec3 r(-std::sin(to), 0.0, std::cos(to));
-    LobeFit& f = lobe_fits_[t];
-    f.weights.resize(static_cast<Eigen::Index>(rows) * cols, M);
-    std::vector<Eigen::MatrixXd> grid(static_cast<std::size_t>(M), Eigen::MatrixXd(rows, cols));
-    for (int row = 0; row < rows; ++row) {
-      const double theta = (row + 0.5) * dtheta;
-      const double area = (std::cos(theta - dtheta / 2) - std::cos(theta + dtheta / 2)) * 2.0 * dphi;
-      for (int c = 0; c < cols; ++c) {
-        const double phi = (c + 0.5) * dphi;
-        const double cosine = r.dot(Vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)));
-        for (Eigen::Index i = 0; i < M; ++i) {
-          const double v = lobe_value(settings.lobes[static_cast<std::size_t>(i)], cosine) * std::cos(theta);
-          grid[static_cast<std::size_t>(i)](row, c) = v;
-          f.weights(static_cast<Eigen::Index>(row) * cols + c, i) = area * v;
-        }
+  const double to = ZonalCoefficients::theta_o(static_cast<int>(t), T);
+  const Vec3 r(-std::sin(to), 0.0, std::cos(to));
+  LobeFit f;
+  f.weights.resize(static_cast<Eigen::Index>(rows) * cols, M);
+  std::vector<Eigen::MatrixXd> grid(static_cast<std::size_t>(M), Eigen::MatrixXd(rows, cols));
+  for (int row = 0; row < rows; ++row) {
+    const double theta = (row + 0.5) * dtheta;
+    const double area = (std::cos(theta - dtheta / 2) - std::cos(theta + dtheta / 2)) * 2.0 * dphi;
+    for (int c = 0; c < cols; ++c) {
+      const double phi = (c + 0.5) * dphi;
+      const double cosine = r.dot(Vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)));
+      for (Eigen::Index i = 0; i < M; ++i) {
+        const double v = lobe_value(settings_.lobes[static_cast<std::size_t>(i)], cosine) * std::cos(theta);
+        grid[static_cast<std::size_t>(i)](row, c) = v;
+        f.weights(static_cast<Eigen::Index>(row) * cols + c, i) = area * v;
       }
     }
-    f.spectra.resize(static_cast<Eigen::Index>(triangle_size(L)), M);
-    Eigen::MatrixXd gram(M, M);
-    for (Eigen::Index i = 0; i < M; ++i) {
-      const Eigen::MatrixXd fourier = grid[static_cast<std::size_t>(i)] * cosines_;  // as a slice's projection
-      for (int l = 0; l <= L; ++l)
-        for (int m = 0; m <= l; ++m)
-          f.spectra(static_cast<Eigen::Index>(lm_index(l, m)), i) =
-              fourier.col(m).dot(legendre_.col(static_cast<Eigen::Index>(lm_index(l, m))));
-      for (Eigen::Index j = 0; j < M; ++j) {
-        double sum = 0;  // weights' column i is area * Kc_i in row-major cell order
-        for (int row = 0; row < rows; ++row)
-          for (int c = 0; c < cols; ++c)
-            sum += f.weights(static_cast<Eigen::Index>(row) * cols + c, i) * grid[static_cast<std::size_t>(j)](row, c);
-        gram(i, j) = sum;
-      }
+  }
+  f.spectra.resize(static_cast<Eigen::Index>(triangle_size(L)), M);
+  Eigen::MatrixXd gram(M, M);
+  for (Eigen::Index i = 0; i < M; ++i) {
+    const Eigen::MatrixXd fourier = grid[static_cast<std::size_t>(i)] * cosines_;  // as a slice's projection
+    for (int l = 0; l <= L; ++l)
+      for (int m = 0; m <= l; ++m)
+        f.spectra(static_cast<Eigen::Index>(lm_index(l, m)), i) =
+            fourier.col(m).dot(legendre_.col(static_cast<Eigen::Index>(lm_index(l, m))));
+    for (Eigen::Index j = 0; j < M; ++j) {
+      double sum = 0;  // weights' column i is area * Kc_i in row-major cell order
+      for (int row = 0; row < rows; ++row)
+        for (int c = 0; c < cols; ++c)
+          sum += f.weights(static_cast<Eigen::Index>(row) * cols + c, i) * grid[static_cast<std::size_t>(j)](row, c);
+      gram(i, j) = sum;
     }
-    // High-pass Gram matrix: <Kc_i, Kc_j> minus its bands 0..L; a small ridge (lobes far broader
-    // than band L have almost no energy above it).
-    gram -= f.spectra.transpose() * f.spectra;
-    f.fit = (gram + 1e-6 * gram.diagonal().maxCoeff() * Eigen::MatrixXd::Identity(M, M)).inverse();
-    // Stored weight: c_i times Kc_i's mass, so that shading is c_i mass_i E_i(r) (the environment
-    // taken as even over the lobe).
-    f.mass.resize(M);
-    for (Eigen::Index i = 0; i < M; ++i) f.mass(i) = lobe_cosine_mass(settings.lobes[static_cast<std::size_t>(i)], r.z());
-  });
+  }
+  // High-pass Gram matrix: <Kc_i, Kc_j> minus its bands 0..L; a small ridge (lobes far broader
+  // than band L have almost no energy above it).
+  gram -= f.spectra.transpose() * f.spectra;
+  f.fit = (gram + 1e-6 * gram.diagonal().maxCoeff() * Eigen::MatrixXd::Identity(M, M)).inverse();
+  // Stored weight: c_i times Kc_i's mass, so that shading is c_i mass_i E_i(r) (the environment
+  // taken as even over the lobe).
+  f.mass.resize(M);
+  for (Eigen::Index i = 0; i < M; ++i) f.mass(i) = lobe_cosine_mass(settings_.lobes[static_cast<std::size_t>(i)], r.z());
+  return f;
 }
 
 void ZonalProjector::fit_lobes(std::size_t t, Eigen::VectorXd& a, const Eigen::VectorXd& b, double* c) const {

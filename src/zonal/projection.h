@@ -65,6 +65,12 @@ private:
     Eigen::VectorXd mass;     ///< integral of Kc_i over the sphere (lobe_cosine_mass)
   };
   std::vector<LobeFit> lobe_fits_;
+  /// The quadrature's tables: cos_theta_, cosines_ and legendre_.
+  void tabulate_quadrature();
+  /// bins_: the MERL bin of every quadrature direction at every theta_o sample.
+  void tabulate_bins();
+  /// The lobe fit at theta_o sample t, from this projector's own quadrature.
+  LobeFit lobe_fit(std::size_t t) const;
   /// Subtracts the fitted lobes from one table's SH coefficients a (triangle) at sample t, given the
   /// table's lobe inner products b; writes the lobe weights to c.
   void fit_lobes(std::size_t t, Eigen::VectorXd& a, const Eigen::VectorXd& b, double* c) const;
