@@ -210,6 +210,51 @@ void SafetensorsWriter::commit() {
 
 // ---------------------------------------------------------------- reader
 
+namespace {
+
+/// One tensor's entry of the header, checked against the data buffer's size (`buffer` bytes).
+/// json::exception for a missing key or a value of another type (the caller names the file).
+TensorInfo parse_tensor(const fs::path& path, const std::string& name, const json& entry, std::size_t buffer) {
+  TensorInfo t;
+  t.name = name;
+  const auto dtype = dtype_from_name(entry.at("dtype").get<std::string>());
+  if (!dtype) throw file_error(path, "tensor '" + t.name + "' has an unsupported dtype");
+  t.dtype = *dtype;
+  // Integers only: nlohmann converts a float such as 2e34 to an integer type by a cast that
+  // is undefined out of range (UBSan: "outside the range of representable values"), and a
+  // float in range (8.0) would pass for an integer.
+  const json& shape = entry.at("shape");
+  const json& offset_list = entry.at("data_offsets");
+  if (!shape.is_array() || !std::all_of(shape.begin(), shape.end(), [](const json& d) { return d.is_number_integer(); }))
+    throw file_error(path, "tensor '" + t.name + "': its shape is not a list of integers (corrupted header)");
+  if (!offset_list.is_array() ||
+      !std::all_of(offset_list.begin(), offset_list.end(), [](const json& d) { return d.is_number_unsigned(); }))
+    throw file_error(path, "tensor '" + t.name + "': its data offsets are not non-negative integers (corrupted header)");
+  t.shape = shape.get<std::vector<std::int64_t>>();
+  const auto offsets = offset_list.get<std::vector<std::size_t>>();
+  if (offsets.size() != 2 || offsets[0] > offsets[1])
+    throw file_error(path, "tensor '" + t.name + "' has invalid data offsets");
+  t.begin = offsets[0];
+  t.end = offsets[1];
+  // The byte size is computed with overflow checks: a crafted shape whose product wraps
+  // around must not pass for the real size (and later ask for absurd allocations).
+  std::size_t bytes = dtype_size(t.dtype);
+  for (auto d : t.shape) {
+    if (d < 0) throw file_error(path, "tensor '" + t.name + "' has a negative dimension");
+    if (__builtin_mul_overflow(bytes, static_cast<std::size_t>(d), &bytes))
+      throw file_error(path, "tensor '" + t.name + "': its shape overflows (corrupted header)");
+  }
+  if (bytes != t.bytes())
+    throw file_error(path, "tensor '" + t.name + "': shape and byte size disagree (corrupted header)");
+  if (t.end > buffer)
+    throw file_error(path, "truncated: tensor '" + t.name + "' ends at byte " +
+                               std::to_string(t.end) + " of a " + std::to_string(buffer) +
+                               "-byte data buffer");
+  return t;
+}
+
+}  // namespace
+
 SafetensorsFile SafetensorsFile::open(const fs::path& path) {
   SafetensorsFile f;
   f.map_ = std::make_shared<MappedFile>(path);
@@ -239,42 +284,7 @@ SafetensorsFile SafetensorsFile::open(const fs::path& path) {
         for (auto m = it->begin(); m != it->end(); ++m) f.metadata_[m.key()] = m->get<std::string>();
         continue;
       }
-      TensorInfo t;
-      t.name = it.key();
-      const auto dtype = dtype_from_name(it->at("dtype").get<std::string>());
-      if (!dtype) throw file_error(path, "tensor '" + t.name + "' has an unsupported dtype");
-      t.dtype = *dtype;
-      // Integers only: nlohmann converts a float such as 2e34 to an integer type by a cast that
-      // is undefined out of range (UBSan: "outside the range of representable values"), and a
-      // float in range (8.0) would pass for an integer.
-      const json& shape = it->at("shape");
-      const json& offset_list = it->at("data_offsets");
-      if (!shape.is_array() || !std::all_of(shape.begin(), shape.end(), [](const json& d) { return d.is_number_integer(); }))
-        throw file_error(path, "tensor '" + t.name + "': its shape is not a list of integers (corrupted header)");
-      if (!offset_list.is_array() ||
-          !std::all_of(offset_list.begin(), offset_list.end(), [](const json& d) { return d.is_number_unsigned(); }))
-        throw file_error(path, "tensor '" + t.name + "': its data offsets are not non-negative integers (corrupted header)");
-      t.shape = shape.get<std::vector<std::int64_t>>();
-      const auto offsets = offset_list.get<std::vector<std::size_t>>();
-      if (offsets.size() != 2 || offsets[0] > offsets[1])
-        throw file_error(path, "tensor '" + t.name + "' has invalid data offsets");
-      t.begin = offsets[0];
-      t.end = offsets[1];
-      // The byte size is computed with overflow checks: a crafted shape whose product wraps
-      // around must not pass for the real size (and later ask for absurd allocations).
-      std::size_t bytes = dtype_size(t.dtype);
-      for (auto d : t.shape) {
-        if (d < 0) throw file_error(path, "tensor '" + t.name + "' has a negative dimension");
-        if (__builtin_mul_overflow(bytes, static_cast<std::size_t>(d), &bytes))
-          throw file_error(path, "tensor '" + t.name + "': its shape overflows (corrupted header)");
-      }
-      if (bytes != t.bytes())
-        throw file_error(path, "tensor '" + t.name + "': shape and byte size disagree (corrupted header)");
-      if (t.end > buffer)
-        throw file_error(path, "truncated: tensor '" + t.name + "' ends at byte " +
-                                   std::to_string(t.end) + " of a " + std::to_string(buffer) +
-                                   "-byte data buffer");
-      f.tensors_.push_back(std::move(t));
+      f.tensors_.push_back(parse_tensor(path, it.key(), *it, buffer));
     }
   } catch (const json::exception& e) {
     throw file_error(path, std::string("corrupted safetensors header: ") + e.what());
