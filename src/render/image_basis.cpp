@@ -219,7 +219,9 @@ Image ImageBasis::compose(const Eigen::Ref<const Eigen::VectorXd>& w) const {
 }
 
 void ImageBasis::compose_low_rank(const Eigen::Ref<const Eigen::VectorXd>& w, float* rgb) const {
-  if (rank_ == 0) return compose(w, rgb);
+  // The exact form reads one image per non-zero weight, the low-rank form rank_ factors: with
+  // fewer non-zero weights than that (convex weights have a handful) the exact one is cheaper.
+  if (rank_ == 0 || (w.array() != 0.0).count() <= rank_) return compose(w, rgb);
   MATLAS_CHECK_EQ(w.size(), n_);
   // I(w) ~ I_mean + sum_k c_k F_k with c = C^T w.
   const Eigen::VectorXd c = coefficients_.transpose() * w;

@@ -82,7 +82,9 @@ public:
   /// float16 storage uses F16C when the CPU has it. Thread-safe.
   void compose(const Eigen::Ref<const Eigen::VectorXd>& w, float* rgb) const;
   Image compose(const Eigen::Ref<const Eigen::VectorXd>& w) const;
-  /// The same through the low-rank form (compress() first); falls back to compose() without it.
+  /// The same through the low-rank form (compress() first), unless the exact form reads no more
+  /// images (no more non-zero weights than the rank: convex weights), which is then used; without
+  /// a low-rank form, compose().
   void compose_low_rank(const Eigen::Ref<const Eigen::VectorXd>& w, float* rgb) const;
   Image compose_low_rank(const Eigen::Ref<const Eigen::VectorXd>& w) const;
 

@@ -122,6 +122,29 @@ TEST(ImageBasisCompose, AnOffsetIsAddedToEveryCompositionAndSavedWithTheBasis) {
   EXPECT_THROW(basis.set_offset(Image(w + 1, h)), Error);
 }
 
+TEST(ImageBasisCompose, TheLowRankFormGivesWayToTheExactOneForFewWeights) {
+  // Rank 2 of 6 images: weights on at most 2 materials read fewer images exactly than the 2
+  // factors, so compose_low_rank composes them exactly (bit for bit); weights on 3 go through the
+  // low-rank form (close, not equal).
+  const int w = 16, h = 8, n = 6;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  Image mean(w, h);
+  std::vector<Image> images(n, Image(w, h));
+  for (std::size_t k = 0; k < mean.rgb.size(); ++k) {
+    mean.rgb[k] = 0.5f;
+    for (Image& im : images) im.rgb[k] = u(rng);
+  }
+  ImageBasis basis(mean, images);
+  basis.compress(0.0, 2);
+  ASSERT_EQ(basis.low_rank(), 2);
+  Eigen::VectorXd two = Eigen::VectorXd::Zero(n), three = Eigen::VectorXd::Zero(n);
+  two << 0.0, 0.7, 0.0, 0.0, 0.3, 0.0;
+  three << 0.2, 0.5, 0.0, 0.3, 0.0, 0.0;
+  EXPECT_EQ(basis.compose_low_rank(two).rgb, basis.compose(two).rgb);
+  EXPECT_NE(basis.compose_low_rank(three).rgb, basis.compose(three).rgb);
+}
+
 TEST(ImageBasisFile, OpenRejectsOtherFiles) {
   test::TempDir dir("matlas-basis");
   write_file_atomic(dir / "junk.safetensors", std::string("not a basis at all"));
