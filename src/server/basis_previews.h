@@ -2,7 +2,8 @@
 // BasisPreviews: the renderer-backed PreviewSource. For each offered scene (environment x object)
 // an image basis (render/image_basis.h) turns a preview into one linear combination of n images,
 // plus a half-resolution copy of it for the smaller previews sent while dragging (composed through
-// its low-rank form when that is at most half the size: same image to about 0.2%, faster).
+// its low-rank form when that is at most half the size: same image to about 0.2%, faster; exactly
+// when the weights name fewer materials than its rank, as convex weights do).
 //
 // Bases are rendered once per scene and cached on disk (cache_dir, keyed by the model's
 // fingerprint, the scene and the render settings), so a restart loads them in a moment. The
