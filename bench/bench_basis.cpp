@@ -119,7 +119,7 @@ void compose(benchmark::State& state, int which, bool low_rank) {
 }
 
 /// Convex weights on k materials (what the default interpolation gives: a handful): only their
-/// images are read, the bytes counted accordingly. Through compose_low_rank of the low-rank basis
+/// images are read, the bytes counted accordingly. Through compose_fast of the low-rank basis
 /// (the drag previews' call) with k <= rank, the same exact composition (in float32).
 void convex(benchmark::State& state, int which, bool low_rank) {
   const ImageBasis& b = basis(which);
@@ -128,7 +128,7 @@ void convex(benchmark::State& state, int which, bool low_rank) {
   for (int j = 0; j < k; ++j) w[(7 * j + 3) % kCount] = 1.0 / k;
   std::vector<float> out(static_cast<std::size_t>(kSize) * kSize * 3);
   for (auto _ : state) {
-    if (low_rank) b.compose_low_rank(w, out.data());
+    if (low_rank) b.compose_fast(w, out.data());
     else b.compose(w, out.data());
     benchmark::DoNotOptimize(out.data());
   }

@@ -218,10 +218,21 @@ Image ImageBasis::compose(const Eigen::Ref<const Eigen::VectorXd>& w) const {
   return im;
 }
 
-void ImageBasis::compose_low_rank(const Eigen::Ref<const Eigen::VectorXd>& w, float* rgb) const {
+void ImageBasis::compose_fast(const Eigen::Ref<const Eigen::VectorXd>& w, float* rgb) const {
   // The exact form reads one image per non-zero weight, the low-rank form rank_ factors: with
-  // fewer non-zero weights than that (convex weights have a handful) the exact one is cheaper.
+  // no more non-zero weights than that (convex weights have a handful) the exact one is cheaper.
   if (rank_ == 0 || (w.array() != 0.0).count() <= rank_) return compose(w, rgb);
+  compose_low_rank(w, rgb);
+}
+
+Image ImageBasis::compose_fast(const Eigen::Ref<const Eigen::VectorXd>& w) const {
+  Image im(width_, height_);
+  compose_fast(w, im.rgb.data());
+  return im;
+}
+
+void ImageBasis::compose_low_rank(const Eigen::Ref<const Eigen::VectorXd>& w, float* rgb) const {
+  if (rank_ == 0) return compose(w, rgb);
   MATLAS_CHECK_EQ(w.size(), n_);
   // I(w) ~ I_mean + sum_k c_k F_k with c = C^T w.
   const Eigen::VectorXd c = coefficients_.transpose() * w;

@@ -82,11 +82,13 @@ public:
   /// float16 storage uses F16C when the CPU has it. Thread-safe.
   void compose(const Eigen::Ref<const Eigen::VectorXd>& w, float* rgb) const;
   Image compose(const Eigen::Ref<const Eigen::VectorXd>& w) const;
-  /// The same through the low-rank form (compress() first), unless the exact form reads no more
-  /// images (no more non-zero weights than the rank: convex weights), which is then used; without
-  /// a low-rank form, compose().
+  /// The same through the low-rank form (compress() first); falls back to compose() without it.
   void compose_low_rank(const Eigen::Ref<const Eigen::VectorXd>& w, float* rgb) const;
   Image compose_low_rank(const Eigen::Ref<const Eigen::VectorXd>& w) const;
+  /// compose() or compose_low_rank(), whichever reads fewer images: exact when the weights have
+  /// no more non-zero entries than the rank (convex weights: a handful), else the low-rank form.
+  void compose_fast(const Eigen::Ref<const Eigen::VectorXd>& w, float* rgb) const;
+  Image compose_fast(const Eigen::Ref<const Eigen::VectorXd>& w) const;
 
   Image mean_image() const;
   Image material_image(int i) const;

@@ -257,7 +257,7 @@ Image BasisPreviews::render(const Eigen::VectorXd& w, const std::string& environ
     throw HttpError(503, "the preview scene (" + environment + ", " + object +
                              ") is being prepared; try again in a few seconds");
   const std::shared_ptr<const render::ImageBasis> full = prepared.value->full, half = prepared.value->half;
-  Image image = size <= half->width() ? half->compose_low_rank(w) : full->compose(w);
+  Image image = size <= half->width() ? half->compose_fast(w) : full->compose(w);
   if (image.width != size) image = resize_area(image, size, size);
   return image;
 }

@@ -122,10 +122,10 @@ TEST(ImageBasisCompose, AnOffsetIsAddedToEveryCompositionAndSavedWithTheBasis) {
   EXPECT_THROW(basis.set_offset(Image(w + 1, h)), Error);
 }
 
-TEST(ImageBasisCompose, TheLowRankFormGivesWayToTheExactOneForFewWeights) {
-  // Rank 2 of 6 images: weights on at most 2 materials read fewer images exactly than the 2
-  // factors, so compose_low_rank composes them exactly (bit for bit); weights on 3 go through the
-  // low-rank form (close, not equal).
+TEST(ImageBasisCompose, ComposeFastIsExactForFewWeightsAndLowRankOtherwise) {
+  // Rank 2 of 6 images: weights on at most 2 materials read no more images exactly than the 2
+  // factors, so compose_fast composes them exactly (bit for bit); weights on 3 go through the
+  // low-rank form (the same values as compose_low_rank, not the exact ones).
   const int w = 16, h = 8, n = 6;
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
@@ -141,8 +141,10 @@ TEST(ImageBasisCompose, TheLowRankFormGivesWayToTheExactOneForFewWeights) {
   Eigen::VectorXd two = Eigen::VectorXd::Zero(n), three = Eigen::VectorXd::Zero(n);
   two << 0.0, 0.7, 0.0, 0.0, 0.3, 0.0;
   three << 0.2, 0.5, 0.0, 0.3, 0.0, 0.0;
-  EXPECT_EQ(basis.compose_low_rank(two).rgb, basis.compose(two).rgb);
-  EXPECT_NE(basis.compose_low_rank(three).rgb, basis.compose(three).rgb);
+  EXPECT_EQ(basis.compose_fast(two).rgb, basis.compose(two).rgb);
+  EXPECT_NE(basis.compose_low_rank(two).rgb, basis.compose(two).rgb);
+  EXPECT_EQ(basis.compose_fast(three).rgb, basis.compose_low_rank(three).rgb);
+  EXPECT_NE(basis.compose_fast(three).rgb, basis.compose(three).rgb);
 }
 
 TEST(ImageBasisFile, OpenRejectsOtherFiles) {
