@@ -85,6 +85,7 @@ struct GiScenes::Impl {
     options.trace.validate();
     if (options.batch <= 0) throw Error("GI scenes: the batch must be positive");
     passes = (model.count() + 1 + options.batch - 1) / options.batch;
+    if (options.cache_dir.empty()) options.cache_dir = model.path().string() + ".gi";
     bases = std::make_unique<Preparations<atlas::GiBasis>>(
         [this](const std::string& scene, ProgressSink& progress) { return trace(scene, progress); },
         std::numeric_limits<std::size_t>::max());
@@ -102,7 +103,6 @@ struct GiScenes::Impl {
     names = given;
     for (const auto& s : options.scenes)
       if (std::find(names.begin(), names.end(), s) == names.end()) names.push_back(s);
-    if (options.cache_dir.empty()) options.cache_dir = model.path().string() + ".gi";
   }
 
   std::filesystem::path basis_path(const std::string& scene) const {
