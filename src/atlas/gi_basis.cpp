@@ -115,13 +115,12 @@ void GiBasis::compose(const Eigen::Ref<const Eigen::VectorXd>& w, Part which, fl
 }
 
 void GiBasis::save(const std::filesystem::path& path) const {
-  // load() refuses NaN and infinite pixels: such a basis is not written.
-  std::vector<Image> images;  // linear 0..n, then full 0..n
-  for (const Part which : {Part::i1, Part::all})
-    for (int k = 0; k <= count(); ++k) images.push_back(image(which, k));
-  bool finite = all_finite(p_.rgb.data(), p_.rgb.size());
-  for (const Image& im : images) finite = finite && all_finite(im.rgb.data(), im.rgb.size());
-  if (!finite) throw file_error(path, "the GI basis has NaN or infinite pixels: not written (it could not be read back)");
+  // load() refuses NaN and infinite pixels: such a basis is not written (the file appears only at
+  // commit, so a bad image met while writing leaves nothing).
+  const auto refuse = [&] {
+    throw file_error(path, "the GI basis has NaN or infinite pixels: not written (it could not be read back)");
+  };
+  if (!all_finite(p_.rgb.data(), p_.rgb.size())) refuse();
   const std::int64_t k = count() + 1, h = height(), wd = width();
   SafetensorsWriter w;
   for (const auto& [key, value] : metadata_) w.add_metadata(key, value);
@@ -132,7 +131,12 @@ void GiBasis::save(const std::filesystem::path& path) const {
   w.declare("full", DType::F32, {k, h, wd, 3});
   w.begin(path);
   w.write(std::span<const float>(p_.rgb));
-  for (const Image& im : images) w.write(std::span<const float>(im.rgb));
+  for (const Part which : {Part::i1, Part::all})
+    for (int i = 0; i < k; ++i) {  // one image in memory at a time
+      const Image im = image(which, i);
+      if (!all_finite(im.rgb.data(), im.rgb.size())) refuse();
+      w.write(std::span<const float>(im.rgb));
+    }
   w.commit();
 }
 

@@ -10,6 +10,7 @@
 // with their former defaults.
 #include <chrono>
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -57,6 +58,18 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
+/// The MERL table given as input (--at/--material are for models).
+BrdfTable merl_input(const RenderArgs& a) {
+  if (a.at || a.material) throw Error("--at/--material apply to models, not to the MERL file " + a.input);
+  return read_merl(a.input);
+}
+
+/// The weights of the point given (--at, or a database material's own weights).
+Eigen::VectorXd point_weights(const RenderArgs& a, const Model& model) {
+  const Eigen::VectorXd x = resolve_point(model, a.at, a.material);
+  return a.material ? model.material_weights(model.index_of(*a.material)) : model.weights(x);
+}
+
 /// A part of a traced image: all, i1 (paths touching the object at most once), i2 or p.
 Image part_of(const pathtrace::TraceImages& r, const std::string& part) {
   if (part == "p" || r.once.empty()) return r.p;
@@ -80,18 +93,16 @@ Image trace_input(const RenderArgs& a, const pathtrace::World& world, bool gi_sc
   pathtrace::TraceImages r;
   pathtrace::TraceSettings settings;
   if (is_merl(a.input)) {
-    if (a.at || a.material) throw Error("--at/--material apply to models, not to the MERL file " + a.input);
     if (a.given.contains("--density") && a.path.density == "fitted")
       throw Error("--density fitted needs a model (its database): a MERL file is traced with the fixed lobes");
-    const BrdfTable table = read_merl(a.input);
+    const BrdfTable table = merl_input(a);
     const render::TableMaterial material(table);
     const render::MaterialList bank({&material});
     settings = a.path.settings(a.options, nullptr);
     r = pathtrace::trace(world, &bank, settings, progress);
   } else {
     const Model model = Model::open(a.input);
-    const Eigen::VectorXd x = resolve_point(model, a.at, a.material);
-    const Eigen::VectorXd w = a.material ? model.material_weights(model.index_of(*a.material)) : model.weights(x);
+    const Eigen::VectorXd w = point_weights(a, model);
     settings = a.path.settings(a.options, &model);
     if (gi_scene) {
       r = pathtrace::trace(world, atlas::model_point_bank(model, w).get(), settings, progress);
@@ -119,14 +130,9 @@ Image render_preview_scene(const RenderArgs& a, ProgressSink& progress, render::
   }
   const render::Scene scene(a.options.scene_description());
   const render::RenderSettings settings = a.options.settings();
-  if (is_merl(a.input)) {
-    if (a.at || a.material) throw Error("--at/--material apply to models, not to the MERL file " + a.input);
-    const BrdfTable table = read_merl(a.input);
-    return render::render(scene, render::TableMaterial(table), settings, progress, &stats);
-  }
+  if (is_merl(a.input)) return render::render(scene, render::TableMaterial(merl_input(a)), settings, progress, &stats);
   const Model model = Model::open(a.input);
-  const Eigen::VectorXd x = resolve_point(model, a.at, a.material);
-  const Eigen::VectorXd w = a.material ? model.material_weights(model.index_of(*a.material)) : model.weights(x);
+  const Eigen::VectorXd w = point_weights(a, model);
   // The model's fitted mixture (the same samples as its bases). The table of m(w) is built once:
   // a render's millions of lookups then read one value per channel, not a dot product of n.
   const atlas::ModelTableMaterial material(model, w);
@@ -167,38 +173,39 @@ void compose_basis(const RenderArgs& a, const Io& io) {
   const Eigen::VectorXd x = resolve_point(model, a.at, a.material);
   const Eigen::VectorXd w = model.weights(x);
   ToneMap tone = a.options.tone();
-  Image image;
-  int count = 0;
-  const auto start = std::chrono::steady_clock::now();
-  double ms = 0;
+  // The basis's composition at weights, and the image its automatic exposure is keyed to (the
+  // mean material's, the whole GI image).
+  std::optional<atlas::GiBasis> gi;
+  std::optional<render::ImageBasis> previews;
+  std::function<Image(const Eigen::VectorXd&)> compose, key;
   if (is_gi_basis(*a.basis)) {
     if (a.part != "all" && a.part != "i1") throw Error("--part must be all or i1 for a GI basis");
-    const atlas::GiBasis basis = atlas::GiBasis::load(*a.basis);
-    atlas::require_basis_of_model(basis, model, *a.basis);
-    image = basis.compose(w, a.part == "i1" ? atlas::GiBasis::Part::i1 : atlas::GiBasis::Part::all);
-    ms = 1e3 * seconds_since(start);
-    count = basis.count();
-    if (a.auto_exposure) tone.exposure += render::auto_exposure(basis.compose(Eigen::VectorXd::Zero(model.count())));
+    gi.emplace(atlas::GiBasis::load(*a.basis));
+    atlas::require_basis_of_model(*gi, model, *a.basis);
+    const auto part = a.part == "i1" ? atlas::GiBasis::Part::i1 : atlas::GiBasis::Part::all;
+    compose = [&, part](const Eigen::VectorXd& v) { return gi->compose(v, part); };
+    key = [&](const Eigen::VectorXd& v) { return gi->compose(v); };
   } else {
     refuse_options(a.given, std::array{"--part"}, "an image basis (its images are whole)");
-    render::ImageBasis basis;
     try {
-      basis = render::ImageBasis::open(*a.basis);
+      previews.emplace(render::ImageBasis::open(*a.basis));
     } catch (const Error& e) {
       throw Error(*a.basis + ": not a matlas basis (an image basis from matlas basis, or a GI basis from matlas basis "
                              "--scene floor): " + e.what());
     }
-    const auto fp = basis.metadata().find("model_fingerprint");
-    if (basis.count() != model.count() || fp == basis.metadata().end() || fp->second != atlas::model_fingerprint(model))
+    const auto fp = previews->metadata().find("model_fingerprint");
+    if (previews->count() != model.count() || fp == previews->metadata().end() ||
+        fp->second != atlas::model_fingerprint(model))
       throw Error(*a.basis + ": the basis was rendered for another model than " + a.input);
-    image = basis.compose(w);
-    ms = 1e3 * seconds_since(start);
-    count = basis.count();
-    if (a.auto_exposure) tone.exposure += render::auto_exposure(basis.compose(Eigen::VectorXd::Zero(model.count())));
+    compose = key = [&](const Eigen::VectorXd& v) { return previews->compose(v); };
   }
+  const auto start = std::chrono::steady_clock::now();
+  const Image image = compose(w);
+  const double ms = 1e3 * seconds_since(start);
+  if (a.auto_exposure) tone.exposure += render::auto_exposure(key(Eigen::VectorXd::Zero(model.count())));
   write_image(a.output, image, tone);
-  print(io.out, "composed %dx%d from %d materials in %.1f ms; wrote %s\n", image.width, image.height, count, ms,
-        a.output.c_str());
+  print(io.out, "composed %dx%d from %d materials in %.1f ms; wrote %s\n", image.width, image.height, model.count(),
+        ms, a.output.c_str());
 }
 
 void run_render(const RenderArgs& a, const Io& io) {

@@ -66,8 +66,8 @@ struct LoadF16 {
 };
 
 // One row per pass over the accumulator (which stays in L1): one sequential stream at a time
-// measured faster than four rows per pass, in float16 by 1.45x (docs/BENCHMARKS.md). F16C is
-// in the target of both (every AVX2 CPU has it) so that the float16 load is inlined.
+// (faster than four rows per pass when measured: CHANGELOG.md). F16C is in the target of both
+// (every AVX2 CPU has it) so that the float16 load is inlined.
 template <class T, class Load>
 __attribute__((target("avx2,fma,f16c"))) void accumulate_avx2(const T* values, std::size_t stride, std::size_t begin,
                                                               std::size_t len, const int* rows, const float* w, int n,

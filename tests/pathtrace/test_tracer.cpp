@@ -14,6 +14,7 @@
 #include "pathtrace/tracer.h"
 #include "render/material.h"
 #include "render/sampling.h"
+#include "support/ortho_sphere.h"
 #include "support/temp_dir.h"
 
 namespace matlas::pathtrace {
@@ -110,11 +111,9 @@ TEST(PathTracer, LambertianSphereUnderDirectionalLightIsAlbedoOverPiTimesCosine)
   int checked = 0;
   for (int y = 0; y < settings.height; ++y)
     for (int x = 0; x < settings.width; ++x) {
-      const double sx = (2.0 * (x + 0.5) / settings.width - 1.0) * 1.1;
-      const double sy = (1.0 - 2.0 * (y + 0.5) / settings.height) * 1.1;
-      const double r2 = sx * sx + sy * sy;
-      if (r2 > 0.8) continue;  // away from the silhouette
-      const Vec3 n(sx, sy, std::sqrt(1.0 - r2));
+      const auto normal = test::ortho_sphere_normal(x, y, settings.width, settings.height);
+      if (!normal) continue;  // away from the silhouette
+      const Vec3 n = *normal;
       const double cos_theta = n.dot(light);
       if (std::abs(cos_theta) < 0.1) continue;  // and from the terminator
       ++checked;

@@ -10,6 +10,7 @@
 #include "render/material.h"
 #include "render/render.h"
 #include "render/scene.h"
+#include "support/ortho_sphere.h"
 #include "render_test_util.h"
 
 namespace matlas::render {
@@ -123,12 +124,9 @@ TEST(Render, LambertianSphereUnderDirectionalLightIsAlbedoOverPiTimesCosine) {
   int checked = 0;
   for (int y = 0; y < settings.height; ++y)
     for (int x = 0; x < settings.width; ++x) {
-      // The orthographic camera sees the sphere point (sx, sy, sqrt(1 - sx^2 - sy^2)).
-      const double sx = (2.0 * (x + 0.5) / settings.width - 1.0) * 1.1;
-      const double sy = (1.0 - 2.0 * (y + 0.5) / settings.height) * 1.1;
-      const double r2 = sx * sx + sy * sy;
-      if (r2 > 0.8) continue;  // keep away from the silhouette
-      const Vec3 n(sx, sy, std::sqrt(1.0 - r2));
+      const auto normal = test::ortho_sphere_normal(x, y, settings.width, settings.height);
+      if (!normal) continue;  // away from the silhouette
+      const Vec3 n = *normal;
       const double cos_theta = n.dot(light);
       if (std::abs(cos_theta) < 0.1) continue;  // and from the terminator
       ++checked;
