@@ -89,8 +89,8 @@ GiBasis::GiBasis(Image p, const std::vector<Image>& linear, const std::vector<Im
       throw Error("GI basis: images of different sizes");
   MATLAS_CHECK(p_.rgb.size() == 3 * p_.pixel_count(), "an RGB image");
   // Each part: its mean image X_0, the material images X_1..X_n and P as the offset.
-  linear_ = render::ImageBasis(linear[0], std::vector<Image>(linear.begin() + 1, linear.end()));
-  full_ = render::ImageBasis(full[0], std::vector<Image>(full.begin() + 1, full.end()));
+  linear_ = render::ImageBasis(linear[0], std::span(linear).subspan(1));
+  full_ = render::ImageBasis(full[0], std::span(full).subspan(1));
   linear_.set_offset(p_);
   full_.set_offset(p_);
 }

@@ -47,7 +47,7 @@ bool same_value(T a, T b) {
 
 // --- construction and packing -------------------------------------------------------------------
 
-ImageBasis::ImageBasis(Image mean, const std::vector<Image>& images, std::vector<std::string> names,
+ImageBasis::ImageBasis(Image mean, std::span<const Image> images, std::vector<std::string> names,
                        std::map<std::string, std::string> metadata)
     : width_(mean.width), height_(mean.height), n_(static_cast<int>(images.size())), names_(std::move(names)),
       metadata_(std::move(metadata)) {

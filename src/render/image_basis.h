@@ -30,6 +30,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -57,7 +58,7 @@ class ImageBasis {
 public:
   ImageBasis() = default;
   /// From rendered images (all width x height); names.size() == images.size() (or empty).
-  ImageBasis(Image mean, const std::vector<Image>& images, std::vector<std::string> names = {},
+  ImageBasis(Image mean, std::span<const Image> images, std::vector<std::string> names = {},
              std::map<std::string, std::string> metadata = {});
 
   /// Opens a basis file; throws matlas::Error naming the file if it is not a valid basis.
