@@ -5,6 +5,8 @@
 //   bench_sparse_latent eval [M [N]]         cost of one evaluation with gradient, sparse at
 //                                           n = 1000, 3000, 10000 and exact at 1000 (and 3000)
 //   bench_sparse_latent optimize N M [R]    a whole sparse placement (start + L-BFGS) at n = N
+//   bench_sparse_latent converge N M R K... placements stopped after K iterations each: value,
+//                                           trustworthiness, distance to the last and to the truth
 //   bench_sparse_latent accuracy N R M...   exact and sparse placements of the same problem: time,
 //                                           exact L of both, trustworthiness (k = 5) against the
 //                                           data, leave-one-out error of the data, Procrustes
@@ -103,22 +105,31 @@ gp::LikelihoodProblem exact_problem(const gp::SparseProblem& p) {
   return e;
 }
 
-/// Median processor seconds of `reps` calls of f.
+struct Timing {
+  double wall = 0, cpu = 0;  // medians, seconds
+};
+
+/// Median wall and processor seconds of `reps` calls of f (the sparse repulsion runs on the
+/// worker threads, so processor time exceeds wall time on an idle machine; on a loaded one the
+/// processor time is the steadier figure).
 template <typename F>
-double median_seconds(int reps, F&& f) {
-  std::vector<double> t;
+Timing median_seconds(int reps, F&& f) {
+  std::vector<double> wall, cpu;
   for (int i = 0; i < reps; ++i) {
-    const double t0 = cpu_seconds();
+    const auto w0 = std::chrono::steady_clock::now();
+    const double c0 = cpu_seconds();
     f();
-    t.push_back(cpu_seconds() - t0);
+    cpu.push_back(cpu_seconds() - c0);
+    wall.push_back(seconds_since(w0));
   }
-  std::sort(t.begin(), t.end());
-  return t[t.size() / 2];
+  std::sort(wall.begin(), wall.end());
+  std::sort(cpu.begin(), cpu.end());
+  return {wall[wall.size() / 2], cpu[cpu.size() / 2]};
 }
 
 int run_eval(int m, int only_n) {
-  std::printf("one evaluation with gradient (processor time), q = 2, m = %d inducing points, r = 64\n", m);
-  std::printf("%7s %12s %12s %12s\n", "n", "exact ms", "sparse ms", "exact/sparse");
+  std::printf("one evaluation with gradient (medians: wall ms / processor ms), q = 2, m = %d inducing points, r = 64\n", m);
+  std::printf("%7s %18s %18s %12s\n", "n", "exact ms", "sparse ms", "exact/sparse");
   double exact_1000 = 0;
   for (int n : {1000, 3000, 10000}) {
     if (only_n > 0 && n != only_n) continue;
@@ -127,33 +138,47 @@ int run_eval(int m, int only_n) {
     const Eigen::MatrixXd Z = gp::farthest_point_subset(X, m);
     gp::SparseLikelihoodEvaluator sparse(g.sparse);
     Eigen::MatrixXd gX, gZ;
-    const double ts = median_seconds(n >= 10000 ? 5 : 11, [&] { sparse.normalized(X, Z, &gX, &gZ); });
-    double te = 0;
+    const Timing ts = median_seconds(n >= 10000 ? 5 : 11, [&] { sparse.normalized(X, Z, &gX, &gZ); });
+    Timing te;
     if (n <= 3000) {
       gp::LikelihoodEvaluator exact(exact_problem(g.sparse));
       Eigen::MatrixXd gE;
       te = median_seconds(n >= 3000 ? 3 : 7, [&] { exact.normalized(X, &gE); });
-      if (n == 1000) exact_1000 = te;
+      if (n == 1000) exact_1000 = te.wall;
     }
-    std::printf("%7d %12.2f %12.2f %12s   sparse = %.3f x exact at n = 1000\n", n, te * 1e3, ts * 1e3,
-                te > 0 ? std::to_string(te / ts).c_str() : "-", ts / exact_1000);
+    std::printf("%7d %8.2f / %7.2f %8.2f / %7.2f %12s   sparse = %.3f x exact at n = 1000 (wall)\n", n, te.wall * 1e3,
+                te.cpu * 1e3, ts.wall * 1e3, ts.cpu * 1e3, te.wall > 0 ? std::to_string(te.wall / ts.wall).c_str() : "-",
+                ts.wall / exact_1000);
   }
   return 0;
 }
 
 int run_optimize(int n, int m, int r) {
   const Generated g = generate(n);
-  const gp::SparseProblem p = truncated(g.sparse, r);
+  gp::SparseProblem p = truncated(g.sparse, r);
+  // MATLAS_BENCH_RADIUS: the repulsion's radius (the build's prior: 0.1); MATLAS_BENCH_ITERATIONS:
+  // the L-BFGS iteration limit (5000).
+  if (const char* radius = std::getenv("MATLAS_BENCH_RADIUS")) p.prior.radius = std::stod(radius);
+  gp::OptimizeOptions o;
+  if (const char* limit = std::getenv("MATLAS_BENCH_ITERATIONS")) o.max_iterations = std::stoi(limit);
   auto t0 = std::chrono::steady_clock::now();
   const double c0 = cpu_seconds();
   const Eigen::MatrixXd X0 = gp::sparse_pca_initialization(p, 2, m, sopt(m).block);
   const double t_init = seconds_since(t0);
-  gp::OptimizeOptions o;
   const gp::OptimizeResult res = gp::optimize_sparse_latent(p, X0, sopt(m), o, null_progress());
   std::printf("sparse placement n = %d m = %d r = %d: start %.1f s, L-BFGS %.1f s (%d iterations, %d evaluations, "
               "%.1f ms each), total %.1f s wall, %.1f s CPU; %s\n",
               n, m, r, t_init, res.seconds, res.iterations, res.evaluations, 1e3 * res.seconds / res.evaluations,
               seconds_since(t0), cpu_seconds() - c0, res.stop_reason.c_str());
+  // How the value approached its last one, in the normalised units of the stopping rule (which
+  // stops when 3 iterations gain at most tolerance * |l|): l_last - l after k iterations.
+  const gp::SparseLikelihoodEvaluator units(p);
+  const double nd = static_cast<double>(n), last = res.history.back() / p.columns;
+  const double l_last = last + nd * std::log(units.scale() / p.columns);
+  std::printf("l_last = %.6g (tolerance * |l_last| = %.3g)\n%10s %14s\n", l_last, o.tolerance * std::abs(l_last),
+              "iteration", "l_last - l");
+  for (std::size_t k = 1; k < res.history.size(); k *= 2)
+    std::printf("%10zu %14.4g\n", k, last - res.history[k] / p.columns);
   return 0;
 }
 
@@ -163,6 +188,38 @@ double procrustes_distance(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
   const double s = svd.singularValues().sum() / B.squaredNorm();
   return (s * B * svd.matrixU() * svd.matrixV().transpose() - A).norm() / A.norm();
 }
+
+/// How the layout approaches its optimum: placements of the same problem from the same start,
+/// stopped after each of `limits` iterations (the optimisation is deterministic, so each is the
+/// longer run's state at that iteration), with their value, trustworthiness (k = 5) against the
+/// data's distances, and Procrustes distances to the last one and to the generating points.
+int run_converge(int n, int m, int r, const std::vector<int>& limits) {
+  const Generated g = generate(n);
+  const gp::SparseProblem p = truncated(g.sparse, r);
+  const Eigen::MatrixXd X0 = gp::sparse_pca_initialization(p, 2, m, sopt(m).block);
+  const Eigen::MatrixXd& Y = g.sparse.data.factor;
+  const Eigen::VectorXd norms = Y.rowwise().squaredNorm();
+  const Eigen::MatrixXd D = ((-2.0 * (Y * Y.transpose())).colwise() + norms).rowwise() + norms.transpose();
+  const gp::SparseLikelihoodEvaluator units(p);
+  const double offset = static_cast<double>(n) * std::log(units.scale() / p.columns);
+  std::vector<gp::OptimizeResult> runs;
+  for (int limit : limits) {
+    gp::OptimizeOptions o;
+    o.max_iterations = limit;
+    runs.push_back(gp::optimize_sparse_latent(p, X0, sopt(m), o, null_progress()));
+  }
+  std::printf("n = %d, m = %d, r = %d; generating points: trust5 %.4f\n", n, m, r, eval::trustworthiness(D, g.truth, 5));
+  std::printf("%10s %12s %9s %9s %16s %16s  %s\n", "limit", "l", "seconds", "trust5", "to last layout", "to generating",
+              "stop");
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    const gp::OptimizeResult& res = runs[k];
+    std::printf("%10d %12.2f %9.1f %9.4f %16.4f %16.4f  %s\n", limits[k], res.value / p.columns + offset, res.seconds,
+                eval::trustworthiness(D, res.latent, 5), procrustes_distance(runs.back().latent, res.latent),
+                procrustes_distance(g.truth, res.latent), res.stop_reason.c_str());
+  }
+  return 0;
+}
+
 
 /// Leave-one-out error of the data under the exact GP of layout X (nugget delta): the mean of the
 /// others predicts each item; sum_i |[K^-1 Z]_i|^2 / [K^-1]_ii^2 over tr(S) (closed form).
@@ -275,6 +332,11 @@ int main(int argc, char** argv) {
   try {
     if (mode == "eval") return run_eval(arg(2, 100), arg(3, 0));
     if (mode == "optimize") return run_optimize(arg(2, 10000), arg(3, 100), arg(4, 64));
+    if (mode == "converge" && argc > 5) {
+      std::vector<int> limits;
+      for (int k = 5; k < argc; ++k) limits.push_back(std::stoi(argv[k]));
+      return run_converge(arg(2, 10000), arg(3, 100), arg(4, 64), limits);
+    }
     if (mode == "accuracy") {
       std::vector<int> ms;
       for (int i = 4; i < argc; ++i) ms.push_back(std::stoi(argv[i]));
@@ -287,7 +349,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "bench_sparse_latent: %s\n", e.what());
     return 1;
   }
-  std::fprintf(stderr, "usage: %s eval [M] | optimize N M [R] | accuracy N R M... | gram MODEL M R | models EXACT SPARSE [RIDGE]\n",
+  std::fprintf(stderr, "usage: %s eval [M] | optimize N M [R] | converge N M R K... | accuracy N R M... | gram MODEL M R | models EXACT SPARSE [RIDGE]\n",
                argv[0]);
   return 2;
 }

@@ -15,10 +15,6 @@ namespace {
 
 std::string dims(Eigen::Index r, Eigen::Index c) { return std::to_string(r) + " x " + std::to_string(c); }
 
-/// The repulsion barrier is log(1 - e^{-u} + floor): finite (-27.6 lambda) for coincident points,
-/// so a start with duplicate coordinates (a PCA start of a tiny database) can still be evaluated.
-constexpr double kBarrierFloor = 1e-12;
-
 }  // namespace
 
 LikelihoodEvaluator::LikelihoodEvaluator(const LikelihoodProblem& p)
@@ -109,7 +105,7 @@ double LikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, Eigen::MatrixXd
   if (repulsion_ > 0) {
     E_ = D2_ * -inv_r2;
     expm1_in_place(E_.data(), static_cast<std::size_t>(E_.size()));  // e^{-u} - 1
-    Logs_ = kBarrierFloor - E_.array();
+    Logs_ = kRepulsionFloor - E_.array();
     log_in_place(Logs_.data(), static_cast<std::size_t>(Logs_.size()));
     const double cutoff = 40.0 / inv_r2;  // u >= 40 <=> d^2 >= 40 rho^2
     double sum = 0.0;
@@ -118,7 +114,7 @@ double LikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, Eigen::MatrixXd
     value += repulsion_ * sum;
     if (gradient != nullptr) {
       const double scale = repulsion_ * 2.0 * inv_r2;
-      F_ = (D2_.array() < cutoff).select(scale * (1.0 + E_.array()) / (kBarrierFloor - E_.array()), 0.0);
+      F_ = (D2_.array() < cutoff).select(scale * (1.0 + E_.array()) / (kRepulsionFloor - E_.array()), 0.0);
       F_.diagonal().setZero();
     }
   }

@@ -15,6 +15,10 @@ namespace matlas::gp {
 /// the layout"). Each term is scaled by D' like the likelihood, so its strength does not depend on
 /// the number of data columns. The defaults are all off (the paper's likelihood); spread() is
 /// what `matlas build` uses.
+/// The repulsion barrier is log(1 - e^{-u} + floor): finite (-27.6 lambda) for coincident points,
+/// so a start with duplicate coordinates (a PCA start of a tiny database) can still be evaluated.
+inline constexpr double kRepulsionFloor = 1e-12;
+
 struct LatentPrior {
   /// Hard-core repulsion lambda sum_{i<j} log(1 - exp(-|x_i - x_j|^2 / rho^2) + 1e-12) (lambda =
   /// repulsion, rho = radius in lengthscale units): a barrier that keeps any two points about rho

@@ -5,8 +5,8 @@
 #include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
-#include <numeric>
 #include <random>
 #include <string>
 #include <vector>
@@ -14,14 +14,17 @@
 #include "core/blas.h"
 #include "core/check.h"
 #include "core/error.h"
+#include "core/parallel.h"
 #include "core/vector_math.h"
+#include "gp/sparse_repulsion.h"
 
 namespace matlas::gp {
 
 namespace {
 
 /// C = alpha op(A) op(B) + beta C through OpenBLAS (C is resized; Eigen's own kernels are compiled
-/// for baseline x86-64 here, docs/GP.md "Evaluation").
+/// for baseline x86-64 here, docs/GP.md "Evaluation"). OpenBLAS runs single-threaded (core/blas.h):
+/// a product of more than kSplitFlops is split by the longer side of C over the worker threads.
 void dense_gemm(bool ta, bool tb, double alpha, const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, double beta,
           Eigen::MatrixXd& C) {
   const Eigen::Index rows = ta ? A.cols() : A.rows(), inner = ta ? A.rows() : A.cols();
@@ -34,10 +37,29 @@ void dense_gemm(bool ta, bool tb, double alpha, const Eigen::MatrixXd& A, const 
     C *= beta;
     return;
   }
-  blas::openblas().dgemm(CblasColMajor, ta ? CblasTrans : CblasNoTrans, tb ? CblasTrans : CblasNoTrans,
-                         static_cast<int>(rows), static_cast<int>(cols), static_cast<int>(inner), alpha, A.data(),
-                         static_cast<int>(A.rows()), B.data(), static_cast<int>(B.rows()), beta, C.data(),
-                         static_cast<int>(C.rows()));
+  const auto lda = static_cast<int>(A.rows()), ldb = static_cast<int>(B.rows()), ldc = static_cast<int>(C.rows());
+  // C's rows [r0, r1) and columns [c0, c1).
+  const auto part = [&](Eigen::Index r0, Eigen::Index r1, Eigen::Index c0, Eigen::Index c1) {
+    const double* a = ta ? A.data() + r0 * lda : A.data() + r0;
+    const double* b = tb ? B.data() + c0 : B.data() + c0 * ldb;
+    blas::openblas().dgemm(CblasColMajor, ta ? CblasTrans : CblasNoTrans, tb ? CblasTrans : CblasNoTrans,
+                           static_cast<int>(r1 - r0), static_cast<int>(c1 - c0), static_cast<int>(inner), alpha, a,
+                           lda, b, ldb, beta, C.data() + r0 + c0 * ldc, ldc);
+  };
+  constexpr double kSplitFlops = 2e7;  // about a millisecond
+  const double flops = 2.0 * static_cast<double>(rows) * static_cast<double>(cols) * static_cast<double>(inner);
+  if (flops < kSplitFlops || worker_count() < 2) {
+    part(0, rows, 0, cols);
+    return;
+  }
+  const bool by_rows = rows >= cols;
+  parallel_for(0, static_cast<std::size_t>(by_rows ? rows : cols), [&](std::size_t begin, std::size_t end) {
+    const auto b = static_cast<Eigen::Index>(begin), e = static_cast<Eigen::Index>(end);
+    if (by_rows)
+      part(b, e, 0, cols);
+    else
+      part(0, rows, b, e);
+  }, 32);
 }
 
 /// L^-1 of the lower Cholesky factor of a small SPD matrix; log|A| into *log_det. Throws
@@ -61,9 +83,6 @@ Eigen::MatrixXd orthonormal_basis(const Eigen::MatrixXd& M) {
   const Eigen::HouseholderQR<Eigen::MatrixXd> qr(M);
   return qr.householderQ() * Eigen::MatrixXd::Identity(M.rows(), M.cols());
 }
-
-/// The repulsion barrier's floor, as in likelihood.cpp (finite for coincident points).
-constexpr double kSparseBarrierFloor = 1e-12;
 
 }  // namespace
 
@@ -144,6 +163,10 @@ SparseLikelihoodEvaluator::SparseLikelihoodEvaluator(const SparseProblem& p)
 void SparseLikelihoodEvaluator::apply_block_inverse(const Eigen::MatrixXd& M, Eigen::MatrixXd& out) const {
   MATLAS_CHECK_EQ(M.rows(), Y_.rows());
   MATLAS_CHECK_EQ(block_inv_.size(), blocks_.size());
+  if (diagonal_) {
+    out.noalias() = lambda_inv_.asDiagonal() * M;
+    return;
+  }
   out.resize(M.rows(), M.cols());
   Eigen::MatrixXd Mb;
   for (std::size_t k = 0; k < blocks_.size(); ++k) {
@@ -180,6 +203,7 @@ void SparseLikelihoodEvaluator::set_blocks(std::vector<std::vector<Eigen::Index>
   }
   if (total != n) throw Error("sparse likelihood: the blocks must be a partition of the items");
   blocks_ = std::move(blocks);
+  diagonal_ = blocks_.size() == static_cast<std::size_t>(n);
   block_inv_.assign(blocks_.size(), Eigen::MatrixXd());
   block_cov_.assign(blocks_.size(), Eigen::MatrixXd());
 }
@@ -198,7 +222,10 @@ double SparseLikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, const Eig
   // t = tr(K~^-1 Y Y^T) + eps tr(K~^-1), tr(K~^-1) = sum_b |L_b^-1|^2 - |U|^2.
   apply_inverse(Y_, B_);
   double trace_inv = -U_.squaredNorm();
-  for (const Eigen::MatrixXd& Li : block_inv_) trace_inv += Li.triangularView<Eigen::Lower>().toDenseMatrix().squaredNorm();
+  if (diagonal_)
+    trace_inv += lambda_inv_.sum();
+  else
+    for (const Eigen::MatrixXd& Li : block_inv_) trace_inv += Li.triangularView<Eigen::Lower>().toDenseMatrix().squaredNorm();
   const double t = (Y_.array() * B_.array()).sum() + eps_ * trace_inv;
   if (!(t > 0) || !std::isfinite(t))
     throw Error("sparse likelihood: tr(K^-1 S) is not positive (" + std::to_string(t) + "): K is too ill-conditioned");
@@ -213,23 +240,20 @@ double SparseLikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, const Eig
   return value;
 }
 
-double SparseLikelihoodEvaluator::factorize(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Z) {
-  const Eigen::Index n = Y_.rows(), m = Z.rows(), q = X.cols();
-  const double inv_l2 = 1.0 / (kernel_.lengthscale * kernel_.lengthscale);
-  // C_nm (no nugget) and C_mm + jitter I.
-  Cnm_.setZero(n, m);
-  for (Eigen::Index d = 0; d < q; ++d)
-    for (Eigen::Index j = 0; j < m; ++j) Cnm_.col(j).array() += (X.col(d).array() - Z(j, d)).square();
-  Cnm_ *= -inv_l2;
-  exp_in_place(Cnm_.data(), static_cast<std::size_t>(Cnm_.size()));
-  Eigen::MatrixXd D2m;
-  squared_distances(Z, D2m);
-  covariance_from_squared_distances(D2m, Kernel{kernel_.lengthscale, jitter_}, Cmm_);
-  Lminv_ = inverse_cholesky_factor(Cmm_, nullptr, "the inducing points' covariance (coincident inducing points?)");
+double SparseLikelihoodEvaluator::factorize_diagonal() {
+  // FITC: Lambda_ii = C_ii - |V_i|^2 + delta with C_ii = 1, and A = I + W W^T, W = V Lambda^-1/2.
+  const Eigen::Index m = V_.rows();
+  const Eigen::ArrayXd lambda = (1.0 + kernel_.nugget) - V_.colwise().squaredNorm().transpose().array();
+  if (!(lambda > 0).all()) throw Error("sparse likelihood: a block of the covariance (nugget 0?) is not positive definite");
+  lambda_inv_ = lambda.inverse().matrix();
+  const Eigen::MatrixXd W = V_ * lambda_inv_.cwiseSqrt().asDiagonal();
+  A_.setIdentity(m, m);
+  dense_gemm(false, true, 1.0, W, W, 1.0, A_);
+  return lambda.log().sum();
+}
 
-  // V = L_m^-1 C_mn (Q = V^T V). Per block b: Lambda_b = C_bb - Q_bb + delta I (the Schur
-  // complement plus the nugget: positive definite) = L_b L_b^T; L_b^-1 kept for Lambda_b^-1.
-  dense_gemm(false, true, 1.0, Lminv_, Cnm_, 0.0, V_);
+double SparseLikelihoodEvaluator::factorize_blocks(const Eigen::MatrixXd& X) {
+  const Eigen::Index m = V_.rows(), q = X.cols();
   A_.setIdentity(m, m);
   double log_det = 0;
   Eigen::MatrixXd Vb, Wb;
@@ -250,6 +274,27 @@ double SparseLikelihoodEvaluator::factorize(const Eigen::MatrixXd& X, const Eige
     Wb.noalias() = block_inv_[k].triangularView<Eigen::Lower>() * Vb.transpose();  // L_b^-1 V_b^T
     A_.noalias() += Wb.transpose() * Wb;
   }
+  return log_det;
+}
+
+double SparseLikelihoodEvaluator::factorize(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Z) {
+  const Eigen::Index n = Y_.rows(), m = Z.rows(), q = X.cols();
+  const double inv_l2 = 1.0 / (kernel_.lengthscale * kernel_.lengthscale);
+  // C_nm (no nugget) and C_mm + jitter I.
+  Cnm_.setZero(n, m);
+  for (Eigen::Index d = 0; d < q; ++d)
+    for (Eigen::Index j = 0; j < m; ++j) Cnm_.col(j).array() += (X.col(d).array() - Z(j, d)).square();
+  Cnm_ *= -inv_l2;
+  exp_in_place(Cnm_.data(), static_cast<std::size_t>(Cnm_.size()));
+  Eigen::MatrixXd D2m;
+  squared_distances(Z, D2m);
+  covariance_from_squared_distances(D2m, Kernel{kernel_.lengthscale, jitter_}, Cmm_);
+  Lminv_ = inverse_cholesky_factor(Cmm_, nullptr, "the inducing points' covariance (coincident inducing points?)");
+
+  // V = L_m^-1 C_mn (Q = V^T V). Per block b: Lambda_b = C_bb - Q_bb + delta I (the Schur
+  // complement plus the nugget: positive definite) = L_b L_b^T; L_b^-1 kept for Lambda_b^-1.
+  dense_gemm(false, true, 1.0, Lminv_, Cnm_, 0.0, V_);
+  double log_det = diagonal_ ? factorize_diagonal() : factorize_blocks(X);
   // A = I + V Lambda^-1 V^T (m x m), log|K~| = log|A| + log|Lambda|; K~^-1 = Lambda^-1 - U U^T
   // with U = Lambda^-1 V^T L_A^-T.
   double log_det_A = 0;
@@ -262,7 +307,6 @@ double SparseLikelihoodEvaluator::factorize(const Eigen::MatrixXd& X, const Eige
 
 void SparseLikelihoodEvaluator::add_gradient(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Z, double t,
                                              Eigen::MatrixXd* grad_X, Eigen::MatrixXd* grad_Z) {
-  const Eigen::Index m = Z.rows(), q = X.cols();
   const double nd = static_cast<double>(Y_.rows()), inv_l2 = 1.0 / (kernel_.lengthscale * kernel_.lengthscale);
   // dl/dK~ = G = -beta K~^-1 + (n/t) (B B^T + eps K~^-2). K~ = Q + blockdiag(C - Q) + delta I, so
   // dl = tr(G' dQ) + sum_b tr(G_bb dC_bb) with G' = G - blockdiag(G), and with
@@ -280,6 +324,49 @@ void SparseLikelihoodEvaluator::add_gradient(const Eigen::MatrixXd& X, const Eig
     W_ += (c * eps_) * H2_;
     dense_gemm(true, false, 1.0, U_, U_, 0.0, UtU);
   }
+  if (diagonal_)
+    add_diagonal_terms(c, UtU);
+  else
+    add_block_terms(X, c, UtU, grad_X);
+  Eigen::MatrixXd M;
+  dense_gemm(true, false, 1.0, Pt_, W_, 0.0, M);
+  M = 0.5 * (M + M.transpose());
+
+  // Through the kernel: with A = (4/l^2) W o C_nm, dl/dX = A Z - diag(A 1) X and the C_nm part of
+  // dl/dZ = A^T X - diag(A^T 1) Z; the C_mm part, with G_mm = -M, as in the dense gradient.
+  W_.array() *= Cnm_.array() * (4.0 * inv_l2);
+  if (grad_X != nullptr) {
+    dense_gemm(false, false, 1.0, W_, Z, 1.0, *grad_X);
+    *grad_X -= W_.rowwise().sum().asDiagonal() * X;
+    *grad_X -= precision_ * X;
+  }
+  if (grad_Z != nullptr) {
+    dense_gemm(true, false, 1.0, W_, X, 0.0, *grad_Z);
+    *grad_Z -= W_.colwise().sum().transpose().asDiagonal() * Z;
+    Eigen::MatrixXd Amm = M.array() * Cmm_.array() * (-4.0 * inv_l2);
+    Amm.diagonal().setZero();
+    *grad_Z += Amm * Z;
+    *grad_Z -= Amm.rowwise().sum().asDiagonal() * Z;
+  }
+}
+
+void SparseLikelihoodEvaluator::add_diagonal_terms(double c, const Eigen::MatrixXd& UtU) {
+  // add_block_terms with singleton blocks (FITC): G_ii = -beta (1/Lambda_ii - |U_i|^2) + c (|B_i|^2
+  // + eps (1/Lambda_ii^2 - 2 |U_i|^2 / Lambda_ii + U_i U^T U U_i^T)); no C_bb term (C_ii = 1).
+  const Eigen::ArrayXd linv = lambda_inv_.array(), uu = U_.rowwise().squaredNorm().array();
+  Eigen::ArrayXd g = -beta_ * (linv - uu) + c * B_.rowwise().squaredNorm().array();
+  if (eps_ > 0) {
+    Eigen::MatrixXd UQ;
+    dense_gemm(false, false, 1.0, U_, UtU, 0.0, UQ);
+    g += (c * eps_) * (linv.square() - 2.0 * linv * uu + (UQ.array() * U_.array()).rowwise().sum());
+  }
+  W_ -= g.matrix().asDiagonal() * Pt_;
+}
+
+void SparseLikelihoodEvaluator::add_block_terms(const Eigen::MatrixXd& X, double c, const Eigen::MatrixXd& UtU,
+                                                Eigen::MatrixXd* grad_X) {
+  const Eigen::Index m = U_.cols(), q = X.cols();
+  const double inv_l2 = 1.0 / (kernel_.lengthscale * kernel_.lengthscale);
   // The blocks of G: -beta (Lambda_b^-1 - U_b U_b^T) + c (B_b B_b^T + eps (K~^-2)_bb), with
   // (K~^-2)_bb = Lambda_b^-2 - Lambda_b^-1 U_b U_b^T - U_b U_b^T Lambda_b^-1 + U_b (U^T U) U_b^T.
   Eigen::MatrixXd Gb, Ub, Bb, Pb, Linv, LU;
@@ -307,96 +394,11 @@ void SparseLikelihoodEvaluator::add_gradient(const Eigen::MatrixXd& X, const Eig
       for (Eigen::Index a = 0; a < s; ++a) grad_X->row(idx[a]) += gb.row(a);
     }
   }
-  Eigen::MatrixXd M;
-  dense_gemm(true, false, 1.0, Pt_, W_, 0.0, M);
-  M = 0.5 * (M + M.transpose());
-
-  // Through the kernel: with A = (4/l^2) W o C_nm, dl/dX = A Z - diag(A 1) X and the C_nm part of
-  // dl/dZ = A^T X - diag(A^T 1) Z; the C_mm part, with G_mm = -M, as in the dense gradient.
-  W_.array() *= Cnm_.array() * (4.0 * inv_l2);
-  if (grad_X != nullptr) {
-    dense_gemm(false, false, 1.0, W_, Z, 1.0, *grad_X);
-    *grad_X -= W_.rowwise().sum().asDiagonal() * X;
-    *grad_X -= precision_ * X;
-  }
-  if (grad_Z != nullptr) {
-    dense_gemm(true, false, 1.0, W_, X, 0.0, *grad_Z);
-    *grad_Z -= W_.colwise().sum().transpose().asDiagonal() * Z;
-    Eigen::MatrixXd Amm = M.array() * Cmm_.array() * (-4.0 * inv_l2);
-    Amm.diagonal().setZero();
-    *grad_Z += Amm * Z;
-    *grad_Z -= Amm.rowwise().sum().asDiagonal() * Z;
-  }
 }
 
 double SparseLikelihoodEvaluator::to_log_likelihood(double normalized_value) const {
   const double n = static_cast<double>(Y_.rows());
   return columns_ * (normalized_value - n * std::log(sigma_ / columns_));
-}
-
-double sparse_repulsion(const Eigen::MatrixXd& X, double repulsion, double radius, Eigen::MatrixXd* gradient) {
-  if (repulsion == 0) return 0.0;
-  const Eigen::Index n = X.rows(), q = X.cols();
-  const double inv_r2 = 1.0 / (radius * radius), cutoff = 40.0 / inv_r2, slab = std::sqrt(cutoff);
-  const double scale = repulsion * 2.0 * inv_r2;
-  std::vector<Eigen::Index> order(static_cast<std::size_t>(n));
-  std::iota(order.begin(), order.end(), Eigen::Index{0});
-  std::sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) { return X(a, 0) < X(b, 0); });
-  const Eigen::MatrixXd Xt = X.transpose();  // points as contiguous columns
-  Eigen::MatrixXd gt;
-  if (gradient != nullptr) gt.setZero(q, n);
-  // Pairs within the cutoff are gathered in batches, so that expm1 and log run as libmvec's vector
-  // functions over each batch (one scalar call per pair took 3/4 of an evaluation at n = 10,000).
-  constexpr std::size_t kBatch = 8192;
-  std::vector<Eigen::Index> first, second;
-  std::vector<double> e, logs;
-  first.reserve(kBatch);
-  second.reserve(kBatch);
-  double sum = 0.0;
-  const auto flush = [&] {
-    const std::size_t count = first.size();
-    logs.resize(count);
-    expm1_in_place(e.data(), count);  // e^{-u} - 1
-    for (std::size_t k = 0; k < count; ++k) logs[k] = kSparseBarrierFloor - e[k];
-    log_in_place(logs.data(), count);
-    for (std::size_t k = 0; k < count; ++k) sum += logs[k];
-    if (gradient != nullptr) {  // raw loops: Eigen's dynamic columns cost more than the pair itself
-      const double* x = Xt.data();
-      double* g = gt.data();
-      for (std::size_t k = 0; k < count; ++k) {
-        const double f = scale * (1.0 + e[k]) / (kSparseBarrierFloor - e[k]);
-        const Eigen::Index i = first[k] * q, j = second[k] * q;
-        for (Eigen::Index d = 0; d < q; ++d) {
-          const double step = f * (x[i + d] - x[j + d]);
-          g[i + d] += step;
-          g[j + d] -= step;
-        }
-      }
-    }
-    first.clear();
-    second.clear();
-    e.clear();
-  };
-  for (std::size_t a = 0; a < order.size(); ++a) {
-    const Eigen::Index i = order[a];
-    for (std::size_t b = a + 1; b < order.size(); ++b) {
-      const Eigen::Index j = order[b];
-      if (Xt(0, j) - Xt(0, i) > slab) break;
-      double d2 = 0.0;
-      for (Eigen::Index d = 0; d < q; ++d) {
-        const double diff = Xt(d, i) - Xt(d, j);
-        d2 += diff * diff;
-      }
-      if (!(d2 < cutoff)) continue;
-      first.push_back(i);
-      second.push_back(j);
-      e.push_back(-d2 * inv_r2);
-    }
-    if (first.size() >= kBatch) flush();
-  }
-  flush();
-  if (gradient != nullptr) *gradient += gt.transpose();
-  return repulsion * sum;
 }
 
 std::vector<Eigen::Index> farthest_point_indices(const Eigen::MatrixXd& X, int m) {

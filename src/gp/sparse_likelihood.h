@@ -75,10 +75,18 @@ private:
   /// normalized()'s first half: C_nm, C_mm, V, the blocks' Lambda_b^-1 factors, A and U for the
   /// points X and inducing points Z; returns log|K~|.
   double factorize(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Z);
+  /// factorize()'s blocks: Lambda_b^-1's factors and A = I + V Lambda^-1 V^T from V; log|Lambda|.
+  /// The diagonal variant is the one for singleton blocks (FITC), as vectors instead of n blocks.
+  double factorize_blocks(const Eigen::MatrixXd& X);
+  double factorize_diagonal();
   /// normalized()'s second half: the gradients of the likelihood part (t = tr(K~^-1 S)) added to
   /// grad_X (which holds the repulsion's) and written to grad_Z, from the state factorize() left.
   void add_gradient(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Z, double t, Eigen::MatrixXd* grad_X,
                     Eigen::MatrixXd* grad_Z);
+  /// add_gradient()'s blocks of G (c = n/t, UtU = U^T U when eps > 0): each subtracts G_bb P_b^T
+  /// from W and adds tr(G_bb dC_bb) to grad_X; the diagonal variant for singleton blocks.
+  void add_block_terms(const Eigen::MatrixXd& X, double c, const Eigen::MatrixXd& UtU, Eigen::MatrixXd* grad_X);
+  void add_diagonal_terms(double c, const Eigen::MatrixXd& UtU);
   void apply_inverse(const Eigen::MatrixXd& M, Eigen::MatrixXd& out) const;        // out = K~^-1 M
   void apply_block_inverse(const Eigen::MatrixXd& M, Eigen::MatrixXd& out) const;  // out = Lambda^-1 M
 
@@ -91,12 +99,9 @@ private:
   Eigen::MatrixXd Cnm_, Cmm_, Lminv_, V_, A_, U_, B_, Pt_, H1_, H2_, W_;
   std::vector<std::vector<Eigen::Index>> blocks_;
   std::vector<Eigen::MatrixXd> block_inv_, block_cov_;  // L_b^-1 (lower) and C_bb per block
+  bool diagonal_ = true;        // every block a singleton (FITC): Lambda is diagonal
+  Eigen::VectorXd lambda_inv_;  // then Lambda^-1's diagonal (block_inv_ and block_cov_ unused)
 };
-
-/// The repulsive prior lambda sum_{i<j, u_ij < 40} log(1 - e^{-u_ij} + 1e-12), u_ij =
-/// |x_i - x_j|^2 / rho^2, over the pairs within the cutoff only (O(n log n + pairs in the slab)),
-/// and (optionally) adds its gradient to *gradient (n x q). Returns the value (0 when repulsion is 0).
-double sparse_repulsion(const Eigen::MatrixXd& X, double repulsion, double radius, Eigen::MatrixXd* gradient);
 
 /// m points of X chosen by farthest-point sampling (the first is the point nearest the centroid),
 /// so that the inducing points cover the latent points; m is capped at n. Deterministic.

@@ -9,6 +9,7 @@
 #include "gp/optimize.h"
 #include "gp/sparse_likelihood.h"
 #include "gp/sparse_optimize.h"
+#include "gp/sparse_repulsion.h"
 #include "gp_test_data.h"
 
 namespace matlas::gp {
@@ -130,6 +131,78 @@ TEST(SparseLikelihood, RepulsionOverNeighboursEqualsTheDenseSum) {
   const double swept = sparse_repulsion(X, 2.0, 0.1, &g);
   EXPECT_NEAR(swept, dense, 1e-9 * std::abs(dense));
   EXPECT_LT((g - (g_on - g_off)).cwiseAbs().maxCoeff(), 1e-6 * g.cwiseAbs().maxCoeff());
+}
+
+TEST(SparseLikelihood, RepulsionInParallelRangesEqualsThePairSum) {
+  // 3000 points: the sweep runs in two ranges of the sorted points on the worker threads, and
+  // every point has hundreds of neighbours within the cutoff.
+  const Eigen::MatrixXd X = random_points(3000, 2, 23, 1.0);
+  const double repulsion = 1.5, radius = 0.1;
+  double expected = 0;
+  Eigen::MatrixXd expected_gradient = Eigen::MatrixXd::Zero(3000, 2);
+  for (Eigen::Index i = 0; i < X.rows(); ++i)
+    for (Eigen::Index j = i + 1; j < X.rows(); ++j) {  // every pair within the documented cutoff
+      const Eigen::RowVector2d diff = X.row(i) - X.row(j);
+      const double u = diff.squaredNorm() / (radius * radius);
+      if (u >= 40) continue;  // beyond it each pair would add log(1 + 1e-12): 4.5e-6 over these 4.5M pairs
+      const double gap = -std::expm1(-u) + 1e-12;  // 1 - e^{-u}, accurate for close pairs
+      expected += repulsion * std::log(gap);
+      const Eigen::RowVector2d force = repulsion * 2 / (radius * radius) * std::exp(-u) / gap * diff;
+      expected_gradient.row(i) += force;
+      expected_gradient.row(j) -= force;
+    }
+  Eigen::MatrixXd g = Eigen::MatrixXd::Ones(3000, 2);  // the gradient is added to what is there
+  const double swept = sparse_repulsion(X, repulsion, radius, &g);
+  EXPECT_NEAR(swept, expected, 1e-10 * std::abs(expected));
+  EXPECT_LT((g.array() - 1 - expected_gradient.array()).abs().maxCoeff(), 1e-9 * expected_gradient.cwiseAbs().maxCoeff());
+  EXPECT_EQ(sparse_repulsion(X, repulsion, radius, nullptr), swept);  // the value alone: the same sum
+}
+
+TEST(SparseLikelihood, FitcEqualsItsDenseDefinition) {
+  // K~ = Q + diag(C - Q) + delta I, Q = C_nm (C_mm + jitter I)^-1 C_mn, written out densely, against
+  // the evaluator's diagonal form; n and m large enough that its products are split over threads.
+  const int n = 1200, m = 120;
+  const LikelihoodProblem p = test::problem_for(random_low_rank_data(n, 40, 8, 51));
+  SparseProblem s = sparse_problem(p, 20);
+  s.jitter = 1e-6;
+  ASSERT_GT(s.data.residual, 0);
+  const Eigen::MatrixXd X = random_points(n, 2, 52, 1.5);
+  const Eigen::MatrixXd Z = farthest_point_subset(X, m);
+  SparseLikelihoodEvaluator e(s);
+  const double l = e.normalized(X, Z);
+
+  const Kernel plain{s.kernel.lengthscale, 0.0};
+  Eigen::MatrixXd Cnm(n, m);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < m; ++j) Cnm(i, j) = std::exp(-(X.row(i) - Z.row(j)).squaredNorm() / std::pow(plain.lengthscale, 2));
+  Eigen::MatrixXd Cmm = covariance_matrix(Z, plain);
+  Cmm.diagonal().array() += s.jitter;
+  const Eigen::MatrixXd Q = Cnm * Cmm.llt().solve(Cnm.transpose());
+  Eigen::MatrixXd K = Q;
+  K.diagonal() = Eigen::VectorXd::Constant(n, 1.0 + s.kernel.nugget);  // diag(C) + delta
+  const double sigma = (s.data.factor.squaredNorm() + s.data.residual) / n;
+  Eigen::MatrixXd S = s.data.factor * s.data.factor.transpose() / sigma;
+  S.diagonal().array() += s.data.residual / (sigma * n);
+  const Eigen::LLT<Eigen::MatrixXd> llt(K);
+  const double log_det = 2 * llt.matrixLLT().diagonal().array().log().sum();
+  const double t = llt.solve(S).trace();
+  const double expected = -log_det - n * std::log(t / n) - n - 0.5 * s.prior.precision * X.squaredNorm() +
+                          sparse_repulsion(X, s.prior.repulsion, s.prior.radius, nullptr);
+  EXPECT_NEAR(l, expected, 1e-8 * std::abs(expected));
+
+  // The gradient along a few coordinates of X and Z, by central differences.
+  Eigen::MatrixXd gX, gZ;
+  e.normalized(X, Z, &gX, &gZ);
+  for (const auto& [which, index] : {std::pair{0, 17}, {0, n + 404}, {1, 3}, {1, m + 77}}) {
+    Eigen::MatrixXd plus = which == 0 ? X : Z, minus = plus;
+    const double h = 1e-5;
+    plus.data()[index] += h;
+    minus.data()[index] -= h;
+    const double fd = which == 0 ? (e.normalized(plus, Z) - e.normalized(minus, Z)) / (2 * h)
+                                 : (e.normalized(X, plus) - e.normalized(X, minus)) / (2 * h);
+    const double analytic = (which == 0 ? gX : gZ).data()[index];
+    EXPECT_NEAR(analytic, fd, 1e-5 * std::max(1.0, std::abs(fd))) << (which == 0 ? "X" : "Z") << " entry " << index;
+  }
 }
 
 TEST(SparseLikelihood, LowRankGramMatchesTheLeadingEigenpairs) {
