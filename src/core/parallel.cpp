@@ -7,6 +7,10 @@
 #include <tbb/blocked_range.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <sys/resource.h>
+#include <unistd.h>
 
 namespace matlas {
 
@@ -62,6 +66,16 @@ void parallel_for_each(std::size_t begin, std::size_t end, const std::function<v
         for (std::size_t i = r.begin(); i < r.end(); ++i) body(i);
       },
       tbb::simple_partitioner());
+}
+
+constexpr int kBackgroundNice = 4;
+
+void run_in_background(const std::function<void()>& f) {
+  // A failure to lower the priority only costs responsiveness: f runs all the same.
+  (void)::setpriority(PRIO_PROCESS, static_cast<id_t>(::gettid()), kBackgroundNice);
+  limit_pool();
+  tbb::task_arena arena(static_cast<int>(worker_count()), 1, tbb::task_arena::priority::low);
+  arena.execute(f);
 }
 
 }  // namespace matlas

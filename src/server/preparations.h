@@ -23,6 +23,7 @@
 #include <thread>
 #include <utility>
 
+#include "core/parallel.h"
 #include "core/progress.h"
 #include "server/cancellable_sink.h"
 #include "server/lru_cache.h"
@@ -46,7 +47,9 @@ public:
   using Prepare = std::function<std::shared_ptr<const Value>(const std::string& key, ProgressSink& progress)>;
 
   Preparations(Prepare prepare, std::size_t max_kept) : prepare_(std::move(prepare)), kept_(max_kept) {
-    worker_ = std::thread([this] { work(); });
+    // Background work: requests a user waits for (a refinement, a drag's preview) get the cores
+    // and the worker threads first (core/parallel.h).
+    worker_ = std::thread([this] { run_in_background([this] { work(); }); });
   }
   ~Preparations() {
     {

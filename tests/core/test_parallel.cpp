@@ -9,6 +9,9 @@
 
 #include "core/parallel.h"
 
+#include <sys/resource.h>
+#include <unistd.h>
+
 namespace matlas {
 namespace {
 
@@ -54,6 +57,31 @@ TEST(ParallelFor, NestedAndConcurrentCallsComplete) {
     });
   for (auto& c : callers) c.join();
   EXPECT_EQ(total.load(), 4 * 8 * 100);
+}
+
+TEST(RunInBackground, LowersTheThreadsPriorityAndStillRunsLoopsOnAllWorkers) {
+  // On a thread of its own: the lowered priority stays with the thread.
+  std::atomic<int> covered{0};
+  int nice_inside = 0, nice_before = 0;
+  std::thread([&] {
+    nice_before = ::getpriority(PRIO_PROCESS, static_cast<id_t>(::gettid()));
+    run_in_background([&] {
+      nice_inside = ::getpriority(PRIO_PROCESS, static_cast<id_t>(::gettid()));
+      parallel_for_each(0, 1000, [&](std::size_t) { covered.fetch_add(1); });
+      parallel_for(0, 1000, [&](std::size_t b, std::size_t e) { covered.fetch_add(static_cast<int>(e - b)); });
+    });
+  }).join();
+  EXPECT_EQ(covered.load(), 2000);
+  EXPECT_GT(nice_inside, nice_before);
+  bool rethrown = false;  // an exception in f reaches the caller
+  std::thread([&] {
+    try {
+      run_in_background([] { throw std::runtime_error("inside"); });
+    } catch (const std::runtime_error&) {
+      rethrown = true;
+    }
+  }).join();
+  EXPECT_TRUE(rethrown);
 }
 
 }  // namespace
