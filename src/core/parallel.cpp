@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <cerrno>
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -72,7 +73,11 @@ constexpr int kBackgroundNice = 4;
 
 void run_in_background(const std::function<void()>& f) {
   // A failure to lower the priority only costs responsiveness: f runs all the same.
-  (void)::setpriority(PRIO_PROCESS, static_cast<id_t>(::gettid()), kBackgroundNice);
+  // Relative to the thread's current value (a process run under nice stays below its callers).
+  const auto tid = static_cast<id_t>(::gettid());
+  errno = 0;
+  const int current = ::getpriority(PRIO_PROCESS, tid);
+  if (errno == 0) (void)::setpriority(PRIO_PROCESS, tid, std::min(19, current + kBackgroundNice));
   limit_pool();
   tbb::task_arena arena(static_cast<int>(worker_count()), 1, tbb::task_arena::priority::low);
   arena.execute(f);

@@ -24,7 +24,7 @@ void parallel_for(std::size_t begin, std::size_t end,
 void parallel_for_each(std::size_t begin, std::size_t end, const std::function<void(std::size_t)>& body);
 
 /// Runs f on the calling thread as background work: the thread's scheduling priority is lowered
-/// (Linux nice 10; it stays lowered after f returns, so call this from a thread that does only
+/// (Linux nice raised by 4, at most to 19; it stays lowered after f returns, so call this from a thread that does only
 /// background work) and the parallel loops in f run in a low-priority oneTBB arena. The cores and
 /// the worker threads then go to other work (a request a user waits for) first whenever there is
 /// some, and all to f when there is none.
