@@ -53,6 +53,12 @@ int automatic_stride(std::size_t tables, std::size_t values_per_table, double bu
   return static_cast<int>(std::min(1e6, std::ceil(total / budget)));
 }
 
+int automatic_held_out(std::size_t materials) {
+  const int n = static_cast<int>(std::min<std::size_t>(materials, 1u << 30));
+  const int count = n <= 50 ? 24 : std::max(8, 1200 / n);
+  return std::min(count, n);
+}
+
 std::vector<LayoutTransform> all_layouts() {
   std::vector<LayoutTransform> layouts;
   for (bool cosine : {false, true})

@@ -26,6 +26,12 @@ namespace matlas::eval {
 /// `budget` compared values: ceil(tables x values / budget), at least 1.
 int automatic_stride(std::size_t tables, std::size_t values_per_table, double budget);
 
+/// How many materials the default study leaves out in turn: 24, and past 50 materials 1200 / n
+/// (at least 8), since each left-out material costs one latent fit per layout and q, O(n^3) per
+/// likelihood evaluation: 12 at n = 100 keeps the default run within a few minutes
+/// (docs/EVALUATION.md). All n when n is smaller.
+int automatic_held_out(std::size_t materials);
+
 /// The six layout transforms: linear, cbrt, log, each plain and cosine-weighted.
 std::vector<LayoutTransform> all_layouts();
 

@@ -155,6 +155,16 @@ TEST(AutomaticStride, KeepsThePassWithinItsBudget) {
   EXPECT_EQ(automatic_stride(5, 100, 0.0), 1);        // no budget: every value
 }
 
+TEST(AutomaticHeldOut, ShrinksPastFiftyMaterials) {
+  EXPECT_EQ(automatic_held_out(8), 8);      // every material of a small database
+  EXPECT_EQ(automatic_held_out(24), 24);
+  EXPECT_EQ(automatic_held_out(50), 24);
+  EXPECT_EQ(automatic_held_out(83), 14);    // 1200 / 83
+  EXPECT_EQ(automatic_held_out(100), 12);
+  EXPECT_EQ(automatic_held_out(150), 8);
+  EXPECT_EQ(automatic_held_out(1000), 8);   // never fewer than 8
+}
+
 TEST_F(TinyDatabase, TheDefaultStrideFollowsTheBudgetAndIsReported) {
   StudyOptions o;
   o.dims = {2};
