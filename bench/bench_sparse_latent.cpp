@@ -45,15 +45,38 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
 /// figure to read on a loaded machine.
 double cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 
-/// Sparse options with m inducing points; MATLAS_SPARSE_FREE=1 frees them (the FITC drift, docs/GP.md).
+/// Sparse options with m inducing points; MATLAS_SPARSE_FREE=1 frees them (the FITC drift, docs/GP.md),
+/// MATLAS_SPARSE_BLOCK=B sets PITC blocks, MATLAS_SPARSE_COARSE=C places C items first (coarse_placement.h;
+/// 0: all at once; unset: the build's automatic choice, n / 10 from n = 2000 on).
 gp::SparseOptions sopt(int m) {
   gp::SparseOptions s;
   s.inducing = m;
   const char* env = std::getenv("MATLAS_SPARSE_FREE");
   s.free_inducing = env != nullptr && std::string(env) == "1";
   if (const char* block = std::getenv("MATLAS_SPARSE_BLOCK")) s.block = std::stoi(block);
+  if (const char* coarse = std::getenv("MATLAS_SPARSE_COARSE")) s.coarse = std::stoi(coarse);
   return s;
 }
+
+/// Prints the placement's stage lines (coarse stage, refinement, stop reasons) with their time,
+/// not its per-iteration lines.
+class StageLines final : public ProgressSink {
+public:
+  void update(const std::string&, std::uint64_t, std::uint64_t) override {}
+  void finish(const std::string&) override {}
+  void message(const std::string& line) override {
+    if (line.rfind("sparse lbfgs iter", 0) == 0) {
+      last_ = line;
+      return;
+    }
+    std::printf("%8.1f s  %s\n         (%s)\n", seconds_since(start_), line.c_str(), last_.c_str());
+    std::fflush(stdout);
+  }
+
+private:
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  std::string last_;
+};
 
 struct Generated {
   Eigen::MatrixXd truth;  // n x 2
@@ -165,7 +188,8 @@ int run_optimize(int n, int m, int r) {
   const double c0 = cpu_seconds();
   const Eigen::MatrixXd X0 = gp::sparse_pca_initialization(p, 2, m, sopt(m).block);
   const double t_init = seconds_since(t0);
-  const gp::OptimizeResult res = gp::optimize_sparse_latent(p, X0, sopt(m), o, null_progress());
+  StageLines stages;
+  const gp::OptimizeResult res = gp::optimize_sparse_latent(p, X0, sopt(m), o, stages);
   std::printf("sparse placement n = %d m = %d r = %d: start %.1f s, L-BFGS %.1f s (%d iterations, %d evaluations, "
               "%.1f ms each), total %.1f s wall, %.1f s CPU; %s\n",
               n, m, r, t_init, res.seconds, res.iterations, res.evaluations, 1e3 * res.seconds / res.evaluations,

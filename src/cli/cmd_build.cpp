@@ -40,6 +40,7 @@ struct BuildArgs {
   int sparse_inducing = kDefaults.sparse.inducing;
   int sparse_rank = kDefaults.sparse.rank;
   int sparse_block = kDefaults.sparse.block;
+  int sparse_coarse = kDefaults.sparse.coarse;
   std::string preset;
   bool quiet = false;
 };
@@ -83,6 +84,7 @@ void run_build(const BuildArgs& a, const Io& io) {
   o.sparse.inducing = a.sparse_inducing;
   o.sparse.rank = a.sparse_rank;
   o.sparse.block = a.sparse_block;
+  o.sparse.coarse = a.sparse_coarse;
   if (a.storage == "f16") o.storage = Storage::f16;
   else if (a.storage != "f32") throw Error("--storage must be f32 or f16, got '" + a.storage + "'");
   o.block_columns = a.block_columns;
@@ -169,6 +171,12 @@ void add_build_command(CLI::App& app, const Io& io) {
   cmd->add_option("--sparse-block", args->sparse_block,
                   "Largest block of exact local covariance in the sparse optimisation (1: FITC)")
       ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
+  cmd->add_option("--sparse-coarse", args->sparse_coarse,
+                  "Coarse-to-fine sparse optimisation: place C materials chosen at random first, the others "
+                  "from their nearest ones in the data, then refine all (0: all at once; -1, the default: n/10 "
+                  "from 2000 materials on, else 0; docs/GP.md)")
+      ->check(CLI::Range(-1, 100000000))
       ->capture_default_str();
   cmd->add_option("--tolerance", args->tolerance, "Optimiser relative tolerance")
       ->check(finite_number() & CLI::PositiveNumber)

@@ -1,6 +1,7 @@
 #include "gp/sparse_optimize.h"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -10,6 +11,7 @@
 
 #include "core/check.h"
 #include "core/error.h"
+#include "gp/coarse_placement.h"
 #include "gp/initialize.h"
 #include "gp/lbfgs_driver.h"
 #include "gp/optimize_run.h"
@@ -151,6 +153,49 @@ double sparse_start_scale(int k) {
 
 }  // namespace
 
+namespace {
+
+/// optimize_sparse_latent with a coarse stage (s.coarse in (0, n)): the starts on the subset, the
+/// interpolation of the others, one refinement of all.
+OptimizeResult coarse_to_fine(const SparseProblem& p, const Eigen::MatrixXd& X0, const SparseOptions& s,
+                              const OptimizeOptions& o, ProgressSink& sink, Eigen::MatrixXd* inducing_out) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<Eigen::Index> rows = coarse_subset(X0.rows(), s.coarse);
+  SparseOptions one_stage = s;
+  one_stage.coarse = 0;
+  one_stage.inducing = std::min(s.inducing, s.coarse);
+  sink.message("coarse placement: " + std::to_string(rows.size()) + " of " + std::to_string(X0.rows()) + " items");
+  const OptimizeResult coarse =
+      optimize_sparse_latent(subset_problem(p, rows), gather_rows(X0, rows), one_stage, o, sink);
+  // The interpolated layout about its centroid, scaled to the whole problem's best (n items
+  // spread wider than the subset's c: their repulsion and covariance want room).
+  Eigen::MatrixXd X1 = interpolate_layout(p.data, rows, coarse.latent);
+  X1 = X1.rowwise() - X1.colwise().mean();
+  {
+    SparseLikelihoodEvaluator evaluator(p);
+    const std::vector<Eigen::Index> chosen = farthest_point_indices(X1, s.inducing);
+    const Eigen::MatrixXd Z = gather_rows(X1, chosen);
+    evaluator.set_blocks(local_blocks(X1, Z, s.block));
+    const double a = best_scale_factor(
+        [&](const Eigen::MatrixXd& aX) { return evaluator.normalized(aX, aX.norm() / X1.norm() * Z); }, X1, 0.25, 4.0);
+    sink.message("coarse placement: the others interpolated, the layout scaled by " + std::to_string(a));
+    X1 *= a;
+  }
+  sink.message("refinement of all " + std::to_string(X0.rows()) + " items");
+  OptimizeOptions refine = o;
+  refine.starts = 1;
+  if (o.time_limit_seconds > 0) refine.time_limit_seconds = std::max(1e-3, o.time_limit_seconds - coarse.seconds);
+  one_stage.inducing = s.inducing;
+  OptimizeResult r = optimize_sparse_latent(p, X1, one_stage, refine, sink, inducing_out);
+  r.iterations += coarse.iterations;
+  r.evaluations += coarse.evaluations;
+  r.best_start = coarse.best_start;
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return r;
+}
+
+}  // namespace
+
 std::vector<std::vector<Eigen::Index>> local_blocks(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Z, int max_block) {
   if (max_block < 1) throw Error("sparse blocks: the block size must be >= 1");
   if (Z.rows() == 0 || Z.cols() != X.cols()) throw Error("sparse blocks: need inducing points of the latent dimension");
@@ -176,6 +221,8 @@ std::vector<std::vector<Eigen::Index>> local_blocks(const Eigen::MatrixXd& X, co
   MATLAS_CHECK_EQ(assigned, static_cast<std::size_t>(X.rows()));  // every item in exactly one block
   return blocks;
 }
+
+int automatic_coarse(Eigen::Index n) { return n >= 2000 ? static_cast<int>(n / 10) : 0; }
 
 SparseProblem sparse_problem(const LikelihoodProblem& p, int rank) {
   SparseProblem s;
@@ -226,10 +273,17 @@ OptimizeResult optimize_sparse_latent(const SparseProblem& p, const Eigen::Matri
   if (o.starts < 1) throw Error("optimize_sparse_latent: starts must be >= 1");
   if (!(o.tolerance >= 0) || o.max_iterations < 0 || !(o.time_limit_seconds >= 0))
     throw Error("optimize_sparse_latent: tolerance, max_iterations and time_limit_seconds must be >= 0");
+  if (s.coarse < -1) throw Error("optimize_sparse_latent: the coarse subset's size must be >= 0 (or -1: automatic)");
   SparseLikelihoodEvaluator evaluator(p);
   if (X0.rows() != evaluator.count())
     throw Error("optimize_sparse_latent: X0 has " + std::to_string(X0.rows()) + " rows for " +
                 std::to_string(evaluator.count()) + " items");
+  const int coarse = s.coarse < 0 ? automatic_coarse(X0.rows()) : s.coarse;
+  if (coarse > 0 && coarse < X0.rows()) {
+    SparseOptions staged = s;
+    staged.coarse = coarse;
+    return coarse_to_fine(p, X0, staged, o, sink, inducing_out);
+  }
   detail::BestOfStarts starts(o);
   const Eigen::RowVectorXd centroid = X0.colwise().mean();
   Eigen::MatrixXd best_Z;

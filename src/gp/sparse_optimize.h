@@ -25,8 +25,17 @@ struct SparseOptions {
   /// The largest block of exact local covariance (PITC): the points nearest each inducing point at
   /// the start, split into runs of at most `block` points along the first coordinate. 1 = FITC.
   int block = 1;
+  /// Coarse-to-fine (gp/coarse_placement.h): when 0 < coarse < n, `coarse` items chosen at random
+  /// are placed first (every start runs on them), the others interpolated from their nearest
+  /// placed items in the data, the layout scaled to the whole problem's best, and refined from
+  /// there. 0: all at once. -1 (the default): automatic_coarse(n).
+  int coarse = -1;
   bool enabled() const { return inducing > 0; }
 };
+
+/// The coarse subset's size SparseOptions::coarse = -1 stands for: n / 10 from n = 2000 on (where
+/// it placed generated problems better in less time, docs/GP.md), else 0 (all at once).
+int automatic_coarse(Eigen::Index n);
 
 /// The sparse problem of an exact one: the rank-r truncation of its Gram (low_rank_gram), its
 /// columns, kernel and priors.
@@ -49,7 +58,9 @@ Eigen::MatrixXd sparse_pca_initialization(const SparseProblem& p, int q, int ind
 /// optimize_latent's L-BFGS; Hooke-Jeeves is refused). Starts after the first are X0 scaled about
 /// its centroid as optimize_latent's, run one after the other. The result's value and history are
 /// the sparse objective in log-likelihood units (to_log_likelihood); *inducing_out receives the
-/// winning Z. Throws matlas::Error for a malformed problem or options.
+/// winning Z. With s.coarse in (0, n) the starts run on the coarse subset and the refinement of
+/// the whole layout follows (iterations, evaluations and seconds are the two stages' sums; the
+/// history is the refinement's). Throws matlas::Error for a malformed problem or options.
 OptimizeResult optimize_sparse_latent(const SparseProblem& p, const Eigen::MatrixXd& X0, const SparseOptions& s,
                                       const OptimizeOptions& o, ProgressSink& sink,
                                       Eigen::MatrixXd* inducing_out = nullptr);

@@ -227,6 +227,17 @@ TEST(BuildModel, SparseLatentOptimisationWithAllPointsInducingIsTheExactOne) {
   for (int i = 0; i < 10; ++i)
     for (int j = 0; j < i; ++j)
       EXPECT_NEAR((a.latent().row(i) - a.latent().row(j)).norm(), (b.latent().row(i) - b.latent().row(j)).norm(), 2e-2);
+  // Coarse-to-fine: 4 of the 10 placed first; the model records it and is a valid map.
+  BuildOptions coarse = sparse;
+  coarse.sparse.coarse = 4;
+  build_model(set, coarse, dir / "coarse.matlas");
+  const Model c = Model::open(dir / "coarse.matlas");
+  EXPECT_EQ(c.metadata()["latent_optimization"]["coarse"], 4);
+  EXPECT_EQ(c.latent().rows(), 10);
+  EXPECT_TRUE(c.latent().allFinite());
+  EXPECT_EQ(b.metadata()["latent_optimization"]["coarse"], 0);  // automatic: all at once below 2000
+  coarse.sparse.coarse = -2;
+  EXPECT_THROW(build_model(set, coarse, dir / "negative.matlas"), Error);
   sparse.optimize.method = gp::Optimizer::hooke_jeeves;
   EXPECT_THROW(build_model(set, sparse, dir / "hj.matlas"), Error);
 }

@@ -1,0 +1,107 @@
+#include "gp/coarse_placement.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <random>
+#include <string>
+
+#include "core/check.h"
+#include "core/error.h"
+
+namespace matlas::gp {
+
+std::vector<Eigen::Index> coarse_subset(Eigen::Index n, int count, std::uint64_t seed) {
+  if (count < 1) throw Error("coarse placement: the subset needs at least one item (got " + std::to_string(count) + ")");
+  std::vector<Eigen::Index> all(static_cast<std::size_t>(n));
+  std::iota(all.begin(), all.end(), Eigen::Index{0});
+  if (count >= n) return all;
+  // A partial Fisher-Yates shuffle: the first `count` entries are a uniform sample.
+  std::mt19937_64 rng(seed);
+  for (std::size_t k = 0; k < static_cast<std::size_t>(count); ++k) {
+    std::uniform_int_distribution<std::size_t> pick(k, all.size() - 1);
+    std::swap(all[k], all[pick(rng)]);
+  }
+  all.resize(static_cast<std::size_t>(count));
+  std::sort(all.begin(), all.end());
+  return all;
+}
+
+SparseProblem subset_problem(const SparseProblem& p, const std::vector<Eigen::Index>& rows) {
+  const Eigen::Index n = p.data.factor.rows();
+  SparseProblem s = p;
+  s.data.factor.resize(static_cast<Eigen::Index>(rows.size()), p.data.factor.cols());
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    if (rows[k] < 0 || rows[k] >= n) throw Error("coarse placement: a subset row is out of range");
+    s.data.factor.row(static_cast<Eigen::Index>(k)) = p.data.factor.row(rows[k]);
+  }
+  s.data.residual = p.data.residual * static_cast<double>(rows.size()) / static_cast<double>(n);
+  return s;
+}
+
+Eigen::MatrixXd interpolate_layout(const LowRankGram& data, const std::vector<Eigen::Index>& rows,
+                                   const Eigen::MatrixXd& placed, int neighbours, double jitter) {
+  const Eigen::MatrixXd& Y = data.factor;
+  const Eigen::Index n = Y.rows(), c = static_cast<Eigen::Index>(rows.size()), q = placed.cols();
+  if (neighbours < 1) throw Error("coarse placement: need at least one neighbour");
+  if (c == 0 || placed.rows() != c || q == 0)
+    throw Error("coarse placement: " + std::to_string(placed.rows()) + " placed points for " + std::to_string(c) +
+                " subset items");
+  if (!placed.allFinite()) throw Error("coarse placement: the subset's layout is not finite");
+  std::vector<char> in_subset(static_cast<std::size_t>(n), 0);
+  Eigen::MatrixXd Ysub(c, Y.cols());
+  for (Eigen::Index k = 0; k < c; ++k) {
+    const Eigen::Index i = rows[static_cast<std::size_t>(k)];
+    if (i < 0 || i >= n || in_subset[static_cast<std::size_t>(i)] != 0)
+      throw Error("coarse placement: subset rows must be distinct and within the data");
+    in_subset[static_cast<std::size_t>(i)] = 1;
+    Ysub.row(k) = Y.row(i);
+  }
+  std::vector<Eigen::Index> rest;
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (in_subset[static_cast<std::size_t>(i)] == 0) rest.push_back(i);
+
+  Eigen::MatrixXd X(n, q);
+  for (Eigen::Index k = 0; k < c; ++k) X.row(rows[static_cast<std::size_t>(k)]) = placed.row(k);
+  const Eigen::RowVectorXd centroid = placed.colwise().mean();
+  const double radius = std::sqrt((placed.rowwise() - centroid).squaredNorm() / static_cast<double>(c));
+  const Eigen::VectorXd sub_norms = Ysub.rowwise().squaredNorm();
+  const int k_near = static_cast<int>(std::min<Eigen::Index>(neighbours, c));
+  std::mt19937_64 rng(0x9e3779b97f4a7c15ULL);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  // Squared distances in blocks of rows (a 1024 x c block at a time), nearest by partial sort.
+  constexpr std::size_t kBlock = 1024;
+  std::vector<Eigen::Index> order(static_cast<std::size_t>(c));
+  for (std::size_t b = 0; b < rest.size(); b += kBlock) {
+    const std::size_t e = std::min(rest.size(), b + kBlock);
+    Eigen::MatrixXd Yb(static_cast<Eigen::Index>(e - b), Y.cols());
+    for (std::size_t k = b; k < e; ++k) Yb.row(static_cast<Eigen::Index>(k - b)) = Y.row(rest[k]);
+    Eigen::MatrixXd D2 = -2.0 * (Yb * Ysub.transpose());
+    D2.colwise() += Yb.rowwise().squaredNorm();
+    D2.rowwise() += sub_norms.transpose();
+    for (std::size_t k = b; k < e; ++k) {
+      const Eigen::Index row = static_cast<Eigen::Index>(k - b);
+      std::iota(order.begin(), order.end(), Eigen::Index{0});
+      std::partial_sort(order.begin(), order.begin() + k_near, order.end(),
+                        [&](Eigen::Index u, Eigen::Index v) { return D2(row, u) < D2(row, v); });
+      Eigen::RowVectorXd x = placed.row(order[0]);  // a duplicate of a placed item: its point
+      if (D2(row, order[0]) > 0) {
+        x.setZero();
+        double total = 0;
+        for (int j = 0; j < k_near; ++j) {
+          const Eigen::Index s = order[static_cast<std::size_t>(j)];
+          const double w = 1.0 / std::sqrt(D2(row, s));  // > 0: the nearest distance is
+          x += w * placed.row(s);
+          total += w;
+        }
+        x /= total;
+      }
+      for (Eigen::Index a = 0; a < q; ++a) x[a] += jitter * radius * normal(rng);
+      X.row(rest[k]) = x;
+    }
+  }
+  MATLAS_CHECK(X.allFinite(), "the interpolated layout");
+  return X;
+}
+
+}  // namespace matlas::gp

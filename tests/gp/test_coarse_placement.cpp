@@ -1,0 +1,122 @@
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <set>
+
+#include "core/error.h"
+#include "gp/coarse_placement.h"
+#include "gp/initialize.h"
+#include "gp/likelihood.h"
+#include "gp/sparse_optimize.h"
+#include "gp_test_data.h"
+
+namespace matlas::gp {
+namespace {
+
+using test::random_points;
+
+TEST(CoarsePlacement, SubsetIsADeterministicSortedSampleWithoutRepeats) {
+  const std::vector<Eigen::Index> a = coarse_subset(1000, 100, 5), b = coarse_subset(1000, 100, 5);
+  EXPECT_EQ(a, b);
+  ASSERT_EQ(a.size(), 100u);
+  EXPECT_TRUE(std::is_sorted(a.begin(), a.end()));
+  EXPECT_EQ(std::set<Eigen::Index>(a.begin(), a.end()).size(), 100u);
+  EXPECT_GE(a.front(), 0);
+  EXPECT_LT(a.back(), 1000);
+  // Spread over the whole range, not the first items: a uniform sample's halves hold about 50 each.
+  const auto below = std::count_if(a.begin(), a.end(), [](Eigen::Index i) { return i < 500; });
+  EXPECT_GT(below, 30);
+  EXPECT_LT(below, 70);
+  EXPECT_NE(coarse_subset(1000, 100, 6), a);
+  EXPECT_EQ(coarse_subset(7, 10).size(), 7u);
+  EXPECT_THROW(coarse_subset(10, 0), Error);
+}
+
+TEST(CoarsePlacement, SubsetProblemKeepsItsRowsAndTheirShareOfTheResidual) {
+  SparseProblem p;
+  p.data.factor = random_points(10, 3, 1);
+  p.data.residual = 5.0;
+  p.columns = 77;
+  const SparseProblem s = subset_problem(p, {1, 4, 9});
+  ASSERT_EQ(s.data.factor.rows(), 3);
+  EXPECT_EQ(s.data.factor.row(1), p.data.factor.row(4));
+  EXPECT_EQ(s.data.factor.row(2), p.data.factor.row(9));
+  EXPECT_DOUBLE_EQ(s.data.residual, 1.5);
+  EXPECT_EQ(s.columns, 77);
+  EXPECT_THROW(subset_problem(p, {3, 10}), Error);
+}
+
+TEST(CoarsePlacement, InterpolationKeepsThePlacedAndPutsOthersBetweenTheirNeighbours) {
+  // Data points on a line: y = t e_1 for t = 0..5; items 0, 2 and 5 placed at 2-D points.
+  LowRankGram data;
+  data.factor = Eigen::MatrixXd::Zero(6, 2);
+  for (int i = 0; i < 6; ++i) data.factor(i, 0) = i;
+  data.factor(4, 0) = 5.0;  // item 4 duplicates item 5 in the data
+  const std::vector<Eigen::Index> rows{0, 2, 5};
+  Eigen::MatrixXd placed(3, 2);
+  placed << 0, 0, 2, 2, 6, -4;
+  const Eigen::MatrixXd X = interpolate_layout(data, rows, placed, 2, 0.0);
+  ASSERT_EQ(X.rows(), 6);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(X.row(rows[static_cast<std::size_t>(k)]), placed.row(k));
+  // Item 1 is at distance 1 from items 0 and 2: the midpoint of their points.
+  EXPECT_NEAR(X(1, 0), 1.0, 1e-12);
+  EXPECT_NEAR(X(1, 1), 1.0, 1e-12);
+  // Item 3: distance 1 to item 2, 2 to item 5: weights 2/3 and 1/3.
+  EXPECT_NEAR(X(3, 0), 2.0 * 2 / 3 + 6.0 / 3, 1e-12);
+  EXPECT_NEAR(X(3, 1), 2.0 * 2 / 3 - 4.0 / 3, 1e-12);
+  // Item 4 duplicates item 5: on its point.
+  EXPECT_EQ(X(4, 0), 6.0);
+  EXPECT_EQ(X(4, 1), -4.0);
+  // With the offset the duplicate moves off the point, by about jitter x the RMS radius.
+  const Eigen::MatrixXd J = interpolate_layout(data, rows, placed, 2, 1e-3);
+  const double moved = (J.row(4) - X.row(4)).norm();
+  EXPECT_GT(moved, 1e-6);
+  EXPECT_LT(moved, 0.05);
+  EXPECT_EQ(J.row(0), X.row(0));
+  EXPECT_THROW(interpolate_layout(data, rows, placed.topRows(2)), Error);
+  EXPECT_THROW(interpolate_layout(data, {0, 0, 5}, placed), Error);
+  EXPECT_THROW(interpolate_layout(data, rows, placed, 0), Error);
+}
+
+TEST(CoarsePlacement, CoarseToFineReachesTheOneStageObjective) {
+  // Data from smooth curves of a 2-D latent parameter (as SparseOptimize's test), n = 400: the
+  // coarse stage places 100 items, the others are interpolated, the refinement moves all.
+  const int n = 400;
+  const Eigen::MatrixXd T = random_points(n, 2, 41);
+  Eigen::MatrixXd Z(n, 60);
+  const Eigen::MatrixXd Z1 = test::curve_data(T.col(0), 30, 42), Z2 = test::curve_data(T.col(1), 30, 43);
+  Z << Z1, Z2;
+  LikelihoodProblem e = test::problem_for(Z);
+  e.prior = LatentPrior::spread();
+  const SparseProblem p = sparse_problem(e, 20);
+  const Eigen::MatrixXd X0 = sparse_pca_initialization(p, 2, 40);
+  OptimizeOptions o;
+  o.tolerance = 1e-6;
+  SparseOptions one{40, 20};
+  one.coarse = 0;  // all at once
+  const OptimizeResult direct = optimize_sparse_latent(p, X0, one, o, null_progress());
+  SparseOptions two = one;
+  two.coarse = 100;
+  const OptimizeResult staged = optimize_sparse_latent(p, X0, two, o, null_progress());
+  ASSERT_EQ(staged.latent.rows(), n);
+  SparseLikelihoodEvaluator ev(p);
+  const double l0 = ev.to_log_likelihood(ev.normalized(X0, farthest_point_subset(X0, 40)));
+  // The staged value is the refinement's, of the whole problem. It ends at another local maximum
+  // of the multimodal objective: here 4.5 % of the one-stage gain lower (at n = 300 13 % lower;
+  // on the bench's generated problems at n = 3000 and 10,000, with an iteration limit, higher).
+  EXPECT_GT(staged.value, direct.value - 0.2 * (direct.value - l0)) << "start " << l0 << " direct " << direct.value;
+  EXPECT_EQ(staged.value, staged.history.back());
+  EXPECT_GT(staged.iterations, static_cast<int>(staged.history.size()) - 1);  // both stages counted
+  // A subset as large as the database is the one-stage optimisation itself.
+  SparseOptions all = one;
+  all.coarse = n;
+  EXPECT_EQ(optimize_sparse_latent(p, X0, all, o, null_progress()).latent, direct.latent);
+  all.coarse = -2;
+  EXPECT_THROW(optimize_sparse_latent(p, X0, all, o, null_progress()), Error);
+  EXPECT_EQ(automatic_coarse(1999), 0);
+  EXPECT_EQ(automatic_coarse(2000), 200);
+  EXPECT_EQ(automatic_coarse(10000), 1000);
+}
+
+}  // namespace
+}  // namespace matlas::gp
