@@ -19,7 +19,8 @@
 //     either sees the scene ready), then the thumbnails of the tiles in view (lazy images: how
 //     many depends on the window; --thumbs N asks for the first N, 6 at a time; default none);
 //   - the real-time card (web/src/realtime.ts, a browser with WebGL2; --no-realtime leaves it
-//     out): GET /api/realtime/environment/ENV for an environment it has not loaded yet, and
+//     out): GET /api/realtime/environment/ENV for an environment it has not loaded yet (once the
+//     first image of the new scene shows, or after 3 s, as the page does), and
 //     GET /api/realtime/mesh/OBJECT for an object other than the sphere it has not loaded yet.
 // Before the first switch it does what the page does on opening: GET /api/model, the default
 // scene's status and basis image of the point, GET /api/realtime and the default environment's
@@ -180,6 +181,8 @@ async function switchTo(to) {
   const s = { polls: 0, libraryPolls: 0, firstStatus: null, lastStatus: null, refines: 0, interrupted: 0, previews: 0, busy: 0,
     busyMessages: new Set(), thumbs: 0, thumbBusy: 0, first: null, firstKind: "", firstSpp: 0, ready: null, basis: null, extra: [] };
   let basisShown = false;
+  let firstShown;
+  const firstImage = new Promise((resolve) => (firstShown = resolve));
   let failWith;
   const failed = new Promise((_, reject) => (failWith = reject));
   const inflight = new Set();
@@ -223,6 +226,7 @@ async function switchTo(to) {
         s.first = now();
         s.firstKind = "refined";
         s.firstSpp = spp;
+        firstShown();
       }
       if (reply.headers.get("X-Matlas-Converged") === "1" && reply.headers.get("X-Matlas-Denoised") === "1") return;
     }
@@ -255,6 +259,7 @@ async function switchTo(to) {
     if (s.first === null) {
       s.first = s.basis;
       s.firstKind = "the basis";
+      firstShown();
     }
   };
 
@@ -285,7 +290,9 @@ async function switchTo(to) {
       realtime.env = env;
       if (!realtime.envs.has(env)) {
         realtime.envs.add(env);
-        track(call("GET", `api/realtime/environment/${encodeURIComponent(env)}`)
+        // realtime.ts afterFirstImage: after the preview's first image of the environment, or 3 s.
+        track(Promise.race([firstImage, sleep(3000)])
+          .then(() => call("GET", `api/realtime/environment/${encodeURIComponent(env)}`))
           .then(() => s.extra.push(`real-time maps of ${env} after ${ms(now())}`)));
       }
     }

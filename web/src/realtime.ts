@@ -289,6 +289,21 @@ async function startRealtimeView(store: PageStore, card: CardStatus): Promise<Vi
     }
   });
 
+  // A new environment's maps are asked for once the preview shows its first image of that
+  // environment, or after 3 s: the server would otherwise prefilter them while it renders that
+  // first image, and the preview is what the user looks at first (bench/scene_switch.mjs).
+  const afterFirstImage = (env: string) => new Promise<void>((resolve) => {
+    const shown = () => store.state.shown?.env === env || store.state.refined?.env === env;
+    if (shown() || envs.has(env)) return resolve();
+    const finish = () => {
+      clearTimeout(timer);
+      off();
+      resolve();
+    };
+    const timer = setTimeout(finish, 3000);
+    const off = store.on(["shown", "refined"], () => shown() && finish());
+  });
+
   // One set of scene controls: the top bar's environment and object drive this view too, unless
   // the user turns on "own scene" (then its pickers apply; off again: back to the top bar's).
   const syncScene = () => {
@@ -298,7 +313,7 @@ async function startRealtimeView(store: PageStore, card: CardStatus): Promise<Vi
     const { env, object } = store.state;
     if (info.environments.includes(env) && envSelect.value !== env) {
       envSelect.value = env;
-      setEnv(env).catch(fail);
+      afterFirstImage(env).then(() => setEnv(env)).catch(fail);
     }
     const obj = object === "sphere" || info.objects.includes(object) ? object : "sphere";
     if (objSelect.value !== obj || state.object !== obj) {

@@ -11,11 +11,17 @@ export class Store<S extends object> {
   update(patch: Partial<S>): void {
     const changed = Object.keys(patch) as (keyof S)[];
     Object.assign(this.state, patch);
-    for (const l of this.listeners) if (l.keys.some((k) => changed.includes(k))) l.fn(this.state);
+    // Over a copy: a listener may remove itself (or another) while called.
+    for (const l of [...this.listeners]) if (l.keys.some((k) => changed.includes(k))) l.fn(this.state);
   }
 
-  /** Calls `fn` after every update that changes one of `keys`. */
-  on(keys: readonly (keyof S)[], fn: (state: S) => void): void {
-    this.listeners.push({ keys, fn });
+  /** Calls `fn` after every update that changes one of `keys`; returns what removes it. */
+  on(keys: readonly (keyof S)[], fn: (state: S) => void): () => void {
+    const listener = { keys, fn };
+    this.listeners.push(listener);
+    return () => {
+      const at = this.listeners.indexOf(listener);
+      if (at >= 0) this.listeners.splice(at, 1);
+    };
   }
 }

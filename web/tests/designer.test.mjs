@@ -404,7 +404,16 @@ test("the top bar's environment and object drive the real-time view unless it ha
     await p.waitForFunction(() => window.matlasViewer?.env, null, { timeout: 120_000 });
     const { envs, objects } = await p.evaluate(() => window.matlas.model.scenes);
     const env = envs[1], object = objects.find((o) => o !== "sphere");
+    // A new environment's real-time maps wait for the preview's first image of it (or 3 s), so
+    // the server does not prefilter them while it renders that image.
+    const asked = p.waitForRequest((r) => r.url().includes(`api/realtime/environment/${env}`), { timeout: 60_000 });
+    const switched = Date.now();
     await p.selectOption("#env", env);
+    await asked;
+    const waited = Date.now() - switched;
+    const imageEnvs = await p.evaluate(() => [window.matlas.shown?.env, window.matlas.refined?.env]);
+    assert.ok(imageEnvs.includes(env) || waited >= 2900,
+      `the maps were asked for after ${waited} ms with the preview on ${JSON.stringify(imageEnvs)}`);
     await p.selectOption("#object", object);
     await p.waitForFunction(([e, o]) => window.matlasViewer.env === e && window.matlasViewer.object === o, [env, object], { timeout: 60_000 });
     assert.equal(await p.inputValue("#rt-env"), env);

@@ -25,6 +25,23 @@ test("Store.update calls each listener of the changed keys once", () => {
   assert.deepEqual(calls, ["c/d", "x"]);
 });
 
+test("Store.on returns what removes the listener, also from inside an update", () => {
+  const store = new Store({ x: 0 });
+  const calls = [];
+  const off = store.on(["x"], (s) => {
+    calls.push(`first ${s.x}`);
+    off();  // removes itself while the store calls its listeners
+  });
+  store.on(["x"], (s) => calls.push(`second ${s.x}`));
+  store.update({ x: 1 });
+  assert.deepEqual(calls, ["first 1", "second 1"], "the listener after a removed one is still called");
+  store.update({ x: 2 });
+  assert.deepEqual(calls, ["first 1", "second 1", "second 2"], "a removed listener is not called again");
+  off();  // twice: nothing happens
+  store.update({ x: 3 });
+  assert.equal(calls.length, 4);
+});
+
 const deferred = () => {
   let resolve;
   const promise = new Promise((r) => (resolve = r));
