@@ -35,36 +35,45 @@ json vector_json(const Eigen::VectorXd& v) { return std::vector<double>(v.data()
 struct ExportArgs {
   std::string source, output, format;
   int theta_i = RglExportOptions{}.theta_i, rgb = RglExportOptions{}.rgb_resolution;
+  int wavelengths = kSpectralExportWavelengths;  ///< bsdf-spectral
   std::optional<std::string> at, material;
   bool check = true;
 };
 
-enum class ExportFormat { merl, bsdf };
+enum class ExportFormat { merl, bsdf, bsdf_spectral };
 
 /// --format, or the output's extension (.bsdf) when --format is absent; a contradiction is refused.
 ExportFormat export_format(const ExportArgs& a) {
   const bool bsdf_name = fs::path(a.output).extension() == ".bsdf";
   if (a.format.empty()) return bsdf_name ? ExportFormat::bsdf : ExportFormat::merl;
-  if (a.format == "bsdf-spectral")
-    throw Error("--format bsdf-spectral: spectral .bsdf export is not implemented yet (use --format bsdf, RGB)");
-  if (a.format != "binary" && a.format != "bsdf")
-    throw Error("--format '" + a.format + "': expected binary (MERL) or bsdf (RGL, Mitsuba 3 and pbrt-v4)");
-  const ExportFormat f = a.format == "bsdf" ? ExportFormat::bsdf : ExportFormat::merl;
+  if (a.format != "binary" && a.format != "bsdf" && a.format != "bsdf-spectral")
+    throw Error("--format '" + a.format + "': expected binary (MERL), bsdf (RGL, RGB: Mitsuba 3) or bsdf-spectral "
+                "(RGL, spectral: Mitsuba 3 and pbrt-v4)");
+  const ExportFormat f = a.format == "bsdf"            ? ExportFormat::bsdf
+                         : a.format == "bsdf-spectral" ? ExportFormat::bsdf_spectral
+                                                       : ExportFormat::merl;
   if (f == ExportFormat::merl && bsdf_name)
     throw Error("-o " + a.output + ": a .bsdf name for --format binary (a MERL table); use --format bsdf or another name");
   return f;
 }
 
-void write_bsdf_export(const ExportArgs& a, const BrdfTable& table, const std::string& what, const Io& io) {
+void write_bsdf_export(const ExportArgs& a, ExportFormat format, const BrdfTable& table, const std::string& what,
+                       const Io& io) {
   RglExportOptions options;
   options.theta_i = a.theta_i;
   options.rgb_resolution = a.rgb;
   options.description = "matlas export of " + what;
+  if (format == ExportFormat::bsdf_spectral) options.wavelengths = a.wavelengths;
   RglExportReport report;
   write_rgl_bsdf(a.output, table, options, &report);
-  print(io.out, "wrote %s (RGL .bsdf, isotropic RGB, %d incident elevations, reflectance %dx%d, %.2f MB)\n",
-        a.output.c_str(), options.theta_i, options.rgb_resolution, options.rgb_resolution,
+  const std::string kind = options.wavelengths > 0 ? "spectral, " + std::to_string(options.wavelengths) + " wavelengths 360-830 nm" : "RGB";
+  print(io.out, "wrote %s (RGL .bsdf, isotropic %s, %d incident elevations, reflectance %dx%d, %.2f MB)\n",
+        a.output.c_str(), kind.c_str(), options.theta_i, options.rgb_resolution, options.rgb_resolution,
         static_cast<double>(report.bytes) / 1e6);
+  if (options.wavelengths > 0)
+    print(io.out, "  spectra         sigmoid spectra (Jakob & Hanika 2019) reduce to the samples' RGB within %.3g %% RMS, "
+          "%.3g %% at worst (relative to each sample's largest channel)\n",
+          100 * report.spectral_error_rms, 100 * report.spectral_error_max);
   print(io.out, "  NDF             power iterations on the back-scattering: %d iterations, last change %.2g\n",
         report.ndf.iterations, report.ndf.last_change);
   if (!a.check) return;
@@ -114,7 +123,7 @@ void run_export(const ExportArgs& a, const Io& io) {
     what = a.material ? "material " + *a.material + " of " + source.filename().string()
                       : "x = " + point_text(x) + " of " + source.filename().string();
     if (format == ExportFormat::merl) write_merl(a.output, table);
-    else write_bsdf_export(a, table, what, io);
+    else write_bsdf_export(a, format, table, what, io);
     if (format == ExportFormat::merl)
       print(io.out, "wrote %s (x = %s, predictive variance %.3g)\n", a.output.c_str(), point_text(x).c_str(), variance);
     else
@@ -124,7 +133,7 @@ void run_export(const ExportArgs& a, const Io& io) {
     if (stats.missing) print(io.out, "  %zu values written as missing (-1): not measured in every input\n", stats.missing);
     return;
   }
-  write_bsdf_export(a, table, what, io);
+  write_bsdf_export(a, format, table, what, io);
 }
 
 // ---- latent
@@ -216,7 +225,11 @@ void add_query_commands(CLI::App& app, const Io& io) {
     add_point_options(*cmd, a->at, a->material);
     cmd->add_option("-o,--output", a->output, "Output file (.binary, or .bsdf)")->required();
     cmd->add_option("--format", a->format,
-                    "binary (MERL, the default) or bsdf (RGL tensor file); default from the output's extension");
+                    "binary (MERL, the default), bsdf (RGL tensor file, RGB: Mitsuba 3) or bsdf-spectral (RGL, "
+                    "spectral: Mitsuba 3 and pbrt-v4); default from the output's extension (.bsdf: RGB)");
+    cmd->add_option("--wavelengths", a->wavelengths, "bsdf-spectral: wavelengths, evenly over 360-830 nm")
+        ->check(CLI::Range(3, 200))
+        ->capture_default_str();
     cmd->add_option("--theta-i", a->theta_i, "bsdf: incident elevations")->check(CLI::Range(2, 90))->capture_default_str();
     cmd->add_option("--rgb-resolution", a->rgb, "bsdf: reflectance samples per axis per elevation")
         ->check(CLI::Range(2, 256))

@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "core/parallel.h"
 #include "formats/merl_file.h"
+#include "formats/spectral_rgb.h"
 
 namespace matlas {
 
@@ -53,40 +54,6 @@ double theta_to_unit(double theta) { return std::sqrt(std::max(theta, 0.0) * (2.
 double phi_to_unit(double phi) { return (phi + kPi) * (0.5 / kPi); }
 /// a with its sign flipped unless b is negative (Mitsuba's mulsign_neg).
 double mulsign_neg(double a, double b) { return std::signbit(b) ? a : -a; }
-
-/// Piecewise-Gaussian lobe of the analytic colour-matching functions.
-double lobe(double lambda, double mu, double s1, double s2) {
-  const double t = (lambda - mu) / (lambda < mu ? s1 : s2);
-  return std::exp(-0.5 * t * t);
-}
-/// CIE 1931 x, y, z colour-matching functions (multi-lobe fit, Wyman, Sloan & Shirley 2013).
-std::array<double, 3> cie_xyz(double l) {
-  return {1.056 * lobe(l, 599.8, 37.9, 31.0) + 0.362 * lobe(l, 442.0, 16.0, 26.7) - 0.065 * lobe(l, 501.1, 20.4, 26.2),
-          0.821 * lobe(l, 568.8, 46.9, 40.5) + 0.286 * lobe(l, 530.9, 16.3, 31.1),
-          1.217 * lobe(l, 437.0, 11.8, 36.0) + 0.681 * lobe(l, 459.0, 26.0, 13.8)};
-}
-/// XYZ to linear sRGB.
-constexpr double kXyzToRgb[3][3] = {{3.2406, -1.5372, -0.4986}, {-0.9689, 1.8758, 0.0415}, {0.0557, -0.2040, 1.0570}};
-
-/// Per channel and wavelength: the weights that reduce a sampled spectrum to balanced RGB.
-std::vector<std::array<double, 3>> spectral_to_rgb_weights(const std::vector<float>& wavelengths) {
-  const std::size_t n = wavelengths.size();
-  std::vector<std::array<double, 3>> w(n);
-  std::array<double, 3> white{0, 0, 0};
-  for (std::size_t k = 0; k < n; ++k) {
-    const double lo = wavelengths[k == 0 ? 0 : k - 1], hi = wavelengths[k + 1 == n ? k : k + 1];
-    const double width = n == 1 ? 1.0 : 0.5 * (hi - lo);
-    const auto xyz = cie_xyz(wavelengths[k]);
-    for (int c = 0; c < 3; ++c) {
-      w[k][static_cast<std::size_t>(c)] =
-          width * (kXyzToRgb[c][0] * xyz[0] + kXyzToRgb[c][1] * xyz[1] + kXyzToRgb[c][2] * xyz[2]);
-      white[static_cast<std::size_t>(c)] += w[k][static_cast<std::size_t>(c)];
-    }
-  }
-  for (auto& row : w)
-    for (std::size_t c = 0; c < 3; ++c) row[c] = white[c] != 0 ? row[c] / white[c] : 0.0;
-  return w;
-}
 
 }  // namespace
 

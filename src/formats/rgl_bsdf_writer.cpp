@@ -1,5 +1,6 @@
 #include "formats/rgl_bsdf_writer.h"
 
+#include <array>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -7,6 +8,7 @@
 #include "core/check.h"
 #include "core/parallel.h"
 #include "formats/rgl_warp.h"
+#include "formats/spectral_rgb.h"
 
 namespace matlas {
 
@@ -169,6 +171,35 @@ struct FieldSource {
   }
 };
 
+/// The spectral file's samples: each RGB sample raised to a sigmoid spectrum at the upsampler's
+/// wavelengths, [Nt][W][grid]; within a slice each fit starts from the previous sample's.
+std::vector<float> rgb_to_spectra(const std::vector<float>& rgb, std::size_t nt, std::size_t grid,
+                                  const SpectralUpsampler& up, RglExportReport& r) {
+  const std::size_t nw = up.wavelengths().size();
+  std::vector<float> spectra(nt * nw * grid, 0.0f);
+  std::vector<double> sum_sq(nt, 0.0), worst(nt, 0.0);
+  parallel_for_each(0, nt, [&](std::size_t t) {
+    SpectralUpsampler::Fit previous;
+    std::vector<float> s(nw);
+    for (std::size_t k = 0; k < grid; ++k) {
+      const std::array<double, 3> value{rgb[(t * 3 + 0) * grid + k], rgb[(t * 3 + 1) * grid + k], rgb[(t * 3 + 2) * grid + k]};
+      const SpectralUpsampler::Fit f = up.fit(value, &previous);
+      if (f.scale > 0) previous = f;
+      up.spectrum(f, s.data());
+      for (std::size_t w = 0; w < nw; ++w) spectra[(t * nw + w) * grid + k] = s[w];
+      sum_sq[t] += f.error * f.error;
+      worst[t] = std::max(worst[t], f.error);
+    }
+  });
+  double total = 0;
+  for (std::size_t t = 0; t < nt; ++t) {
+    total += sum_sq[t];
+    r.spectral_error_max = std::max(r.spectral_error_max, worst[t]);
+  }
+  r.spectral_error_rms = std::sqrt(total / static_cast<double>(nt * grid));
+  return spectra;
+}
+
 }  // namespace
 
 std::vector<TensorField> rgl_fields_from_table(const BrdfTable& table, const RglExportOptions& o,
@@ -178,6 +209,7 @@ std::vector<TensorField> rgl_fields_from_table(const BrdfTable& table, const Rgl
   MATLAS_CHECK_GE(o.rgb_resolution, 2);
   MATLAS_CHECK_GE(o.sigma_resolution, 2);
   MATLAS_CHECK(o.theta_max_deg > 0 && o.theta_max_deg <= 90, "theta_max_deg out of (0, 90]");
+  MATLAS_CHECK(o.wavelengths == 0 || o.wavelengths >= 3, "a spectral file needs at least 3 wavelengths");
   RglExportReport r;
   const NdfTables ndf(extract_ndf(table, o.ndf, &r.ndf), static_cast<std::size_t>(o.sigma_resolution));
   const std::vector<float> theta_f = incident_elevations(o);
@@ -215,7 +247,17 @@ std::vector<TensorField> rgl_fields_from_table(const BrdfTable& table, const Rgl
   fields.push_back(float32_field("ndf", {2, nd}, ndf.ndf));
   fields.push_back(float32_field("vndf", {1, nt, nv, nv}, vndf_f));
   fields.push_back(float32_field("luminance", {1, nt, nr, nr}, lum_f));
-  fields.push_back(float32_field("rgb", {1, nt, 3, nr, nr}, rgb_f));
+  if (o.wavelengths == 0) {
+    fields.push_back(float32_field("rgb", {1, nt, 3, nr, nr}, rgb_f));
+  } else {
+    const auto nw = static_cast<std::size_t>(o.wavelengths);
+    std::vector<float> wavelengths(nw);
+    for (std::size_t w = 0; w < nw; ++w)
+      wavelengths[w] = static_cast<float>(360.0 + 470.0 * static_cast<double>(w) / static_cast<double>(nw - 1));
+    const SpectralUpsampler up(wavelengths);
+    fields.push_back(float32_field("wavelengths", {nw}, wavelengths));
+    fields.push_back(float32_field("spectra", {1, nt, nw, nr, nr}, rgb_to_spectra(rgb_f, nt, nr * nr, up, r)));
+  }
   fields.push_back(uint8_field("jacobian", {1}, jacobian));
   fields.push_back(uint8_field("valid", {valid_bits.size()}, valid_bits));
   if (report) *report = r;

@@ -21,6 +21,7 @@
 //   rgb          float32 [1, Nt, 3, Nr, Nr] f(wi, wo) cos(theta_o) 4 sigma(wi) / D(m) at the
 //                                          points of the reflectance's unit square, mapped to
 //                                          half vectors m by the VNDF's sample warp
+//   (spectral files: wavelengths float32 [W] and spectra float32 [1, Nt, W, Nr, Nr] instead)
 //   jacobian     uint8 [1]                 1
 //   valid        uint8 [ceil(Nt Nr Nr / 8)] bit per sample (first sample in the high bit): wo
 //                                          above the horizon
@@ -39,6 +40,11 @@
 
 namespace matlas {
 
+/// The wavelengths of `matlas export --format bsdf-spectral` and the server's spectral download:
+/// from 12 on a renderer interpolating the spectra reproduces the colours within 0.01 %
+/// (formats/spectral_rgb.h).
+inline constexpr int kSpectralExportWavelengths = 12;
+
 struct RglExportOptions {
   int theta_i = 32;          ///< incident elevations
   double theta_max_deg = 90.0;  ///< the last one (the reader and Mitsuba clamp beyond it)
@@ -50,6 +56,10 @@ struct RglExportOptions {
   int sigma_resolution = 128;
   /// Weight of the resolution density in the warp written as `vndf` (the rest is the VNDF).
   double resolution_mix = 0.5;
+  /// 0: an RGB file (`rgb`). Else a spectral file (`wavelengths`, `spectra` [1, Nt, W, Nr, Nr]
+  /// instead of `rgb`, the form pbrt-v4 reads) with this many wavelengths evenly spaced over
+  /// 360-830 nm, each sample's RGB raised to a smooth spectrum (formats/spectral_rgb.h).
+  int wavelengths = 0;
   NdfExtractionOptions ndf;   ///< D's nodes and iterations
   std::string description;    ///< written into the file
 };
@@ -59,6 +69,9 @@ struct RglExportReport {
   std::size_t samples = 0;          ///< reflectance samples (per channel)
   std::size_t below_horizon = 0;    ///< samples whose wo is below the horizon (written as 0, invalid)
   double largest_value = 0;         ///< largest reflectance sample
+  /// Spectral files: |RGB of the spectrum - RGB of the sample| / its largest channel, RMS and
+  /// largest over the samples (what the spectral model cannot reach: very saturated colours).
+  double spectral_error_rms = 0, spectral_error_max = 0;
   std::size_t bytes = 0;            ///< size of the file
 };
 

@@ -98,7 +98,7 @@ BrdfTable Api::subject_table(const ExportSubject& s, ExportStats* stats) const {
 
 Reply Api::export_file(const std::string& body) {
   const auto j = parse_json_object(body);
-  const std::string format = parse_choice(j, "format", {"binary", "bsdf"}, "binary");
+  const std::string format = parse_choice(j, "format", {"binary", "bsdf", "bsdf-spectral"}, "binary");
   const ExportSubject s = export_subject(j);
   std::string bytes;
   ExportStats stats;
@@ -110,11 +110,12 @@ Reply Api::export_file(const std::string& body) {
     } else {
       RglExportOptions options = options_.bsdf_export;
       options.description = "matlas export of " + s.source;  // as `matlas export -o X.bsdf` writes it
+      if (format == "bsdf-spectral") options.wavelengths = kSpectralExportWavelengths;
       const std::vector<std::byte> file = serialize_tensor_file(rgl_fields_from_table(table, options));
       bytes.assign(reinterpret_cast<const char*>(file.data()), file.size());
     }
   }
-  Reply r = download(std::move(bytes), "application/octet-stream", s.filename + "." + format);
+  Reply r = download(std::move(bytes), "application/octet-stream", s.filename + (format == "binary" ? ".binary" : ".bsdf"));
   r.headers.emplace_back("X-Matlas-Clamped", std::to_string(stats.clamped));
   return r;
 }

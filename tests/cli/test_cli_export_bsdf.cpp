@@ -16,6 +16,7 @@
 #include "formats/merl_file.h"
 #include "formats/rgl_bsdf.h"
 #include "formats/synth_database.h"
+#include "formats/tensor_file.h"
 #include "support/temp_dir.h"
 
 namespace matlas {
@@ -67,16 +68,39 @@ TEST_F(CliExportBsdf, ATableFileBecomesABsdfFileByItsExtensionThatReproducesIt) 
   EXPECT_EQ(read_merl(out / "copy.binary").stored()[1000], read_merl(table()).stored()[1000]);
 }
 
+TEST_F(CliExportBsdf, ASpectralFileReproducesTheTableThroughItsSpectra) {
+  const test::TempDir out("matlas-cli-export-bsdf-out");
+  const fs::path bsdf = out / "spectral.bsdf";
+  const test::CliOutput r = test::call_matlas({"export", table().string(), "--format", "bsdf-spectral", "--rgb-resolution",
+                                               "24", "--wavelengths", "12", "-o", bsdf.string()});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_HAS(r.out, "isotropic spectral, 12 wavelengths 360-830 nm");
+  EXPECT_HAS(r.out, "sigmoid spectra");
+  const TensorFile file = TensorFile::read(bsdf);
+  ASSERT_NE(file.find("spectra"), nullptr);
+  EXPECT_EQ(file.find("rgb"), nullptr);
+  EXPECT_EQ(file.field("spectra", "test").shape, (std::vector<std::uint64_t>{1, 32, 12, 24, 24}));
+  EXPECT_EQ(file.field("wavelengths", "test").shape, std::vector<std::uint64_t>{12});
+  // Read back through the spectra (the reader reduces them with the CIE functions): the
+  // Lambertian (0.7, 0.5, 0.3) / pi.
+  const RglBsdf b = RglBsdf::read(bsdf);
+  EXPECT_TRUE(b.spectral());
+  const Vec3 wi(0.3, 0.1, 0.95), wo(-0.5, 0.2, 0.84);
+  const Rgb f = b.eval(wi.normalized(), wo.normalized());
+  EXPECT_NEAR(f[0], 0.7 / kPi, 0.01 * 0.7 / kPi);
+  EXPECT_NEAR(f[1], 0.5 / kPi, 0.01 * 0.5 / kPi);
+  EXPECT_NEAR(f[2], 0.3 / kPi, 0.01 * 0.3 / kPi);
+  const test::CliOutput w = test::call_matlas(
+      {"export", table().string(), "--format", "bsdf-spectral", "--wavelengths", "2", "-o", (out / "w.bsdf").string()});
+  EXPECT_EQ(w.code, 2);  // fewer than 3 wavelengths: a usage error
+}
+
 TEST_F(CliExportBsdf, ContradictoryOrUnknownFormatsAreRefusedBeforeWriting) {
   const test::TempDir out("matlas-cli-export-bsdf-out");
   const test::CliOutput a =
       test::call_matlas({"export", table().string(), "--format", "binary", "-o", (out / "x.bsdf").string()});
   EXPECT_EQ(a.code, 1);
   EXPECT_HAS(a.err, "a .bsdf name for --format binary");
-  const test::CliOutput b =
-      test::call_matlas({"export", table().string(), "--format", "bsdf-spectral", "-o", (out / "x.bsdf").string()});
-  EXPECT_EQ(b.code, 1);
-  EXPECT_HAS(b.err, "not implemented yet");
   const test::CliOutput c =
       test::call_matlas({"export", table().string(), "--format", "exr", "-o", (out / "x.exr").string()});
   EXPECT_EQ(c.code, 1);

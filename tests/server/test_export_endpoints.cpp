@@ -94,6 +94,23 @@ TEST_F(ExportEndpoints, BsdfIsTheRglFileThatMatlasExportWritesForThePoint) {
   EXPECT_TRUE(std::equal(want.begin(), want.end(), reinterpret_cast<const std::byte*>(r->body.data())));
 }
 
+TEST_F(ExportEndpoints, BsdfSpectralIsTheSpectralFileThatMatlasExportWrites) {
+  const std::vector<double> x = between(1, 2);
+  const auto r = post("/api/export", {{"x", x}, {"format", "bsdf-spectral"}});
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200) << r->body;
+  EXPECT_NE(r->get_header_value("Content-Disposition").find(".bsdf\""), std::string::npos);
+  RglExportOptions options;
+  options.description = "matlas export of x = " + at_text(x) + " of m.matlas";
+  options.wavelengths = kSpectralExportWavelengths;
+  const std::vector<std::byte> want =
+      serialize_tensor_file(rgl_fields_from_table(export_table(*model_, model_->weights(vec(x))), options));
+  ASSERT_EQ(r->body.size(), want.size());
+  EXPECT_TRUE(std::equal(want.begin(), want.end(), reinterpret_cast<const std::byte*>(r->body.data())));
+  EXPECT_NE(r->body.find("spectra"), std::string::npos);
+  EXPECT_EQ(r->body.find("rgb"), std::string::npos);
+}
+
 TEST_F(ExportEndpoints, AModelMaterialIsExportedFromItsOwnTable) {
   const auto r = post("/api/export", {{"x", point(2)}, {"material", 2}, {"format", "binary"}});
   ASSERT_TRUE(r);

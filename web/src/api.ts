@@ -54,7 +54,7 @@ export interface PointRequest {
 export interface ExportRequest {
   x: Point;
   material?: number;
-  format?: "binary" | "bsdf";
+  format?: "binary" | "bsdf" | "bsdf-spectral";
 }
 
 export interface FitRequest {
@@ -424,7 +424,7 @@ export const api = {
   albedo: (x: Point): Promise<AlbedoReply> => post("api/albedo", { x }).then((r) => r.json()),
   map: (body: MapRequest, signal?: AbortSignal): Promise<Blob> => post("api/map", body, signal).then((r) => r.blob()),
   /** The table of a point (or of material `material`) as MERL .binary or RGL .bsdf. */
-  exportTable: (x: Point, material: number | null, format: "binary" | "bsdf"): Promise<Blob> =>
+  exportTable: (x: Point, material: number | null, format: "binary" | "bsdf" | "bsdf-spectral"): Promise<Blob> =>
     post("api/export", { x, format, ...(material === null ? {} : { material }) } satisfies ExportRequest).then((r) => r.blob()),
   /** The analytic fit's report (kept by the server for its files). */
   fit: (x: Point, material: number | null, signal?: AbortSignal): Promise<FitReply> =>

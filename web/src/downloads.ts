@@ -1,5 +1,6 @@
 // Downloads of a point or a model material for other renderers and artists' tools: the table as
-// MERL .binary or RGL .bsdf (Mitsuba 3 / pbrt-v4), and the analytic fit as glTF, MaterialX or a
+// MERL .binary or RGL .bsdf (RGB for Mitsuba 3, spectral for pbrt-v4 and Mitsuba 3's spectral
+// variants), and the analytic fit as glTF, MaterialX or a
 // Blender script (docs/EXPORT.md). The fit's error (POST /api/fit) is shown before its files are
 // offered. Used by the point tools' download menu and the short list's export (library.ts).
 import { api, type FitReply, type Point } from "./api";
@@ -7,10 +8,11 @@ import { $, download } from "./dom";
 import { materialAt, type PageStore } from "./state";
 import { setStatus } from "./status";
 
-export type DownloadFormat = "binary" | "bsdf" | "gltf" | "mtlx" | "py";
+export type DownloadFormat = "binary" | "bsdf" | "bsdf-spectral" | "gltf" | "mtlx" | "py";
 
 export const formatLabels: { [f in DownloadFormat]: string } = {
-  bsdf: "Mitsuba 3 / pbrt-v4 (.bsdf)", mtlx: "MaterialX (.mtlx)", gltf: "glTF (.gltf)", py: "Blender (.py)",
+  bsdf: "Mitsuba 3 (RGB .bsdf)", "bsdf-spectral": "pbrt-v4 (spectral .bsdf)", mtlx: "MaterialX (.mtlx)",
+  gltf: "glTF (.gltf)", py: "Blender (.py)",
   binary: "MERL (.binary)",
 };
 
@@ -27,6 +29,9 @@ export function fitErrorText(r: FitReply): string {
   return `relative RMS ${pct(r.error.relative_rms)}, albedo within ${pct(r.error.albedo_error)}` +
     (r.fit.converged ? "" : " (did not converge)");
 }
+
+/** The file name extension of a format. */
+export const extensionOf = (f: DownloadFormat): string => (f === "bsdf-spectral" ? "bsdf" : f);
 
 /** A file name from a material's name. */
 export const safeName = (name: string): string => name.replace(/[^\w.-]+/g, "_");
@@ -84,12 +89,12 @@ export function createDownloadMenu(store: PageStore): void {
   document.addEventListener("keydown", (e) => { if (e.key === "Escape" && !menu.hidden) show(false); });
   store.on(["x"], () => { if (!menu.hidden) void refit(); });
 
-  for (const format of ["binary", "bsdf", "gltf", "mtlx", "py"] as const) {
+  for (const format of ["binary", "bsdf", "bsdf-spectral", "gltf", "mtlx", "py"] as const) {
     $(`export-${format}`).addEventListener("click", async () => {
       const s = subject();
       try {
         setStatus(`preparing ${formatLabels[format]} of ${s.name}…`);
-        download(await fileOf(s.x, s.material, format), `${safeName(s.name)}.${format}`);
+        download(await fileOf(s.x, s.material, format), `${safeName(s.name)}.${extensionOf(format)}`);
         const fit = isFit(format) && fitted?.key === s.key ? ` (fit: ${fitErrorText(fitted.reply)})` : "";
         setStatus(`downloaded ${formatLabels[format]} of ${s.name}${fit}`);
       } catch (e) {

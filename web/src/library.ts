@@ -5,7 +5,7 @@
 // (downloads.ts).
 import { api, type FitReply } from "./api";
 import { $, download, fmtX, showBlob } from "./dom";
-import { fileOf, formatLabels, isFit, safeName, type DownloadFormat } from "./downloads";
+import { extensionOf, fileOf, formatLabels, isFit, safeName, type DownloadFormat } from "./downloads";
 import type { LatentMap } from "./map";
 import { retryWhileBusy } from "./retry";
 import { sceneReady } from "./scene-ready";
@@ -200,7 +200,7 @@ export function createLibrary(store: PageStore, map: LatentMap): void {
       download(new Blob([JSON.stringify(body, null, 2)], { type: "application/json" }), "matlas-list.json");
       for (const [k, it] of list.entries()) {
         setStatus(`exporting ${k + 1} of ${list.length}: ${it.name}…`);
-        download(await fileOf(it.x, it.index, format), `${String(k + 1).padStart(2, "0")}-${safeName(it.name)}.${format}`);
+        download(await fileOf(it.x, it.index, format), `${String(k + 1).padStart(2, "0")}-${safeName(it.name)}.${extensionOf(format)}`);
       }
       const worst = fits.length ? `; largest relative RMS ${(100 * Math.max(...fits.map((f) => f!.error.relative_rms))).toFixed(1)} %, ` +
         `albedo within ${(100 * Math.max(...fits.map((f) => f!.error.albedo_error))).toFixed(1)} %` : "";

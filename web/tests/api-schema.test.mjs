@@ -117,6 +117,9 @@ test("a live server answers every endpoint as the schema says", async () => {
   assert.equal(table.readInt32LE(0), model.dims[0]);
   const bsdf = await expectAnswer("POST", "api/export", { x, material: 1, format: "bsdf" });
   assert.equal(bsdf.subarray(0, 12).toString("latin1"), "tensor_file\0", "an RGL tensor file");
+  const spectral = await expectAnswer("POST", "api/export", { x, material: 1, format: "bsdf-spectral" });
+  assert.equal(spectral.subarray(0, 12).toString("latin1"), "tensor_file\0", "an RGL tensor file");
+  assert.ok(spectral.includes("wavelengths") && spectral.includes("spectra"), "with its spectra");
   const fit = await expectAnswer("POST", "api/fit", { x, material: 1 });
   assert.equal(fit.name, model.names[1]);
   const mtlx = await expectAnswer("POST", "api/fit/file", { x, material: 1, format: "mtlx" });

@@ -299,12 +299,14 @@ test("the download menu shows the fit's error first; every download is the serve
   const cli = join(work, "cli");
   mkdirSync(cli, { recursive: true });
   execFileSync(bin, ["export", modelFile, ...point, "-o", join(cli, "f.bsdf"), "--no-check"], { stdio: "pipe" });
+  execFileSync(bin, ["export", modelFile, ...point, "--format", "bsdf-spectral", "-o", join(cli, "f.bsdf-spectral"), "--no-check"], { stdio: "pipe" });
   execFileSync(bin, ["fit", modelFile, ...point, "-o", join(cli, "f.gltf"), "-o", join(cli, "f.mtlx"), "-o", join(cli, "f.py")], { stdio: "pipe" });
-  for (const format of ["bsdf", "mtlx", "gltf", "py"]) {
+  for (const format of ["bsdf", "bsdf-spectral", "mtlx", "gltf", "py"]) {
     const [download] = await Promise.all([page.waitForEvent("download"), page.click(`#export-${format}`)]);
-    assert.ok(download.suggestedFilename().endsWith(`.${format}`), download.suggestedFilename());
+    assert.ok(download.suggestedFilename().endsWith(format === "bsdf-spectral" ? ".bsdf" : `.${format}`), download.suggestedFilename());
     const bytes = readFileSync(await savedAs(download, `menu.${format}`));
-    const server = format === "bsdf" ? await api("api/export", { x, ...which, format }) : await api("api/fit/file", { x, ...which, format });
+    const table = format.startsWith("bsdf");
+    const server = table ? await api("api/export", { x, ...which, format }) : await api("api/fit/file", { x, ...which, format });
     assert.deepEqual(bytes, server, `${format}: the download is the server's file`);
     assert.deepEqual(bytes, readFileSync(join(cli, `f.${format}`)), `${format}: the download is what matlas writes`);
   }
