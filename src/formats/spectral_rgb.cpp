@@ -52,15 +52,19 @@ std::vector<std::array<double, 3>> spectral_to_rgb_weights(const std::vector<flo
   } else {
     // The spectrum is linear between its wavelengths (as renderers interpolate it) and zero
     // outside: each sample's weight is the integral of its hat function times the colour-matching
-    // functions, by the midpoint rule in steps of at most 0.5 nm.
+    // functions, by the midpoint rule in steps of at most 0.5 nm over 300-900 nm (the functions
+    // vanish outside; a file's wavelengths may be anything finite).
+    constexpr double kFrom = 300.0, kTo = 900.0;
     for (std::size_t k = 0; k + 1 < n; ++k) {
       const double lo = wavelengths[k], hi = wavelengths[k + 1];
-      const int steps = std::max(1, static_cast<int>(std::ceil((hi - lo) / 0.5)));
-      const double h = (hi - lo) / steps;
+      const double a = std::max(lo, kFrom), b = std::min(hi, kTo);
+      if (!(b > a)) continue;
+      const int steps = static_cast<int>(std::ceil((b - a) / 0.5));  // at most 1200
+      const double h = (b - a) / steps;
       for (int i = 0; i < steps; ++i) {
-        const double a = (i + 0.5) / steps;
-        add(k, (1.0 - a) * h, lo + a * (hi - lo));
-        add(k + 1, a * h, lo + a * (hi - lo));
+        const double nm = a + (i + 0.5) * h, t = (nm - lo) / (hi - lo);
+        add(k, (1.0 - t) * h, nm);
+        add(k + 1, t * h, nm);
       }
     }
   }

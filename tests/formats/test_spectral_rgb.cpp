@@ -121,6 +121,17 @@ TEST(SpectralRgb, ARendererInterpolatingTheSamplesSeesTheSameColour) {
   }
 }
 
+TEST(SpectralRgb, WeightsOfAnyFiniteWavelengthsAreFinite) {
+  // A file's wavelengths may be anything finite (found by fuzzing: a span of 1e31 nm once asked
+  // for 1e31 integration steps). Outside 300-900 nm the colour-matching functions vanish.
+  for (const std::vector<float>& w : std::vector<std::vector<float>>{{1.0f, 1e31f, 2e31f}, {400.0f, 1e31f}, {-1e30f, 550.0f, 3e38f}}) {
+    for (const auto& row : spectral_to_rgb_weights(w))
+      for (double v : row) EXPECT_TRUE(std::isfinite(v));
+  }
+  for (const auto& row : spectral_to_rgb_weights({1e20f, 2e20f}))
+    for (double v : row) EXPECT_EQ(v, 0.0);  // nothing visible: no colour
+}
+
 TEST(SpectralRgb, RejectsTooFewOrUnorderedWavelengths) {
   EXPECT_THROW(SpectralUpsampler({400.0f, 500.0f}), Error);
   EXPECT_THROW(SpectralUpsampler({400.0f, 500.0f, 500.0f}), Error);
