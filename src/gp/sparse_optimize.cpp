@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -151,10 +152,6 @@ double sparse_start_scale(int k) {
   return std::exp2(k % 2 == 1 ? -exponent : exponent);
 }
 
-}  // namespace
-
-namespace {
-
 /// optimize_sparse_latent with a coarse stage (s.coarse in (0, n)): the starts on the subset, the
 /// interpolation of the others, one refinement of all.
 OptimizeResult coarse_to_fine(const SparseProblem& p, const Eigen::MatrixXd& X0, const SparseOptions& s,
@@ -165,13 +162,15 @@ OptimizeResult coarse_to_fine(const SparseProblem& p, const Eigen::MatrixXd& X0,
   one_stage.coarse = 0;
   one_stage.inducing = std::min(s.inducing, s.coarse);
   sink.message("coarse placement: " + std::to_string(rows.size()) + " of " + std::to_string(X0.rows()) + " items");
+  OptimizeOptions first = o;  // the target is the whole problem's: not for the subset's objective
+  first.target_value = std::numeric_limits<double>::infinity();
   const OptimizeResult coarse =
-      optimize_sparse_latent(subset_problem(p, rows), gather_rows(X0, rows), one_stage, o, sink);
+      optimize_sparse_latent(subset_problem(p, rows), gather_rows(X0, rows), one_stage, first, sink);
   // The interpolated layout about its centroid, scaled to the whole problem's best (n items
   // spread wider than the subset's c: their repulsion and covariance want room).
   Eigen::MatrixXd X1 = interpolate_layout(p.data, rows, coarse.latent);
   X1 = X1.rowwise() - X1.colwise().mean();
-  {
+  if (X1.norm() > 0) {  // else a degenerate subset layout: nothing to scale
     SparseLikelihoodEvaluator evaluator(p);
     const std::vector<Eigen::Index> chosen = farthest_point_indices(X1, s.inducing);
     const Eigen::MatrixXd Z = gather_rows(X1, chosen);
