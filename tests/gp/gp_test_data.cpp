@@ -40,6 +40,15 @@ Eigen::MatrixXd centred_gram(const Eigen::MatrixXd& Z) {
   return centred * centred.transpose();
 }
 
+gp::LikelihoodProblem two_parameter_curves(int n) {
+  const Eigen::MatrixXd T = random_points(n, 2, 41);
+  Eigen::MatrixXd Z(n, 60);
+  Z << curve_data(T.col(0), 30, 42), curve_data(T.col(1), 30, 43);
+  gp::LikelihoodProblem p = problem_for(Z);
+  p.prior = gp::LatentPrior::spread();
+  return p;
+}
+
 gp::LikelihoodProblem problem_for(const Eigen::MatrixXd& Z, double columns) {
   gp::LikelihoodProblem p;
   p.gram = centred_gram(Z);

@@ -15,6 +15,10 @@ Eigen::MatrixXd random_low_rank_data(int n, int D, int rank, std::uint64_t seed,
 /// Rows Z_i(c) = sin(omega_c t_i + phi_c) (smooth functions of the scalar t_i), D columns.
 Eigen::MatrixXd curve_data(const Eigen::VectorXd& t, int D, std::uint64_t seed);
 
+/// A problem whose layout is well determined: n points of a 2-D parameter (standard normal,
+/// seed 41), data = 30 smooth curves of each coordinate (seeds 42, 43), the build's spread prior.
+gp::LikelihoodProblem two_parameter_curves(int n);
+
 /// S = (Z - mean)(Z - mean)^T.
 Eigen::MatrixXd centred_gram(const Eigen::MatrixXd& Z);
 

@@ -82,13 +82,7 @@ TEST(CoarsePlacement, CoarseToFineReachesTheOneStageObjective) {
   // Data from smooth curves of a 2-D latent parameter (as SparseOptimize's test), n = 400: the
   // coarse stage places 100 items, the others are interpolated, the refinement moves all.
   const int n = 400;
-  const Eigen::MatrixXd T = random_points(n, 2, 41);
-  Eigen::MatrixXd Z(n, 60);
-  const Eigen::MatrixXd Z1 = test::curve_data(T.col(0), 30, 42), Z2 = test::curve_data(T.col(1), 30, 43);
-  Z << Z1, Z2;
-  LikelihoodProblem e = test::problem_for(Z);
-  e.prior = LatentPrior::spread();
-  const SparseProblem p = sparse_problem(e, 20);
+  const SparseProblem p = sparse_problem(test::two_parameter_curves(n), 20);
   const Eigen::MatrixXd X0 = sparse_pca_initialization(p, 2, 40);
   OptimizeOptions o;
   o.tolerance = 1e-6;

@@ -252,13 +252,7 @@ double procrustes_distance(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
 
 TEST(SparseOptimize, AgreesWithTheExactOptimisationOnASmallProblem) {
   // Data from smooth curves of a 2-D latent parameter: the layouts are well determined.
-  const int n = 120;
-  const Eigen::MatrixXd T = random_points(n, 2, 41);
-  Eigen::MatrixXd Z(n, 60);
-  const Eigen::MatrixXd Z1 = test::curve_data(T.col(0), 30, 42), Z2 = test::curve_data(T.col(1), 30, 43);
-  Z << Z1, Z2;
-  LikelihoodProblem p = test::problem_for(Z);
-  p.prior = LatentPrior::spread();
+  const LikelihoodProblem p = test::two_parameter_curves(120);
   const Eigen::MatrixXd X0 = pca_initialization(p, 2);
   OptimizeOptions o;
   o.tolerance = 1e-6;
