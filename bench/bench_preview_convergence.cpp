@@ -37,6 +37,8 @@
 #include "render/progressive_render.h"
 #include "render/render.h"
 #include "render/scene.h"
+#include "zonal/control_variate.h"
+#include "zonal/projection.h"
 
 namespace {
 
@@ -95,6 +97,18 @@ int main(int argc, char** argv) {
   std::printf("%-44s %-8s %8s %7s %10s %10s %10s %10s %8s\n", "point", "sampling", "seconds", "spp", "error", "estimated",
               "denoised", "d.estim.", "d.sec");
 
+  // MATLAS_BENCH_CV_BANDS / MATLAS_BENCH_CV_LOBES: the control variate's bands and lobes.
+  // MATLAS_BENCH_CV_TEXELS / MATLAS_BENCH_CV_LOBE_ROWS: its environment's tabulation.
+  zonal::ProjectionSettings projection = zonal::control_projection_settings();
+  zonal::PrefilterSettings prefilter = zonal::control_prefilter_settings();
+  if (const char* b = std::getenv("MATLAS_BENCH_CV_BANDS")) projection.bands = prefilter.bands = std::atoi(b);
+  const int cv_lobes = std::getenv("MATLAS_BENCH_CV_LOBES") ? std::atoi(std::getenv("MATLAS_BENCH_CV_LOBES")) : -1;
+  if (const char* t = std::getenv("MATLAS_BENCH_CV_TEXELS")) prefilter.texels_per_band = std::atof(t);
+  if (const char* r = std::getenv("MATLAS_BENCH_CV_LOBE_ROWS")) prefilter.lobe_rows = std::atoi(r);
+  const auto p0 = std::chrono::steady_clock::now();
+  const auto prefiltered = std::make_shared<const zonal::PrefilteredEnvironment>(scene->environment(), prefilter);
+  const double prefilter_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - p0).count();
+
   render::RenderSettings base;
   base.width = base.height = size;
   base.spp = 16;
@@ -141,12 +155,21 @@ int main(int argc, char** argv) {
     std::fflush(stdout);
 
     const render::SamplingMixture defensive = atlas::defensive_mixture(own, database);
-    for (const char* sampling : {"server", "own", "database"}) {
+    // The control variate (zonal/control_variate.h): the point's rotated-ZH coefficients and the
+    // environment prefiltered as the real-time view has them.
+    const auto z0 = std::chrono::steady_clock::now();
+    const zonal::ZonalProjector projector(projection);
+    const zonal::ZonalCoefficients coefficients = projector.project(material->table());
+    const double projection_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - z0).count();
+    std::printf("# %s: projection %.2f s, prefilter %.2f s\n", spec.c_str(), projection_seconds, prefilter_seconds);
+    for (const char* sampling : {"server", "cv", "own", "database"}) {
       const std::string which = sampling;
-      if (only_server && which != "server") continue;
+      if (only_server && which != "server" && which != "cv") continue;
       render::ProgressiveSettings s;
       s.render = base;
-      s.render.mixture = which == "server" ? defensive : which == "own" ? own : database;
+      s.render.mixture = which == "server" || which == "cv" ? defensive : which == "own" ? own : database;
+      if (which == "cv")
+        s.control_variate = std::make_shared<const zonal::ZonalControlVariate>(coefficients, *prefiltered, cv_lobes);
       s.limits.target_error = 1e-12;
       render::ProgressiveRender r(scene, material, s);
       double to2 = -1, to1 = -1, dto2 = -1, dto1 = -1;
@@ -185,8 +208,9 @@ int main(int argc, char** argv) {
           std::fflush(stdout);
         }
       }
-      std::printf("# %s, %s mixture: 2 %% at %d spp (%.1f s), 1 %% at %d spp (%.1f s); -1: not within %d spp\n",
-                  spec.c_str(), sampling, spp2, to2, spp1, to1, max_spp);
+      std::printf("# %s, %s mixture: 2 %% at %d spp (%.1f s), 1 %% at %d spp (%.1f s); -1: not within %d spp%s\n",
+                  spec.c_str(), sampling, spp2, to2, spp1, to1, max_spp,
+                  which != "cv" ? "" : r.controlled() ? " (control variate chosen)" : " (plain estimator chosen)");
       std::printf("# %s, %s mixture, denoised: 2 %% at %d spp (%.1f s), 1 %% at %d spp (%.1f s)\n", spec.c_str(), sampling,
                   dspp2, dto2, dspp1, dto1);
       std::fflush(stdout);

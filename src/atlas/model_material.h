@@ -29,6 +29,7 @@ class ModelTableMaterial final : public render::Material {
 public:
   ModelTableMaterial(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& weights) : table_(model.table(weights)) {}
   Rgb eval(const Vec3& wi, const Vec3& wo) const override { return table_.lookup(wi, wo); }
+  const BrdfTable& table() const { return table_; }
 
 private:
   BrdfTable table_;

@@ -33,13 +33,16 @@ public:
   /// Density of sample() for direction d.
   double pdf(const Vec3& d) const;
 
+  /// The turn about +y, radians.
+  double rotation() const { return rotation_; }
   int width() const { return map_.width; }
   int height() const { return map_.height; }
+  /// The world direction of map coordinates (u, v) in [0, 1]^2 (the file's header convention).
+  Vec3 from_uv(double u, double v) const;
 
 private:
   Environment() = default;
   void to_uv(const Vec3& d, double* u, double* v) const;
-  Vec3 from_uv(double u, double v) const;
 
   bool constant_ = false;
   Rgb radiance_ = Rgb::Zero();

@@ -1,6 +1,8 @@
 #include "render/progressive_render.h"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 
 #include "core/check.h"
 
@@ -31,6 +33,30 @@ std::vector<bool> object_only(const std::vector<float>& coverage) {
 
 }  // namespace
 
+double median_noise(const Image& image, const std::vector<bool>& object) {
+  MATLAS_CHECK_EQ(object.size(), image.pixel_count());
+  double noise = 0, signal = 0;
+  std::array<float, 9> window;
+  for (int y = 1; y + 1 < image.height; ++y)
+    for (int x = 1; x + 1 < image.width; ++x) {
+      bool inside = true;
+      for (int dy = -1; dy <= 1 && inside; ++dy)
+        for (int dx = -1; dx <= 1 && inside; ++dx)
+          inside = object[static_cast<std::size_t>(y + dy) * static_cast<std::size_t>(image.width) + static_cast<std::size_t>(x + dx)];
+      if (!inside) continue;
+      for (int c = 0; c < 3; ++c) {
+        std::size_t k = 0;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) window[k++] = image.pixel(x + dx, y + dy)[c];
+        std::nth_element(window.begin(), window.begin() + 4, window.end());
+        const double v = image.pixel(x, y)[c], d = v - window[4];
+        noise += d * d;
+        signal += v * v;
+      }
+    }
+  return signal > 0 ? std::sqrt(noise / signal) : 0.0;
+}
+
 ProgressiveRender::ProgressiveRender(std::shared_ptr<const Scene> scene, std::shared_ptr<const Material> material,
                                      ProgressiveSettings settings)
     : ProgressiveRender(scene, std::move(material), settings, checked_coverage(scene.get(), settings)) {}
@@ -44,13 +70,23 @@ ProgressiveRender::ProgressiveRender(std::shared_ptr<const Scene> scene, std::sh
             RenderSettings s = settings_.render;
             s.spp = spp;
             s.seed = seed;
-            return render(*scene_, *material_, s, progress);
+            const ControlVariate* variate = settings_.control_variate.get();
+            if (!variate || control_ == ControlChoice::plain) return render(*scene_, *material_, s, progress);
+            if (control_ == ControlChoice::controlled)
+              return render(*scene_, *material_, s, progress, nullptr, {variate, &control_grid_, nullptr});
+            // The first pass renders both estimates from its samples and keeps the less noisy.
+            Image plain;
+            Image controlled = render(*scene_, *material_, s, progress, nullptr, {variate, &control_grid_, &plain});
+            const double with = median_noise(controlled, object_), without = median_noise(plain, object_);
+            control_ = with < without ? ControlChoice::controlled : ControlChoice::plain;
+            return control_ == ControlChoice::controlled ? controlled : plain;
           },
           [first = settings_.render.seed](int pass) {
             return first + 0x9E3779B97F4A7C15ull * static_cast<std::uint64_t>(pass);
           },
           "progressive render") {
   MATLAS_CHECK(material_ != nullptr);
+  if (settings_.control_variate) control_grid_ = control_grid(*scene_, settings_.render, *settings_.control_variate);
   region_.resize(coverage.size());
   for (std::size_t i = 0; i < coverage.size(); ++i) region_[i] = coverage[i] >= 1.0f ? 1 : coverage[i] <= 0.0f ? 2 : 0;
 }

@@ -4,6 +4,7 @@
 // (render/refinement.h: passes averaged in two halves, the error of the mean estimated from them)
 // whose passes are independent renders (render/render.h), whose error is measured over the pixels
 // that see only the object, and whose mean can be denoised from its two halves.
+#include <atomic>
 #include <memory>
 #include <vector>
 
@@ -22,10 +23,20 @@ struct ProgressiveSettings {
   /// `seed` the first pass's seed (pass k takes a seed derived from it and k).
   RenderSettings render;
   RefinementLimits limits{.target_error = 0.004, .min_converged_spp = 128, .max_spp = 16384, .max_pass_spp = 256};
+  /// A control variate (render/control_variate.h; none: the plain estimator). The first pass
+  /// renders both estimates from its samples and every pass then uses the one whose image was
+  /// less noisy (median_noise): for most materials the control variate, for some the plain
+  /// estimator (docs/RENDERING.md "Control variate").
+  std::shared_ptr<const ControlVariate> control_variate = nullptr;
   /// Throws matlas::Error for invalid limits (RefinementLimits::validate) and whatever
   /// RenderSettings::validate throws.
   void validate() const;
 };
+
+/// The noise of an image where it sees only the object: the RMS of each value minus the median of
+/// its 3 x 3 neighbourhood (all object pixels), relative to the RMS of the values. Structure
+/// (edges, highlights) counts too, alike for two estimates of the same image.
+double median_noise(const Image& image, const std::vector<bool>& object);
 
 class ProgressiveRender {
 public:
@@ -45,6 +56,8 @@ public:
   /// it estimates left; the object, the background and the partially covered silhouette (left as
   /// it is) are not mixed. Before both halves have samples: image() and an infinite error.
   DenoiseResult denoised(const DenoiseSettings& settings = {}) const;
+  /// With a control variate: whether the passes use it (false before the first pass or without one).
+  bool controlled() const { return control_ == ControlChoice::controlled; }
   /// Per pixel, whether it sees only the object (where the error is measured).
   const std::vector<bool>& object_pixels() const { return object_; }
 
@@ -59,6 +72,10 @@ private:
   ProgressiveSettings settings_;
   std::vector<bool> object_;
   std::vector<std::uint8_t> region_;  ///< for the denoiser: 1 object only, 2 no object, 0 silhouette
+  ControlGrid control_grid_;          ///< with a control variate: its smooth integral, once for every pass
+  /// With a control variate: whether the passes use it, chosen by the first pass.
+  enum class ControlChoice { undecided, controlled, plain };
+  std::atomic<ControlChoice> control_ = ControlChoice::undecided;
   Refinement refinement_;
 };
 

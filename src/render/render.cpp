@@ -42,6 +42,7 @@ struct Draw {
   bool both = false;
   double e0 = 0, e1 = 0;
   bool power = false;  ///< RenderSettings::power_heuristic
+  double jx = 0, jy = 0;  ///< the camera sample's position in its pixel
 };
 
 /// The weight of a tap divided by f L cos: the environment technique's density share a and the
@@ -66,9 +67,28 @@ Draw independent_draw(const SamplingMixture& mix, SampleStream& rng) {
 
 /// One camera sample: returns the material-independent radiance C and reports each BRDF tap
 /// through tap(wi, wo, W) (local frame, W includes 1/pdf and the light).
+/// A control variate of one pixel's samples (render/control_variate.h): the function, and where
+/// the grid serves the pixel, its smooth integral interpolated at a sample's position.
+struct PixelControl {
+  const ControlVariate* variate = nullptr;
+  const ControlGrid::Cell* cell = nullptr;  ///< the grid's cell of this pixel (none: evaluate)
+  const ControlGrid* grid = nullptr;
+  Rgb* sum = nullptr;  ///< where the samples add G minus their g terms
+  Rgb smooth(const Draw& draw, const Vec3& n, const Vec3& wo) const {
+    if (!cell) return variate->smooth_integral(n, wo);
+    const int s = cell->subdivisions;
+    const double u = draw.jx * s, v = draw.jy * s;
+    const int i = std::min(static_cast<int>(u), s - 1), j = std::min(static_cast<int>(v), s - 1);
+    const double fx = u - i, fy = v - j;
+    const Rgb* p = &grid->values[cell->offset + static_cast<std::size_t>(j) * static_cast<std::size_t>(s + 1) + static_cast<std::size_t>(i)];
+    const std::size_t row = static_cast<std::size_t>(s) + 1;
+    return (1 - fy) * ((1 - fx) * p[0] + fx * p[1]) + fy * ((1 - fx) * p[row] + fx * p[row + 1]);
+  }
+};
+
 template <class Tap>
 Rgb trace_sample(const Scene& scene, const SamplingMixture& mix, const Draw& draw, const Vec3& origin,
-                 const Vec3& dir, bool* hit_object, Tap&& tap) {
+                 const Vec3& dir, bool* hit_object, Tap&& tap, const PixelControl& control = {}) {
   const double u0 = draw.u0, u1 = draw.u1;
   *hit_object = false;
   const std::optional<Hit> hit = scene.intersect(origin, dir);
@@ -87,7 +107,17 @@ Rgb trace_sample(const Scene& scene, const SamplingMixture& mix, const Draw& dra
     *hit_object = true;
     if (wo.z() <= 0) return Rgb::Zero();
     const double share = draw.both ? 0.5 : 1.0;
+    // With a control variate: G here, minus g at every tap (render/control_variate.h).
+    const ControlVariate* variate = control.variate;
+    Rgb controlled = Rgb::Zero();
+    if (variate) controlled = control.smooth(draw, f.n, -dir) + variate->sharp_integral(f.n, -dir);
     const auto tap_direction = [&](const Vec3& wi_world, const Vec3& wi, bool environment) {
+      if (variate && (environment || wi.z() > 0)) {
+        const double a = mix.environment_probability() * env.pdf(wi_world), b = wi.z() > 0 ? mix.local_pdf(wo, wi) : 0.0;
+        if (a + b > 0)
+          controlled -= env.eval(wi_world) * variate->eval(wi.normalized(), wo) *
+                        (share * mis_weight(draw.power, a, b, environment ? a : b));
+      }
       if (wi.z() <= 0 || wi_world.dot(ng) <= 0) return;
       const double a = mix.environment_probability() * env.pdf(wi_world), b = mix.local_pdf(wo, wi);
       if (a + b > 0 && !scene.occluded(p, wi_world, 0.0)) {
@@ -109,6 +139,7 @@ Rgb trace_sample(const Scene& scene, const SamplingMixture& mix, const Draw& dra
       const Vec3 wl = f.to_local(l);
       if (wl.z() > 0 && l.dot(ng) > 0 && !scene.occluded(p, l, 0.0)) tap(wl, wo, light.irradiance * wl.z());
     }
+    if (variate) *control.sum += controlled;
     return Rgb::Zero();
   }
 
@@ -248,7 +279,9 @@ void for_each_sample(const Scene& scene, const Sampling& sampling, int x, int y,
       SampleStream rng(settings.seed, pixel, static_cast<std::uint64_t>(s));
       const double jx = rng.next(), jy = rng.next();
       scene.camera_ray(x + jx, y + jy, settings.width, settings.height, &o, &d);
-      body(o, d, independent_draw(settings.mixture, rng));
+      Draw draw = independent_draw(settings.mixture, rng);
+      draw.jx = jx, draw.jy = jy;
+      body(o, d, draw);
     }
     return;
   }
@@ -274,6 +307,7 @@ void for_each_sample(const Scene& scene, const Sampling& sampling, int x, int y,
         draw.e0 = u[2], draw.e1 = u[3];
       }
       scene.camera_ray(x + u[0], y + u[1], settings.width, settings.height, &o, &d);
+      draw.jx = u[0], draw.jy = u[1];
       body(o, d, draw);
     }
   }
@@ -283,15 +317,27 @@ void for_each_sample(const Scene& scene, const Sampling& sampling, int x, int y,
 /// Returns the sum over the pixel's samples of the material-independent radiance; tap(wi, wo,
 /// weight) is called for every BRDF evaluation on the object. Adds the number of taps to `taps`.
 template <class Tap>
-Rgb trace_pixel(const Scene& scene, const Sampling& sampling, int x, int y, Tap&& tap, std::uint64_t& taps) {
+Rgb trace_pixel(const Scene& scene, const Sampling& sampling, int x, int y, Tap&& tap, std::uint64_t& taps,
+                const Control& with = {}, Rgb* controlled = nullptr) {
   Rgb constant = Rgb::Zero();
+  PixelControl control{with.variate, nullptr, with.grid, controlled};
+  MATLAS_DCHECK(!with.variate || controlled, "a sum for the control variate's terms");
+  if (with.variate && with.grid) {
+    const ControlGrid::Cell& cell =
+        with.grid->cells[static_cast<std::size_t>(y) * static_cast<std::size_t>(with.grid->width) + static_cast<std::size_t>(x)];
+    if (cell.subdivisions == 0) control.variate = nullptr;  // no control variate in this pixel
+    else control.cell = &cell;
+  }
   const SamplingMixture& density = sampling.density(sampling.count(x, y));
   for_each_sample(scene, sampling, x, y, [&](const Vec3& o, const Vec3& d, const Draw& draw) {
     bool hit_object;
-    constant += trace_sample(scene, density, draw, o, d, &hit_object, [&](const Vec3& wi, const Vec3& wo, const Rgb& w) {
-      tap(wi, wo, w);
-      ++taps;
-    });
+    constant += trace_sample(
+        scene, density, draw, o, d, &hit_object,
+        [&](const Vec3& wi, const Vec3& wo, const Rgb& w) {
+          tap(wi, wo, w);
+          ++taps;
+        },
+        control);
   });
   return constant;
 }
@@ -319,21 +365,29 @@ void RenderSettings::validate() const {
 }
 
 Image render(const Scene& scene, const Material& material, const RenderSettings& settings,
-             ProgressSink& progress, RenderStats* stats) {
+             ProgressSink& progress, RenderStats* stats, const Control& control) {
   settings.validate();
+  MATLAS_CHECK(!control.grid || (control.variate && control.grid->width == settings.width &&
+                                 control.grid->height == settings.height),
+               "a control grid of the render's size, with its control variate");
+  if (control.plain) *control.plain = Image(settings.width, settings.height);
   const auto start = std::chrono::steady_clock::now();
   const Sampling sampling(scene, settings);
   Image image(settings.width, settings.height);
   std::atomic<std::uint64_t> taps{0};
   for_each_pixel(settings, progress, "render", [&](int x, int y) {
     std::uint64_t local_taps = 0;
-    Rgb reflected = Rgb::Zero();
+    Rgb reflected = Rgb::Zero(), controlled = Rgb::Zero();
     const Rgb constant = trace_pixel(
         scene, sampling, x, y,
-        [&](const Vec3& wi, const Vec3& wo, const Rgb& w) { reflected += w * material.eval(wi, wo); }, local_taps);
-    const Rgb sum = (constant + reflected) / static_cast<double>(sampling.count(x, y));
+        [&](const Vec3& wi, const Vec3& wo, const Rgb& w) { reflected += w * material.eval(wi, wo); }, local_taps,
+        control, &controlled);
+    const double n = static_cast<double>(sampling.count(x, y));
+    const Rgb plain = (constant + reflected) / n, sum = plain + controlled / n;
     float* out = image.pixel(x, y);
     for (int c = 0; c < 3; ++c) out[c] = static_cast<float>(sum[c]);
+    if (control.plain)
+      for (int c = 0; c < 3; ++c) control.plain->pixel(x, y)[c] = static_cast<float>(plain[c]);
     taps += local_taps;
   });
   record_stats(stats, sampling, taps.load(), start);
@@ -395,6 +449,61 @@ std::vector<float> object_coverage(const Scene& scene, const RenderSettings& set
       }
   });
   return coverage;
+}
+
+ControlGrid control_grid(const Scene& scene, const RenderSettings& settings, const ControlVariate& control) {
+  settings.validate();
+  ControlGrid grid;
+  grid.width = settings.width;
+  grid.height = settings.height;
+  const std::size_t w = static_cast<std::size_t>(settings.width), h = static_cast<std::size_t>(settings.height);
+  // The pixel corners' view cosines (-1: the corner misses the object).
+  std::vector<double> corner_cos((w + 1) * (h + 1), -1.0);
+  parallel_for(0, h + 1, [&](std::size_t y0, std::size_t y1) {
+    Vec3 o, d;
+    for (std::size_t y = y0; y < y1; ++y)
+      for (std::size_t x = 0; x <= w; ++x) {
+        scene.camera_ray(static_cast<double>(x), static_cast<double>(y), settings.width, settings.height, &o, &d);
+        const std::optional<Hit> hit = scene.intersect(o, d);
+        if (hit && hit->object) corner_cos[y * (w + 1) + x] = -hit->normal.dot(d);
+      }
+  });
+  // Each pixel's subdivisions: 1 where its corners see the object at cos >= kControlGridCosine,
+  // more as the view grazes (the normal turns faster per pixel), none where a corner misses it.
+  grid.cells.resize(w * h);
+  std::size_t total = 0;
+  for (std::size_t y = 0; y < h; ++y)
+    for (std::size_t x = 0; x < w; ++x) {
+      const double c = std::min({corner_cos[y * (w + 1) + x], corner_cos[y * (w + 1) + x + 1],
+                                 corner_cos[(y + 1) * (w + 1) + x], corner_cos[(y + 1) * (w + 1) + x + 1]});
+      ControlGrid::Cell& cell = grid.cells[y * w + x];
+      if (!(c > 0)) continue;
+      cell.subdivisions = std::min(kControlGridMaxSubdivisions,
+                                   static_cast<int>(std::ceil(kControlGridCosine / std::min(c, kControlGridCosine) - 1e-9)));
+      cell.offset = total;
+      total += static_cast<std::size_t>(cell.subdivisions + 1) * static_cast<std::size_t>(cell.subdivisions + 1);
+    }
+  grid.values.assign(total, Rgb::Zero());
+  parallel_for_each(0, h, [&](std::size_t y) {
+    Vec3 o, d;
+    for (std::size_t x = 0; x < w; ++x) {
+      ControlGrid::Cell& cell = grid.cells[y * w + x];
+      const int s = cell.subdivisions;
+      for (int j = 0; j <= s && cell.subdivisions > 0; ++j)
+        for (int i = 0; i <= s; ++i) {
+          scene.camera_ray(static_cast<double>(x) + static_cast<double>(i) / s, static_cast<double>(y) + static_cast<double>(j) / s,
+                           settings.width, settings.height, &o, &d);
+          const std::optional<Hit> hit = scene.intersect(o, d);
+          if (!hit || !hit->object || !(-hit->normal.dot(d) > 0)) {
+            cell.subdivisions = 0;  // a point between the corners misses it (a concave silhouette)
+            break;
+          }
+          grid.values[cell.offset + static_cast<std::size_t>(j) * static_cast<std::size_t>(s + 1) + static_cast<std::size_t>(i)] =
+              control.smooth_integral(hit->normal, -d);
+        }
+    }
+  });
+  return grid;
 }
 
 std::vector<int> sample_counts(const Scene& scene, const RenderSettings& settings) {

@@ -34,6 +34,10 @@ struct PrefilterSettings {
   std::vector<double> lobes = {};
   int lobe_bands = 256;
   int lobe_rows = 257;
+  /// Rows per lobe in proportion to its width: lobe i gets 1 + (lobe_rows - 1) sqrt(kappa_i /
+  /// kappa_max) rows (at least 65), the sharpest lobe_rows, so that bilinear reads err alike for
+  /// every lobe (the error goes as (texel / lobe width)^2). Off: every lobe lobe_rows.
+  bool scale_lobe_rows = false;
 };
 
 class PrefilteredEnvironment {
@@ -60,7 +64,8 @@ private:
   std::vector<Rgb> cos_coeffs_, sin_coeffs_;  ///< [lm_index(l, m)]
   std::vector<int> heights_;
   std::vector<std::vector<float>> maps_;
-  std::vector<std::vector<float>> lobe_maps_;  ///< lobe_rows x 2 (lobe_rows - 1), RGB
+  std::vector<std::vector<float>> lobe_maps_;  ///< lobe_heights_[i] x 2 (lobe_heights_[i] - 1), RGB
+  std::vector<int> lobe_heights_;
 };
 
 }  // namespace matlas::zonal
