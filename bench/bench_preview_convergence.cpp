@@ -4,7 +4,10 @@
 // the one material made defensive with the database's, atlas::defensive_mixture, as
 // server/basis_previews.cpp does: "server"), and for the same passes with each of its two
 // mixtures alone ("own": fitted to the material; "database": the preview bases' sampling).
-// MATLAS_BENCH_SERVER_ONLY=1: the server's sampling only. Prints one row per refine step and, per point and
+// "cv" is the server's refinement as served: the same mixture with the real-time shading as a
+// control variate (zonal/control_variate.h), kept or dropped after the first pass (the summary
+// line says which); its first row counts the projection and the control grid.
+// MATLAS_BENCH_SERVER_ONLY=1: the server's sampling only (rows "server" and "cv"). Prints one row per refine step and, per point and
 // sampling, the samples and time to reach 2 % and 1 %. Samples do not depend on the machine's
 // load; times do (the first line gives the load average).
 //
@@ -169,16 +172,21 @@ int main(int argc, char** argv) {
       s.render = base;
       s.render.mixture = which == "server" || which == "cv" ? defensive : which == "own" ? own : database;
       if (which == "cv")
-        s.control_variate = std::make_shared<const zonal::ZonalControlVariate>(coefficients, *prefiltered, cv_lobes);
+        s.control_variate = std::make_shared<const zonal::ZonalControlVariate>(coefficients, prefiltered, cv_lobes);
       s.limits.target_error = 1e-12;
+      // Setup: the control variate's projection (when used) and the refinement's own (coverage,
+      // the control grid), counted in the first row's time as the server spends them.
+      const auto c0 = std::chrono::steady_clock::now();
       render::ProgressiveRender r(scene, material, s);
+      const double setup_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - c0).count() +
+                                   (which == "cv" ? projection_seconds : 0.0);
       double to2 = -1, to1 = -1, dto2 = -1, dto1 = -1;
       int spp2 = -1, spp1 = -1, dspp2 = -1, dspp1 = -1;
       while (r.state().spp < max_spp) {
         const render::RefinementState st = r.refine(0.25);
         const double measured = relative_rms(r.image(), ref, r.object_pixels());
         const double error = std::sqrt(std::max(0.0, measured * measured - ref_error * ref_error));
-        const double t = st.seconds + table_seconds;
+        const double t = st.seconds + table_seconds + setup_seconds;
         if (to2 < 0 && error <= 0.02) to2 = t, spp2 = st.spp;
         if (to1 < 0 && error <= 0.01) to1 = t, spp1 = st.spp;
         // The denoised image (render/denoise.h), its error against the reference and its cost.

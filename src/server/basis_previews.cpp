@@ -19,6 +19,8 @@
 #include "server/http_error.h"
 #include "server/lru_cache.h"
 #include "server/preparations.h"
+#include "zonal/control_variate.h"
+#include "zonal/projection.h"
 
 namespace matlas::server {
 
@@ -47,6 +49,11 @@ struct BasisPreviews::Impl {
   mutable LruCache<std::shared_ptr<render::ProgressiveRender>> refinements{
       static_cast<std::size_t>(std::max(1, options.max_refinements))};
   mutable LruCache<std::shared_ptr<const render::Scene>> scenes{2};
+  /// The control variate's projector (built on first use) and prefiltered environments by name.
+  mutable std::mutex control_mutex;
+  mutable std::shared_ptr<const zonal::ZonalProjector> projector;
+  mutable MerlDims projector_dims;  ///< the table size it projects
+  mutable LruCache<std::shared_ptr<const zonal::PrefilteredEnvironment>> control_environments{2};
   /// The database's sampling mixture (the bases'), fitted once: half of every refinement's.
   render::SamplingMixture database_mixture;
   /// The bases, prepared in the background by key(env, object); the default scene's is pinned.
@@ -56,6 +63,31 @@ struct BasisPreviews::Impl {
                               return std::make_shared<const Entry>(build(k.substr(0, split), k.substr(split + 1), progress));
                             },
                             static_cast<std::size_t>(std::max(1, options.max_loaded))};
+
+  /// The table's rotated-ZH shading under the scene's environment as a control variate.
+  std::shared_ptr<const render::ControlVariate> control_variate(const BrdfTable& table, const std::string& environment,
+                                                                const render::Scene& scene) const {
+    std::shared_ptr<const zonal::ZonalProjector> p;
+    MerlDims held;
+    std::shared_ptr<const zonal::PrefilteredEnvironment> env;
+    {
+      std::lock_guard lock(control_mutex);
+      p = projector;
+      held = projector_dims;
+      if (const auto* found = control_environments.find(environment)) env = *found;
+    }
+    // Built outside the lock (about 1.5 s for an environment, once); concurrent builders agree.
+    const MerlDims& dims = table.dims();
+    const auto same = [&](const MerlDims& d) { return d.theta_h == dims.theta_h && d.theta_d == dims.theta_d && d.phi_d == dims.phi_d; };
+    if (!p || !same(held)) p = std::make_shared<const zonal::ZonalProjector>(zonal::control_projection_settings(), dims);
+    if (!env) env = std::make_shared<const zonal::PrefilteredEnvironment>(scene.environment(), zonal::control_prefilter_settings());
+    {
+      std::lock_guard lock(control_mutex);
+      if (!projector || !same(projector_dims)) projector = p, projector_dims = dims;
+      control_environments.put(environment, env, /*keep_existing=*/true);
+    }
+    return std::make_shared<const zonal::ZonalControlVariate>(p->project(table), env);
+  }
 
   Impl(const Model& m, BasisPreviewOptions o) : model(m), options(std::move(o)) {
     fingerprint = atlas::model_fingerprint(model);
@@ -199,6 +231,7 @@ BasisPreviews::Refined BasisPreviews::refine(const Eigen::VectorXd& w, const std
                                     atlas::SamplingFitOptions::for_sampler(settings.render.sampler)),
         im.database_mixture);
     settings.limits.target_error = im.options.refine_target_error;
+    if (im.options.control_variate) settings.control_variate = im.control_variate(material->table(), environment, *scene);
     auto made = std::make_shared<render::ProgressiveRender>(scene, material, settings);
     std::lock_guard lock(im.refine_mutex);
     refinement = *im.refinements.put(key, std::move(made), /*keep_existing=*/true);

@@ -12,6 +12,15 @@
 
 namespace matlas::zonal {
 
+namespace {
+
+const PrefilteredEnvironment& checked(const std::shared_ptr<const PrefilteredEnvironment>& environment) {
+  MATLAS_CHECK(environment != nullptr, "a control variate's environment");
+  return *environment;
+}
+
+}  // namespace
+
 ProjectionSettings control_projection_settings() {
   ProjectionSettings s;
   s.bands = 16;
@@ -31,8 +40,10 @@ PrefilterSettings control_prefilter_settings() {
 }
 
 ZonalControlVariate::ZonalControlVariate(const ZonalCoefficients& coefficients,
-                                         const PrefilteredEnvironment& environment, int lobes)
-    : coefficients_(coefficients), basis_(coefficients.bands), environment_(environment), legendre_(coefficients.bands) {
+                                         std::shared_ptr<const PrefilteredEnvironment> environment_pointer, int lobes)
+    : coefficients_(coefficients), basis_(coefficients.bands), keep_(std::move(environment_pointer)),
+      environment_(checked(keep_)), legendre_(coefficients.bands) {
+  const PrefilteredEnvironment& environment = environment_;
   if (coefficients.bands > environment.bands())
     throw Error("control variate: coefficients of " + std::to_string(coefficients.bands) +
                 " bands, environment of " + std::to_string(environment.bands()));

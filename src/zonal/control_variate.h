@@ -10,6 +10,7 @@
 // environment is then what the real-time shading computes, sum_{l,k} lambda_l^k E_l(d_{l,k}) +
 // sum_i lambda_i E_i(r) (zonal/shade.h), read from the prefiltered maps. The renderer samples the
 // difference between the material and this function; the maps' interpolation is the only bias.
+#include <memory>
 #include <vector>
 
 #include "render/control_variate.h"
@@ -31,9 +32,10 @@ PrefilterSettings control_prefilter_settings();
 
 class ZonalControlVariate final : public render::ControlVariate {
 public:
-  /// The environment must outlive this; `lobes`: how many of the coefficients' lobes (the
-  /// broadest first) take part (-1: all). Throws matlas::Error for layouts that do not match.
-  ZonalControlVariate(const ZonalCoefficients& coefficients, const PrefilteredEnvironment& environment, int lobes = -1);
+  /// `lobes`: how many of the coefficients' lobes (the broadest first) take part (-1: all).
+  /// Throws matlas::Error for layouts that do not match.
+  ZonalControlVariate(const ZonalCoefficients& coefficients, std::shared_ptr<const PrefilteredEnvironment> environment,
+                      int lobes = -1);
 
   /// The expansion's part (sum_{l,k} lambda_l^k E_l(d_{l,k})): band-limited, smooth.
   Rgb smooth_integral(const Vec3& n, const Vec3& wo) const override;
@@ -44,6 +46,7 @@ public:
 private:
   ZonalCoefficients coefficients_;
   ZonalBasis basis_;
+  std::shared_ptr<const PrefilteredEnvironment> keep_;
   const PrefilteredEnvironment& environment_;
   std::size_t lobes_;
   LegendreRecurrence legendre_;

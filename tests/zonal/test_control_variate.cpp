@@ -36,12 +36,12 @@ struct PlasticUnderTheSyntheticSky {
     fs.texels_per_band = 32;
     fs.lobe_rows = 1025;
     fs.supersample = 16;  // the synthetic map's texels are 11 degrees wide
-    prefiltered = std::make_unique<PrefilteredEnvironment>(environment, fs);
+    prefiltered = std::make_shared<const PrefilteredEnvironment>(environment, fs);
   }
   BrdfTable table;
   render::Environment environment;
   ZonalCoefficients coefficients;
-  std::unique_ptr<PrefilteredEnvironment> prefiltered;
+  std::shared_ptr<const PrefilteredEnvironment> prefiltered;
 };
 
 /// integral over the sphere of L(w) g(w), g in the frame of n: each texel of the (piecewise
@@ -65,7 +65,7 @@ inline Rgb quadrature(const render::Environment& env, const ZonalControlVariate&
 TEST(ControlVariate, IntegralIsTheQuadratureOfTheFunction) {
   for (const bool lobes : {false, true}) {
     const PlasticUnderTheSyntheticSky s(8, lobes ? kDefaultLobes : std::vector<double>{});
-    const ZonalControlVariate cv(s.coefficients, *s.prefiltered);
+    const ZonalControlVariate cv(s.coefficients, s.prefiltered);
     for (const auto& [n_raw, wo_raw] : {std::pair{Vec3(0, 1, 0), Vec3(0.2, 1, 0.1)}, std::pair{Vec3(0.3, 0.5, -0.8), Vec3(0.1, 0.4, -0.2)},
                                          std::pair{Vec3(1, 0.2, 0), Vec3(0.2, 1, 0.3)}}) {
       const Vec3 n = n_raw.normalized(), wo = wo_raw.normalized();
@@ -92,7 +92,7 @@ TEST(ControlVariate, APreviewWithItIsTheSameImageWithLessNoise) {
   const Image reference = render::render(*scene, material, rs);
   rs.spp = 32;
   rs.seed = 1;
-  const ZonalControlVariate cv(s.coefficients, *s.prefiltered);
+  const ZonalControlVariate cv(s.coefficients, s.prefiltered);
   const render::ControlGrid grid = render::control_grid(*scene, rs, cv);
   Image plain;
   const Image controlled = render::render(*scene, material, rs, null_progress(), nullptr, {&cv, &grid, &plain});
