@@ -86,7 +86,8 @@ ProgressiveRender::ProgressiveRender(std::shared_ptr<const Scene> scene, std::sh
           },
           "progressive render") {
   MATLAS_CHECK(material_ != nullptr);
-  if (settings_.control_variate) control_grid_ = control_grid(*scene_, settings_.render, *settings_.control_variate);
+  if (settings_.control_variate)
+    control_grid_ = control_grid(*scene_, settings_.render.width, settings_.render.height, *settings_.control_variate);
   region_.resize(coverage.size());
   for (std::size_t i = 0; i < coverage.size(); ++i) region_[i] = coverage[i] >= 1.0f ? 1 : coverage[i] <= 0.0f ? 2 : 0;
 }

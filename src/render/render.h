@@ -23,7 +23,7 @@
 
 #include "core/progress.h"
 #include "formats/image_io.h"
-#include "render/control_variate.h"
+#include "render/control_grid.h"
 #include "render/material.h"
 #include "render/sampling_mixture.h"
 #include "render/scene.h"
@@ -82,27 +82,8 @@ struct RenderStats {
   double seconds = 0;
 };
 
-/// A control variate's smooth integral (ControlVariate::smooth_integral) tabulated over an image,
-/// computed once for many renders of that size: render() interpolates it bilinearly at each
-/// camera sample instead of evaluating it there (an error of second order in the spacing,
-/// measured in docs/RENDERING.md "Control variate"). A pixel whose corners see the object at
-/// cos(theta_o) >= kControlGridCosine is one cell; where the view grazes (the normal turns
-/// faster per pixel) it is cut into up to kControlGridMaxSubdivisions^2 cells; a pixel that
-/// does not see only the object (the silhouette) renders without the control variate.
-struct ControlGrid {
-  struct Cell {
-    int subdivisions = 0;     ///< s per side (0: no control variate in this pixel)
-    std::size_t offset = 0;   ///< its (s + 1)^2 values, row-major, in `values`
-  };
-  int width = 0, height = 0;  ///< the image's
-  std::vector<Cell> cells;    ///< per pixel, row-major
-  std::vector<Rgb> values;
-};
-inline constexpr double kControlGridCosine = 0.3;
-inline constexpr int kControlGridMaxSubdivisions = 8;
-ControlGrid control_grid(const Scene& scene, const RenderSettings& settings, const ControlVariate& control);
 
-/// A control variate for render(): the function, its grid (control_grid; none: every camera
+/// A control variate for render(): the function, its grid (render/control_grid.h; none: every camera
 /// sample evaluates the smooth integral), and where to put the plain estimate of the same
 /// samples (the image without the control variate, for a caller that chooses between the two).
 struct Control {

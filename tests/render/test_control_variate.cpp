@@ -68,7 +68,7 @@ TEST(RenderControlVariate, TheExactSliceMakesEverySampleExact) {
   const ExactLambertian control(0.7, 1.5);
   const RenderSettings s = small(4);
   for (const bool with_grid : {false, true}) {
-    const ControlGrid grid = control_grid(*scene, s, control);
+    const ControlGrid grid = control_grid(*scene, s.width, s.height, control);
     Image plain;
     const Image image = render(*scene, white, s, null_progress(), nullptr, {&control, with_grid ? &grid : nullptr, &plain});
     const std::vector<float> coverage = object_coverage(*scene, s);

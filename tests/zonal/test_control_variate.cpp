@@ -93,7 +93,7 @@ TEST(ControlVariate, APreviewWithItIsTheSameImageWithLessNoise) {
   rs.spp = 32;
   rs.seed = 1;
   const ZonalControlVariate cv(s.coefficients, s.prefiltered);
-  const render::ControlGrid grid = render::control_grid(*scene, rs, cv);
+  const render::ControlGrid grid = render::control_grid(*scene, rs.width, rs.height, cv);
   Image plain;
   const Image controlled = render::render(*scene, material, rs, null_progress(), nullptr, {&cv, &grid, &plain});
   double e_plain = 0, e_cv = 0, norm = 0;

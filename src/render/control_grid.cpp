@@ -1,0 +1,79 @@
+#include "render/control_grid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <string>
+
+#include "core/error.h"
+#include "core/parallel.h"
+
+namespace matlas::render {
+
+namespace {
+
+struct RenderSize {
+  int width, height;
+};
+
+}  // namespace
+
+ControlGrid control_grid(const Scene& scene, int width, int height, const ControlVariate& control) {
+  if (width <= 0 || height <= 0 || width > 16384 || height > 16384)
+    throw Error("control grid size must be between 1 and 16384 pixels, got " + std::to_string(width) + "x" +
+                std::to_string(height));
+  const RenderSize settings{width, height};
+  ControlGrid grid;
+  grid.width = settings.width;
+  grid.height = settings.height;
+  const std::size_t w = static_cast<std::size_t>(settings.width), h = static_cast<std::size_t>(settings.height);
+  // The pixel corners' view cosines (-1: the corner misses the object).
+  std::vector<double> corner_cos((w + 1) * (h + 1), -1.0);
+  parallel_for(0, h + 1, [&](std::size_t y0, std::size_t y1) {
+    Vec3 o, d;
+    for (std::size_t y = y0; y < y1; ++y)
+      for (std::size_t x = 0; x <= w; ++x) {
+        scene.camera_ray(static_cast<double>(x), static_cast<double>(y), settings.width, settings.height, &o, &d);
+        const std::optional<Hit> hit = scene.intersect(o, d);
+        if (hit && hit->object) corner_cos[y * (w + 1) + x] = -hit->normal.dot(d);
+      }
+  });
+  // Each pixel's subdivisions: 1 where its corners see the object at cos >= kControlGridCosine,
+  // more as the view grazes (the normal turns faster per pixel), none where a corner misses it.
+  grid.cells.resize(w * h);
+  std::size_t total = 0;
+  for (std::size_t y = 0; y < h; ++y)
+    for (std::size_t x = 0; x < w; ++x) {
+      const double c = std::min({corner_cos[y * (w + 1) + x], corner_cos[y * (w + 1) + x + 1],
+                                 corner_cos[(y + 1) * (w + 1) + x], corner_cos[(y + 1) * (w + 1) + x + 1]});
+      ControlGrid::Cell& cell = grid.cells[y * w + x];
+      if (!(c > 0)) continue;
+      cell.subdivisions = std::min(kControlGridMaxSubdivisions,
+                                   static_cast<int>(std::ceil(kControlGridCosine / std::min(c, kControlGridCosine) - 1e-9)));
+      cell.offset = total;
+      total += static_cast<std::size_t>(cell.subdivisions + 1) * static_cast<std::size_t>(cell.subdivisions + 1);
+    }
+  grid.values.assign(total, Rgb::Zero());
+  parallel_for_each(0, h, [&](std::size_t y) {
+    Vec3 o, d;
+    for (std::size_t x = 0; x < w; ++x) {
+      ControlGrid::Cell& cell = grid.cells[y * w + x];
+      const int s = cell.subdivisions;
+      for (int j = 0; j <= s && cell.subdivisions > 0; ++j)
+        for (int i = 0; i <= s; ++i) {
+          scene.camera_ray(static_cast<double>(x) + static_cast<double>(i) / s, static_cast<double>(y) + static_cast<double>(j) / s,
+                           settings.width, settings.height, &o, &d);
+          const std::optional<Hit> hit = scene.intersect(o, d);
+          if (!hit || !hit->object || !(-hit->normal.dot(d) > 0)) {
+            cell.subdivisions = 0;  // a point between the corners misses it (a concave silhouette)
+            break;
+          }
+          grid.values[cell.offset + static_cast<std::size_t>(j) * static_cast<std::size_t>(s + 1) + static_cast<std::size_t>(i)] =
+              control.smooth_integral(hit->normal, -d);
+        }
+    }
+  });
+  return grid;
+}
+
+}  // namespace matlas::render
