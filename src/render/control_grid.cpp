@@ -1,7 +1,9 @@
 #include "render/control_grid.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <mutex>
 #include <optional>
 #include <string>
 
@@ -18,7 +20,8 @@ struct RenderSize {
 
 }  // namespace
 
-ControlGrid control_grid(const Scene& scene, int width, int height, const ControlVariate& control) {
+ControlGrid control_grid(const Scene& scene, int width, int height, const ControlVariate& control,
+                         ProgressSink& progress) {
   if (width <= 0 || height <= 0 || width > 16384 || height > 16384)
     throw Error("control grid size must be between 1 and 16384 pixels, got " + std::to_string(width) + "x" +
                 std::to_string(height));
@@ -54,8 +57,16 @@ ControlGrid control_grid(const Scene& scene, int width, int height, const Contro
       total += static_cast<std::size_t>(cell.subdivisions + 1) * static_cast<std::size_t>(cell.subdivisions + 1);
     }
   grid.values.assign(total, Rgb::Zero());
+  std::mutex progress_mutex;
+  std::atomic<std::uint64_t> rows_done{0};
+  progress.update("control grid", 0, h);
   parallel_for_each(0, h, [&](std::size_t y) {
     Vec3 o, d;
+    {
+      const std::uint64_t done = rows_done++;  // before the row: a throwing sink stops the grid early
+      std::lock_guard lock(progress_mutex);
+      progress.update("control grid", done, h);
+    }
     for (std::size_t x = 0; x < w; ++x) {
       ControlGrid::Cell& cell = grid.cells[y * w + x];
       const int s = cell.subdivisions;
@@ -73,6 +84,7 @@ ControlGrid control_grid(const Scene& scene, int width, int height, const Contro
         }
     }
   });
+  progress.finish("control grid");
   return grid;
 }
 

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/progress.h"
 #include "render/control_variate.h"
 #include "render/scene.h"
 
@@ -29,7 +30,9 @@ inline constexpr double kControlGridCosine = 0.3;
 inline constexpr int kControlGridMaxSubdivisions = 8;
 
 /// The grid of a width x height image of the scene through its camera (the corners' and cells'
-/// rays as render() casts them). Throws matlas::Error for sizes outside 1..16384.
-ControlGrid control_grid(const Scene& scene, int width, int height, const ControlVariate& control);
+/// rays as render() casts them), reporting rows to `progress` (which may throw to stop it). Throws
+/// matlas::Error for sizes outside 1..16384.
+ControlGrid control_grid(const Scene& scene, int width, int height, const ControlVariate& control,
+                         ProgressSink& progress = null_progress());
 
 }  // namespace matlas::render

@@ -70,26 +70,41 @@ ProgressiveRender::ProgressiveRender(std::shared_ptr<const Scene> scene, std::sh
             RenderSettings s = settings_.render;
             s.spp = spp;
             s.seed = seed;
-            const ControlVariate* variate = settings_.control_variate.get();
-            if (!variate || control_ == ControlChoice::plain) return render(*scene_, *material_, s, progress);
-            if (control_ == ControlChoice::controlled)
-              return render(*scene_, *material_, s, progress, nullptr, {variate, &control_grid_, nullptr});
-            // The first pass renders both estimates from its samples and keeps the less noisy.
-            Image plain;
-            Image controlled = render(*scene_, *material_, s, progress, nullptr, {variate, &control_grid_, &plain});
-            const double with = median_noise(controlled, object_), without = median_noise(plain, object_);
-            control_ = with < without ? ControlChoice::controlled : ControlChoice::plain;
-            return control_ == ControlChoice::controlled ? controlled : plain;
+            return pass(s, progress);
           },
           [first = settings_.render.seed](int pass) {
             return first + 0x9E3779B97F4A7C15ull * static_cast<std::uint64_t>(pass);
           },
           "progressive render") {
   MATLAS_CHECK(material_ != nullptr);
-  if (settings_.control_variate)
-    control_grid_ = control_grid(*scene_, settings_.render.width, settings_.render.height, *settings_.control_variate);
   region_.resize(coverage.size());
   for (std::size_t i = 0; i < coverage.size(); ++i) region_[i] = coverage[i] >= 1.0f ? 1 : coverage[i] <= 0.0f ? 2 : 0;
+}
+
+Image ProgressiveRender::pass(const RenderSettings& s, ProgressSink& progress) {
+  const ControlChoice choice = control_;
+  if (choice == ControlChoice::controlled)
+    return render(*scene_, *material_, s, progress, nullptr, {control_variate_.get(), &control_grid_, nullptr});
+  if (!settings_.control_variate || choice == ControlChoice::plain || refinement_.state().passes == 0)
+    return render(*scene_, *material_, s, progress);
+  // The second pass: both estimates of its samples, the less noisy kept.
+  if (!control_variate_) {
+    std::shared_ptr<const ControlVariate> made = settings_.control_variate();
+    if (!made) return render(*scene_, *material_, s, progress);  // not ready: ask again next pass
+    control_grid_ = control_grid(*scene_, s.width, s.height, *made, progress);
+    control_variate_ = std::move(made);
+  }
+  Image plain;
+  Image controlled = render(*scene_, *material_, s, progress, nullptr, {control_variate_.get(), &control_grid_, &plain});
+  if (median_noise(controlled, object_) < median_noise(plain, object_)) {
+    control_ = ControlChoice::controlled;
+    refinement_.restart();  // this pass becomes the first: the plain one is dropped
+    return controlled;
+  }
+  control_ = ControlChoice::plain;
+  control_variate_.reset();
+  control_grid_ = {};
+  return plain;
 }
 
 DenoiseResult ProgressiveRender::denoised(const DenoiseSettings& settings) const {

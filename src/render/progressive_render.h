@@ -5,6 +5,7 @@
 // whose passes are independent renders (render/render.h), whose error is measured over the pixels
 // that see only the object, and whose mean can be denoised from its two halves.
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -23,11 +24,13 @@ struct ProgressiveSettings {
   /// `seed` the first pass's seed (pass k takes a seed derived from it and k).
   RenderSettings render;
   RefinementLimits limits{.target_error = 0.004, .min_converged_spp = 128, .max_spp = 16384, .max_pass_spp = 256};
-  /// A control variate (render/control_variate.h; none: the plain estimator). The first pass
-  /// renders both estimates from its samples and every pass then uses the one whose image was
-  /// less noisy (median_noise): for most materials the control variate, for some the plain
-  /// estimator (docs/RENDERING.md "Control variate").
-  std::shared_ptr<const ControlVariate> control_variate = nullptr;
+  /// Makes a control variate (render/control_variate.h; none: the plain estimator; it may return
+  /// null while one is not ready, and is asked again at the next pass). The first pass is plain
+  /// (the first image as fast as without one); the next makes the control variate and its grid,
+  /// renders both estimates from its samples and keeps the less noisy (median_noise): with the
+  /// control variate the refinement restarts from that pass (Refinement::restart), else it goes
+  /// on plain (docs/RENDERING.md "Control variate").
+  std::function<std::shared_ptr<const ControlVariate>()> control_variate = nullptr;
   /// Throws matlas::Error for invalid limits (RefinementLimits::validate) and whatever
   /// RenderSettings::validate throws.
   void validate() const;
@@ -64,6 +67,8 @@ public:
 private:
   ProgressiveRender(std::shared_ptr<const Scene> scene, std::shared_ptr<const Material> material,
                     const ProgressiveSettings& settings, const std::vector<float>& coverage);
+  /// One pass of the refinement (its settings' spp and seed): plain or with the control variate.
+  Image pass(const RenderSettings& s, ProgressSink& progress);
   /// The settings validated, then the coverage of the object per pixel.
   static std::vector<float> checked_coverage(const Scene* scene, const ProgressiveSettings& settings);
 
@@ -72,6 +77,7 @@ private:
   ProgressiveSettings settings_;
   std::vector<bool> object_;
   std::vector<std::uint8_t> region_;  ///< for the denoiser: 1 object only, 2 no object, 0 silhouette
+  std::shared_ptr<const ControlVariate> control_variate_;  ///< made by the second pass
   ControlGrid control_grid_;          ///< with a control variate: its smooth integral, once for every pass
   /// With a control variate: whether the passes use it, chosen by the first pass.
   enum class ControlChoice { undecided, controlled, plain };

@@ -109,6 +109,13 @@ void Refinement::add_pass(const Image& pass, int spp, double seconds) {
                      (state_.spp >= limits_.min_converged_spp && state_.relative_error <= limits_.target_error);
 }
 
+void Refinement::restart() {
+  std::lock_guard lock(state_mutex_);
+  for (auto& sum : sum_) std::fill(sum.begin(), sum.end(), 0.0);
+  half_spp_[0] = half_spp_[1] = 0;
+  state_ = RefinementState{};
+}
+
 RefinementState Refinement::refine(double seconds, ProgressSink& progress) {
   std::lock_guard refining(refining_);
   const auto start = std::chrono::steady_clock::now();
@@ -120,7 +127,8 @@ RefinementState Refinement::refine(double seconds, ProgressSink& progress) {
         next_pass_spp(first_spp_, limits_.max_pass_spp, limits_.max_spp, now.spp, now.seconds, seconds - elapsed(), first);
     if (spp == 0) return now;
     const auto pass_start = std::chrono::steady_clock::now();
-    const Image pass = pass_(spp, seed_(now.passes), progress);
+    const Image pass = pass_(spp, seed_(seeds_used_), progress);
+    ++seeds_used_;  // after the pass: a cancelled one leaves everything as it was
     add_pass(pass, spp, std::chrono::duration<double>(std::chrono::steady_clock::now() - pass_start).count());
     if (elapsed() >= seconds) return state();
   }

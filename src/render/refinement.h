@@ -84,6 +84,11 @@ public:
   /// pass under way is dropped and the state is what it was before it.
   RefinementState refine(double seconds, ProgressSink& progress = null_progress());
 
+  /// Drops every pass so far (the state starts again at 0 samples); later passes take new seeds.
+  /// For a pass function that switches to a better estimator: called from within a pass, the
+  /// image it returns becomes the first pass.
+  void restart();
+
   RefinementState state() const;
   /// The mean of every pass so far (a black image before the first).
   Image image() const;
@@ -107,6 +112,7 @@ private:
   std::vector<double> sum_[2];      ///< per half: the sum of spp x pass image
   int half_spp_[2] = {0, 0};
   RefinementState state_;
+  int seeds_used_ = 0;  ///< passes rendered, restarts included: pass k takes seed_(k)
 };
 
 }  // namespace matlas::render

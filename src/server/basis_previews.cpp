@@ -49,11 +49,19 @@ struct BasisPreviews::Impl {
   mutable LruCache<std::shared_ptr<render::ProgressiveRender>> refinements{
       static_cast<std::size_t>(std::max(1, options.max_refinements))};
   mutable LruCache<std::shared_ptr<const render::Scene>> scenes{2};
-  /// The control variate's projector (built on first use) and prefiltered environments by name.
+  /// The control variate's projector (built on first use) and prefiltered environments by name
+  /// (prepared in the background: about 1 s each, the last two kept).
   mutable std::mutex control_mutex;
   mutable std::shared_ptr<const zonal::ZonalProjector> projector;
   mutable MerlDims projector_dims;  ///< the table size it projects
-  mutable LruCache<std::shared_ptr<const zonal::PrefilteredEnvironment>> control_environments{2};
+  mutable Preparations<zonal::PrefilteredEnvironment> control_environments{
+      [](const std::string& environment, ProgressSink&) {
+        render::SceneDescription desc;
+        desc.environment = environment;
+        return std::make_shared<const zonal::PrefilteredEnvironment>(render::Scene(desc).environment(),
+                                                                     zonal::control_prefilter_settings());
+      },
+      2};
   /// The database's sampling mixture (the bases'), fitted once: half of every refinement's.
   render::SamplingMixture database_mixture;
   /// The bases, prepared in the background by key(env, object); the default scene's is pinned.
@@ -64,27 +72,25 @@ struct BasisPreviews::Impl {
                             },
                             static_cast<std::size_t>(std::max(1, options.max_loaded))};
 
-  /// The table's rotated-ZH shading under the scene's environment as a control variate.
-  std::shared_ptr<const render::ControlVariate> control_variate(const BrdfTable& table, const std::string& environment,
-                                                                const render::Scene& scene) const {
+  /// The table's rotated-ZH shading under the environment as a control variate; null while the
+  /// environment's maps are being prepared (the refinement goes on plain and asks again).
+  std::shared_ptr<const render::ControlVariate> control_variate(const BrdfTable& table, const std::string& environment) const {
+    const auto env = control_environments.request(environment).value;
+    if (!env) return nullptr;
     std::shared_ptr<const zonal::ZonalProjector> p;
     MerlDims held;
-    std::shared_ptr<const zonal::PrefilteredEnvironment> env;
     {
       std::lock_guard lock(control_mutex);
       p = projector;
       held = projector_dims;
-      if (const auto* found = control_environments.find(environment)) env = *found;
     }
-    // Built outside the lock (about 1.5 s for an environment, once); concurrent builders agree.
+    // Built outside the lock (once per table size); concurrent builders agree.
     const MerlDims& dims = table.dims();
     const auto same = [&](const MerlDims& d) { return d.theta_h == dims.theta_h && d.theta_d == dims.theta_d && d.phi_d == dims.phi_d; };
-    if (!p || !same(held)) p = std::make_shared<const zonal::ZonalProjector>(zonal::control_projection_settings(), dims);
-    if (!env) env = std::make_shared<const zonal::PrefilteredEnvironment>(scene.environment(), zonal::control_prefilter_settings());
-    {
+    if (!p || !same(held)) {
+      p = std::make_shared<const zonal::ZonalProjector>(zonal::control_projection_settings(), dims);
       std::lock_guard lock(control_mutex);
-      if (!projector || !same(projector_dims)) projector = p, projector_dims = dims;
-      control_environments.put(environment, env, /*keep_existing=*/true);
+      projector = p, projector_dims = dims;
     }
     return std::make_shared<const zonal::ZonalControlVariate>(p->project(table), env);
   }
@@ -231,7 +237,10 @@ BasisPreviews::Refined BasisPreviews::refine(const Eigen::VectorXd& w, const std
                                     atlas::SamplingFitOptions::for_sampler(settings.render.sampler)),
         im.database_mixture);
     settings.limits.target_error = im.options.refine_target_error;
-    if (im.options.control_variate) settings.control_variate = im.control_variate(material->table(), environment, *scene);
+    if (im.options.control_variate)  // made by the second pass (the material and the scene outlive the refinement)
+      settings.control_variate = [&im, material = material.get(), environment] {
+        return im.control_variate(material->table(), environment);
+      };
     auto made = std::make_shared<render::ProgressiveRender>(scene, material, settings);
     std::lock_guard lock(im.refine_mutex);
     refinement = *im.refinements.put(key, std::move(made), /*keep_existing=*/true);

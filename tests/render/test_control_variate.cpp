@@ -119,16 +119,31 @@ TEST(RenderControlVariate, ProgressiveRenderKeepsTheLessNoisyEstimate) {
   ProgressiveSettings s;
   s.render = small(8);
   s.limits.target_error = 1e-12;
-  s.control_variate = std::make_shared<ExactLambertian>(0.7, 1.5);
+  s.control_variate = [] { return std::make_shared<ExactLambertian>(0.7, 1.5); };
   ProgressiveRender good(scene, white, s);
-  good.refine(1e-3);
+  good.refine(1e-3);  // the first pass: plain, as fast as without a control variate
+  EXPECT_FALSE(good.controlled());
+  EXPECT_EQ(good.state().passes, 1);
+  EXPECT_GT(good.state().spp, 0);
+  good.refine(1e-3);  // the second: both estimates; the exact one wins and the refinement restarts from it
   EXPECT_TRUE(good.controlled());
+  EXPECT_EQ(good.state().passes, 1);
+  const std::vector<float> coverage = object_coverage(*scene, s.render);
+  const Image image = good.image();
+  int exact = 0;
+  for (std::size_t p = 0; p < coverage.size(); ++p)
+    if (coverage[p] >= 1.0f && std::abs(image.rgb[3 * p] - 0.7 * 1.5) < 1e-6) ++exact;
+  EXPECT_GT(exact, 200);  // the plain first pass is gone from the mean
+  good.refine(1e-3);
+  EXPECT_EQ(good.state().passes, 2);
   // A control variate far from the slice (a large constant: its noise swamps the material's) is
-  // dropped after the first pass.
-  s.control_variate = std::make_shared<ConstantControl>(3.0, 1.5);
+  // dropped on the second pass, which then counts as a plain pass.
+  s.control_variate = [] { return std::make_shared<ConstantControl>(3.0, 1.5); };
   ProgressiveRender poor(scene, white, s);
   poor.refine(1e-3);
+  poor.refine(1e-3);
   EXPECT_FALSE(poor.controlled());
+  EXPECT_EQ(poor.state().passes, 2);
 }
 
 TEST(RenderControlVariate, MedianNoiseSeesNoiseNotAConstant) {

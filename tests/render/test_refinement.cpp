@@ -77,6 +77,23 @@ TEST(Refinement, TheErrorEstimateMatchesTheNoiseOfThePasses) {
     EXPECT_NEAR((h.a.rgb[i] * h.samples_a + h.b.rgb[i] * h.samples_b) / st.spp, mean.rgb[i], 1e-5);
 }
 
+TEST(Refinement, ARestartDropsThePassesAndKeepsTakingNewSeeds) {
+  std::vector<int> seeds;
+  Refinement r(kSide, kSide, {}, 4, never_converging(), noisy_pass(0.5, 0.8, &seeds), plain_seed(), "test");
+  for (int i = 0; i < 3; ++i) r.refine(0.0);
+  ASSERT_GE(r.state().passes, 3);
+  r.restart();
+  EXPECT_EQ(r.state().passes, 0);
+  EXPECT_EQ(r.state().spp, 0);
+  EXPECT_FALSE(std::isfinite(r.state().relative_error));
+  EXPECT_EQ(r.halves().samples_a, 0);
+  const std::size_t before = seeds.size();
+  r.refine(0.0);
+  EXPECT_EQ(r.state().passes, 1);
+  ASSERT_EQ(seeds.size(), before + 1);
+  EXPECT_EQ(seeds.back(), 1000 + static_cast<int>(before));  // a new seed, not pass 0's again
+}
+
 TEST(Refinement, UnmeasuredPixelsDoNotCount) {
   std::vector<bool> measured(kSide * kSide, true), wild(kSide * kSide, false);
   for (int p = 0; p < kSide * kSide; p += 2) measured[p] = false, wild[p] = true;
