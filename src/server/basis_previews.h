@@ -15,10 +15,11 @@
 // table is built once (atlas::ModelTableMaterial), sampled with the defensive mixture of the one
 // fitted to that material and the database's (atlas::defensive_mixture), and
 // refined pass after pass while the client keeps asking; the image never mixes basis and direct
-// samples. The last `max_refinements` points stay (each holds its table, about 35 MB). The
-// refinement uses the point's rotated-ZH shading as a control variate (its coefficients
-// projected from the table, 0.1-0.2 s; the environment prefiltered once, about 80 MB, the last
-// two kept) and keeps it where its first pass is less noisy than the plain estimate.
+// samples. The last `max_refinements` points stay (each holds its table, about 35 MB). From the
+// second pass on the refinement tries the point's rotated-ZH shading as a control variate (its
+// coefficients projected from the table, 0.1-0.2 s; the environment prefiltered in the background
+// once, about 80 MB, the last two kept; plain passes until it is ready) and keeps it where it is
+// less noisy than the plain estimate.
 #include <filesystem>
 #include <memory>
 #include <string>
