@@ -1,12 +1,14 @@
-// Preview convergence at rest (docs/RENDERING.md "Refinement"): for named materials and midpoints
-// of a model, the error of the refined preview against a long reference as a function of render
-// samples and render time, for the refinement the server runs (render/progressive_render.h with the mixture fitted to
-// the one material made defensive with the database's, atlas::defensive_mixture, as
-// server/basis_previews.cpp does: "server"), and for the same passes with each of its two
-// mixtures alone ("own": fitted to the material; "database": the preview bases' sampling).
-// "cv" is the server's refinement as served: the same mixture with the real-time shading as a
-// control variate (zonal/control_variate.h), tried on the second pass and kept (restarting the
-// refinement) or dropped (the summary line says which); times include the projection and grid.
+// Preview convergence at rest (docs/RENDERING.md "Refinement", "Control variate"): for named
+// materials and midpoints of a model, the error of the refined preview against a long reference
+// as a function of render samples and render time. "server": the plain estimator with the
+// server's sampling (render/progressive_render.h with the mixture fitted to the one material made
+// defensive with the database's, atlas::defensive_mixture, as server/basis_previews.cpp does);
+// "cv": the refinement as served, the same with the real-time shading as a control variate
+// (zonal/control_variate.h), tried on the second pass and kept (restarting the refinement) or
+// dropped (the summary line says which), times including the projection and the grid; "own" and
+// "database": the plain estimator with each of the two mixtures alone (fitted to the material;
+// the preview bases' sampling). MATLAS_BENCH_SNAPSHOTS=DIR writes each point's image after about
+// 3 s and its reference as PNG.
 // MATLAS_BENCH_SERVER_ONLY=1: the server's sampling only (rows "server" and "cv"). Prints one row per refine step and, per point and
 // sampling, the samples and time to reach 2 % and 1 %. Samples do not depend on the machine's
 // load; times do (the first line gives the load average).
@@ -181,6 +183,7 @@ int main(int argc, char** argv) {
       const double setup_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - c0).count();
       double to2 = -1, to1 = -1, dto2 = -1, dto1 = -1;
       int spp2 = -1, spp1 = -1, dspp2 = -1, dspp1 = -1;
+      bool snapped = false;
       while (r.state().spp < max_spp) {
         const render::RefinementState st = r.refine(0.25);
         const double measured = relative_rms(r.image(), ref, r.object_pixels());
@@ -196,6 +199,15 @@ int main(int argc, char** argv) {
         const double derror = std::sqrt(std::max(0.0, dmeasured * dmeasured - ref_error * ref_error));
         if (dto2 < 0 && derror <= 0.02) dto2 = t + dsec, dspp2 = st.spp;
         if (dto1 < 0 && derror <= 0.01) dto1 = t + dsec, dspp1 = st.spp;
+        // MATLAS_BENCH_SNAPSHOTS=DIR: the image as served after about 3 s (the first row past it),
+        // tone mapped as the server's previews (ACES), and the reference.
+        if (const char* dir = std::getenv("MATLAS_BENCH_SNAPSHOTS"); dir && !snapped && t >= 3.0) {
+          snapped = true;
+          std::filesystem::create_directories(dir);
+          const ToneMap aces{ToneMap::Curve::aces, 0.0};
+          write_png(std::string(dir) + "/" + spec + "-" + sampling + "-3s.png", r.image(), aces);
+          write_png(std::string(dir) + "/" + spec + "-reference.png", ref, aces);
+        }
         std::printf("%-44s %-8s %8.2f %7d %10.5f %10.5f %10.5f %10.5f %8.3f\n", spec.c_str(), sampling, t, st.spp, error,
                     st.relative_error, derror, den.relative_error, dsec);
         std::fflush(stdout);
