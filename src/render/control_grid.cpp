@@ -30,29 +30,41 @@ ControlGrid control_grid(const Scene& scene, int width, int height, const Contro
   grid.width = settings.width;
   grid.height = settings.height;
   const std::size_t w = static_cast<std::size_t>(settings.width), h = static_cast<std::size_t>(settings.height);
-  // The pixel corners' view cosines (-1: the corner misses the object).
+  // The pixel corners' view cosines (-1: the corner misses the object) and normals.
   std::vector<double> corner_cos((w + 1) * (h + 1), -1.0);
+  std::vector<Vec3> corner_normal((w + 1) * (h + 1), Vec3::Zero());
   parallel_for(0, h + 1, [&](std::size_t y0, std::size_t y1) {
     Vec3 o, d;
     for (std::size_t y = y0; y < y1; ++y)
       for (std::size_t x = 0; x <= w; ++x) {
         scene.camera_ray(static_cast<double>(x), static_cast<double>(y), settings.width, settings.height, &o, &d);
         const std::optional<Hit> hit = scene.intersect(o, d);
-        if (hit && hit->object) corner_cos[y * (w + 1) + x] = -hit->normal.dot(d);
+        if (!hit || !hit->object) continue;
+        corner_cos[y * (w + 1) + x] = -hit->normal.dot(d);
+        corner_normal[y * (w + 1) + x] = hit->normal;
       }
   });
-  // Each pixel's subdivisions: 1 where its corners see the object at cos >= kControlGridCosine,
-  // more as the view grazes (the normal turns faster per pixel), none where a corner misses it.
+  // Each pixel's subdivisions: 1 where its corners see the object at cos >= kControlGridCosine
+  // and their normals lie within kControlGridAngle; more as the view grazes or the normal turns
+  // faster; none where a corner misses the object or the normals turn more than
+  // kControlGridMaxSubdivisions cells can follow (a crease, an edge in front of another surface).
   grid.cells.resize(w * h);
   std::size_t total = 0;
   for (std::size_t y = 0; y < h; ++y)
     for (std::size_t x = 0; x < w; ++x) {
-      const double c = std::min({corner_cos[y * (w + 1) + x], corner_cos[y * (w + 1) + x + 1],
-                                 corner_cos[(y + 1) * (w + 1) + x], corner_cos[(y + 1) * (w + 1) + x + 1]});
+      const std::size_t corners[4] = {y * (w + 1) + x, y * (w + 1) + x + 1, (y + 1) * (w + 1) + x, (y + 1) * (w + 1) + x + 1};
+      double c = 1.0, dot = 1.0;
+      for (int i = 0; i < 4; ++i) {
+        c = std::min(c, corner_cos[corners[i]]);
+        for (int j = i + 1; j < 4; ++j) dot = std::min(dot, corner_normal[corners[i]].dot(corner_normal[corners[j]]));
+      }
       ControlGrid::Cell& cell = grid.cells[y * w + x];
       if (!(c > 0)) continue;
-      cell.subdivisions = std::min(kControlGridMaxSubdivisions,
-                                   static_cast<int>(std::ceil(kControlGridCosine / std::min(c, kControlGridCosine) - 1e-9)));
+      const double turn = std::acos(std::clamp(dot, -1.0, 1.0));
+      const int s = std::max(static_cast<int>(std::ceil(kControlGridCosine / std::min(c, kControlGridCosine) - 1e-9)),
+                             static_cast<int>(std::ceil(turn / kControlGridAngle - 1e-9)));
+      if (s > kControlGridMaxSubdivisions) continue;
+      cell.subdivisions = std::max(1, s);
       cell.offset = total;
       total += static_cast<std::size_t>(cell.subdivisions + 1) * static_cast<std::size_t>(cell.subdivisions + 1);
     }

@@ -14,9 +14,10 @@ namespace matlas::render {
 /// computed once for many renders of that size: render() interpolates it bilinearly at each
 /// camera sample instead of evaluating it there (an error of second order in the spacing,
 /// measured in docs/RENDERING.md "Control variate"). A pixel whose corners see the object at
-/// cos(theta_o) >= kControlGridCosine is one cell; where the view grazes (the normal turns
-/// faster per pixel) it is cut into up to kControlGridMaxSubdivisions^2 cells; a pixel that
-/// does not see only the object (the silhouette) renders without the control variate.
+/// cos(theta_o) >= kControlGridCosine with normals within kControlGridAngle is one cell; where the
+/// view grazes or the normal turns faster it is cut into up to kControlGridMaxSubdivisions^2
+/// cells; a pixel that does not see only the object (the silhouette) or whose normals turn more
+/// than that (a crease, an edge in front of another surface) renders without the control variate.
 struct ControlGrid {
   struct Cell {
     int subdivisions = 0;     ///< s per side (0: no control variate in this pixel)
@@ -27,6 +28,7 @@ struct ControlGrid {
   std::vector<Rgb> values;
 };
 inline constexpr double kControlGridCosine = 0.3;
+inline constexpr double kControlGridAngle = 0.035;  ///< radians (2 degrees) of normal turn per cell
 inline constexpr int kControlGridMaxSubdivisions = 8;
 
 /// The grid of a width x height image of the scene through its camera (the corners' and cells'

@@ -35,4 +35,25 @@ inline double covered_mean(const Image& image, const std::vector<float>& coverag
   return count ? sum / count : 0.0;
 }
 
+/// A cube of side 2 about the origin with flat (per-face) normals.
+inline TriangleMesh flat_cube() {
+  TriangleMesh cube;
+  const int faces[6][4][3] = {{{-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1}},     {{1, -1, -1}, {-1, -1, -1}, {-1, 1, -1}, {1, 1, -1}},
+                              {{1, -1, 1}, {1, -1, -1}, {1, 1, -1}, {1, 1, 1}},      {{-1, -1, -1}, {-1, -1, 1}, {-1, 1, 1}, {-1, 1, -1}},
+                              {{-1, 1, 1}, {1, 1, 1}, {1, 1, -1}, {-1, 1, -1}},      {{-1, -1, -1}, {1, -1, -1}, {1, -1, 1}, {-1, -1, 1}}};
+  for (const auto& f : faces) {
+    const auto base = static_cast<std::uint32_t>(cube.positions.size());
+    Eigen::Vector3f q[4];
+    for (int k = 0; k < 4; ++k) q[k] = Eigen::Vector3f(f[k][0], f[k][1], f[k][2]);
+    const Eigen::Vector3f n = (q[1] - q[0]).cross(q[2] - q[0]).normalized();
+    for (const auto& p : q) {
+      cube.positions.push_back(p);
+      cube.normals.push_back(n);
+    }
+    cube.triangles.push_back({base, base + 1, base + 2});
+    cube.triangles.push_back({base, base + 2, base + 3});
+  }
+  return cube;
+}
+
 }  // namespace matlas::test

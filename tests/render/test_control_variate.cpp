@@ -146,6 +146,46 @@ TEST(RenderControlVariate, ProgressiveRenderKeepsTheLessNoisyEstimate) {
   EXPECT_EQ(poor.state().passes, 2);
 }
 
+TEST(RenderControlVariate, TheGridLeavesCreasesAndSilhouettesToThePlainEstimator) {
+  // A flat-shaded cube: pixels inside a face are one cell, pixels across an edge (a 90-degree
+  // turn of the normal) and on the silhouette render without the control variate.
+  SceneDescription d;
+  d.object = "cube";
+  d.camera.position = Vec3(2.5, 2.0, 3.5);
+  const Scene scene(d, test::flat_cube(), Environment::constant(Rgb::Constant(1.0)));
+  const ConstantControl control(0.1, 1.0);
+  const int side = 48;
+  const ControlGrid grid = control_grid(scene, side, side, control);
+  int inside = 0, across = 0;
+  for (int y = 0; y < side; ++y)
+    for (int x = 0; x < side; ++x) {
+      // The face of each corner's hit (the normals are per face).
+      std::vector<Vec3> normals;
+      for (const auto& [cx, cy] : {std::pair{x, y}, std::pair{x + 1, y}, std::pair{x, y + 1}, std::pair{x + 1, y + 1}}) {
+        Vec3 o, dir;
+        scene.camera_ray(cx, cy, side, side, &o, &dir);
+        const auto hit = scene.intersect(o, dir);
+        if (hit && hit->object) normals.push_back(hit->normal);
+      }
+      const int s = grid.cells[static_cast<std::size_t>(y * side + x)].subdivisions;
+      if (normals.size() < 4) {
+        EXPECT_EQ(s, 0) << x << " " << y;  // the silhouette
+        continue;
+      }
+      bool one_face = true;
+      for (const Vec3& n : normals) one_face = one_face && n.dot(normals[0]) > 0.999;
+      if (one_face) {
+        EXPECT_GE(s, 1) << x << " " << y;
+        ++inside;
+      } else {
+        EXPECT_EQ(s, 0) << x << " " << y;
+        ++across;
+      }
+    }
+  EXPECT_GT(inside, 300);
+  EXPECT_GT(across, 20);
+}
+
 TEST(RenderControlVariate, MedianNoiseSeesNoiseNotAConstant) {
   Image flat(8, 8), noisy(8, 8);
   for (std::size_t i = 0; i < flat.rgb.size(); ++i) {

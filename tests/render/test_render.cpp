@@ -73,22 +73,7 @@ TEST(Render, LambertianSphereWithTheDefaultMixtureIsUnbiased) {
 
 TEST(Render, LambertianCubeMeshUnderConstantEnvironmentEqualsAlbedo) {
   // A cube with flat (per-face) normals: every visible point sees the whole upper hemisphere.
-  TriangleMesh cube;
-  const int faces[6][4][3] = {{{-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1}},     {{1, -1, -1}, {-1, -1, -1}, {-1, 1, -1}, {1, 1, -1}},
-                              {{1, -1, 1}, {1, -1, -1}, {1, 1, -1}, {1, 1, 1}},      {{-1, -1, -1}, {-1, -1, 1}, {-1, 1, 1}, {-1, 1, -1}},
-                              {{-1, 1, 1}, {1, 1, 1}, {1, 1, -1}, {-1, 1, -1}},      {{-1, -1, -1}, {1, -1, -1}, {1, -1, 1}, {-1, -1, 1}}};
-  for (const auto& f : faces) {
-    const auto base = static_cast<std::uint32_t>(cube.positions.size());
-    Eigen::Vector3f q[4];
-    for (int k = 0; k < 4; ++k) q[k] = Eigen::Vector3f(f[k][0], f[k][1], f[k][2]);
-    const Eigen::Vector3f n = (q[1] - q[0]).cross(q[2] - q[0]).normalized();
-    for (const auto& p : q) {
-      cube.positions.push_back(p);
-      cube.normals.push_back(n);
-    }
-    cube.triangles.push_back({base, base + 1, base + 2});
-    cube.triangles.push_back({base, base + 2, base + 3});
-  }
+  const TriangleMesh cube = test::flat_cube();
   SceneDescription d;
   d.object = "cube";
   d.camera.position = Vec3(2.5, 2.0, 3.5);
