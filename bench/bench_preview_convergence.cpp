@@ -8,7 +8,7 @@
 // dropped (the summary line says which), times including the projection and the grid; "own" and
 // "database": the plain estimator with each of the two mixtures alone (fitted to the material;
 // the preview bases' sampling). MATLAS_BENCH_SNAPSHOTS=DIR writes each point's image after about
-// 3 s and its reference as PNG.
+// 3 s and its reference as PNG; MATLAS_BENCH_OBJECT=NAME renders that object instead of the sphere.
 // MATLAS_BENCH_SERVER_ONLY=1: the server's sampling only (rows "server" and "cv"). Prints one row per refine step and, per point and
 // sampling, the samples and time to reach 2 % and 1 %. Samples do not depend on the machine's
 // load; times do (the first line gives the load average).
@@ -87,6 +87,7 @@ int main(int argc, char** argv) {
   const Model model = Model::open(argv[1]);
   render::SceneDescription desc;
   desc.environment = argv[2];
+  if (const char* object = std::getenv("MATLAS_BENCH_OBJECT")) desc.object = object;  // default: the sphere
   const auto scene = std::make_shared<const render::Scene>(desc);
   const int size = std::atoi(argv[3]), reference_spp = std::atoi(argv[4]);
   const int max_spp = std::atoi(argv[5]);

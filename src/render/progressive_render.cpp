@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 
 #include "core/check.h"
@@ -33,27 +34,17 @@ std::vector<bool> object_only(const std::vector<float>& coverage) {
 
 }  // namespace
 
-double median_noise(const Image& image, const std::vector<bool>& object) {
-  MATLAS_CHECK_EQ(object.size(), image.pixel_count());
+double halves_noise(const Image& a, const Image& b, const std::vector<bool>& object) {
+  MATLAS_CHECK(a.rgb.size() == b.rgb.size() && object.size() == a.pixel_count(), "two halves of one image");
   double noise = 0, signal = 0;
-  std::array<float, 9> window;
-  for (int y = 1; y + 1 < image.height; ++y)
-    for (int x = 1; x + 1 < image.width; ++x) {
-      bool inside = true;
-      for (int dy = -1; dy <= 1 && inside; ++dy)
-        for (int dx = -1; dx <= 1 && inside; ++dx)
-          inside = object[static_cast<std::size_t>(y + dy) * static_cast<std::size_t>(image.width) + static_cast<std::size_t>(x + dx)];
-      if (!inside) continue;
-      for (int c = 0; c < 3; ++c) {
-        std::size_t k = 0;
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) window[k++] = image.pixel(x + dx, y + dy)[c];
-        std::nth_element(window.begin(), window.begin() + 4, window.end());
-        const double v = image.pixel(x, y)[c], d = v - window[4];
-        noise += d * d;
-        signal += v * v;
-      }
+  for (std::size_t p = 0; p < object.size(); ++p) {
+    if (!object[p]) continue;
+    for (std::size_t c = 0; c < 3; ++c) {
+      const double x = a.rgb[3 * p + c], y = b.rgb[3 * p + c];
+      noise += (x - y) * (x - y);
+      signal += 0.25 * (x + y) * (x + y);
     }
+  }
   return signal > 0 ? std::sqrt(noise / signal) : 0.0;
 }
 
@@ -85,18 +76,48 @@ Image ProgressiveRender::pass(const RenderSettings& s, ProgressSink& progress) {
   const ControlChoice choice = control_;
   if (choice == ControlChoice::controlled)
     return render(*scene_, *material_, s, progress, nullptr, {control_variate_.get(), &control_grid_, nullptr});
-  if (!settings_.control_variate || choice == ControlChoice::plain || refinement_.state().passes == 0)
-    return render(*scene_, *material_, s, progress);
-  // The second pass: both estimates of its samples, the less noisy kept.
+  const auto seconds_per_spp = [&](std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / s.spp;
+  };
+  const auto plain_pass = [&] {
+    const auto start = std::chrono::steady_clock::now();
+    Image image = render(*scene_, *material_, s, progress);
+    plain_seconds_per_spp_ = seconds_per_spp(start);
+    return image;
+  };
+  if (!settings_.control_variate || choice == ControlChoice::plain) return render(*scene_, *material_, s, progress);
+  if (refinement_.state().passes == 0) return plain_pass();
+  // The second pass: both estimates of its samples; the control variate is kept when its noise
+  // per unit of time is lower (its passes cost more than plain ones).
   if (!control_variate_) {
     std::shared_ptr<const ControlVariate> made = settings_.control_variate();
-    if (!made) return render(*scene_, *material_, s, progress);  // not ready: ask again next pass
+    if (!made) return plain_pass();  // not ready: ask again next pass
     control_grid_ = control_grid(*scene_, s.width, s.height, *made, progress);
     control_variate_ = std::move(made);
   }
-  Image plain;
-  Image controlled = render(*scene_, *material_, s, progress, nullptr, {control_variate_.get(), &control_grid_, &plain});
-  if (median_noise(controlled, object_) < median_noise(plain, object_)) {
+  // Two independent halves (the pass's seed and another), each with both estimates: their
+  // differences measure each estimator's noise without the image's own structure.
+  RenderSettings half = s;
+  half.spp = std::max(1, s.spp / 2);
+  Image plain_a, plain_b;
+  const auto start = std::chrono::steady_clock::now();
+  const Image a = render(*scene_, *material_, half, progress, nullptr, {control_variate_.get(), &control_grid_, &plain_a});
+  const int spp_b = std::max(1, s.spp - half.spp);
+  half.spp = spp_b;
+  half.seed = s.seed ^ 0xD1B54A32D192ED03ull;
+  const Image b = render(*scene_, *material_, half, progress, nullptr, {control_variate_.get(), &control_grid_, &plain_b});
+  const double controlled_seconds = seconds_per_spp(start);
+  const double with = halves_noise(a, b, object_), without = halves_noise(plain_a, plain_b, object_);
+  // The pass's image: both halves by their samples (s.spp in all when s.spp >= 2).
+  const auto join = [&](const Image& x, const Image& y) {
+    Image out(x.width, x.height);
+    const double wx = static_cast<double>(s.spp / 2 > 0 ? s.spp / 2 : 1), wy = static_cast<double>(spp_b);
+    for (std::size_t i = 0; i < out.rgb.size(); ++i)
+      out.rgb[i] = static_cast<float>((wx * x.rgb[i] + wy * y.rgb[i]) / (wx + wy));
+    return out;
+  };
+  const Image controlled = join(a, b), plain = join(plain_a, plain_b);
+  if (with * with * controlled_seconds < without * without * plain_seconds_per_spp_) {
     control_ = ControlChoice::controlled;
     refinement_.restart();  // this pass becomes the first: the plain one is dropped
     return controlled;

@@ -27,19 +27,19 @@ struct ProgressiveSettings {
   /// Makes a control variate (render/control_variate.h; none: the plain estimator; it may return
   /// null while one is not ready, and is asked again at the next pass). The first pass is plain
   /// (the first image as fast as without one); the next makes the control variate and its grid,
-  /// renders both estimates from its samples and keeps the less noisy (median_noise): with the
-  /// control variate the refinement restarts from that pass (Refinement::restart), else it goes
-  /// on plain (docs/RENDERING.md "Control variate").
+  /// renders both estimates in two independent halves and keeps the one with less noise per unit
+  /// of time (halves_noise squared times the seconds per sample of its passes): with the control variate
+  /// the refinement restarts from that pass (Refinement::restart), else it goes on plain
+  /// (docs/RENDERING.md "Control variate").
   std::function<std::shared_ptr<const ControlVariate>()> control_variate = nullptr;
   /// Throws matlas::Error for invalid limits (RefinementLimits::validate) and whatever
   /// RenderSettings::validate throws.
   void validate() const;
 };
 
-/// The noise of an image where it sees only the object: the RMS of each value minus the median of
-/// its 3 x 3 neighbourhood (all object pixels), relative to the RMS of the values. Structure
-/// (edges, highlights) counts too, alike for two estimates of the same image.
-double median_noise(const Image& image, const std::vector<bool>& object);
+/// The relative noise of two independent estimates a, b of one image where `object` is set:
+/// RMS(a - b) / RMS((a + b) / 2), the image's own structure cancelling.
+double halves_noise(const Image& a, const Image& b, const std::vector<bool>& object);
 
 class ProgressiveRender {
 public:
@@ -82,6 +82,7 @@ private:
   /// With a control variate: whether the passes use it, chosen by the first pass.
   enum class ControlChoice { undecided, controlled, plain };
   std::atomic<ControlChoice> control_ = ControlChoice::undecided;
+  double plain_seconds_per_spp_ = 0;  ///< of the last plain pass before the choice
   Refinement refinement_;
 };
 

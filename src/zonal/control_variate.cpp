@@ -136,12 +136,11 @@ Rgb ZonalControlVariate::sharp_integral(const Vec3& n, const Vec3& wo) const {
 
 Rgb ZonalControlVariate::eval(const Vec3& wi, const Vec3& wo) const {
   // The renderer asks for both taps of a camera sample with the same wo: theta_o's
-  // interpolation once.
-  thread_local const ZonalControlVariate* last_owner = nullptr;
+  // interpolation once (it depends on theta_o and the sample count only).
+  thread_local int last_count = 0, t0 = 0;
   thread_local double last_cos = 2.0, f = 0.0;
-  thread_local int t0 = 0;
-  if (wo.z() != last_cos || last_owner != this) {
-    last_owner = this;
+  if (wo.z() != last_cos || last_count != coefficients_.theta_o_count) {
+    last_count = coefficients_.theta_o_count;
     last_cos = wo.z();
     coefficients_.interpolation(std::acos(std::clamp(wo.z(), -1.0, 1.0)), &t0, &f);
   }
