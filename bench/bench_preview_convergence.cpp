@@ -8,7 +8,9 @@
 // dropped (the summary line says which), times including the projection and the grid; "own" and
 // "database": the plain estimator with each of the two mixtures alone (fitted to the material;
 // the preview bases' sampling). MATLAS_BENCH_SNAPSHOTS=DIR writes each point's image after about
-// 3 s and its reference as PNG; MATLAS_BENCH_OBJECT=NAME renders that object instead of the sphere.
+// 3 s and its reference as PNG; MATLAS_BENCH_OBJECT=NAME renders that object instead of the sphere;
+// MATLAS_BENCH_CV_BANDS, _CV_LOBES, _CV_TEXELS, _CV_LOBE_ROWS change the control variate's bands,
+// lobes taking part, texels per band and sharpest lobe map's rows (the studies in RENDERING.md).
 // MATLAS_BENCH_SERVER_ONLY=1: the server's sampling only (rows "server" and "cv"). Prints one row per refine step and, per point and
 // sampling, the samples and time to reach 2 % and 1 %. Samples do not depend on the machine's
 // load; times do (the first line gives the load average).

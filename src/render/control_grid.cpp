@@ -12,24 +12,15 @@
 
 namespace matlas::render {
 
-namespace {
-
-struct RenderSize {
-  int width, height;
-};
-
-}  // namespace
-
 ControlGrid control_grid(const Scene& scene, int width, int height, const ControlVariate& control,
                          ProgressSink& progress) {
   if (width <= 0 || height <= 0 || width > 16384 || height > 16384)
     throw Error("control grid size must be between 1 and 16384 pixels, got " + std::to_string(width) + "x" +
                 std::to_string(height));
-  const RenderSize settings{width, height};
   ControlGrid grid;
-  grid.width = settings.width;
-  grid.height = settings.height;
-  const std::size_t w = static_cast<std::size_t>(settings.width), h = static_cast<std::size_t>(settings.height);
+  grid.width = width;
+  grid.height = height;
+  const std::size_t w = static_cast<std::size_t>(width), h = static_cast<std::size_t>(height);
   // The pixel corners' view cosines (-1: the corner misses the object) and normals.
   std::vector<double> corner_cos((w + 1) * (h + 1), -1.0);
   std::vector<Vec3> corner_normal((w + 1) * (h + 1), Vec3::Zero());
@@ -37,7 +28,7 @@ ControlGrid control_grid(const Scene& scene, int width, int height, const Contro
     Vec3 o, d;
     for (std::size_t y = y0; y < y1; ++y)
       for (std::size_t x = 0; x <= w; ++x) {
-        scene.camera_ray(static_cast<double>(x), static_cast<double>(y), settings.width, settings.height, &o, &d);
+        scene.camera_ray(static_cast<double>(x), static_cast<double>(y), width, height, &o, &d);
         const std::optional<Hit> hit = scene.intersect(o, d);
         if (!hit || !hit->object) continue;
         corner_cos[y * (w + 1) + x] = -hit->normal.dot(d);
@@ -85,7 +76,7 @@ ControlGrid control_grid(const Scene& scene, int width, int height, const Contro
       for (int j = 0; j <= s && cell.subdivisions > 0; ++j)
         for (int i = 0; i <= s; ++i) {
           scene.camera_ray(static_cast<double>(x) + static_cast<double>(i) / s, static_cast<double>(y) + static_cast<double>(j) / s,
-                           settings.width, settings.height, &o, &d);
+                           width, height, &o, &d);
           const std::optional<Hit> hit = scene.intersect(o, d);
           if (!hit || !hit->object || !(-hit->normal.dot(d) > 0)) {
             cell.subdivisions = 0;  // a point between the corners misses it (a concave silhouette)

@@ -1,7 +1,6 @@
 #include "render/progressive_render.h"
 
 #include <algorithm>
-#include <array>
 #include <chrono>
 #include <cmath>
 
@@ -97,12 +96,12 @@ Image ProgressiveRender::pass(const RenderSettings& s, ProgressSink& progress) {
   }
   // Two independent halves (the pass's seed and another), each with both estimates: their
   // differences measure each estimator's noise without the image's own structure.
+  const int spp_a = std::max(1, s.spp / 2), spp_b = std::max(1, s.spp - spp_a);
   RenderSettings half = s;
-  half.spp = std::max(1, s.spp / 2);
+  half.spp = spp_a;
   Image plain_a, plain_b;
   const auto start = std::chrono::steady_clock::now();
   const Image a = render(*scene_, *material_, half, progress, nullptr, {control_variate_.get(), &control_grid_, &plain_a});
-  const int spp_b = std::max(1, s.spp - half.spp);
   half.spp = spp_b;
   half.seed = s.seed ^ 0xD1B54A32D192ED03ull;
   const Image b = render(*scene_, *material_, half, progress, nullptr, {control_variate_.get(), &control_grid_, &plain_b});
@@ -111,7 +110,7 @@ Image ProgressiveRender::pass(const RenderSettings& s, ProgressSink& progress) {
   // The pass's image: both halves by their samples (s.spp in all when s.spp >= 2).
   const auto join = [&](const Image& x, const Image& y) {
     Image out(x.width, x.height);
-    const double wx = static_cast<double>(s.spp / 2 > 0 ? s.spp / 2 : 1), wy = static_cast<double>(spp_b);
+    const double wx = spp_a, wy = spp_b;
     for (std::size_t i = 0; i < out.rgb.size(); ++i)
       out.rgb[i] = static_cast<float>((wx * x.rgb[i] + wy * y.rgb[i]) / (wx + wy));
     return out;

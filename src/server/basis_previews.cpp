@@ -90,7 +90,8 @@ struct BasisPreviews::Impl {
     if (!p || !same(held)) {
       p = std::make_shared<const zonal::ZonalProjector>(zonal::control_projection_settings(), dims);
       std::lock_guard lock(control_mutex);
-      projector = p, projector_dims = dims;
+      projector = p;
+      projector_dims = dims;
     }
     return std::make_shared<const zonal::ZonalControlVariate>(p->project(table), env);
   }
