@@ -137,6 +137,9 @@ int main(int argc, char** argv) {
     ps.trace.width = 512, ps.trace.height = 384, ps.trace.spp = 1;
     ps.limits.max_spp = 1 << 20;
     ps.limits.target_error = 1e-6;  // never converged: the curve runs for SECONDS
+    // MATLAS_BENCH_UNIFORM=1: without adaptive sampling (render/adaptive_sampling.h), for comparison.
+    ps.adaptive.enabled = std::getenv("MATLAS_BENCH_UNIFORM") == nullptr;
+    std::printf("refinement: %s\n", ps.adaptive.enabled ? "adaptive sampling (as served)" : "uniform samples");
     ProgressiveTrace refine(world, bank, ps);
     std::printf("\n| wall s | CPU s | spp | estimated error (RMS) | L1 vs reference | RMS vs reference | pixels > 20x |\n|---:|---:|---:|---:|---:|---:|---:|\n");
     t0 = std::chrono::steady_clock::now();

@@ -1,12 +1,14 @@
 // Preview convergence at rest (docs/RENDERING.md "Refinement", "Control variate"): for named
 // materials and midpoints of a model, the error of the refined preview against a long reference
-// as a function of render samples and render time. "server": the plain estimator with the
+// as a function of render samples and render time. "plain": the plain estimator with the
 // server's sampling (render/progressive_render.h with the mixture fitted to the one material made
-// defensive with the database's, atlas::defensive_mixture, as server/basis_previews.cpp does);
-// "cv": the refinement as served, the same with the real-time shading as a control variate
+// defensive with the database's, atlas::defensive_mixture, as server/basis_previews.cpp does) and
+// no adaptive sampling; "cv": the same with the real-time shading as a control variate
 // (zonal/control_variate.h), tried on the second pass and kept (restarting the refinement) or
-// dropped (the summary line says which), times including the projection and the grid; "own" and
-// "database": the plain estimator with each of the two mixtures alone (fitted to the material;
+// dropped (the summary line says which), times including the projection and the grid; "served":
+// the refinement as served, "cv" with adaptive sampling (render/adaptive_sampling.h: the trial
+// pass also chooses each pixel's share of the samples); "own" and "database": the plain estimator
+// with each of the two mixtures alone (fitted to the material;
 // the preview bases' sampling). MATLAS_BENCH_SNAPSHOTS=DIR writes each point's image after about
 // 3 s and its reference as PNG; MATLAS_BENCH_OBJECT=NAME renders that object instead of the sphere;
 // MATLAS_BENCH_CV_BANDS, _CV_LOBES, _CV_TEXELS, _CV_LOBE_ROWS change the control variate's bands,
@@ -137,6 +139,8 @@ int main(int argc, char** argv) {
     rs.render.seed = 1000003;
     rs.limits.max_spp = reference_spp;
     rs.limits.target_error = 1e-12;
+    // The reference: the plain estimator with adaptive sampling (unbiased; its own noise, removed
+    // below in quadrature, is then a tenth of a uniform reference's for chrome-like highlights).
     // MATLAS_BENCH_REFERENCE_CACHE=DIR keeps the references (EXR + error) for later runs.
     Image ref;
     double ref_error = 0;
@@ -167,13 +171,14 @@ int main(int argc, char** argv) {
     // environment prefiltered as the real-time view has them.
     const zonal::ZonalProjector projector(projection);
     std::printf("# %s: prefilter %.2f s (once per environment)\n", spec.c_str(), prefilter_seconds);
-    for (const char* sampling : {"server", "cv", "own", "database"}) {
+    for (const char* sampling : {"plain", "cv", "served", "own", "database"}) {
       const std::string which = sampling;
-      if (only_server && which != "server" && which != "cv") continue;
+      if (only_server && which != "plain" && which != "cv" && which != "served") continue;
       render::ProgressiveSettings s;
       s.render = base;
-      s.render.mixture = which == "server" || which == "cv" ? defensive : which == "own" ? own : database;
-      if (which == "cv")  // the projection runs in the second pass, as the server's
+      s.render.mixture = which == "own" ? own : which == "database" ? database : defensive;
+      s.adaptive.enabled = which == "served";  // adaptive sampling (render/adaptive_sampling.h)
+      if (which == "cv" || which == "served")  // the projection runs in the second pass, as the server's
         s.control_variate = [&] {
           return std::make_shared<const zonal::ZonalControlVariate>(projector.project(material->table()), prefiltered,
                                                                     cv_lobes);
@@ -232,7 +237,7 @@ int main(int argc, char** argv) {
       }
       std::printf("# %s, %s mixture: 2 %% at %d spp (%.1f s), 1 %% at %d spp (%.1f s); -1: not within %d spp%s\n",
                   spec.c_str(), sampling, spp2, to2, spp1, to1, max_spp,
-                  which != "cv" ? "" : r.controlled() ? " (control variate chosen)" : " (plain estimator chosen)");
+                  which != "cv" && which != "served" ? "" : r.controlled() ? " (control variate chosen)" : " (plain estimator chosen)");
       std::printf("# %s, %s mixture, denoised: 2 %% at %d spp (%.1f s), 1 %% at %d spp (%.1f s)\n", spec.c_str(), sampling,
                   dspp2, dto2, dspp1, dto1);
       std::fflush(stdout);

@@ -1,5 +1,7 @@
 #include "pathtrace/progressive_trace.h"
 
+#include <algorithm>
+
 #include "core/check.h"
 
 namespace matlas::pathtrace {
@@ -7,6 +9,7 @@ namespace matlas::pathtrace {
 void ProgressiveTraceSettings::validate() const {
   trace.validate();
   limits.validate(trace.spp, "progressive trace");
+  adaptive.validate();
 }
 
 namespace {
@@ -27,11 +30,39 @@ ProgressiveTrace::ProgressiveTrace(std::shared_ptr<const World> world, std::shar
             TraceSettings s = settings_.trace;
             s.spp = spp;
             s.seed = seed;
-            const TraceImages r = trace(*world_, bank_.get(), s, progress);
-            return r.once.empty() ? r.p : r.full(0);
+            return pass(s, progress);
           },
           [first = settings_.trace.seed](int pass) { return pass_seed(first, pass); }, "progressive trace") {
   MATLAS_CHECK(world_ && bank_ && bank_->count() == 1);
+}
+
+Image ProgressiveTrace::pass(TraceSettings s, ProgressSink& progress) {
+  const auto traced = [&](const TraceSettings& t) {
+    const TraceImages r = trace(*world_, bank_.get(), t, progress);
+    return r.once.empty() ? r.p : r.full(0);
+  };
+  s.pixel_samples = pixel_samples_;
+  if (!settings_.adaptive.enabled || pixel_samples_ || passes_ == 0 || s.spp < settings_.adaptive.min_trial_spp) {
+    Image image = traced(s);
+    ++passes_;
+    return image;
+  }
+  // The trial: two independent halves (the pass's seed and another) whose difference, pixel by
+  // pixel, gives the shares; the refinement restarts without them and a pass with the shares
+  // (neither half's seed) becomes its first.
+  TraceSettings half_a = s, half_b = s;
+  half_a.spp = std::max(1, s.spp / 2);
+  half_b.spp = std::max(1, s.spp - half_a.spp);
+  half_b.seed = s.seed ^ 0xD1B54A32D192ED03ull;
+  const Image a = traced(half_a), b = traced(half_b);
+  auto shares = std::make_shared<const std::vector<double>>(render::adaptive_pixel_samples(
+      a, b, std::vector<int>(a.pixel_count(), half_a.spp + half_b.spp), settings_.adaptive));
+  s.pixel_samples = shares;
+  s.seed ^= 0x94D049BB133111EBull;
+  Image image = traced(s);
+  pixel_samples_ = std::move(shares);
+  refinement_.restart();  // (the shares are fixed from now on: every pass weighs its spp)
+  return image;
 }
 
 std::uint64_t ProgressiveTrace::pass_seed(std::uint64_t seed, int pass) {

@@ -7,10 +7,12 @@
 // whole image. Nothing of the basis (other sampling, interpolated I2) is mixed in.
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "core/progress.h"
 #include "formats/image_io.h"
 #include "pathtrace/tracer.h"
+#include "render/adaptive_sampling.h"
 #include "render/refinement.h"
 #include "pathtrace/world.h"
 
@@ -22,8 +24,13 @@ struct ProgressiveTraceSettings {
   TraceSettings trace;
   /// A GI pass stops only at a row, so its length (max_pass_spp) bounds how late a cancel lands.
   render::RefinementLimits limits{.target_error = 0.01, .min_converged_spp = 64, .max_spp = 4096, .max_pass_spp = 64};
+  /// Adaptive sampling (render/adaptive_sampling.h): the trial (the first pass after the first
+  /// with at least min_trial_spp samples) traces two independent halves, gives each pixel a share of the later passes' samples from their difference, and the
+  /// refinement restarts from a pass with those shares (the halves that chose them are dropped:
+  /// the mean stays unbiased).
+  render::AdaptiveSampling adaptive;
   /// Throws matlas::Error for invalid limits (render::RefinementLimits::validate) and whatever
-  /// TraceSettings::validate throws.
+  /// TraceSettings::validate and render::AdaptiveSampling::validate throw.
   void validate() const;
 };
 
@@ -42,11 +49,20 @@ public:
   Image image() const { return refinement_.image(); }
   /// The seed of pass k (never the trace settings' own seed, which the basis uses).
   static std::uint64_t pass_seed(std::uint64_t seed, int pass);
+  /// Per pixel, its share of a pass's samples since the trial (null before it or without
+  /// adaptive sampling). Between refine() calls (the refining thread sets it).
+  std::shared_ptr<const std::vector<double>> pixel_samples() const { return pixel_samples_; }
 
 private:
+  /// One pass (its settings' spp and seed): the full image of the point's material; the second
+  /// pass is adaptive sampling's trial.
+  Image pass(TraceSettings s, ProgressSink& progress);
+
   std::shared_ptr<const World> world_;
   std::shared_ptr<const render::MaterialBank> bank_;
   ProgressiveTraceSettings settings_;
+  int passes_ = 0;  ///< passes traced before the trial
+  std::shared_ptr<const std::vector<double>> pixel_samples_;
   render::Refinement refinement_;
 };
 

@@ -205,6 +205,14 @@ void TraceSettings::validate() const {
   density.validate();
   if (density.environment != 0)
     throw Error("the path tracer samples the environment by next-event estimation: its density's environment probability must be 0");
+  if (pixel_samples) {
+    if (pixel_samples->size() != static_cast<std::size_t>(width) * static_cast<std::size_t>(height))
+      throw Error("pixel_samples has " + std::to_string(pixel_samples->size()) + " shares for a " +
+                  std::to_string(width) + "x" + std::to_string(height) + " image");
+    for (const double share : *pixel_samples)
+      if (!(share > 0) || !std::isfinite(share) || share > 1e6)
+        throw Error("pixel_samples: every share must be positive and finite, got " + std::to_string(share));
+  }
 }
 
 Image TraceImages::i1(int k) const {
@@ -236,7 +244,6 @@ TraceImages trace(const World& world, const render::MaterialBank* bank, const Tr
   const PathTracer tracer(world, used, settings);
   std::atomic<std::uint64_t> rows_done{0};
   std::mutex progress_mutex;
-  const double inv = 1.0 / settings.spp;
   parallel_for_each(0, static_cast<std::size_t>(settings.height), [&](std::size_t row) {
     const int y = static_cast<int>(row);
     Accumulator acc(k);
@@ -244,7 +251,11 @@ TraceImages trace(const World& world, const render::MaterialBank* bank, const Tr
     for (int x = 0; x < settings.width; ++x) {
       acc.clear();
       const std::uint64_t pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(settings.width) + static_cast<std::uint64_t>(x);
-      for (int s = 0; s < settings.spp; ++s) {
+      const int n = settings.pixel_samples
+                        ? std::max(1, static_cast<int>(std::lround(settings.spp * (*settings.pixel_samples)[pixel])))
+                        : settings.spp;
+      const double inv = 1.0 / n;
+      for (int s = 0; s < n; ++s) {
         render::SampleStream rng(settings.seed, pixel, static_cast<std::uint64_t>(s));
         const double px = x + rng.next(), py = y + rng.next();
         tracer.trace_sample(rng, px, py, acc, prod, scratch);

@@ -18,6 +18,7 @@
 // with the same paths and random numbers (a hash of seed, pixel, sample, dimension: the same for
 // every thread count).
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "core/progress.h"
@@ -36,7 +37,12 @@ struct TraceSettings {
   int max_depth = 8;       ///< scattering vertices per path (1: direct lighting only)
   int roulette_depth = 3;  ///< Russian roulette from this many vertices on
   FixedDensity density = default_fixed_density();  ///< the measured object's sampling density
-  /// Throws matlas::Error for non-positive sizes, spp or depth, or a bad density.
+  /// Per pixel (row-major), its share of the samples: pixel p takes max(1, round(spp x share))
+  /// (adaptive sampling, render/adaptive_sampling.h; the same for every material of a bank, so
+  /// the split stays exact). Null: spp everywhere.
+  std::shared_ptr<const std::vector<double>> pixel_samples;
+  /// Throws matlas::Error for non-positive sizes, spp or depth, a bad density, or pixel_samples
+  /// of another size than the image or with a share that is not positive and finite.
   void validate() const;
 };
 

@@ -5,12 +5,14 @@
 #include <cmath>
 
 #include "core/check.h"
+#include "render/adaptive_sampling.h"
 
 namespace matlas::render {
 
 void ProgressiveSettings::validate() const {
   render.validate();
   limits.validate(render.spp, "progressive render");
+  adaptive.validate();
 }
 
 std::vector<float> ProgressiveRender::checked_coverage(const Scene* scene, const ProgressiveSettings& settings) {
@@ -71,10 +73,15 @@ ProgressiveRender::ProgressiveRender(std::shared_ptr<const Scene> scene, std::sh
   for (std::size_t i = 0; i < coverage.size(); ++i) region_[i] = coverage[i] >= 1.0f ? 1 : coverage[i] <= 0.0f ? 2 : 0;
 }
 
-Image ProgressiveRender::pass(const RenderSettings& s, ProgressSink& progress) {
+Image ProgressiveRender::pass(RenderSettings s, ProgressSink& progress) {
+  s.pixel_samples = pixel_samples_;  // the shares chosen by the trial (null: the grazing rule)
   const ControlChoice choice = control_;
-  if (choice == ControlChoice::controlled)
-    return render(*scene_, *material_, s, progress, nullptr, {control_variate_.get(), &control_grid_, nullptr});
+  const bool controlled_now = choice == ControlChoice::controlled;
+  const Control current = controlled_now ? Control{control_variate_.get(), &control_grid_, nullptr} : Control{};
+  const bool variate_pending = settings_.control_variate && choice == ControlChoice::undecided;
+  const bool shares_pending =
+      settings_.adaptive.enabled && !pixel_samples_ && s.spp >= settings_.adaptive.min_trial_spp;
+  if (!variate_pending && !shares_pending) return render(*scene_, *material_, s, progress, nullptr, current);
   const auto seconds_per_spp = [&](std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / s.spp;
   };
@@ -82,49 +89,85 @@ Image ProgressiveRender::pass(const RenderSettings& s, ProgressSink& progress) {
     const auto start = std::chrono::steady_clock::now();
     Image image = render(*scene_, *material_, s, progress);
     plain_seconds_per_spp_ = seconds_per_spp(start);
+    ++plain_passes_;
     return image;
   };
-  if (!settings_.control_variate || choice == ControlChoice::plain) return render(*scene_, *material_, s, progress);
-  if (refinement_.state().passes == 0) return plain_pass();
-  // The second pass: both estimates of its samples; the control variate is kept when its noise
-  // per unit of time is lower (its passes cost more than plain ones).
-  if (!control_variate_) {
-    std::shared_ptr<const ControlVariate> made = settings_.control_variate();
-    if (!made) return plain_pass();  // not ready: ask again next pass
-    control_grid_ = control_grid(*scene_, s.width, s.height, *made, progress);
-    control_variate_ = std::move(made);
+  if (plain_passes_ == 0) return plain_pass();  // the first image as fast as the plain estimator makes it
+  bool trying = false;  // the control variate's trial
+  if (variate_pending) {
+    if (!control_variate_) {
+      std::shared_ptr<const ControlVariate> made = settings_.control_variate();
+      if (made) {
+        control_grid_ = control_grid(*scene_, s.width, s.height, *made, progress);
+        control_variate_ = std::move(made);
+      }
+    }
+    trying = control_variate_ != nullptr;
+    if (!trying && !shares_pending) return plain_pass();  // not ready: ask again next pass
   }
-  // Two independent halves (the pass's seed and another), each with both estimates: their
-  // differences measure each estimator's noise without the image's own structure.
+  // The trial: two independent halves (the pass's seed and another), each with the estimate in
+  // use and, when the control variate is tried, the plain one of the same samples: their
+  // differences measure each estimator's noise without the image's own structure, and the chosen
+  // one's, pixel by pixel, the shares.
   const int spp_a = std::max(1, s.spp / 2), spp_b = std::max(1, s.spp - spp_a);
-  RenderSettings half = s;
-  half.spp = spp_a;
-  Image plain_a, plain_b;
+  RenderSettings half_a = s, half_b = s;
+  half_a.spp = spp_a;
+  half_b.spp = spp_b;
+  half_b.seed = s.seed ^ 0xD1B54A32D192ED03ull;
+  Image plain_a, plain_b, a, b;
   const auto start = std::chrono::steady_clock::now();
-  const Image a = render(*scene_, *material_, half, progress, nullptr, {control_variate_.get(), &control_grid_, &plain_a});
-  half.spp = spp_b;
-  half.seed = s.seed ^ 0xD1B54A32D192ED03ull;
-  const Image b = render(*scene_, *material_, half, progress, nullptr, {control_variate_.get(), &control_grid_, &plain_b});
-  const double controlled_seconds = seconds_per_spp(start);
-  const double with = halves_noise(a, b, object_), without = halves_noise(plain_a, plain_b, object_);
-  // The pass's image: both halves by their samples (s.spp in all when s.spp >= 2).
-  const auto join = [&](const Image& x, const Image& y) {
-    Image out(x.width, x.height);
-    const double wx = spp_a, wy = spp_b;
-    for (std::size_t i = 0; i < out.rgb.size(); ++i)
-      out.rgb[i] = static_cast<float>((wx * x.rgb[i] + wy * y.rgb[i]) / (wx + wy));
-    return out;
-  };
-  const Image controlled = join(a, b), plain = join(plain_a, plain_b);
-  if (with * with * controlled_seconds < without * without * plain_seconds_per_spp_) {
-    control_ = ControlChoice::controlled;
-    refinement_.restart();  // this pass becomes the first: the plain one is dropped
-    return controlled;
+  if (control_variate_) {
+    a = render(*scene_, *material_, half_a, progress, nullptr, {control_variate_.get(), &control_grid_, trying ? &plain_a : nullptr});
+    b = render(*scene_, *material_, half_b, progress, nullptr, {control_variate_.get(), &control_grid_, trying ? &plain_b : nullptr});
+  } else {
+    plain_a = render(*scene_, *material_, half_a, progress);
+    plain_b = render(*scene_, *material_, half_b, progress);
   }
-  control_ = ControlChoice::plain;
-  control_variate_.reset();
-  control_grid_ = {};
-  return plain;
+  const double trial_seconds = seconds_per_spp(start);
+  bool controlled = controlled_now;
+  if (trying) {
+    const double with = halves_noise(a, b, object_), without = halves_noise(plain_a, plain_b, object_);
+    controlled = with * with * trial_seconds < without * without * plain_seconds_per_spp_;
+  } else if (!controlled_now) {
+    plain_seconds_per_spp_ = trial_seconds;
+  }
+  const Image& chosen_a = controlled ? a : plain_a;
+  const Image& chosen_b = controlled ? b : plain_b;
+  // What the trial chose takes effect once this pass's image is made (a cancelled pass leaves
+  // everything as it was).
+  const auto commit = [&] {
+    if (!trying) return;
+    control_ = controlled ? ControlChoice::controlled : ControlChoice::plain;
+    if (!controlled) {
+      control_variate_.reset();
+      control_grid_ = {};
+    }
+  };
+  if (shares_pending) {
+    // The shares from the chosen estimator's halves; the refinement restarts without them (they
+    // chose the shares) and a pass with the shares becomes its first.
+    std::vector<int> samples = sample_counts(*scene_, half_a);
+    const std::vector<int> more = sample_counts(*scene_, half_b);
+    for (std::size_t p = 0; p < samples.size(); ++p) samples[p] += more[p];
+    auto shares = std::make_shared<const std::vector<double>>(
+        adaptive_pixel_samples(chosen_a, chosen_b, samples, settings_.adaptive));
+    s.pixel_samples = shares;
+    s.seed ^= 0x94D049BB133111EBull;  // neither half's samples
+    const Control control = controlled ? Control{control_variate_.get(), &control_grid_, nullptr} : Control{};
+    Image image = render(*scene_, *material_, s, progress, nullptr, control);
+    commit();
+    pixel_samples_ = std::move(shares);
+    refinement_.restart();  // (the shares are fixed from now on: every pass weighs its spp)
+    return image;
+  }
+  // The pass's image: both halves by their samples (s.spp in all when s.spp >= 2).
+  Image out(chosen_a.width, chosen_a.height);
+  for (std::size_t i = 0; i < out.rgb.size(); ++i)
+    out.rgb[i] = static_cast<float>((spp_a * static_cast<double>(chosen_a.rgb[i]) + spp_b * static_cast<double>(chosen_b.rgb[i])) /
+                                    (spp_a + spp_b));
+  commit();
+  if (trying && controlled) refinement_.restart();  // this pass becomes the first: the plain ones are dropped
+  return out;
 }
 
 DenoiseResult ProgressiveRender::denoised(const DenoiseSettings& settings) const {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/progress.h"
+#include "render/adaptive_sampling.h"
 #include "formats/image_io.h"
 #include "render/denoise.h"
 #include "render/material.h"
@@ -32,8 +33,14 @@ struct ProgressiveSettings {
   /// the refinement restarts from that pass (Refinement::restart), else it goes on plain
   /// (docs/RENDERING.md "Control variate").
   std::function<std::shared_ptr<const ControlVariate>()> control_variate = nullptr;
+  /// Adaptive sampling (render/adaptive_sampling.h): the trial (the first pass after the first
+  /// with at least min_trial_spp samples; with the control variate's trial when that is due)
+  /// renders two independent halves, gives each pixel a share of the later passes' samples from
+  /// the chosen estimator's noise there, and the refinement restarts from a pass with those shares
+  /// (Refinement::restart: the passes that chose them are dropped, the mean stays unbiased).
+  AdaptiveSampling adaptive;
   /// Throws matlas::Error for invalid limits (RefinementLimits::validate) and whatever
-  /// RenderSettings::validate throws.
+  /// RenderSettings::validate and AdaptiveSampling::validate throw.
   void validate() const;
 };
 
@@ -61,6 +68,9 @@ public:
   DenoiseResult denoised(const DenoiseSettings& settings = {}) const;
   /// With a control variate: whether the passes use it (false before the first pass or without one).
   bool controlled() const { return control_ == ControlChoice::controlled; }
+  /// Per pixel, its share of a pass's samples since the last restart (null: the grazing rule).
+  /// Between refine() calls (the refining thread sets it).
+  std::shared_ptr<const std::vector<double>> pixel_samples() const { return pixel_samples_; }
   /// Per pixel, whether it sees only the object (where the error is measured).
   const std::vector<bool>& object_pixels() const { return object_; }
 
@@ -68,7 +78,7 @@ private:
   ProgressiveRender(std::shared_ptr<const Scene> scene, std::shared_ptr<const Material> material,
                     const ProgressiveSettings& settings, const std::vector<float>& coverage);
   /// One pass of the refinement (its settings' spp and seed): plain or with the control variate.
-  Image pass(const RenderSettings& s, ProgressSink& progress);
+  Image pass(RenderSettings s, ProgressSink& progress);
   /// The settings validated, then the coverage of the object per pixel.
   static std::vector<float> checked_coverage(const Scene* scene, const ProgressiveSettings& settings);
 
@@ -83,6 +93,8 @@ private:
   enum class ControlChoice { undecided, controlled, plain };
   std::atomic<ControlChoice> control_ = ControlChoice::undecided;
   double plain_seconds_per_spp_ = 0;  ///< of the last plain pass before the choice
+  int plain_passes_ = 0;              ///< timed plain passes (before the choices)
+  std::shared_ptr<const std::vector<double>> pixel_samples_;  ///< chosen by the last trial
   Refinement refinement_;
 };
 

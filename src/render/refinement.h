@@ -86,7 +86,10 @@ public:
 
   /// Drops every pass so far (the state starts again at 0 samples); later passes take new seeds.
   /// For a pass function that switches to a better estimator: called from within a pass, the
-  /// image it returns becomes the first pass.
+  /// image it returns becomes the first pass. Also where a pass function may change how many
+  /// samples each pixel takes (adaptive sampling: render/adaptive_sampling.h): with pixel p taking
+  /// spp x share_p in every pass until the next restart, its passes still weigh their spp (the
+  /// share cancels), and shares chosen from the dropped passes' noise do not bias the mean.
   void restart();
 
   RefinementState state() const;

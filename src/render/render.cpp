@@ -192,6 +192,12 @@ void for_each_pixel(const RenderSettings& settings, ProgressSink& progress, cons
 /// at the pixel centre's hit on the object, between 1 and the cap, the image's mean scaled back to
 /// spp; empty when every pixel takes spp. Depends on the scene and the settings only.
 std::vector<int> grazing_sample_counts(const Scene& scene, const RenderSettings& s) {
+  if (s.pixel_samples) {  // the caller's shares
+    std::vector<int> counts(s.pixel_samples->size());
+    for (std::size_t p = 0; p < counts.size(); ++p)
+      counts[p] = std::max(1, static_cast<int>(std::lround(s.spp * (*s.pixel_samples)[p])));
+    return counts;
+  }
   if (!(s.grazing_samples > 1.0)) return {};
   const std::size_t w = static_cast<std::size_t>(s.width), pixels = w * static_cast<std::size_t>(s.height);
   std::vector<double> boost(pixels, 1.0);
@@ -362,6 +368,14 @@ void RenderSettings::validate() const {
     throw Error("grazing_samples must be between 1 and 64, got " + std::to_string(grazing_samples));
   if (sampler == Sampler::light_and_lobe && !(mixture.total() - mixture.environment > 0))
     throw Error("the light-and-lobe sampler needs a lobe strategy (cosine, GGX or tabulated) besides the environment");
+  if (pixel_samples) {
+    if (pixel_samples->size() != static_cast<std::size_t>(width) * static_cast<std::size_t>(height))
+      throw Error("pixel_samples has " + std::to_string(pixel_samples->size()) + " shares for a " +
+                  std::to_string(width) + "x" + std::to_string(height) + " image");
+    for (const double share : *pixel_samples)
+      if (!(share > 0) || !std::isfinite(share) || share > 1e6)
+        throw Error("pixel_samples: every share must be positive and finite, got " + std::to_string(share));
+  }
 }
 
 Image render(const Scene& scene, const Material& material, const RenderSettings& settings,

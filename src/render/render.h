@@ -19,6 +19,7 @@
 // material, so I is LINEAR in f and renders of different materials share their samples exactly:
 // the image of a manifold point is the same combination of images as its BRDF is of tables.
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "core/progress.h"
@@ -69,9 +70,16 @@ struct RenderSettings {
   /// that the image's mean stays spp (the same number of camera samples in all). 1: every pixel
   /// takes spp.
   double grazing_samples = 4.0;
+  /// Per pixel (row-major), its share of the camera samples, replacing the grazing rule: pixel p
+  /// takes max(1, round(spp x pixel_samples[p])) (a caller that wants the image's mean to stay spp
+  /// gives shares of mean 1). Adaptive sampling (render/adaptive_sampling.h) sets it from the noise
+  /// of earlier passes; which pixel takes how many samples does not depend on the material of this
+  /// render, so a basis stays linear. Null: grazing_samples' rule.
+  std::shared_ptr<const std::vector<double>> pixel_samples;
 
   /// Throws matlas::Error for non-positive sizes or spp, an all-zero mixture, grazing_samples
-  /// outside [1, 64], or (light_and_lobe) a mixture without a lobe strategy.
+  /// outside [1, 64], (light_and_lobe) a mixture without a lobe strategy, or pixel_samples of
+  /// another size than the image or with a share that is not positive and finite.
   void validate() const;
 };
 
@@ -104,7 +112,7 @@ std::vector<Image> render_bank(const Scene& scene, const MaterialBank& bank, con
                                ProgressSink& progress = null_progress(), RenderStats* stats = nullptr);
 
 /// Per pixel (row-major), the number of camera samples a render takes (spp everywhere unless
-/// RenderSettings::grazing_samples > 1).
+/// RenderSettings::grazing_samples > 1 or pixel_samples is set).
 std::vector<int> sample_counts(const Scene& scene, const RenderSettings& settings);
 
 /// Per pixel, the fraction of primary rays that hit the object (0 = background only).

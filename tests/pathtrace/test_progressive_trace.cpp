@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "brdf/tabulate.h"
+#include "core/error.h"
 #include "pathtrace/progressive_trace.h"
 #include "render/material.h"
 
@@ -37,6 +38,7 @@ struct Fixture {
     s.trace.spp = 2;
     s.trace.seed = 5;
     s.limits.max_pass_spp = 8;
+    s.adaptive.enabled = false;  // the passes' bookkeeping (adaptive sampling: the tests below)
     return s;
   }
 };
@@ -91,6 +93,63 @@ TEST(ProgressiveTrace, ConvergesToTheFurnaceAndItsErrorEstimateFalls) {
       for (int x = 3; x <= 5; ++x) centre += im.pixel(x, y)[c] / 9.0;
     EXPECT_NEAR(centre, 0.7 * albedo[c], 0.02 * albedo[c]) << c;
   }
+}
+
+TEST(ProgressiveTrace, APixelsShareIsItsNumberOfSamples) {
+  // Sample s of pixel p draws from the stream (seed, p, s) whatever the other pixels take, so a
+  // pixel that takes n samples equals the uniform trace of n spp there.
+  const Fixture f;
+  TraceSettings t = f.settings().trace;
+  t.spp = 4;
+  auto shares = std::make_shared<std::vector<double>>(81, 1.0);
+  (*shares)[40] = 2.0;   // 8 samples
+  (*shares)[41] = 0.25;  // 1
+  t.pixel_samples = shares;
+  const Image adaptive = trace(*f.world, f.bank.get(), t).full(0);
+  t.pixel_samples = nullptr;
+  const Image four = trace(*f.world, f.bank.get(), t).full(0);
+  t.spp = 8;
+  const Image eight = trace(*f.world, f.bank.get(), t).full(0);
+  t.spp = 1;
+  const Image one = trace(*f.world, f.bank.get(), t).full(0);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_FLOAT_EQ(adaptive.rgb[3 * 40 + c], eight.rgb[3 * 40 + c]);
+    EXPECT_FLOAT_EQ(adaptive.rgb[3 * 41 + c], one.rgb[3 * 41 + c]);
+    EXPECT_FLOAT_EQ(adaptive.rgb[3 * 39 + c], four.rgb[3 * 39 + c]);
+  }
+  t.pixel_samples = std::make_shared<std::vector<double>>(80, 1.0);
+  EXPECT_THROW(trace(*f.world, f.bank.get(), t), Error);
+}
+
+TEST(ProgressiveTrace, TheTrialChoosesSharesAndTheRefinementRestartsWithThem) {
+  const Fixture f;
+  ProgressiveTraceSettings s = f.settings();
+  s.adaptive.enabled = true;
+  s.trace.spp = 8;  // the trial takes a pass of at least min_trial_spp (8) after the first
+  ProgressiveTrace p(f.world, f.bank, s);
+  p.refine(0.0);
+  EXPECT_EQ(p.pixel_samples(), nullptr);  // the first pass is uniform
+  const render::RefinementState st = p.refine(0.0);
+  ASSERT_NE(p.pixel_samples(), nullptr);
+  EXPECT_EQ(st.passes, 1);  // the trial's halves are dropped
+  // What is shown is one trace with the shares, none of the halves' samples in it.
+  TraceSettings t = s.trace;
+  t.spp = st.spp;
+  t.seed = ProgressiveTrace::pass_seed(5, 1) ^ 0x94D049BB133111EBull;
+  t.pixel_samples = p.pixel_samples();
+  const Image expected = trace(*f.world, f.bank.get(), t).full(0), got = p.image();
+  for (std::size_t i = 0; i < expected.rgb.size(); ++i) EXPECT_NEAR(got.rgb[i], expected.rgb[i], 1e-5) << i;
+  double mean = 0;
+  for (const double share : *p.pixel_samples()) mean += share / 81.0;
+  EXPECT_NEAR(mean, 1.0, 1e-9);
+  EXPECT_EQ(p.refine(0.0).passes, 2);
+  // With passes of fewer than min_trial_spp samples the trial waits.
+  s.trace.spp = 2;
+  ProgressiveTrace early(f.world, f.bank, s);
+  early.refine(0.0);
+  early.refine(0.0);
+  EXPECT_EQ(early.state().passes, 2);
+  EXPECT_EQ(early.pixel_samples(), nullptr);
 }
 
 }  // namespace

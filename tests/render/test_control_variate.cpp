@@ -120,6 +120,7 @@ TEST(RenderControlVariate, ProgressiveRenderKeepsTheLessNoisyEstimate) {
   s.render = small(8);
   s.limits.target_error = 1e-12;
   s.control_variate = [] { return std::make_shared<ExactLambertian>(0.7, 1.5); };
+  s.adaptive.enabled = false;  // the choice alone (with adaptive sampling every trial restarts)
   ProgressiveRender good(scene, white, s);
   good.refine(1e-3);  // the first pass: plain, as fast as without a control variate
   EXPECT_FALSE(good.controlled());

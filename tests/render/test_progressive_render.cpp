@@ -41,6 +41,7 @@ ProgressiveSettings progressive_settings(int side, int first_spp, std::uint64_t 
   s.render.width = s.render.height = side;
   s.render.spp = first_spp;
   s.render.seed = seed;
+  s.adaptive.enabled = false;  // the passes' bookkeeping here; adaptive sampling: test_adaptive_sampling.cpp
   return s;
 }
 

@@ -1,0 +1,46 @@
+#pragma once
+// Adaptive sampling: each pixel's share of a refinement's samples, from the noise of two
+// independent estimates of the image.
+//
+// The error of a preview is not spread evenly: under the studio environment 0.1 % of chrome's
+// pixels (the bright light reflected along the sphere's top rim, a strip a few pixels tall whose
+// every pixel straddles an edge of the light) hold 99 % of its variance; the paint's variance sits
+// in its highlights. For a fixed number of samples the total variance sum_p sigma_p^2 / n_p is least
+// with n_p proportional to sigma_p, the standard deviation of ONE sample of pixel p
+// (docs/RENDERING.md "Adaptive sampling" measures the gain).
+//
+// Estimate. Two independent estimates a and b of pixel p, made of n_p samples together (half
+// each), differ by a - b of variance 4 sigma_p^2 / n_p, so sigma_p^2 is estimated by
+// n_p (a - b)^2 / 4 summed over the channels. One difference is a poor estimate of one pixel; the
+// estimates are averaged over the (2 radius + 1)^2 pixels around it (noise clusters along edges
+// and highlights), and the shares are sigma_p / lambda clamped to [floor, cap], lambda chosen so
+// that they average 1 (the passes' cost stays). The floor keeps every pixel converging.
+//
+// Bias. The shares depend on the noise of the estimates they came from: those estimates must not
+// enter the image weighted by them (render/refinement.h: Refinement::restart drops them).
+#include <vector>
+
+#include "formats/image_io.h"
+
+namespace matlas::render {
+
+struct AdaptiveSampling {
+  bool enabled = true;
+  double floor = 0.125;  ///< the least share of a pixel (of the image's mean)
+  double cap = 64;       ///< the largest share of a pixel
+  int radius = 1;        ///< the noise estimates are averaged over (2 radius + 1)^2 pixels
+  /// A refinement's trial (its two halves) is the first pass after the first with at least this
+  /// many samples per pixel: fewer make a poor estimate of each pixel's noise.
+  int min_trial_spp = 8;
+  /// Throws matlas::Error for a floor outside (0, 1], a cap below 1 or above 4096, a radius
+  /// outside [0, 8] or a min_trial_spp below 2.
+  void validate() const;
+};
+
+/// The shares (row-major, mean 1) from two independent estimates `a`, `b` of one image made
+/// with `samples[p]` camera samples in pixel p together. Without any difference between them
+/// (a noise-free image): 1 everywhere.
+std::vector<double> adaptive_pixel_samples(const Image& a, const Image& b, const std::vector<int>& samples,
+                                           const AdaptiveSampling& settings = {});
+
+}  // namespace matlas::render
