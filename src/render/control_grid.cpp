@@ -60,21 +60,39 @@ ControlGrid control_grid(const Scene& scene, int width, int height, const Contro
       total += static_cast<std::size_t>(cell.subdivisions + 1) * static_cast<std::size_t>(cell.subdivisions + 1);
     }
   grid.values.assign(total, Rgb::Zero());
+  // The pixel corners' values once (a one-cell pixel shares each with three neighbours), then
+  // each cut pixel's inner points; the corners' rays are the cells' own (x + s / s is x + 1).
+  std::vector<Rgb> corner_value((w + 1) * (h + 1), Rgb::Zero());
   std::mutex progress_mutex;
   std::atomic<std::uint64_t> rows_done{0};
-  progress.update("control grid", 0, h);
-  parallel_for_each(0, h, [&](std::size_t y) {
+  const auto report = [&] {  // before a row: a throwing sink stops the grid early
+    const std::uint64_t done = rows_done++;
+    std::lock_guard lock(progress_mutex);
+    progress.update("control grid", done, 2 * h + 1);
+  };
+  progress.update("control grid", 0, 2 * h + 1);
+  parallel_for_each(0, h + 1, [&](std::size_t y) {
+    report();
     Vec3 o, d;
-    {
-      const std::uint64_t done = rows_done++;  // before the row: a throwing sink stops the grid early
-      std::lock_guard lock(progress_mutex);
-      progress.update("control grid", done, h);
+    for (std::size_t x = 0; x <= w; ++x) {
+      if (!(corner_cos[y * (w + 1) + x] > 0)) continue;
+      scene.camera_ray(static_cast<double>(x), static_cast<double>(y), width, height, &o, &d);
+      corner_value[y * (w + 1) + x] = control.smooth_integral(corner_normal[y * (w + 1) + x], -d);
     }
+  });
+  parallel_for_each(0, h, [&](std::size_t y) {
+    report();
+    Vec3 o, d;
     for (std::size_t x = 0; x < w; ++x) {
       ControlGrid::Cell& cell = grid.cells[y * w + x];
       const int s = cell.subdivisions;
       for (int j = 0; j <= s && cell.subdivisions > 0; ++j)
         for (int i = 0; i <= s; ++i) {
+          Rgb& value = grid.values[cell.offset + static_cast<std::size_t>(j) * static_cast<std::size_t>(s + 1) + static_cast<std::size_t>(i)];
+          if ((i == 0 || i == s) && (j == 0 || j == s)) {
+            value = corner_value[(y + static_cast<std::size_t>(j / s)) * (w + 1) + x + static_cast<std::size_t>(i / s)];
+            continue;
+          }
           scene.camera_ray(static_cast<double>(x) + static_cast<double>(i) / s, static_cast<double>(y) + static_cast<double>(j) / s,
                            width, height, &o, &d);
           const std::optional<Hit> hit = scene.intersect(o, d);
@@ -82,8 +100,7 @@ ControlGrid control_grid(const Scene& scene, int width, int height, const Contro
             cell.subdivisions = 0;  // a point between the corners misses it (a concave silhouette)
             break;
           }
-          grid.values[cell.offset + static_cast<std::size_t>(j) * static_cast<std::size_t>(s + 1) + static_cast<std::size_t>(i)] =
-              control.smooth_integral(hit->normal, -d);
+          value = control.smooth_integral(hit->normal, -d);
         }
     }
   });
