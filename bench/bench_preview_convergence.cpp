@@ -13,8 +13,10 @@
 // 3 s and its reference as PNG; MATLAS_BENCH_OBJECT=NAME renders that object instead of the sphere;
 // MATLAS_BENCH_CV_BANDS, _CV_LOBES, _CV_TEXELS, _CV_LOBE_ROWS change the control variate's bands,
 // lobes taking part, texels per band and sharpest lobe map's rows (the studies in RENDERING.md).
-// MATLAS_BENCH_SERVER_ONLY=1: the server's sampling only (rows "server" and "cv"). Prints one row per refine step and, per point and
-// sampling, the samples and time to reach 2 % and 1 %. Samples do not depend on the machine's
+// MATLAS_BENCH_SERVER_ONLY=1: rows "plain", "cv" and "served" only (MATLAS_BENCH_ROWS=A,B: those). MATLAS_BENCH_NOISE_MAP=1: per
+// point, where a uniform render's noise sits and what adaptive sampling gains (noise_map below).
+// Prints one row per refine step and, per point and sampling, the samples and time to reach 2 %
+// and 1 %. Samples do not depend on the machine's
 // load; times do (the first line gives the load average).
 //
 //   bench_preview_convergence MODEL ENV SIZE REFERENCE_SPP MAX_SPP POINT...
@@ -27,6 +29,7 @@
 // Time is the render time of the passes plus, for the first row, the table's build. "denoised" is
 // the same image denoised from its two halves (ProgressiveRender::denoised, render/denoise.h:
 // biased), its error against the reference, its own estimate and the denoiser's seconds.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -36,6 +39,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <numeric>
 #include <string>
 #include <vector>
 
@@ -43,6 +47,7 @@
 #include "atlas/sampling_fit.h"
 #include "core/parallel.h"
 #include "manifold/model.h"
+#include "render/adaptive_sampling.h"
 #include "render/progressive_render.h"
 #include "render/render.h"
 #include "render/scene.h"
@@ -79,6 +84,51 @@ Eigen::VectorXd point_of(const Model& model, const std::string& spec) {
   const Eigen::VectorXd a = model.latent().row(material_index(model, spec.substr(0, plus))).transpose();
   const Eigen::VectorXd b = model.latent().row(material_index(model, spec.substr(plus + 1))).transpose();
   return 0.5 * (a + b);
+}
+
+/// MATLAS_BENCH_NOISE_MAP=1: where the noise of a uniform 16-spp render sits, and what adaptive
+/// sampling's shares gain at equal samples. Two pairs of renders (4 seeds): the per-pixel variance
+/// of one render is (a - b)^2 / 2 per pair; the shares come from pair 1 (adaptive_pixel_samples,
+/// the defaults), the gain is pair 2's variance summed over the pixels divided by the same with
+/// each pixel's divided by its share (the variance with spp x share samples there).
+void noise_map(const render::Scene& scene, const render::Material& material, render::RenderSettings s,
+               const render::SamplingMixture& mixture, const std::string& spec) {
+  s.mixture = mixture;
+  s.spp = 16;
+  Image im[4];
+  for (int k = 0; k < 4; ++k) {
+    s.seed = 31337 + static_cast<std::uint64_t>(k);
+    im[k] = render::render(scene, material, s);
+  }
+  const std::size_t n = im[0].pixel_count();
+  const auto variance = [&](const Image& a, const Image& b) {
+    std::vector<double> v(n, 0.0);
+    for (std::size_t p = 0; p < n; ++p)
+      for (std::size_t c = 0; c < 3; ++c) {
+        const double d = static_cast<double>(a.rgb[3 * p + c]) - b.rgb[3 * p + c];
+        v[p] += 0.5 * d * d;
+      }
+    return v;
+  };
+  const std::vector<double> v2 = variance(im[2], im[3]);
+  std::vector<double> sorted = v2;
+  std::sort(sorted.rbegin(), sorted.rend());
+  const double total = std::accumulate(sorted.begin(), sorted.end(), 0.0);
+  const auto top = [&](double fraction) {
+    const auto end = sorted.begin() + static_cast<std::ptrdiff_t>(fraction * static_cast<double>(n));
+    return std::accumulate(sorted.begin(), end, 0.0) / total;
+  };
+  const std::vector<int> counts = render::sample_counts(scene, s);
+  std::vector<int> pair(counts.size());
+  for (std::size_t p = 0; p < n; ++p) pair[p] = 2 * counts[p];
+  const std::vector<double> shares = render::adaptive_pixel_samples(im[0], im[1], pair);
+  double adapted = 0;
+  for (std::size_t p = 0; p < n; ++p) adapted += v2[p] / shares[p];
+  std::printf("# %s noise map (16 spp, uniform): top 0.1 %% of pixels %.1f %% of the variance, top 1 %% %.1f %%, top 10 %% "
+              "%.1f %%; adaptive shares from another pair: %.1fx less variance at equal samples (largest share %.1f)\n",
+              spec.c_str(), 100 * top(0.001), 100 * top(0.01), 100 * top(0.1), total / adapted,
+              *std::max_element(shares.begin(), shares.end()));
+  std::fflush(stdout);
 }
 
 }  // namespace
@@ -167,6 +217,7 @@ int main(int argc, char** argv) {
     std::fflush(stdout);
 
     const render::SamplingMixture defensive = atlas::defensive_mixture(own, database);
+    if (std::getenv("MATLAS_BENCH_NOISE_MAP") != nullptr) noise_map(*scene, *material, base, defensive, spec);
     // The control variate (zonal/control_variate.h): the point's rotated-ZH coefficients and the
     // environment prefiltered as the real-time view has them.
     const zonal::ZonalProjector projector(projection);
@@ -174,6 +225,8 @@ int main(int argc, char** argv) {
     for (const char* sampling : {"plain", "cv", "served", "own", "database"}) {
       const std::string which = sampling;
       if (only_server && which != "plain" && which != "cv" && which != "served") continue;
+      if (const char* rows = std::getenv("MATLAS_BENCH_ROWS"); rows && ("," + std::string(rows) + ",").find("," + which + ",") == std::string::npos)
+        continue;
       render::ProgressiveSettings s;
       s.render = base;
       s.render.mixture = which == "own" ? own : which == "database" ? database : defensive;
