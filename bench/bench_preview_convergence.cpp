@@ -45,6 +45,7 @@
 
 #include "atlas/model_material.h"
 #include "atlas/sampling_fit.h"
+#include "formats/image_io.h"
 #include "core/parallel.h"
 #include "manifold/model.h"
 #include "render/adaptive_sampling.h"
@@ -69,6 +70,23 @@ double relative_rms(const Image& a, const Image& reference, const std::vector<bo
     }
   }
   return std::sqrt(d / s);
+}
+
+/// The error as shown: RMS over the object's pixels and channels of the difference of the two
+/// images tone mapped as the server's previews (ACES, exposure 0, sRGB), in 8-bit levels (not
+/// quantised; the reference's own noise is left in).
+double shown_rms(const Image& a, const Image& reference, const std::vector<bool>& object) {
+  const auto shown = [](float v) { return 255.0 * srgb_encode(std::min(1.0f, tone_curve(v, 1.0f, ToneMap::Curve::aces))); };
+  double d = 0;
+  std::size_t n = 0;
+  for (std::size_t p = 0; p < object.size(); ++p) {
+    if (!object[p]) continue;
+    for (std::size_t c = 0; c < 3; ++c, ++n) {
+      const double x = shown(a.rgb[3 * p + c]) - shown(reference.rgb[3 * p + c]);
+      d += x * x;
+    }
+  }
+  return n ? std::sqrt(d / static_cast<double>(n)) : 0.0;
 }
 
 int material_index(const Model& model, const std::string& name) {
@@ -118,16 +136,32 @@ void noise_map(const render::Scene& scene, const render::Material& material, ren
     const auto end = sorted.begin() + static_cast<std::ptrdiff_t>(fraction * static_cast<double>(n));
     return std::accumulate(sorted.begin(), end, 0.0) / total;
   };
+  // The same pair's variance as shown (ACES, sRGB).
+  const auto shown_image = [&](const Image& x) {
+    Image out = x;
+    for (float& v : out.rgb) v = srgb_encode(std::min(1.0f, tone_curve(v, 1.0f, ToneMap::Curve::aces)));
+    return out;
+  };
+  const std::vector<double> s2 = variance(shown_image(im[2]), shown_image(im[3]));
+  const double shown_total = std::accumulate(s2.begin(), s2.end(), 0.0);
   const std::vector<int> counts = render::sample_counts(scene, s);
   std::vector<int> pair(counts.size());
   for (std::size_t p = 0; p < n; ++p) pair[p] = 2 * counts[p];
-  const std::vector<double> shares = render::adaptive_pixel_samples(im[0], im[1], pair);
-  double adapted = 0;
-  for (std::size_t p = 0; p < n; ++p) adapted += v2[p] / shares[p];
-  std::printf("# %s noise map (16 spp, uniform): top 0.1 %% of pixels %.1f %% of the variance, top 1 %% %.1f %%, top 10 %% "
-              "%.1f %%; adaptive shares from another pair: %.1fx less variance at equal samples (largest share %.1f)\n",
-              spec.c_str(), 100 * top(0.001), 100 * top(0.01), 100 * top(0.1), total / adapted,
-              *std::max_element(shares.begin(), shares.end()));
+  std::vector<bool> all(n, true);
+  Image mean = im[0];
+  for (std::size_t i = 0; i < mean.rgb.size(); ++i) mean.rgb[i] = 0.5f * (im[0].rgb[i] + im[1].rgb[i]);
+  std::printf("# %s noise map (16 spp, uniform): top 0.1 %% of pixels %.1f %% of the variance, top 1 %% %.1f %%, top 10 %% %.1f %%\n",
+              spec.c_str(), 100 * top(0.001), 100 * top(0.01), 100 * top(0.1));
+  for (const bool weighted : {false, true}) {
+    const std::vector<double> weights =
+        weighted ? render::linear_and_shown_weights(mean, all, ToneMap{ToneMap::Curve::aces, 0.0}) : std::vector<double>{};
+    const std::vector<double> shares = render::adaptive_pixel_samples(im[0], im[1], pair, {}, weights);
+    double adapted = 0, shown_adapted = 0;
+    for (std::size_t p = 0; p < n; ++p) adapted += v2[p] / shares[p], shown_adapted += s2[p] / shares[p];
+    std::printf("#   shares from another pair, %s: %.2fx less variance at equal samples, %.2fx as shown (largest share %.1f)\n",
+                weighted ? "linear and shown" : "linear error", total / adapted, shown_total / shown_adapted,
+                *std::max_element(shares.begin(), shares.end()));
+  }
   std::fflush(stdout);
 }
 
@@ -154,8 +188,8 @@ int main(int argc, char** argv) {
   if (getloadavg(load, 3) < 0) load[0] = -1;
   std::printf("# %s UTC, %d threads, load average %.1f, env %s, %dx%d, reference %d spp\n", date,
               static_cast<int>(worker_count()), load[0], argv[2], size, size, reference_spp);
-  std::printf("%-44s %-8s %8s %7s %10s %10s %10s %10s %8s\n", "point", "sampling", "seconds", "spp", "error", "estimated",
-              "denoised", "d.estim.", "d.sec");
+  std::printf("%-44s %-8s %8s %7s %10s %10s %10s %10s %8s %8s\n", "point", "sampling", "seconds", "spp", "error", "estimated",
+              "denoised", "d.estim.", "d.sec", "shown");
 
   // MATLAS_BENCH_CV_BANDS / MATLAS_BENCH_CV_LOBES: the control variate's bands and lobes.
   // MATLAS_BENCH_CV_TEXELS / MATLAS_BENCH_CV_LOBE_ROWS: its environment's tabulation.
@@ -269,8 +303,8 @@ int main(int argc, char** argv) {
           write_png(std::string(dir) + "/" + spec + "-" + sampling + "-3s.png", r.image(), aces);
           write_png(std::string(dir) + "/" + spec + "-reference.png", ref, aces);
         }
-        std::printf("%-44s %-8s %8.2f %7d %10.5f %10.5f %10.5f %10.5f %8.3f\n", spec.c_str(), sampling, t, st.spp, error,
-                    st.relative_error, derror, den.relative_error, dsec);
+        std::printf("%-44s %-8s %8.2f %7d %10.5f %10.5f %10.5f %10.5f %8.3f %8.3f\n", spec.c_str(), sampling, t, st.spp, error,
+                    st.relative_error, derror, den.relative_error, dsec, shown_rms(r.image(), ref, r.object_pixels()));
         std::fflush(stdout);
         // MATLAS_BENCH_DENOISE_SWEEP=1: the denoiser's settings over a grid at 32, 64, 128 and 256 spp.
         if (std::getenv("MATLAS_BENCH_DENOISE_SWEEP") != nullptr && (st.spp == 32 || st.spp == 64 || st.spp == 128 || st.spp == 256)) {

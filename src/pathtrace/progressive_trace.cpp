@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/check.h"
+#include "render/auto_exposure.h"
 
 namespace matlas::pathtrace {
 
@@ -55,8 +56,14 @@ Image ProgressiveTrace::pass(TraceSettings s, ProgressSink& progress) {
   half_b.spp = std::max(1, s.spp - half_a.spp);
   half_b.seed = s.seed ^ 0xD1B54A32D192ED03ull;
   const Image a = traced(half_a), b = traced(half_b);
+  // The error weighed as a linear figure and as shown (ACES at the automatic exposure, the scene
+  // view's default).
+  Image mean = a;
+  for (std::size_t i = 0; i < mean.rgb.size(); ++i) mean.rgb[i] = 0.5f * (a.rgb[i] + b.rgb[i]);
+  const ToneMap shown{ToneMap::Curve::aces, render::auto_exposure(mean)};
   auto shares = std::make_shared<const std::vector<double>>(render::adaptive_pixel_samples(
-      a, b, std::vector<int>(a.pixel_count(), half_a.spp + half_b.spp), settings_.adaptive));
+      a, b, std::vector<int>(a.pixel_count(), half_a.spp + half_b.spp), settings_.adaptive,
+      render::linear_and_shown_weights(mean, std::vector<bool>(mean.pixel_count(), true), shown)));
   s.pixel_samples = shares;
   s.seed ^= 0x94D049BB133111EBull;
   Image image = traced(s);

@@ -27,12 +27,38 @@ double mean_share(const std::vector<double>& sigma, double lambda, const Adaptiv
 
 }  // namespace
 
+std::vector<double> linear_and_shown_weights(const Image& image, const std::vector<bool>& measured, const ToneMap& tone) {
+  MATLAS_CHECK_EQ(measured.size(), image.pixel_count());
+  const float scale = static_cast<float>(std::exp2(tone.exposure));
+  const auto shown = [&](double v) {
+    return static_cast<double>(srgb_encode(std::min(1.0f, tone_curve(static_cast<float>(v), scale, tone.curve))));
+  };
+  double linear = 0, displayed = 0;
+  for (std::size_t p = 0; p < measured.size(); ++p)
+    if (measured[p])
+      for (std::size_t c = 0; c < 3; ++c) {
+        const double v = image.rgb[3 * p + c];
+        linear += v * v;
+        displayed += shown(v) * shown(v);
+      }
+  std::vector<double> weights(image.rgb.size(), 0.0);
+  if (!(linear > 0) || !(displayed > 0)) return std::vector<double>(image.rgb.size(), 1.0);
+  for (std::size_t i = 0; i < weights.size(); ++i) {
+    const double v = std::max(0.0, static_cast<double>(image.rgb[i]));
+    const double h = std::max(1e-4, 0.02 * v);  // the displayed value's slope, central differences
+    const double slope = (shown(v + h) - shown(std::max(0.0, v - h))) / (v + h - std::max(0.0, v - h));
+    weights[i] = 1.0 / linear + slope * slope / displayed;
+  }
+  return weights;
+}
+
 std::vector<double> adaptive_pixel_samples(const Image& a, const Image& b, const std::vector<int>& samples,
-                                           const AdaptiveSampling& settings) {
+                                           const AdaptiveSampling& settings, const std::vector<double>& weights) {
   settings.validate();
   MATLAS_CHECK(a.width == b.width && a.height == b.height && a.rgb.size() == b.rgb.size(), "two estimates of one image");
   const std::size_t w = static_cast<std::size_t>(a.width), h = static_cast<std::size_t>(a.height), pixels = w * h;
   MATLAS_CHECK_EQ(samples.size(), pixels);
+  MATLAS_CHECK(weights.empty() || weights.size() == a.rgb.size(), "a weight per pixel and channel");
   // One sample's variance per pixel: n (a - b)^2 / 4 over the channels.
   std::vector<double> variance(pixels, 0.0);
   double largest = 0;
@@ -40,7 +66,7 @@ std::vector<double> adaptive_pixel_samples(const Image& a, const Image& b, const
     double d2 = 0;
     for (std::size_t c = 0; c < 3; ++c) {
       const double d = static_cast<double>(a.rgb[3 * p + c]) - static_cast<double>(b.rgb[3 * p + c]);
-      d2 += d * d;
+      d2 += (weights.empty() ? 1.0 : weights[3 * p + c]) * d * d;
     }
     variance[p] = std::isfinite(d2) ? 0.25 * samples[p] * d2 : 0.0;
     largest = std::max(largest, variance[p]);

@@ -38,9 +38,21 @@ struct AdaptiveSampling {
 };
 
 /// The shares (row-major, mean 1) from two independent estimates `a`, `b` of one image made
-/// with `samples[p]` camera samples in pixel p together. Without any difference between them
-/// (a noise-free image): 1 everywhere.
+/// with `samples[p]` camera samples in pixel p together. `weights` (3 per pixel, empty: 1) weigh
+/// each channel's squared error: the shares then minimise the weighted sum of the variances
+/// (n_p proportional to the root of sum_c w_pc sigma_pc^2). Without any difference between the
+/// estimates (a noise-free image): 1 everywhere.
 std::vector<double> adaptive_pixel_samples(const Image& a, const Image& b, const std::vector<int>& samples,
-                                           const AdaptiveSampling& settings = {});
+                                           const AdaptiveSampling& settings = {},
+                                           const std::vector<double>& weights = {});
+
+/// Weights for adaptive_pixel_samples that count an image's error twice, as a linear figure and
+/// as shown, each relative to the image's size in that form over the `measured` pixels: per
+/// pixel and channel 1 / sum v^2 + D'(v)^2 / sum D(v)^2, where v is `image`'s value and D the
+/// displayed value (`tone`, then sRGB). The linear term alone sends the samples to bright
+/// highlights that the tone curve saturates (under the studio lights 99 % of chrome's linear
+/// variance sits in 0.1 % of its pixels); the shown term alone would starve them, though their
+/// linear error is what a renderer or an exported image sees.
+std::vector<double> linear_and_shown_weights(const Image& image, const std::vector<bool>& measured, const ToneMap& tone);
 
 }  // namespace matlas::render

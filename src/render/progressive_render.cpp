@@ -149,8 +149,10 @@ Image ProgressiveRender::pass(RenderSettings s, ProgressSink& progress) {
     std::vector<int> samples = sample_counts(*scene_, half_a);
     const std::vector<int> more = sample_counts(*scene_, half_b);
     for (std::size_t p = 0; p < samples.size(); ++p) samples[p] += more[p];
-    auto shares = std::make_shared<const std::vector<double>>(
-        adaptive_pixel_samples(chosen_a, chosen_b, samples, settings_.adaptive));
+    Image mean = chosen_a;
+    for (std::size_t i = 0; i < mean.rgb.size(); ++i) mean.rgb[i] = 0.5f * (chosen_a.rgb[i] + chosen_b.rgb[i]);
+    auto shares = std::make_shared<const std::vector<double>>(adaptive_pixel_samples(
+        chosen_a, chosen_b, samples, settings_.adaptive, linear_and_shown_weights(mean, object_, settings_.shown)));
     s.pixel_samples = shares;
     s.seed ^= 0x94D049BB133111EBull;  // neither half's samples
     const Control control = controlled ? Control{control_variate_.get(), &control_grid_, nullptr} : Control{};

@@ -39,6 +39,9 @@ struct ProgressiveSettings {
   /// the chosen estimator's noise there, and the refinement restarts from a pass with those shares
   /// (Refinement::restart: the passes that chose them are dropped, the mean stays unbiased).
   AdaptiveSampling adaptive;
+  /// How the image is shown: adaptive sampling weighs the error as shown besides the linear one
+  /// (render::linear_and_shown_weights).
+  ToneMap shown{ToneMap::Curve::aces, 0.0};
   /// Throws matlas::Error for invalid limits (RefinementLimits::validate) and whatever
   /// RenderSettings::validate and AdaptiveSampling::validate throw.
   void validate() const;

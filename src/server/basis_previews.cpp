@@ -238,6 +238,7 @@ BasisPreviews::Refined BasisPreviews::refine(const Eigen::VectorXd& w, const std
                                     atlas::SamplingFitOptions::for_sampler(settings.render.sampler)),
         im.database_mixture);
     settings.limits.target_error = im.options.refine_target_error;
+    settings.shown = im.options.tone;  // adaptive sampling weighs the error as the page shows it too
     if (im.options.control_variate)  // made by the second pass (the material and the scene outlive the refinement)
       settings.control_variate = [&im, material = material.get(), environment] {
         return im.control_variate(material->table(), environment);

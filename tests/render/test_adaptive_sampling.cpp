@@ -90,6 +90,29 @@ TEST(AdaptiveSampling, NoNoiseMeansEvenShares) {
   for (const double share : shares) EXPECT_EQ(share, 1.0);
 }
 
+TEST(AdaptiveSampling, ShownWeightsFollowTheToneCurvesSlope) {
+  // The clamp curve at exposure 0, then sRGB: slope 12.92 in sRGB's linear toe (v < 0.0031308),
+  // 0 past 1 (clamped); the linear term 1 / sum v^2 everywhere.
+  Image image(3, 1);
+  const float values[3] = {0.001f, 0.5f, 5.0f};
+  for (int p = 0; p < 3; ++p)
+    for (int c = 0; c < 3; ++c) image.rgb[3 * p + c] = values[p];
+  const std::vector<double> w = linear_and_shown_weights(image, {true, true, true}, ToneMap{ToneMap::Curve::clamp, 0.0});
+  ASSERT_EQ(w.size(), 9u);
+  double linear = 0, shown = 0;
+  for (const float v : values) {
+    linear += 3.0 * v * v;
+    const double d = srgb_encode(std::min(1.0f, v));
+    shown += 3.0 * d * d;
+  }
+  EXPECT_NEAR(w[0], 1 / linear + 12.92 * 12.92 / shown, 1e-3 * w[0]);
+  EXPECT_NEAR(w[8], 1 / linear, 1e-12);
+  EXPECT_GT(w[3], 5 * w[8]);  // mid grey is seen; a clamped highlight only counts linearly
+  // Unmeasured pixels do not enter the sums.
+  const std::vector<double> two = linear_and_shown_weights(image, {true, true, false}, ToneMap{ToneMap::Curve::clamp, 0.0});
+  EXPECT_NEAR(two[8], 1 / (linear - 75.0), 1e-9);
+}
+
 TEST(AdaptiveSampling, InvalidSettingsAreRefused) {
   AdaptiveSampling s;
   s.floor = 0;
@@ -192,9 +215,19 @@ TEST(AdaptiveSampling, AnAdaptiveRefinementIsUnbiasedAndLessNoisy) {
   // Unbiased: the error against the reference is what the refinement's own estimate says (a bias
   // would add to the measured error and not to the estimate).
   EXPECT_LT(error(adapted), 1.6 * adapted.state().relative_error + 0.002);
-  // Less noise at equal samples.
+  // Less noise at equal samples, and no more as shown (ACES: the highlight saturates).
   EXPECT_LT(adapted.state().relative_error, 0.6 * uniform.state().relative_error);
   EXPECT_LT(error(adapted), 0.7 * error(uniform));
+  const auto shown_error = [&](const ProgressiveRender& r) {
+    const auto shown = [](float v) { return srgb_encode(std::min(1.0f, tone_curve(v, 1.0f, ToneMap::Curve::aces))); };
+    double d = 0;
+    const Image a = r.image(), b = reference.image();
+    for (std::size_t p = 0; p < r.object_pixels().size(); ++p)
+      if (r.object_pixels()[p])
+        for (std::size_t c = 0; c < 3; ++c) d += std::pow(shown(a.rgb[3 * p + c]) - shown(b.rgb[3 * p + c]), 2);
+    return std::sqrt(d);
+  };
+  EXPECT_LT(shown_error(adapted), shown_error(uniform));
 }
 
 TEST(AdaptiveSampling, TheTrialPassRestartsTheRefinement) {
