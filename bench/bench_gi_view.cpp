@@ -16,7 +16,7 @@
 //    apart).
 // Also the machine's load average at the start and end (a shared machine: CPU time is the figure
 // that travels). OUT_DIR gets PNGs (auto exposure, ACES): reference, refined at 5 s / 30 s, composed.
-// MATLAS_BENCH_UNIFORM=1 refines without adaptive sampling (the server's default has it);
+// MATLAS_BENCH_ADAPTIVE=1 refines with adaptive sampling (the server's refinement has none);
 // MATLAS_BENCH_NO_DRAG=1 skips part 3.
 #include <sys/resource.h>
 
@@ -139,9 +139,9 @@ int main(int argc, char** argv) {
     ps.trace.width = 512, ps.trace.height = 384, ps.trace.spp = 1;
     ps.limits.max_spp = 1 << 20;
     ps.limits.target_error = 1e-6;  // never converged: the curve runs for SECONDS
-    // MATLAS_BENCH_UNIFORM=1: without adaptive sampling (render/adaptive_sampling.h), for comparison.
-    ps.adaptive.enabled = std::getenv("MATLAS_BENCH_UNIFORM") == nullptr;
-    std::printf("refinement: %s\n", ps.adaptive.enabled ? "adaptive sampling (as served)" : "uniform samples");
+    // MATLAS_BENCH_ADAPTIVE=1: with adaptive sampling (render/adaptive_sampling.h; the server's is off).
+    ps.adaptive.enabled = std::getenv("MATLAS_BENCH_ADAPTIVE") != nullptr;
+    std::printf("refinement: %s\n", ps.adaptive.enabled ? "adaptive sampling" : "uniform samples (as served)");
     ProgressiveTrace refine(world, bank, ps);
     std::printf("\n| wall s | CPU s | spp | estimated error (RMS) | L1 vs reference | RMS vs reference | pixels > 20x |\n|---:|---:|---:|---:|---:|---:|---:|\n");
     t0 = std::chrono::steady_clock::now();

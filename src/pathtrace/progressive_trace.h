@@ -24,11 +24,14 @@ struct ProgressiveTraceSettings {
   TraceSettings trace;
   /// A GI pass stops only at a row, so its length (max_pass_spp) bounds how late a cancel lands.
   render::RefinementLimits limits{.target_error = 0.01, .min_converged_spp = 64, .max_spp = 4096, .max_pass_spp = 64};
-  /// Adaptive sampling (render/adaptive_sampling.h): the trial (the first pass after the first
-  /// with at least min_trial_spp samples) traces two independent halves, gives each pixel a share of the later passes' samples from their difference, and the
-  /// refinement restarts from a pass with those shares (the halves that chose them are dropped:
-  /// the mean stays unbiased).
-  render::AdaptiveSampling adaptive;
+  /// Adaptive sampling (render/adaptive_sampling.h), off by default: the trial (the first pass
+  /// after the first with at least min_trial_spp samples) traces two independent halves, gives
+  /// each pixel a share of the later passes' samples from their difference, and the refinement
+  /// restarts from a pass with those shares (the halves that chose them are dropped: the mean
+  /// stays unbiased). The built-in scenes' noise is spread over the walls and the floor (light
+  /// found by paths, not one bright edge): at 30 s it gains nothing there, and the few-sample
+  /// trial leaves the first seconds speckled (docs/GI.md).
+  render::AdaptiveSampling adaptive{.enabled = false};
   /// Throws matlas::Error for invalid limits (render::RefinementLimits::validate) and whatever
   /// TraceSettings::validate and render::AdaptiveSampling::validate throw.
   void validate() const;
