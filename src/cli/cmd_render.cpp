@@ -35,6 +35,7 @@
 #include "render/auto_exposure.h"
 #include "render/image_basis.h"
 #include "render/material.h"
+#include "render/progressive_render.h"
 #include "render/render.h"
 
 namespace matlas::cli {
@@ -44,6 +45,7 @@ namespace {
 struct RenderArgs {
   std::string input, output, integrator = "direct", part = "all";
   std::optional<std::string> at, material, basis;
+  std::optional<double> target_error;
   bool auto_exposure = false;
   RenderOptions options;
   PathOptions path;
@@ -118,31 +120,68 @@ Image trace_input(const RenderArgs& a, const pathtrace::World& world, bool gi_sc
   return part_of(r, a.part);
 }
 
+/// --target-error: the refinement of the previews at rest (render/progressive_render.h: passes
+/// until the estimated relative RMS error inside the object is at most the target, adaptive
+/// sampling), --spp samples per pixel at most (4096 when not given).
+Image refine_to_target(const RenderArgs& a, std::shared_ptr<const render::Scene> scene,
+                       std::shared_ptr<const render::Material> material, const render::RenderSettings& settings,
+                       ProgressSink& progress, render::RenderStats& stats, render::RefinementState& refined) {
+  if (!(*a.target_error > 0) || !(*a.target_error < 1))
+    throw Error("--target-error must be in (0, 1) (a relative RMS error, e.g. 0.01), got " + std::to_string(*a.target_error));
+  render::ProgressiveSettings ps;
+  ps.render = settings;
+  ps.limits.max_spp = a.given.contains("--spp") ? settings.spp : 4096;
+  ps.render.spp = std::min(16, ps.limits.max_spp);
+  ps.limits.target_error = *a.target_error;
+  ps.limits.min_converged_spp = std::min(64, ps.limits.max_spp);
+  ps.limits.max_pass_spp = 256;
+  ps.shown = a.options.tone();
+  render::ProgressiveRender refinement(std::move(scene), std::move(material), ps);
+  while (!(refined = refinement.refine(1.0, progress)).converged) {
+  }
+  stats.seconds = refined.seconds;
+  stats.camera_samples = static_cast<std::uint64_t>(refined.spp) * static_cast<std::uint64_t>(settings.width) *
+                         static_cast<std::uint64_t>(settings.height);
+  return refinement.image();
+}
+
 /// The previews' scene: direct lighting (render::render) or the path tracer over the same scene.
-Image render_preview_scene(const RenderArgs& a, ProgressSink& progress, render::RenderStats& stats) {
+Image render_preview_scene(const RenderArgs& a, ProgressSink& progress, render::RenderStats& stats,
+                           std::optional<render::RefinementState>& refined) {
   const bool path = a.integrator == "path";
   refuse_options(a.given, std::array{"--object"}, "the previews' scene (--scene names its object)");
   if (!path) refuse_options(a.given, std::array{"--max-depth", "--density", "--part"}, "--integrator direct");
+  if (path) refuse_options(a.given, std::array{"--target-error"}, "--integrator path (a fixed --spp)");
   refuse_output_among_inputs(a.output, a.options.input_files({a.input}));
   if (path) {
     const pathtrace::World world(pathtrace::preview_scene(a.options.scene_description()));
     return trace_input(a, world, false, progress, stats);
   }
-  const render::Scene scene(a.options.scene_description());
-  const render::RenderSettings settings = a.options.settings();
-  if (is_merl(a.input)) return render::render(scene, render::TableMaterial(merl_input(a)), settings, progress, &stats);
-  const Model model = Model::open(a.input);
-  const Eigen::VectorXd w = point_weights(a, model);
-  // The model's fitted mixture (the same samples as its bases). The table of m(w) is built once:
-  // a render's millions of lookups then read one value per channel, not a dot product of n.
-  const atlas::ModelTableMaterial material(model, w);
-  return render::render(scene, material, atlas::model_render_settings(model, settings), progress, &stats);
+  const auto scene = std::make_shared<const render::Scene>(a.options.scene_description());
+  render::RenderSettings settings = a.options.settings();
+  std::shared_ptr<const render::Material> material;
+  if (is_merl(a.input)) {
+    // The material keeps its table (render::TableMaterial refers to one).
+    auto table = std::make_shared<const BrdfTable>(merl_input(a));
+    auto lookup = std::make_shared<const render::TableMaterial>(*table);
+    material = std::shared_ptr<const render::Material>(lookup.get(), [lookup, table](const render::Material*) {});
+  } else {
+    const Model model = Model::open(a.input);
+    const Eigen::VectorXd w = point_weights(a, model);
+    // The model's fitted mixture (the same samples as its bases). The table of m(w) is built
+    // once: a render's millions of lookups then read one value per channel, not a dot product of n.
+    material = std::make_shared<const atlas::ModelTableMaterial>(model, w);
+    settings = atlas::model_render_settings(model, settings);
+  }
+  if (!a.target_error) return render::render(*scene, *material, settings, progress, &stats);
+  return refine_to_target(a, scene, material, settings, progress, stats, refined.emplace());
 }
 
 /// A GI scene (floor, box, a view of one, a .json file): the path tracer.
 Image render_gi_scene(const RenderArgs& a, ProgressSink& progress, render::RenderStats& stats) {
   refuse_options(a.given, kPreviewSceneOptions,
                  "a GI scene (--scene " + a.options.scene + ": it says its own lights, camera and environment)");
+  refuse_options(a.given, std::array{"--target-error"}, "a GI scene (a fixed --spp)");
   if (a.given.contains("--integrator") && a.integrator != "path")
     throw Error("--integrator " + a.integrator + ": a GI scene (--scene " + a.options.scene + ") is path-traced");
   const pathtrace::World world(pathtrace::load_scene(a.options.scene, a.path.object));
@@ -166,6 +205,7 @@ void compose_basis(const RenderArgs& a, const Io& io) {
   static constexpr const char* kRenderOptions[] = {"--scene", "--integrator", "--width", "--height", "--spp",
                                                    "--seed", "--object", "--density", "--max-depth"};
   refuse_options(a.given, kRenderOptions, "--basis (the basis was rendered with its own)");
+  refuse_options(a.given, std::array{"--target-error"}, "--basis (a composed image is not refined)");
   refuse_options(a.given, kPreviewSceneOptions, "--basis (the basis was rendered with its own)");
   if (is_merl(a.input)) throw Error("--basis composes a model's basis, not the MERL file " + a.input);
   refuse_output_among_inputs(a.output, {a.input, *a.basis});
@@ -216,12 +256,18 @@ void run_render(const RenderArgs& a, const Io& io) {
   const ToneMap tone = a.options.tone();
   TerminalProgress progress;
   render::RenderStats stats;
+  std::optional<render::RefinementState> refined;
   const Image image = pathtrace::is_scene(a.options.scene) ? render_gi_scene(a, progress, stats)
-                                                           : render_preview_scene(a, progress, stats);
+                                                           : render_preview_scene(a, progress, stats, refined);
   write_image(a.output, image, tone);
-  print(io.out, "wrote %s (%dx%d, %d spp, %.2f s, %.3g camera samples/s)\n", a.output.c_str(), image.width,
-        image.height, a.options.spp, stats.seconds,
-        static_cast<double>(stats.camera_samples) / std::max(stats.seconds, 1e-9));
+  if (refined)
+    print(io.out, "wrote %s (%dx%d, %d spp, estimated error %.2f %%%s, %.2f s)\n", a.output.c_str(), image.width,
+          image.height, refined->spp, 100 * refined->relative_error,
+          refined->relative_error <= *a.target_error ? "" : ": --spp reached before the target", stats.seconds);
+  else
+    print(io.out, "wrote %s (%dx%d, %d spp, %.2f s, %.3g camera samples/s)\n", a.output.c_str(), image.width,
+          image.height, a.options.spp, stats.seconds,
+          static_cast<double>(stats.camera_samples) / std::max(stats.seconds, 1e-9));
 }
 
 /// The command under a name: `render`, or a former name with its former defaults.
@@ -244,6 +290,10 @@ void add_variant(CLI::App& app, const Io& io, const Variant& v) {
   cmd->add_option("-o,--output", a->output, "Output image: .png (tone mapped sRGB) or .exr (linear)")->required();
   add_point_options(*cmd, a->at, a->material);
   add_render_options(*cmd, a->options);
+  cmd->add_option("--target-error", a->target_error,
+                  "The previews' scene, direct lighting: refine until the estimated relative RMS error inside the object "
+                  "is at most this (e.g. 0.01), with adaptive sampling; --spp is then the most samples per pixel "
+                  "(default 4096)");
   cmd->get_option("--scene")
       ->description("The previews' scene, its object: sphere, bunny, suzi or a .glb/.gltf/.obj file; or a GI scene: "
                     "floor, box, NAME@VIEW (side, above) or a .json file (path-traced)");

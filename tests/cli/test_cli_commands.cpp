@@ -159,6 +159,58 @@ TEST_F(CliCommands, RenderTakesTheSamplerAndGrazingSamplesOptions) {
   EXPECT_NE(read_image(dir_->path() / "r-light-and-lobe.exr").rgb, read_image(dir_->path() / "r-stratified.exr").rgb);
 }
 
+TEST_F(CliCommands, RenderRefinesToATargetError) {
+  // --target-error: passes until the estimated error inside the object is under the target; the
+  // image then agrees with a long render of the library to about that error.
+  const std::string name = material(1).stem().string();
+  const fs::path out = dir_->path() / "refined.exr";
+  const std::vector<std::string> common = {"render", model().string(), "--material", name, "-o", out.string(),
+                                           "--width", "24", "--height", "24", "--env", "constant"};
+  std::vector<std::string> args = common;
+  args.insert(args.end(), {"--target-error", "0.01"});
+  Output r = call(args);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_CONTAINS(r.out, "estimated error");
+  EXPECT_EQ(r.out.find("reached before the target"), std::string::npos) << r.out;
+  const Model m = Model::open(model());
+  const atlas::ModelTableMaterial table(m, m.material_weights(m.index_of(name)));
+  render::SceneDescription d;
+  d.environment = "constant";
+  const render::Scene scene(d);
+  render::RenderSettings s;
+  s.width = s.height = 24;
+  s.spp = 4096;
+  s.seed = 99;
+  const Image reference = render::render(scene, table, atlas::model_render_settings(m, s));
+  const std::vector<float> coverage = render::object_coverage(scene, s);
+  const Image written = read_image(out);
+  double squares = 0, signal = 0;
+  for (std::size_t p = 0; p < coverage.size(); ++p)
+    if (coverage[p] >= 1.0f)
+      for (std::size_t c = 0; c < 3; ++c) {
+        squares += std::pow(written.rgb[3 * p + c] - reference.rgb[3 * p + c], 2);
+        signal += std::pow(reference.rgb[3 * p + c], 2);
+      }
+  EXPECT_LT(std::sqrt(squares / signal), 0.025);
+  // A cap on the samples comes first: said so.
+  args = common;
+  args.insert(args.end(), {"--target-error", "0.0001", "--spp", "16"});
+  r = call(args);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_CONTAINS(r.out, "16 spp");
+  EXPECT_CONTAINS(r.out, "--spp reached before the target");
+  // Bad targets and the integrators without refinement are refused.
+  for (const std::vector<std::string>& extra : {std::vector<std::string>{"--target-error", "0"},
+                                                {"--target-error", "1.5"},
+                                                {"--target-error", "0.01", "--integrator", "path"}}) {
+    args = common;
+    args.insert(args.end(), extra.begin(), extra.end());
+    r = call(args);
+    EXPECT_NE(r.code, 0) << extra.back();
+    EXPECT_CONTAINS(r.err, "--target-error");
+  }
+}
+
 TEST_F(CliCommands, RenderIntegratorPathTracesThePreviewsScene) {
   // One scene, two integrators: --integrator path traces the preview's scene (every preview
   // option: ground, light, black background) as the library does with pathtrace::preview_scene.
