@@ -13,6 +13,7 @@
 #include "manifold/plausibility.h"
 #include "render/image_basis.h"
 #include "render/material.h"
+#include "render/progressive_render.h"
 #include "render/render.h"
 #include "render/sampling.h"
 #include "render/text.h"
@@ -276,7 +277,7 @@ std::vector<GalleryEntry> pick_gallery(const Model& model, const GalleryOptions&
 
 Image render_gallery(const Model& model, const std::vector<GalleryEntry>& entries, const render::Scene* scene,
                      const render::RenderSettings* settings, const render::ImageBasis* basis,
-                     ProgressSink& progress) {
+                     ProgressSink& progress, double target_error, std::vector<render::RefinementState>* refined) {
   if (entries.empty()) throw Error("gallery: no entries");
   if (!basis && (!scene || !settings)) throw Error("gallery: needs an image basis or a scene and settings");
   const int w = basis ? basis->width() : settings->width, h = basis ? basis->height() : settings->height;
@@ -295,6 +296,19 @@ Image render_gallery(const Model& model, const std::vector<GalleryEntry>& entrie
     Image cell;
     if (basis) {
       cell = basis->compose(weights);
+    } else if (target_error > 0) {
+      render::ProgressiveSettings cell_settings;
+      cell_settings.render = fitted;
+      cell_settings.render.spp = std::min(16, fitted.spp);
+      cell_settings.limits.target_error = target_error;
+      cell_settings.limits.max_spp = fitted.spp;
+      cell_settings.limits.min_converged_spp = std::min(64, fitted.spp);
+      render::ProgressiveRender r(std::shared_ptr<const render::Scene>(scene, [](const render::Scene*) {}),
+                                  std::make_shared<const ModelTableMaterial>(model, weights), cell_settings);
+      while (!r.refine(1.0).converged) {
+      }
+      cell = r.image();
+      if (refined) refined->push_back(r.state());
     } else {
       cell = render::render(*scene, ModelTableMaterial(model, weights), fitted);  // table built once per cell
     }

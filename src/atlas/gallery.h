@@ -19,6 +19,7 @@
 #include "core/progress.h"
 #include "formats/image_io.h"
 #include "manifold/model.h"
+#include "render/refinement.h"
 
 namespace matlas::render {
 class ImageBasis;
@@ -91,10 +92,15 @@ struct GalleryStats {
 std::vector<GalleryEntry> pick_gallery(const Model& model, const GalleryOptions& options, GalleryStats* stats = nullptr);
 
 /// The grid picture: cells in reading order, numbered from 1 in their corner, each rendered with
-/// the basis if given (same scene as the basis) or else directly with `settings` and `scene`.
-/// The result is linear RGB (write with a tone map).
+/// the basis if given (same scene as the basis) or else directly with `settings` and `scene`: with
+/// `target_error` > 0 each cell refined (render/progressive_render.h, adaptive sampling) until its
+/// estimated relative RMS error inside the object is at most that, settings->spp samples per
+/// pixel at most, so that no cell gives itself away by its noise; `refined` then gets each cell's
+/// final state. The result is linear RGB (write with a tone map).
 Image render_gallery(const Model& model, const std::vector<GalleryEntry>& entries, const render::Scene* scene,
-                     const render::RenderSettings* settings, const render::ImageBasis* basis, ProgressSink& progress = null_progress());
+                     const render::RenderSettings* settings, const render::ImageBasis* basis,
+                     ProgressSink& progress = null_progress(), double target_error = 0.0,
+                     std::vector<render::RefinementState>* refined = nullptr);
 
 /// The answer key: {"interpolation": "gp"|"convex", "selection": {stats},
 ///  "cells": [{"cell": 1, "real": true, "name": ..., "x": [...], "variance": ..., "albedo": [r, g, b],

@@ -21,6 +21,8 @@ namespace {
 struct GalleryArgs {
   std::string model, output;
   std::optional<std::string> key, basis;
+  std::optional<double> target_error;
+  bool spp_given = false;
   atlas::GalleryOptions gallery;
   RenderOptions options;
 };
@@ -39,15 +41,28 @@ void run_gallery(GalleryArgs a, const Io& io) {
   const std::vector<atlas::GalleryEntry> entries = atlas::pick_gallery(model, a.gallery, &stats);
   TerminalProgress progress;
   Image image;
+  std::vector<render::RefinementState> refined;
+  if (a.target_error && a.basis) throw Error("--target-error renders the cells; --basis composes them: give one");
+  if (a.target_error && !(*a.target_error > 0 && *a.target_error < 1))
+    throw Error("--target-error must be in (0, 1) (a relative RMS error, e.g. 0.01), got " + std::to_string(*a.target_error));
   if (a.basis) {
     const render::ImageBasis basis = render::ImageBasis::open(*a.basis);
     image = atlas::render_gallery(model, entries, nullptr, nullptr, &basis, progress);
   } else {
     const render::Scene scene(a.options.scene_description());
-    const render::RenderSettings settings = a.options.settings();
-    image = atlas::render_gallery(model, entries, &scene, &settings, nullptr, progress);
+    render::RenderSettings settings = a.options.settings();
+    if (a.target_error && !a.spp_given) settings.spp = 4096;  // the most samples per pixel of a cell
+    image = atlas::render_gallery(model, entries, &scene, &settings, nullptr, progress, a.target_error.value_or(0.0),
+                                  &refined);
   }
   write_image(a.output, image, a.options.tone());
+  if (!refined.empty()) {
+    const auto [fewest, most] = std::minmax_element(refined.begin(), refined.end(), [](const auto& x, const auto& y) { return x.spp < y.spp; });
+    double worst = 0;
+    for (const auto& st : refined) worst = std::max(worst, st.relative_error);
+    print(io.out, "cells refined: %d-%d spp, estimated error at most %.2f %%%s\n", fewest->spp, most->spp, 100 * worst,
+          worst <= *a.target_error ? "" : " (--spp reached before the target)");
+  }
   write_file_atomic(key, atlas::gallery_key(model, entries, stats).dump(2) + "\n");
   print(io.out, "wrote %s and its answer key %s (%d generated, %d real; interpolation %s)\n", a.output.c_str(),
               key.string().c_str(), a.gallery.random, a.gallery.real,
@@ -87,7 +102,13 @@ void add_gallery_command(CLI::App& app, const Io& io) {
   cmd->add_flag("!--allow-implausible", a->gallery.plausible_only,
                 "Also pick generated points with negative values or an albedo above the inputs'");
   cmd->add_option("--basis", a->basis, "Compose the cells from an image basis instead of rendering them");
-  cmd->callback([io, a] { run_gallery(*a, io); });
+  cmd->add_option("--target-error", a->target_error,
+                  "Refine every cell until its estimated relative RMS error inside the object is at most this (e.g. "
+                  "0.01), with adaptive sampling; --spp is then the most samples per pixel (default 4096)");
+  cmd->callback([io, a, cmd] {
+    a->spp_given = cmd->get_option("--spp")->count() > 0;
+    run_gallery(*a, io);
+  });
 }
 
 }  // namespace

@@ -6,6 +6,8 @@
 #include "atlas/gallery.h"
 #include "atlas/latent_map.h"
 #include "atlas/model_basis.h"
+#include "atlas/model_material.h"
+#include "atlas/sampling_fit.h"
 #include "brdf/catalog.h"
 #include "core/check.h"
 #include "core/error.h"
@@ -383,6 +385,49 @@ TEST_F(LatentMapTest, ThePlausibilityPictureIsTheServersLayer) {
     const int x = (cell % cx) * w / cx + 1, y = (cell / cx) * h / cy + 1;  // a pixel inside the cell
     for (int c = 0; c < 3; ++c)
       EXPECT_NEAR(255.0 * srgb_encode(picture.pixel(x, y)[c]), layer[4 * static_cast<std::size_t>(cell) + c], 0.5 + 1e-3);
+  }
+}
+
+TEST_F(LatentMapTest, GalleryCellsRefineToTheTargetError) {
+  // With a target error every cell is refined until its estimated error is under it: each agrees
+  // with a long render of its material to about the target (the corner's number left out).
+  GalleryOptions o;
+  o.random = 1;
+  o.real = 1;
+  const std::vector<GalleryEntry> entries = pick_gallery(*model_, o);
+  ASSERT_EQ(entries.size(), 2u);
+  const Scene scene(SceneDescription{}, std::nullopt, Environment(test::synthetic_environment()));
+  RenderSettings s;
+  s.width = s.height = 48;
+  s.spp = 4096;
+  std::vector<render::RefinementState> refined;
+  const Image grid = render_gallery(*model_, entries, &scene, &s, nullptr, null_progress(), 0.02, &refined);
+  ASSERT_EQ(refined.size(), entries.size());
+  for (const render::RefinementState& st : refined) {
+    EXPECT_LE(st.relative_error, 0.02);
+    EXPECT_LT(st.spp, 4096);  // stopped by the target, not the cap
+  }
+  const int gap = 2;  // max(2, 48 / 64)
+  RenderSettings long_render = model_render_settings(*model_, s);
+  long_render.spp = 2048;
+  long_render.seed = 12345;
+  const std::vector<float> coverage = render::object_coverage(scene, long_render);
+  for (std::size_t k = 0; k < entries.size(); ++k) {
+    const GalleryEntry& e = entries[k];
+    const Eigen::VectorXd w = e.real ? model_->material_weights(model_->index_of(e.name)) : model_->weights(e.x);
+    const Image reference = render::render(scene, ModelTableMaterial(*model_, w), long_render);
+    const int ox = gap + static_cast<int>(k) * (48 + gap), oy = gap;
+    double squares = 0, signal = 0;
+    for (int y = 16; y < 48; ++y)  // below the number
+      for (int x = 0; x < 48; ++x) {
+        if (coverage[static_cast<std::size_t>(y * 48 + x)] < 1.0f) continue;
+        for (int c = 0; c < 3; ++c) {
+          const double d = grid.pixel(ox + x, oy + y)[c] - reference.pixel(x, y)[c];
+          squares += d * d;
+          signal += static_cast<double>(reference.pixel(x, y)[c]) * reference.pixel(x, y)[c];
+        }
+      }
+    EXPECT_LT(std::sqrt(squares / signal), 0.05) << "cell " << k + 1;
   }
 }
 

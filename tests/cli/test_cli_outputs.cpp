@@ -141,6 +141,20 @@ TEST_F(CliOutputs, GalleryRefusesAKeyThatIsItsPicture) {
   EXPECT_FALSE(fs::exists(png));
 }
 
+TEST_F(CliOutputs, GalleryRefinesItsCellsToATargetError) {
+  test::TempDir t;
+  const std::string png = (t.path() / "g.png").string();
+  OutputsRun r = run_matlas({"gallery", model().string(), "--env", "constant", "--random", "1", "--real", "1", "--width",
+                             "24", "--height", "24", "--target-error", "0.05", "-o", png});
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_CONTAINS(r.out, "cells refined: ");
+  EXPECT_EQ(r.out.find("reached before the target"), std::string::npos) << r.out;
+  r = run_matlas({"gallery", model().string(), "--env", "constant", "--random", "1", "--real", "1", "--width", "24",
+                  "--height", "24", "--target-error", "0.05", "--basis", png, "-o", (t.path() / "h.png").string()});
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_CONTAINS(r.out, "--target-error");
+}
+
 // ---- The temporary output name is predictable (OUT.tmp-PID): a symlink planted there must not
 // make the command write through it.
 TEST_F(CliOutputs, ASymlinkPlantedAtTheTemporaryNameIsNotFollowed) {
