@@ -26,6 +26,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "atlas/gi_basis.h"
 #include "atlas/gi_density.h"
@@ -34,6 +35,7 @@
 #include "manifold/model.h"
 #include "pathtrace/progressive_trace.h"
 #include "render/auto_exposure.h"
+#include "render/firefly_filter.h"
 
 namespace {
 
@@ -177,6 +179,25 @@ int main(int argc, char** argv) {
     const Errors ce = compare(composed, small_ref);
     std::printf("composed vs %d-spp reference: L1 %.4f, RMS %.4f, pixels > 20x the reference %d (+%d dark), largest ratio %.1f\n",
                 ref_spp, ce.l1, ce.rms, ce.over20, ce.over20_dark, ce.max_ratio);
+    // As served: the fireflies removed (render/firefly_filter.h, biased); MATLAS_BENCH_FIREFLY_RATIOS=a,b,...
+    // tries other ratios than the served 4.
+    std::vector<double> ratios = {4.0};
+    if (const char* list = std::getenv("MATLAS_BENCH_FIREFLY_RATIOS")) {
+      ratios.clear();
+      for (const char* p = list; *p;) {
+        char* end = nullptr;
+        ratios.push_back(std::strtod(p, &end));
+        p = *end == ',' ? end + 1 : end;
+      }
+    }
+    for (const double ratio : ratios) {
+      Image filtered = composed;
+      const int replaced = render::remove_fireflies(filtered, ratio);
+      const Errors fe = compare(filtered, small_ref);
+      std::printf("composed and filtered at ratio %.1f (%d pixels replaced): L1 %.4f, RMS %.4f, pixels > 20x %d (+%d dark), "
+                  "largest ratio %.1f\n",
+                  ratio, replaced, fe.l1, fe.rms, fe.over20, fe.over20_dark, fe.max_ratio);
+    }
     write_png(out, "composed.png", composed, exposure);
     std::printf("load average at the end %.1f\n", load_average());
   } catch (const std::exception& e) {

@@ -33,6 +33,7 @@
 #include "pathtrace/tracer.h"
 #include "pathtrace/world.h"
 #include "render/auto_exposure.h"
+#include "render/firefly_filter.h"
 #include "render/image_basis.h"
 #include "render/material.h"
 #include "render/progressive_render.h"
@@ -46,7 +47,7 @@ struct RenderArgs {
   std::string input, output, integrator = "direct", part = "all";
   std::optional<std::string> at, material, basis;
   std::optional<double> target_error;
-  bool auto_exposure = false;
+  bool auto_exposure = false, remove_fireflies = false;
   RenderOptions options;
   PathOptions path;
   std::set<std::string> given;  ///< the options given on the command line
@@ -240,8 +241,9 @@ void compose_basis(const RenderArgs& a, const Io& io) {
     compose = key = [&](const Eigen::VectorXd& v) { return previews->compose(v); };
   }
   const auto start = std::chrono::steady_clock::now();
-  const Image image = compose(w);
+  Image image = compose(w);
   const double ms = 1e3 * seconds_since(start);
+  if (a.remove_fireflies) print(io.out, "removed %d fireflies\n", render::remove_fireflies(image));
   if (a.auto_exposure) tone.exposure += render::auto_exposure(key(Eigen::VectorXd::Zero(model.count())));
   write_image(a.output, image, tone);
   print(io.out, "composed %dx%d from %d materials in %.1f ms; wrote %s\n", image.width, image.height, model.count(),
@@ -253,6 +255,7 @@ void run_render(const RenderArgs& a, const Io& io) {
   if (a.part != "all" && a.part != "i1" && a.part != "i2" && a.part != "p") throw Error("--part must be all, i1, i2 or p");
   if (a.basis) return compose_basis(a, io);
   if (a.auto_exposure) throw Error("--auto-exposure applies to --basis");
+  if (a.remove_fireflies) throw Error("--remove-fireflies applies to --basis");
   const ToneMap tone = a.options.tone();
   TerminalProgress progress;
   render::RenderStats stats;
@@ -313,6 +316,9 @@ void add_variant(CLI::App& app, const Io& io, const Variant& v) {
   cmd->add_flag("--auto-exposure", a->auto_exposure,
                 "With --basis: add the scene's automatic exposure (its log-average luminance with the mean material to "
                 "middle grey), as the browser's scene view does by default");
+  cmd->add_flag("--remove-fireflies", a->remove_fireflies,
+                "With --basis: replace lone pixels over 3x their brightest neighbour by their neighbours' median, as "
+                "the browser's scene view does while dragging (biased: the composition is then no longer linear)");
   cmd->callback([io, a, cmd, name = std::string(v.name)] {
     a->given = given_options(*cmd);
     if (name != "render")

@@ -8,6 +8,7 @@
 #include "atlas/gi_basis.h"
 #include "formats/fast_png.h"
 #include "render/auto_exposure.h"
+#include "render/firefly_filter.h"
 #include "server/api.h"
 #include "server/gi_scenes.h"
 #include "server/http_error.h"
@@ -66,13 +67,19 @@ Reply Api::gi(const std::string& scene_text, const std::string& x_text, const st
   }
   std::string png;
   ToneMap tone;
+  int fireflies = 0;
   {
     auto slot = acquire(compute_);
     tone = gi_tone(scene, auto_exposure, exposure, tone_text, state.basis.get(), nullptr);
-    png = encode_png_fast(state.basis->compose(model_.weights(x)), tone);
+    // The drag's image, shown until the refinement at rest replaces it: its fireflies removed
+    // (render/firefly_filter.h: biased, said in a header).
+    Image image = state.basis->compose(model_.weights(x));
+    fireflies = render::remove_fireflies(image);
+    png = encode_png_fast(image, tone);
   }
   Reply r = Reply::bytes(std::move(png), kPng);
   r.headers.emplace_back("Cache-Control", "no-store");
+  r.headers.emplace_back("X-Matlas-Fireflies", std::to_string(fireflies));
   char used[32];
   std::snprintf(used, sizeof used, "%.3f", tone.exposure);
   r.headers.emplace_back("X-Matlas-Exposure", used);

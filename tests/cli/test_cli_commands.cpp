@@ -24,6 +24,7 @@
 #include "pathtrace/scene_spec.h"
 #include "pathtrace/world.h"
 #include "pathtrace/tracer.h"
+#include "render/firefly_filter.h"
 #include "render/image_basis.h"
 #include "render/render.h"
 #include "render/scene.h"
@@ -304,6 +305,16 @@ TEST_F(CliCommands, OneRenderCommandForEverySceneAndBasis) {
             0);
   const atlas::GiBasis gi_basis = atlas::GiBasis::load(path("gi-basis.safetensors"));
   EXPECT_EQ(read_image(path("gi-composed.exr")).rgb, gi_basis.compose(m.weights(x), atlas::GiBasis::Part::i1).rgb);
+  // --remove-fireflies: the browser's drag image (render/firefly_filter.h), said by the command.
+  const Output filtered = call({"render", model().string(), "--at", at, "--basis", path("gi-basis.safetensors"),
+                                "--remove-fireflies", "-o", path("gi-filtered.exr")});
+  ASSERT_EQ(filtered.code, 0) << filtered.err;
+  Image expected_filtered = gi_basis.compose(m.weights(x));
+  const int removed = render::remove_fireflies(expected_filtered);
+  EXPECT_CONTAINS(filtered.out, "removed " + std::to_string(removed) + " fireflies");
+  EXPECT_EQ(read_image(path("gi-filtered.exr")).rgb, expected_filtered.rgb);
+  EXPECT_CONTAINS(call({"render", model().string(), "--at", at, "--remove-fireflies", "-o", path("n.exr")}).err,
+                  "--remove-fireflies applies to --basis");
   // What does not apply is named.
   EXPECT_CONTAINS(call({"render", model().string(), "--at", at, "--basis", path("image-basis.safetensors"), "--spp",
                         "4", "-o", path("n.exr")})

@@ -14,6 +14,7 @@
 #include "pathtrace/scene_spec.h"
 #include "pathtrace/world.h"
 #include "render/auto_exposure.h"
+#include "render/firefly_filter.h"
 #include "server/atlas_server.h"
 #include "server/basis_previews.h"
 #include "server/gi_scenes.h"
@@ -25,6 +26,12 @@
 
 namespace matlas::server {
 namespace {
+
+/// The composed image as GET /api/gi serves it: its fireflies removed (render/firefly_filter.h).
+Image filtered(Image image) {
+  render::remove_fireflies(image);
+  return image;
+}
 
 using nlohmann::json;
 
@@ -182,8 +189,10 @@ TEST_F(GiEndpointTest, ASceneBeingTracedIs503WithProgressThenTheLibrarysComposit
     ASSERT_EQ(r->status, 200) << r->body;
     EXPECT_EQ(r->get_header_value("Content-Type"), "image/png");
     const std::string expected =
-        encode_png_fast(basis.compose(model_->weights(x)), ToneMap{ToneMap::Curve::aces, exposure});
+        encode_png_fast(filtered(basis.compose(model_->weights(x))), ToneMap{ToneMap::Curve::aces, exposure});
     EXPECT_EQ(r->body, expected) << "exposure " << exposure;
+    Image fireflies = basis.compose(model_->weights(x));
+    EXPECT_EQ(r->get_header_value("X-Matlas-Fireflies"), std::to_string(render::remove_fireflies(fireflies)));
   }
   // Different points, different images.
   const auto a = get("/api/gi?scene=box&x=" + point_text(0)), b = get("/api/gi?scene=box&x=" + point_text(3));
@@ -197,7 +206,7 @@ TEST_F(GiEndpointTest, ASceneBeingTracedIs503WithProgressThenTheLibrarysComposit
     ASSERT_TRUE(r);
     ASSERT_EQ(r->status, 200) << r->body;
     EXPECT_NEAR(std::stod(r->get_header_value("X-Matlas-Exposure")), key, 1e-3);
-    EXPECT_EQ(r->body, encode_png_fast(basis.compose(model_->weights(Eigen::Vector2d(std::stod(std::to_string(model_->latent()(3, 0))), std::stod(std::to_string(model_->latent()(3, 1)))))), ToneMap{curve, key}));
+    EXPECT_EQ(r->body, encode_png_fast(filtered(basis.compose(model_->weights(Eigen::Vector2d(std::stod(std::to_string(model_->latent()(3, 0))), std::stod(std::to_string(model_->latent()(3, 1))))))), ToneMap{curve, key}));
   }
   EXPECT_EQ(get("/api/gi?scene=box&tone=sepia&x=" + point_text(3))->status, 400);
   EXPECT_EQ(get("/api/gi?scene=box&exposure=bright&x=" + point_text(3))->status, 400);
@@ -226,7 +235,7 @@ TEST_F(GiEndpointTest, AGivenBasisIsServedAtOnceAndOneOfAnotherModelIsRefused) {
   const auto r = get("/api/gi?x=" + point_text(2), server);  // the first scene by default
   ASSERT_TRUE(r);
   ASSERT_EQ(r->status, 200) << r->body;
-  EXPECT_EQ(r->body, encode_png_fast(atlas::GiBasis::load(file).compose(model_->material_weights(2)),
+  EXPECT_EQ(r->body, encode_png_fast(filtered(atlas::GiBasis::load(file).compose(model_->material_weights(2))),
                                      ToneMap{ToneMap::Curve::aces, 0.0}));
   EXPECT_EQ(get("/api/gi?scene=floor&x=" + point_text(2), server)->status, 400);  // not offered here
 
