@@ -15,7 +15,8 @@
 //    reference's (among pixels at least 1 % of the image's mean luminance; darker ones counted
 //    apart).
 // Also the machine's load average at the start and end (a shared machine: CPU time is the figure
-// that travels). OUT_DIR gets PNGs (auto exposure, ACES): reference, refined at 5 s / 30 s, composed.
+// that travels). OUT_DIR gets PNGs (auto exposure, ACES): reference, refined at 5 s / 30 s, composed
+// (and composed-filtered, its fireflies removed as served).
 // MATLAS_BENCH_ADAPTIVE=1 refines with adaptive sampling (the server's refinement has none);
 // MATLAS_BENCH_NO_DRAG=1 skips part 3.
 #include <sys/resource.h>
@@ -180,8 +181,8 @@ int main(int argc, char** argv) {
     std::printf("composed vs %d-spp reference: L1 %.4f, RMS %.4f, pixels > 20x the reference %d (+%d dark), largest ratio %.1f\n",
                 ref_spp, ce.l1, ce.rms, ce.over20, ce.over20_dark, ce.max_ratio);
     // As served: the fireflies removed (render/firefly_filter.h, biased); MATLAS_BENCH_FIREFLY_RATIOS=a,b,...
-    // tries other ratios than the served 4.
-    std::vector<double> ratios = {4.0};
+    // tries other ratios than the served one (render::kFireflyRatio).
+    std::vector<double> ratios = {render::kFireflyRatio};
     if (const char* list = std::getenv("MATLAS_BENCH_FIREFLY_RATIOS")) {
       ratios.clear();
       for (const char* p = list; *p;) {
@@ -197,6 +198,7 @@ int main(int argc, char** argv) {
       std::printf("composed and filtered at ratio %.1f (%d pixels replaced): L1 %.4f, RMS %.4f, pixels > 20x %d (+%d dark), "
                   "largest ratio %.1f\n",
                   ratio, replaced, fe.l1, fe.rms, fe.over20, fe.over20_dark, fe.max_ratio);
+      if (ratio == render::kFireflyRatio) write_png(out, "composed-filtered.png", filtered, exposure);
     }
     write_png(out, "composed.png", composed, exposure);
     std::printf("load average at the end %.1f\n", load_average());
