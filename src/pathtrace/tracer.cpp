@@ -8,6 +8,7 @@
 #include "core/check.h"
 #include "core/error.h"
 #include "core/parallel.h"
+#include "render/adaptive_sampling.h"
 #include "render/sampling.h"
 
 namespace matlas::pathtrace {
@@ -205,14 +206,7 @@ void TraceSettings::validate() const {
   density.validate();
   if (density.environment != 0)
     throw Error("the path tracer samples the environment by next-event estimation: its density's environment probability must be 0");
-  if (pixel_samples) {
-    if (pixel_samples->size() != static_cast<std::size_t>(width) * static_cast<std::size_t>(height))
-      throw Error("pixel_samples has " + std::to_string(pixel_samples->size()) + " shares for a " +
-                  std::to_string(width) + "x" + std::to_string(height) + " image");
-    for (const double share : *pixel_samples)
-      if (!(share > 0) || !std::isfinite(share) || share > 1e6)
-        throw Error("pixel_samples: every share must be positive and finite, got " + std::to_string(share));
-  }
+  render::check_pixel_samples(pixel_samples.get(), width, height);
 }
 
 Image TraceImages::i1(int k) const {
@@ -251,9 +245,8 @@ TraceImages trace(const World& world, const render::MaterialBank* bank, const Tr
     for (int x = 0; x < settings.width; ++x) {
       acc.clear();
       const std::uint64_t pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(settings.width) + static_cast<std::uint64_t>(x);
-      const int n = settings.pixel_samples
-                        ? std::max(1, static_cast<int>(std::lround(settings.spp * (*settings.pixel_samples)[pixel])))
-                        : settings.spp;
+      const int n = settings.pixel_samples ? render::pixel_sample_count(settings.spp, (*settings.pixel_samples)[pixel])
+                                           : settings.spp;
       const double inv = 1.0 / n;
       for (int s = 0; s < n; ++s) {
         render::SampleStream rng(settings.seed, pixel, static_cast<std::uint64_t>(s));

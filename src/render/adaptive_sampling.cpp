@@ -16,6 +16,18 @@ void AdaptiveSampling::validate() const {
   if (min_trial_spp < 2) throw Error("adaptive sampling: min_trial_spp must be at least 2, got " + std::to_string(min_trial_spp));
 }
 
+int pixel_sample_count(int spp, double share) { return std::max(1, static_cast<int>(std::lround(spp * share))); }
+
+void check_pixel_samples(const std::vector<double>* shares, int width, int height) {
+  if (!shares) return;
+  if (shares->size() != static_cast<std::size_t>(width) * static_cast<std::size_t>(height))
+    throw Error("pixel_samples has " + std::to_string(shares->size()) + " shares for a " + std::to_string(width) + "x" +
+                std::to_string(height) + " image");
+  for (const double share : *shares)
+    if (!(share > 0) || !std::isfinite(share) || share > 1e6)
+      throw Error("pixel_samples: every share must be positive and finite, got " + std::to_string(share));
+}
+
 namespace {
 
 /// The mean of the shares clamp(sigma / lambda, floor, cap).

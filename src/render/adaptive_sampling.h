@@ -37,6 +37,14 @@ struct AdaptiveSampling {
   void validate() const;
 };
 
+/// A pixel's camera samples in a pass of `spp` when it takes `share` of them: max(1, round(spp x
+/// share)) (RenderSettings::pixel_samples, pathtrace::TraceSettings::pixel_samples).
+int pixel_sample_count(int spp, double share);
+
+/// Throws matlas::Error unless `shares` (when not null) has one positive, finite share per pixel
+/// of a width x height image.
+void check_pixel_samples(const std::vector<double>* shares, int width, int height);
+
 /// The shares (row-major, mean 1) from two independent estimates `a`, `b` of one image made
 /// with `samples[p]` camera samples in pixel p together. `weights` (3 per pixel, empty: 1) weigh
 /// each channel's squared error: the shares then minimise the weighted sum of the variances

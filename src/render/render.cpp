@@ -10,6 +10,7 @@
 #include "core/check.h"
 #include "core/error.h"
 #include "core/parallel.h"
+#include "render/adaptive_sampling.h"
 #include "render/pixel_sampler.h"
 #include "render/sampling.h"
 
@@ -195,7 +196,7 @@ std::vector<int> grazing_sample_counts(const Scene& scene, const RenderSettings&
   if (s.pixel_samples) {  // the caller's shares
     std::vector<int> counts(s.pixel_samples->size());
     for (std::size_t p = 0; p < counts.size(); ++p)
-      counts[p] = std::max(1, static_cast<int>(std::lround(s.spp * (*s.pixel_samples)[p])));
+      counts[p] = pixel_sample_count(s.spp, (*s.pixel_samples)[p]);
     return counts;
   }
   if (!(s.grazing_samples > 1.0)) return {};
@@ -368,14 +369,7 @@ void RenderSettings::validate() const {
     throw Error("grazing_samples must be between 1 and 64, got " + std::to_string(grazing_samples));
   if (sampler == Sampler::light_and_lobe && !(mixture.total() - mixture.environment > 0))
     throw Error("the light-and-lobe sampler needs a lobe strategy (cosine, GGX or tabulated) besides the environment");
-  if (pixel_samples) {
-    if (pixel_samples->size() != static_cast<std::size_t>(width) * static_cast<std::size_t>(height))
-      throw Error("pixel_samples has " + std::to_string(pixel_samples->size()) + " shares for a " +
-                  std::to_string(width) + "x" + std::to_string(height) + " image");
-    for (const double share : *pixel_samples)
-      if (!(share > 0) || !std::isfinite(share) || share > 1e6)
-        throw Error("pixel_samples: every share must be positive and finite, got " + std::to_string(share));
-  }
+  check_pixel_samples(pixel_samples.get(), width, height);
 }
 
 Image render(const Scene& scene, const Material& material, const RenderSettings& settings,
