@@ -1,6 +1,9 @@
 #pragma once
 // Helpers shared by the render tests: small synthetic environment maps and scenes.
 #include <cmath>
+#include <memory>
+#include <optional>
+#include <vector>
 
 #include "formats/image_io.h"
 #include "render/render.h"
@@ -21,6 +24,27 @@ inline Image synthetic_environment() {
       if (y >= 3 && y <= 4 && x >= 20 && x <= 21) p[0] = 30.0f, p[1] = 25.0f, p[2] = 20.0f;
     }
   return map;
+}
+
+/// The previews' scene under synthetic_environment() (its sun makes glossy materials noisy).
+inline std::shared_ptr<const render::Scene> sky_scene() {
+  return std::make_shared<const render::Scene>(render::SceneDescription{}, std::nullopt,
+                                               render::Environment(synthetic_environment()));
+}
+
+/// RMS over the `object` pixels and channels of (a - b), relative to b's RMS there (the
+/// refinement's error measure, render/refinement.h).
+inline double object_relative_rms(const Image& a, const Image& b, const std::vector<bool>& object) {
+  double squares = 0, signal = 0;
+  for (std::size_t p = 0; p < object.size(); ++p) {
+    if (!object[p]) continue;
+    for (std::size_t c = 0; c < 3; ++c) {
+      const double d = static_cast<double>(a.rgb[3 * p + c]) - b.rgb[3 * p + c];
+      squares += d * d;
+      signal += static_cast<double>(b.rgb[3 * p + c]) * b.rgb[3 * p + c];
+    }
+  }
+  return std::sqrt(squares / signal);
 }
 
 /// Mean of channel c over the pixels fully covered by the object.

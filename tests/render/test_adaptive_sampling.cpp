@@ -152,11 +152,6 @@ TEST(AdaptiveSampling, ARenderTakesTheSharesAsItsPixelsSampleCounts) {
   EXPECT_THROW(render(scene, grey, s), Error);
 }
 
-/// A glossy conductor under a sky with a small sun: its noise sits in the sun's highlight.
-std::shared_ptr<const Scene> adaptive_sky() {
-  return std::make_shared<const Scene>(SceneDescription{}, std::nullopt, Environment(test::synthetic_environment()));
-}
-
 std::shared_ptr<const Material> adaptive_gold() {
   return std::make_shared<FunctionMaterial>(
       [g = GgxConductor{Rgb(0.95, 0.64, 0.54), 0.05}](const Vec3& wi, const Vec3& wo) { return g(wi, wo); });
@@ -173,30 +168,17 @@ ProgressiveSettings adaptive_settings(std::uint64_t seed, bool adaptive) {
   return s;
 }
 
-double adaptive_relative_rms(const Image& a, const Image& b, const std::vector<bool>& object) {
-  double squares = 0, signal = 0;
-  for (std::size_t p = 0; p < object.size(); ++p) {
-    if (!object[p]) continue;
-    for (std::size_t c = 0; c < 3; ++c) {
-      const double d = static_cast<double>(a.rgb[3 * p + c]) - b.rgb[3 * p + c];
-      squares += d * d;
-      signal += static_cast<double>(b.rgb[3 * p + c]) * b.rgb[3 * p + c];
-    }
-  }
-  return std::sqrt(squares / signal);
-}
-
 TEST(AdaptiveSampling, AnAdaptiveRefinementIsUnbiasedAndLessNoisy) {
   // The reference: uniform samples, 64x the tested refinements'.
   ProgressiveSettings rs = adaptive_settings(4242, false);
   rs.limits.max_pass_spp = 1024;
   rs.limits.max_spp = 8192;
-  ProgressiveRender reference(adaptive_sky(), adaptive_gold(), rs);
+  ProgressiveRender reference(test::sky_scene(), adaptive_gold(), rs);
   while (!reference.state().converged) reference.refine(10.0);
   const double reference_error = reference.state().relative_error;
 
   const auto refined = [&](bool adaptive) {
-    auto r = std::make_unique<ProgressiveRender>(adaptive_sky(), adaptive_gold(), adaptive_settings(7, adaptive));
+    auto r = std::make_unique<ProgressiveRender>(test::sky_scene(), adaptive_gold(), adaptive_settings(7, adaptive));
     while (r->state().spp < 128) r->refine(0.0);
     return r;
   };
@@ -209,7 +191,7 @@ TEST(AdaptiveSampling, AnAdaptiveRefinementIsUnbiasedAndLessNoisy) {
   EXPECT_GT(*std::max_element(shares.begin(), shares.end()), 8.0) << "the highlight takes many samples";
 
   const auto error = [&](const ProgressiveRender& r) {
-    const double m = adaptive_relative_rms(r.image(), reference.image(), r.object_pixels());
+    const double m = test::object_relative_rms(r.image(), reference.image(), r.object_pixels());
     return std::sqrt(std::max(0.0, m * m - reference_error * reference_error));
   };
   // Unbiased: the error against the reference is what the refinement's own estimate says (a bias
@@ -231,7 +213,7 @@ TEST(AdaptiveSampling, AnAdaptiveRefinementIsUnbiasedAndLessNoisy) {
 }
 
 TEST(AdaptiveSampling, TheTrialPassRestartsTheRefinement) {
-  ProgressiveRender r(adaptive_sky(), adaptive_gold(), adaptive_settings(9, true));
+  ProgressiveRender r(test::sky_scene(), adaptive_gold(), adaptive_settings(9, true));
   r.refine(0.0);
   EXPECT_EQ(r.state().passes, 1);
   EXPECT_EQ(r.pixel_samples(), nullptr);  // the first pass is plain
@@ -257,13 +239,13 @@ struct CountingSink final : ProgressSink {
 TEST(AdaptiveSampling, ACancelledTrialLeavesEverythingAsItWas) {
   // The trial's updates, counted on a twin; then cancelled at its last update (inside the pass
   // made with the new shares) and at its first.
-  ProgressiveRender twin(adaptive_sky(), adaptive_gold(), adaptive_settings(9, true));
+  ProgressiveRender twin(test::sky_scene(), adaptive_gold(), adaptive_settings(9, true));
   twin.refine(0.0);
   CountingSink counter(0);
   twin.refine(0.0, counter);
   ASSERT_GT(counter.count, 2);
   for (const int at : {counter.count, 1}) {
-    ProgressiveRender r(adaptive_sky(), adaptive_gold(), adaptive_settings(9, true));
+    ProgressiveRender r(test::sky_scene(), adaptive_gold(), adaptive_settings(9, true));
     r.refine(0.0);
     const Image before = r.image();
     CountingSink cancel(at);

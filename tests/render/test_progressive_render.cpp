@@ -23,10 +23,6 @@ std::shared_ptr<const Scene> progressive_furnace() {
   return std::make_shared<const Scene>(d);
 }
 
-std::shared_ptr<const Scene> progressive_sky() {
-  return std::make_shared<const Scene>(SceneDescription{}, std::nullopt, Environment(test::synthetic_environment()));
-}
-
 std::shared_ptr<const Material> progressive_white() {
   return std::make_shared<FunctionMaterial>([](const Vec3&, const Vec3&) -> Rgb { return Rgb::Constant(1.0 / kProgressivePi); });
 }
@@ -45,20 +41,6 @@ ProgressiveSettings progressive_settings(int side, int first_spp, std::uint64_t 
   return s;
 }
 
-/// RMS over the object's pixels and channels of (a - b), relative to b's RMS there.
-double progressive_relative_rms(const Image& a, const Image& b, const std::vector<bool>& object) {
-  double squares = 0, signal = 0;
-  for (std::size_t p = 0; p < object.size(); ++p) {
-    if (!object[p]) continue;
-    for (std::size_t c = 0; c < 3; ++c) {
-      const double d = static_cast<double>(a.rgb[3 * p + c]) - b.rgb[3 * p + c];
-      squares += d * d;
-      signal += static_cast<double>(b.rgb[3 * p + c]) * b.rgb[3 * p + c];
-    }
-  }
-  return std::sqrt(squares / signal);
-}
-
 TEST(ProgressiveRender, ConvergesToTheFurnaceImage) {
   // A white Lambertian under uniform radiance 1 reflects exactly 1 everywhere on the object.
   ProgressiveSettings s = progressive_settings(24, 4);
@@ -72,7 +54,7 @@ TEST(ProgressiveRender, ConvergesToTheFurnaceImage) {
   EXPECT_GE(state.spp, 16);
   Image exact(24, 24);
   std::fill(exact.rgb.begin(), exact.rgb.end(), 1.0f);
-  EXPECT_LT(progressive_relative_rms(r.image(), exact, r.object_pixels()), 3 * 0.005);
+  EXPECT_LT(test::object_relative_rms(r.image(), exact, r.object_pixels()), 3 * 0.005);
   // Once converged, refine adds nothing.
   const RefinementState again = r.refine(1.0);
   EXPECT_EQ(again.spp, state.spp);
@@ -87,7 +69,7 @@ TEST(ProgressiveRender, ErrorEstimateAgreesWithTheErrorAgainstAReference) {
   rs.limits.max_pass_spp = 256;
   rs.limits.max_spp = 4096;
   rs.limits.target_error = 1e-9;
-  ProgressiveRender reference(progressive_sky(), progressive_gold(), rs);
+  ProgressiveRender reference(test::sky_scene(), progressive_gold(), rs);
   while (!reference.state().converged) reference.refine(10.0);
   ASSERT_EQ(reference.state().spp, 4096);
   const double reference_error = reference.state().relative_error;
@@ -95,12 +77,12 @@ TEST(ProgressiveRender, ErrorEstimateAgreesWithTheErrorAgainstAReference) {
   ProgressiveSettings s = progressive_settings(24, 16);
   s.limits.max_pass_spp = 16;
   s.limits.target_error = 1e-9;
-  ProgressiveRender r(progressive_sky(), progressive_gold(), s);
+  ProgressiveRender r(test::sky_scene(), progressive_gold(), s);
   for (int pass = 0; pass < 4; ++pass) r.refine(0.0);  // one pass per call
   const RefinementState state = r.state();
   ASSERT_EQ(state.passes, 4);
   ASSERT_EQ(state.spp, 64);
-  const double measured = progressive_relative_rms(r.image(), reference.image(), r.object_pixels());
+  const double measured = test::object_relative_rms(r.image(), reference.image(), r.object_pixels());
   const double actual = std::sqrt(std::max(0.0, measured * measured - reference_error * reference_error));
   EXPECT_GT(state.relative_error, 0.005) << "the test scene must be noisy at 64 spp";
   EXPECT_GT(state.relative_error, 0.6 * actual);
@@ -115,7 +97,7 @@ TEST(ProgressiveRender, PassesGrowWithinTheTimeAndTheHalvesStayBalanced) {
   s.limits.target_error = 1e-9;
   s.limits.max_spp = 256;
   s.limits.max_pass_spp = 64;
-  ProgressiveRender r(progressive_sky(), progressive_gold(), s);
+  ProgressiveRender r(test::sky_scene(), progressive_gold(), s);
   EXPECT_EQ(r.refine(0.0).spp, 4);  // the first pass is the settings' spp
   EXPECT_EQ(r.state().relative_error, std::numeric_limits<double>::infinity());  // one half only
   const RefinementState second = r.refine(0.0);
@@ -135,7 +117,7 @@ struct ProgressiveThrowingSink final : ProgressSink {
 };
 
 TEST(ProgressiveRender, ACancelledPassLeavesTheStateAsItWas) {
-  ProgressiveRender r(progressive_sky(), progressive_gold(), progressive_settings(16, 8));
+  ProgressiveRender r(test::sky_scene(), progressive_gold(), progressive_settings(16, 8));
   r.refine(0.0);
   const Image before = r.image();
   const RefinementState state = r.state();
@@ -149,13 +131,13 @@ TEST(ProgressiveRender, ACancelledPassLeavesTheStateAsItWas) {
 TEST(ProgressiveRender, InvalidSettingsAreRefused) {
   ProgressiveSettings s = progressive_settings(16, 8);
   s.limits.target_error = 0;
-  EXPECT_THROW(ProgressiveRender(progressive_sky(), progressive_gold(), s), Error);
+  EXPECT_THROW(ProgressiveRender(test::sky_scene(), progressive_gold(), s), Error);
   s = progressive_settings(16, 64);
   s.limits.max_spp = 32;
-  EXPECT_THROW(ProgressiveRender(progressive_sky(), progressive_gold(), s), Error);
+  EXPECT_THROW(ProgressiveRender(test::sky_scene(), progressive_gold(), s), Error);
   s = progressive_settings(16, 8);
   s.limits.max_pass_spp = 0;
-  EXPECT_THROW(ProgressiveRender(progressive_sky(), progressive_gold(), s), Error);
+  EXPECT_THROW(ProgressiveRender(test::sky_scene(), progressive_gold(), s), Error);
 }
 
 }  // namespace
