@@ -152,6 +152,7 @@ TEST(AdaptiveSampling, ARenderTakesTheSharesAsItsPixelsSampleCounts) {
   EXPECT_THROW(render(scene, grey, s), Error);
 }
 
+/// A glossy conductor: under test::sky_scene() its noise sits in the sun's highlight.
 std::shared_ptr<const Material> adaptive_gold() {
   return std::make_shared<FunctionMaterial>(
       [g = GgxConductor{Rgb(0.95, 0.64, 0.54), 0.05}](const Vec3& wi, const Vec3& wo) { return g(wi, wo); });
