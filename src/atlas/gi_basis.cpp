@@ -187,53 +187,64 @@ std::string gi_basis_key(const Model& model, const pathtrace::World& world, cons
 }
 
 GiBasis build_gi_basis(const Model& model, const pathtrace::World& world, const pathtrace::TraceSettings& settings,
-                       const GiBasisOptions& options, ProgressSink& progress) {
+                       const GiBasisOptions& options, ProgressSink& progress, Communicator& comm) {
   settings.validate();
   if (world.measured_object() < 0) throw Error("scene '" + world.spec().name + "' has no measured object");
   if (options.batch <= 0) throw Error("batch must be positive");
   const std::string key = gi_basis_key(model, world, settings);
   const int k_count = model.count() + 1, w = settings.width, h = settings.height;
   const bool cached = !options.cache.empty();
-  if (cached) std::filesystem::create_directories(options.cache);
+  // This rank traces a contiguous share of the batches, materials [mine_first, mine_last) (rank 0
+  // the first: the mean, and P): the paths do not depend on the batch, so its images are those of
+  // a single process, and the batches (each a full set of paths) are not cut into more.
+  const int batches = (k_count + options.batch - 1) / options.batch;
+  const auto share = share_of(static_cast<std::size_t>(batches), comm.rank(), comm.size());
+  const int mine_first = std::min(k_count, static_cast<int>(share.first) * options.batch);
+  const int mine_last = std::min(k_count, static_cast<int>(share.second) * options.batch);
   Image p;
-  std::vector<Image> linear(static_cast<std::size_t>(k_count)), full(linear.size());
-  bool have_p = cached && read_images(options.cache / "p.safetensors", key, w, h, {{"p", &p}});
+  std::vector<Image> linear(static_cast<std::size_t>(mine_last - mine_first)), full(linear.size());
+  bool have_p = !comm.is_root();  // only rank 0 keeps P
   int reused = 0;
-  for (int first = 0; first < k_count; first += options.batch) {
-    const int last = std::min(k_count, first + options.batch);
-    bool all_cached = cached;
-    for (int k = first; k < last && all_cached; ++k)
-      all_cached = read_images(material_file(options.cache, k), key, w, h,
-                               {{"linear", &linear[static_cast<std::size_t>(k)]}, {"full", &full[static_cast<std::size_t>(k)]}});
-    if (all_cached) {
-      reused += last - first;
-      continue;
+  run_collectively(comm, [&] {
+    if (cached) std::filesystem::create_directories(options.cache);
+    if (!have_p) have_p = cached && read_images(options.cache / "p.safetensors", key, w, h, {{"p", &p}});
+    for (int first = mine_first; first < mine_last; first += options.batch) {
+      const int last = std::min(mine_last, first + options.batch);
+      auto at = [&](int k) { return static_cast<std::size_t>(k - mine_first); };
+      bool all_cached = cached;
+      for (int k = first; k < last && all_cached; ++k)
+        all_cached = read_images(material_file(options.cache, k), key, w, h, {{"linear", &linear[at(k)]}, {"full", &full[at(k)]}});
+      if (all_cached) {
+        reused += last - first;
+        continue;
+      }
+      progress.message("tracing materials " + std::to_string(first) + ".." + std::to_string(last - 1) + " of " +
+                       std::to_string(k_count - 1) + " (0: the mean)");
+      const ModelBank bank(model, first, last);
+      pathtrace::TraceImages r = pathtrace::trace(world, &bank, settings, progress);
+      for (int k = first; k < last; ++k) {
+        const std::size_t j = static_cast<std::size_t>(k - first);
+        linear[at(k)] = r.once[j];
+        full[at(k)] = r.once[j];
+        for (std::size_t v = 0; v < r.more[j].rgb.size(); ++v) full[at(k)].rgb[v] += r.more[j].rgb[v];
+        require_finite_images(model, k, linear[at(k)], full[at(k)]);
+        if (cached) write_images(material_file(options.cache, k), key, {{"linear", &linear[at(k)]}, {"full", &full[at(k)]}});
+      }
+      if (!have_p) {
+        p = std::move(r.p);
+        have_p = true;
+        if (cached) write_images(options.cache / "p.safetensors", key, {{"p", &p}});
+      }
     }
-    progress.message("tracing materials " + std::to_string(first) + ".." + std::to_string(last - 1) + " of " +
-                     std::to_string(k_count - 1) + " (0: the mean)");
-    const ModelBank bank(model, first, last);
-    pathtrace::TraceImages r = pathtrace::trace(world, &bank, settings, progress);
-    for (int k = first; k < last; ++k) {
-      const std::size_t j = static_cast<std::size_t>(k - first);
-      linear[static_cast<std::size_t>(k)] = r.once[j];
-      full[static_cast<std::size_t>(k)] = r.once[j];
-      for (std::size_t v = 0; v < r.more[j].rgb.size(); ++v) full[static_cast<std::size_t>(k)].rgb[v] += r.more[j].rgb[v];
-      require_finite_images(model, k, linear[static_cast<std::size_t>(k)], full[static_cast<std::size_t>(k)]);
-      if (cached)
-        write_images(material_file(options.cache, k), key,
-                     {{"linear", &linear[static_cast<std::size_t>(k)]}, {"full", &full[static_cast<std::size_t>(k)]}});
-    }
-    if (!have_p) {
-      p = std::move(r.p);
-      have_p = true;
+    if (!have_p) {  // every material came from the cache but P did not
+      const ModelBank bank(model, 0, 1);
+      p = pathtrace::trace(world, &bank, settings, progress).p;
       if (cached) write_images(options.cache / "p.safetensors", key, {{"p", &p}});
     }
-  }
-  if (!have_p) {  // every material came from the cache but P did not
-    const ModelBank bank(model, 0, 1);
-    p = pathtrace::trace(world, &bank, settings, progress).p;
-    if (cached) write_images(options.cache / "p.safetensors", key, {{"p", &p}});
-  }
+  });
+  linear = gather_images(std::move(linear), comm);
+  full = gather_images(std::move(full), comm);
+  if (!comm.is_root()) return {};
   if (reused > 0) progress.message("reused " + std::to_string(reused) + " cached material images");
   std::map<std::string, std::string> meta;
   meta["key"] = key;

@@ -17,6 +17,7 @@
 
 #include <Eigen/Core>
 
+#include "core/communicator.h"
 #include "core/progress.h"
 #include "formats/image_io.h"
 #include "manifold/model.h"
@@ -82,8 +83,12 @@ std::string gi_basis_key(const Model& model, const pathtrace::World& world, cons
 
 /// Traces the basis in passes of `batch` materials, each material's images cached in
 /// options.cache (reused when present with the same key: an interrupted build resumes).
+/// Split across processes (`mpirun -np P matlas basis --scene floor`): every rank traces a
+/// contiguous share of the n + 1 materials (the same paths: its images are the single process's)
+/// and caches them, rank 0 also P, and rank 0 gathers the basis; the other ranks return an empty one.
 GiBasis build_gi_basis(const Model& model, const pathtrace::World& world, const pathtrace::TraceSettings& settings,
-                       const GiBasisOptions& options, ProgressSink& progress = null_progress());
+                       const GiBasisOptions& options, ProgressSink& progress = null_progress(),
+                       Communicator& comm = serial_communicator());
 
 /// The basis at `path` when it exists with the key of these settings (gi_basis_key), else traced
 /// by build_gi_basis with its cache in PATH.cache/ (resumable) and saved at `path`. A file at

@@ -1,5 +1,6 @@
 #include "atlas/model_basis.h"
 
+#include <algorithm>
 #include <map>
 #include <vector>
 
@@ -41,11 +42,61 @@ std::string sampling_record(const render::RenderSettings& settings) {
       .dump();
 }
 
+std::vector<Image> gather_images(std::vector<Image> mine, Communicator& comm) {
+  if (comm.size() == 1) return mine;
+  const int width = mine.empty() ? 0 : mine.front().width, height = mine.empty() ? 0 : mine.front().height;
+  std::vector<std::vector<float>> rgb;
+  for (Image& image : mine) rgb.push_back(std::move(image.rgb));
+  std::vector<Image> all;
+  for (auto& pixels : gather_arrays(comm, rgb)) {
+    Image& image = all.emplace_back();
+    image.width = width;  // rank 0 has images whenever any rank has: it holds the first share
+    image.height = height;
+    image.rgb = std::move(pixels);
+    MATLAS_CHECK_EQ(image.rgb.size(), image.pixel_count() * 3);
+  }
+  return all;
+}
+
+std::vector<Image> gather_rows(std::vector<Image> mine, int height, Communicator& comm) {
+  if (comm.size() == 1) return mine;
+  const std::size_t count = mine.size();
+  const int width = mine.empty() ? 0 : mine.front().width;
+  std::vector<std::vector<float>> rgb;
+  for (Image& image : mine) rgb.push_back(std::move(image.rgb));
+  std::vector<std::vector<float>> all = gather_arrays(comm, rgb);
+  if (!comm.is_root()) return {};
+  const auto ranks = static_cast<std::size_t>(comm.size());
+  MATLAS_CHECK_EQ(all.size(), count * ranks);  // every rank renders every image
+  std::vector<Image> images(count, Image(width, height));
+  const std::size_t row_floats = static_cast<std::size_t>(width) * 3;
+  for (std::size_t r = 0; r < ranks; ++r) {
+    const render::RowShare share{static_cast<int>(r), comm.size()};
+    for (std::size_t k = 0; k < count; ++k) {
+      const std::vector<float>& part = all[r * count + k];
+      MATLAS_CHECK_EQ(part.size(), static_cast<std::size_t>(share.rows(height)) * row_floats);
+      for (int j = 0; j < share.rows(height); ++j)
+        std::copy_n(part.data() + static_cast<std::size_t>(j) * row_floats, row_floats, images[k].pixel(0, share.row(j)));
+    }
+  }
+  return images;
+}
+
 render::ImageBasis render_basis(const Model& model, const render::Scene& scene,
-                                const render::RenderSettings& requested, ProgressSink& progress) {
-  const ModelBank bank(model);
+                                const render::RenderSettings& requested, ProgressSink& progress, Communicator& comm) {
   const render::RenderSettings settings = model_render_settings(model, requested);
-  std::vector<Image> images = render::render_bank(scene, bank, settings, progress);
+  // Every rank renders its share of the rows (every P-th) for all n + 1 materials: a pixel's
+  // samples depend on the pixel only, so the shares' rows are the single process's. (A share of
+  // the materials would not divide the work: a camera sample's cost is mostly its path and its
+  // lookups, not the number of materials evaluated with it.)
+  const render::RowShare share{comm.rank(), comm.size()};
+  std::vector<Image> images;
+  run_collectively(comm, [&] {
+    const ModelBank bank(model);
+    images = render::render_bank(scene, bank, settings, progress, nullptr, share);
+  });
+  images = gather_rows(std::move(images), settings.height, comm);
+  if (!comm.is_root()) return {};
   MATLAS_CHECK_EQ(images.size(), static_cast<std::size_t>(model.count()) + 1);  // the mean, then the n materials
   Image mean = std::move(images.front());
   images.erase(images.begin());

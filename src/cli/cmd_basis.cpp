@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "atlas/gi_basis.h"
@@ -15,6 +16,7 @@
 #include "cli/commands.h"
 #include "cli/print.h"
 #include "cli/render_options.h"
+#include "cli/world.h"
 #include "core/error.h"
 #include "core/file_io.h"
 #include "manifold/model.h"
@@ -42,35 +44,45 @@ void run_image_basis(const BasisArgs& a, const Io& io) {
                  "the previews' scene (a GI scene's basis: --scene floor, box or a .json file)");
   if (a.precision != "f16" && a.precision != "f32") throw Error("--precision must be f16 or f32");
   refuse_output_among_inputs(a.output, a.options.input_files({a.model}));
-  const Model model = Model::open(a.model);
-  const render::Scene scene(a.options.scene_description());
-  TerminalProgress progress;
-  render::ImageBasis basis = atlas::render_basis(model, scene, a.options.settings(), progress);
-  print(io.out, "rendered %d material images (%dx%d, %d spp); object covers %.1f%% of the pixels\n", basis.count(),
-        basis.width(), basis.height(), a.options.spp, 100.0 * basis.active_fraction());
-  if (a.rank != "none") {
-    int max_rank = 0;
-    double tolerance = a.tolerance;
-    if (a.rank == "full") tolerance = 0.0;
-    else if (a.rank != "auto") {
-      try {
-        max_rank = std::stoi(a.rank);
-      } catch (const std::exception&) {
-        throw Error("--rank '" + a.rank + "': expected none, auto, full or a number");
+  // Under mpirun every rank renders its share of the materials; rank 0 gathers them and writes.
+  Communicator& comm = world();
+  std::optional<Model> model;
+  std::optional<render::Scene> scene;
+  run_collectively(comm, [&] {
+    model.emplace(Model::open(a.model));
+    scene.emplace(a.options.scene_description());
+  });
+  TerminalProgress progress(comm.is_root());
+  render::ImageBasis basis = atlas::render_basis(*model, *scene, a.options.settings(), progress, comm);
+  // Rank 0 alone finishes; the others wait for its outcome (a failure ends every rank with it).
+  run_collectively(comm, [&] {
+    if (!comm.is_root()) return;
+    print(io.out, "rendered %d material images (%dx%d, %d spp); object covers %.1f%% of the pixels\n", basis.count(),
+          basis.width(), basis.height(), a.options.spp, 100.0 * basis.active_fraction());
+    if (a.rank != "none") {
+      int max_rank = 0;
+      double tolerance = a.tolerance;
+      if (a.rank == "full") tolerance = 0.0;
+      else if (a.rank != "auto") {
+        try {
+          max_rank = std::stoi(a.rank);
+        } catch (const std::exception&) {
+          throw Error("--rank '" + a.rank + "': expected none, auto, full or a number");
+        }
+        if (max_rank <= 0) throw Error("--rank must be positive");
+        tolerance = 0.0;
       }
-      if (max_rank <= 0) throw Error("--rank must be positive");
-      tolerance = 0.0;
+      const render::LowRankReport r = basis.compress(tolerance, max_rank);
+      print(io.out, "low-rank form: rank %d of %d, relative error %.3g (centred), %.3g (images), max abs %.3g\n", r.rank,
+            basis.count(), r.relative_error, r.image_relative_error, r.max_abs_error);
     }
-    const render::LowRankReport r = basis.compress(tolerance, max_rank);
-    print(io.out, "low-rank form: rank %d of %d, relative error %.3g (centred), %.3g (images), max abs %.3g\n", r.rank,
-          basis.count(), r.relative_error, r.image_relative_error, r.max_abs_error);
-  }
-  if (a.precision == "f16") {
-    render::ImageBasis copy = basis;
-    print(io.out, "float16 storage: relative error %.3g\n", copy.convert_to_half());
-  }
-  basis.save(a.output, a.precision == "f16" ? render::BasisPrecision::f16 : render::BasisPrecision::f32);
-  print(io.out, "wrote %s\n", a.output.c_str());
+    if (a.precision == "f16") {
+      render::ImageBasis copy = basis;
+      print(io.out, "float16 storage: relative error %.3g\n", copy.convert_to_half());
+    }
+    basis.save(a.output, a.precision == "f16" ? render::BasisPrecision::f16 : render::BasisPrecision::f32);
+    print(io.out, "wrote %s\n", a.output.c_str());
+  });
 }
 
 /// A GI scene: a GI basis, traced in passes of --batch materials, each cached (a rerun resumes).
@@ -78,18 +90,29 @@ void run_gi_basis(const BasisArgs& a, const Io& io) {
   refuse_options(a.given, kPreviewSceneOptions,
                  "a GI scene (--scene " + a.options.scene + ": it says its own lights, camera and environment)");
   refuse_options(a.given, std::array{"--precision", "--rank", "--tolerance"}, "a GI basis (float32, no low-rank form)");
-  const Model model = Model::open(a.model);
-  const pathtrace::World world(pathtrace::load_scene(a.options.scene, a.path.object));
-  std::vector<std::filesystem::path> inputs{a.model, a.options.scene, a.path.object, world.spec().environment.map};
-  for (const auto& object : world.spec().objects) inputs.emplace_back(object.mesh);
-  refuse_output_among_inputs(a.output, inputs);
+  // Under mpirun every rank traces its share of the materials (each caching its own); rank 0
+  // gathers them and writes.
+  Communicator& comm = world();
+  std::optional<Model> model;
+  std::optional<pathtrace::World> scene;
+  run_collectively(comm, [&] {
+    model.emplace(Model::open(a.model));
+    scene.emplace(pathtrace::load_scene(a.options.scene, a.path.object));
+    std::vector<std::filesystem::path> inputs{a.model, a.options.scene, a.path.object, scene->spec().environment.map};
+    for (const auto& object : scene->spec().objects) inputs.emplace_back(object.mesh);
+    refuse_output_among_inputs(a.output, inputs);
+  });
   atlas::GiBasisOptions options;
   options.batch = a.batch;
   options.cache = a.cache.empty() ? std::filesystem::path(a.output + ".cache") : std::filesystem::path(a.cache);
-  TerminalProgress progress;
+  TerminalProgress progress(comm.is_root());
   const auto start = std::chrono::steady_clock::now();
-  const atlas::GiBasis basis = atlas::build_gi_basis(model, world, a.path.settings(a.options, &model), options, progress);
-  basis.save(a.output);
+  const atlas::GiBasis basis =
+      atlas::build_gi_basis(*model, *scene, a.path.settings(a.options, &*model), options, progress, comm);
+  run_collectively(comm, [&] {
+    if (comm.is_root()) basis.save(a.output);
+  });
+  if (!comm.is_root()) return;
   print(io.out, "basis of %d material images + P (%dx%d, %d spp) in %.1f s; cache %s\nwrote %s\n", basis.count() + 1,
         basis.width(), basis.height(), a.options.spp,
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), options.cache.c_str(),

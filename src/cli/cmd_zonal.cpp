@@ -3,12 +3,14 @@
 #include <chrono>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "atlas/model_zonal.h"
 #include "cli/commands.h"
 #include "cli/print.h"
+#include "cli/world.h"
 #include "core/error.h"
 #include "core/file_io.h"
 #include "core/parallel.h"
@@ -31,36 +33,40 @@ bool is_model(const std::vector<std::string>& inputs) {
 }
 
 void run_zonal(const ZonalArgs& a, const Io& io) {
+  // Under mpirun every rank projects its share of the tables; rank 0 gathers them and writes.
+  Communicator& comm = world();
   const DType storage = a.storage == "f16" ? DType::F16 : DType::F32;
   const auto start = std::chrono::steady_clock::now();
-  const zonal::ZonalProjector projector(a.settings);
   zonal::CoefficientSet set;
-  set.settings = a.settings;
   std::vector<std::filesystem::path> paths(a.inputs.begin(), a.inputs.end());
   refuse_output_among_inputs(a.output, paths);
+  TerminalProgress progress(comm.is_root());
   if (is_model(a.inputs)) {
-    set = atlas::model_coefficients(Model::open(a.inputs[0]), a.settings);
+    std::optional<Model> model;
+    run_collectively(comm, [&] { model.emplace(Model::open(a.inputs[0])); });
+    set = atlas::model_coefficients(*model, a.settings, comm);
   } else {
-    TerminalProgress progress;
-    const MaterialSet materials = MaterialSet::open(paths, progress);
-    std::vector<std::filesystem::path> files;  // the files of the folders given
-    for (std::size_t i = 0; i < materials.size(); ++i) files.push_back(materials.file(i).path());
-    refuse_output_among_inputs(a.output, files);
-    set.names = materials.names();
-    set.materials.resize(materials.size());
-    for (std::size_t i = 0; i < materials.size(); ++i) {
-      const MerlFile& file = materials.file(i);
-      BrdfTable table(file.dims(), ValueBuffer::Uninitialized{});
-      file.read_values(0, file.value_count(), table.stored().data());
-      set.materials[i] = projector.project(table);
-    }
+    std::optional<MaterialSet> materials;
+    run_collectively(comm, [&] {
+      materials.emplace(MaterialSet::open(paths, progress));
+      std::vector<std::filesystem::path> files;  // the files of the folders given
+      for (std::size_t i = 0; i < materials->size(); ++i) files.push_back(materials->file(i).path());
+      refuse_output_among_inputs(a.output, files);
+    });
+    set = atlas::database_coefficients(*materials, a.settings, comm, progress);
   }
-  const double error = zonal::write_coefficients(a.output, set, storage);
+  double error = 0;
+  run_collectively(comm, [&] {
+    if (comm.is_root()) error = zonal::write_coefficients(a.output, set, storage);
+  });
+  if (!comm.is_root()) return;
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const std::size_t coefficients = static_cast<std::size_t>(a.settings.bands + 1) * static_cast<std::size_t>(a.settings.bands + 2) / 2;
   print(io.out, "wrote %s: %zu materials, L = %d (%zu coefficients) x %d view angles, %s (storage error %.2e of the "
-              "largest coefficient), %.2f s\n",
-              a.output.c_str(), set.materials.size(), a.settings.bands, projector.basis().size(),
-              a.settings.theta_o_count, a.storage.c_str(), error, seconds);
+              "largest coefficient), %.2f s%s\n",
+              a.output.c_str(), set.materials.size(), a.settings.bands, coefficients, a.settings.theta_o_count,
+              a.storage.c_str(), error, seconds,
+              comm.size() > 1 ? (", " + std::to_string(comm.size()) + " MPI ranks").c_str() : "");
 }
 
 void add_zonal_command(CLI::App& app, const Io& io) {

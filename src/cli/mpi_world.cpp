@@ -37,6 +37,11 @@ std::string subcommand(const std::vector<std::string>& args) {
   return {};
 }
 
+/// The commands that split their work across ranks (the others would repeat it on every rank).
+bool splits_across_ranks(const std::string& command) {
+  return command == "build" || command == "zonal" || command == "basis" || command == "gi-basis";
+}
+
 }  // namespace
 
 bool launched_by_mpi() {
@@ -60,10 +65,10 @@ MpiWorld::~MpiWorld() {
 
 int MpiWorld::run_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
   int code = 0;
-  if (size_ > 1 && subcommand(args) != "build") {
+  if (size_ > 1 && !splits_across_ranks(subcommand(args))) {
     if (rank_ == 0)
-      print(err, "matlas: error: only `matlas build` splits its work across MPI ranks; run `matlas %s` "
-                 "without mpirun (or with -np 1)\n", subcommand(args).c_str());
+      print(err, "matlas: error: only `matlas build`, `zonal` and `basis` split their work across MPI ranks; run "
+                 "`matlas %s` without mpirun (or with -np 1)\n", subcommand(args).c_str());
     code = 2;
     failure_agreed_ = true;  // every rank comes to the same conclusion
   } else {

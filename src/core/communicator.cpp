@@ -1,6 +1,7 @@
 #include "core/communicator.h"
 
 #include <algorithm>
+#include <cstring>
 #include <exception>
 
 #include "core/check.h"
@@ -41,6 +42,42 @@ void run_collectively(Communicator& comm, const std::function<void()>& step) {
   const std::string first = comm.first_error(message);
   if (failure) std::rethrow_exception(failure);
   if (!first.empty()) throw Error(first);
+}
+
+std::vector<std::vector<std::byte>> gather_arrays(Communicator& comm, const std::vector<std::vector<std::byte>>& mine) {
+  if (comm.size() == 1) return mine;
+  // Each round, every rank sends its next array after an 8-byte length (kNone when it has no
+  // more), so rank 0 can cut the concatenation into the ranks' pieces.
+  constexpr std::uint64_t kNone = ~std::uint64_t{0};
+  std::uint64_t rounds = 0;
+  for (const std::uint64_t count : comm.all_gather(mine.size())) rounds = std::max(rounds, count);
+  std::vector<std::vector<std::vector<std::byte>>> per_rank(comm.is_root() ? static_cast<std::size_t>(comm.size()) : 0);
+  std::vector<std::byte> message;
+  for (std::size_t round = 0; round < rounds; ++round) {
+    const bool have = round < mine.size();
+    const std::uint64_t length = have ? mine[round].size() : kNone;
+    message.resize(sizeof length + (have ? mine[round].size() : 0));
+    std::memcpy(message.data(), &length, sizeof length);
+    if (have && !mine[round].empty()) std::memcpy(message.data() + sizeof length, mine[round].data(), mine[round].size());
+    const std::vector<std::byte> all = comm.gather(message);
+    if (!comm.is_root()) continue;
+    std::size_t at = 0;
+    for (auto& arrays : per_rank) {
+      MATLAS_CHECK_LE(at + sizeof(std::uint64_t), all.size());  // every rank sent its length
+      std::uint64_t n = 0;
+      std::memcpy(&n, all.data() + at, sizeof n);
+      at += sizeof n;
+      if (n == kNone) continue;
+      MATLAS_CHECK_LE(at + n, all.size());
+      arrays.emplace_back(all.begin() + static_cast<std::ptrdiff_t>(at), all.begin() + static_cast<std::ptrdiff_t>(at + n));
+      at += n;
+    }
+    MATLAS_CHECK_EQ(at, all.size());
+  }
+  std::vector<std::vector<std::byte>> out;
+  for (auto& arrays : per_rank)
+    for (auto& a : arrays) out.push_back(std::move(a));
+  return out;
 }
 
 std::pair<std::size_t, std::size_t> share_of(std::size_t items, int part, int parts) {

@@ -10,9 +10,11 @@
 // where a size is given.
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <functional>
 #include <span>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -47,6 +49,30 @@ Communicator& serial_communicator();
 /// throws (this rank's own exception where it failed, else a matlas::Error with the lowest
 /// failing rank's message), so that no rank is left waiting in a later collective.
 void run_collectively(Communicator& comm, const std::function<void()>& step);
+
+/// Every rank's byte arrays on rank 0, in rank order (rank 0's first, then rank 1's, ...); empty
+/// on the other ranks. Gathered in rounds of one array per rank, so a message never holds more
+/// than one array of each rank (a thousand images gather without a multi-gigabyte message).
+/// Collective; ranks may hold different numbers of arrays.
+std::vector<std::vector<std::byte>> gather_arrays(Communicator& comm, const std::vector<std::vector<std::byte>>& mine);
+
+/// The same for arrays of a trivially copyable type.
+template <class T>
+std::vector<std::vector<T>> gather_arrays(Communicator& comm, const std::vector<std::vector<T>>& mine) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  std::vector<std::vector<std::byte>> bytes;
+  bytes.reserve(mine.size());
+  for (const auto& a : mine) {
+    const auto b = std::as_bytes(std::span<const T>(a));
+    bytes.emplace_back(b.begin(), b.end());
+  }
+  std::vector<std::vector<T>> all;
+  for (const auto& b : gather_arrays(comm, bytes)) {
+    std::vector<T>& a = all.emplace_back(b.size() / sizeof(T));
+    if (!b.empty()) std::memcpy(a.data(), b.data(), b.size());
+  }
+  return all;
+}
 
 /// Rank `part`'s contiguous share [first, last) of `items` items split into `parts` nearly equal
 /// shares (the first shares take one more item when they do not divide evenly).

@@ -175,13 +175,14 @@ Rgb trace_sample(const Scene& scene, const SamplingMixture& mix, const Draw& dra
 /// cost very different amounts: sky, ground, object), with progress.
 template <class PixelBody>
 void for_each_pixel(const RenderSettings& settings, ProgressSink& progress, const std::string& label,
-                    PixelBody&& body) {
+                    PixelBody&& body, RowShare share = {}) {
   std::atomic<std::uint64_t> rows_done{0};
   std::mutex progress_mutex;
-  const auto rows = static_cast<std::uint64_t>(settings.height);
+  const auto rows = static_cast<std::uint64_t>(share.rows(settings.height));
   progress.update(label, 0, rows);
-  parallel_for_each(0, static_cast<std::size_t>(settings.height), [&](std::size_t y) {
-    for (int x = 0; x < settings.width; ++x) body(x, static_cast<int>(y));
+  parallel_for_each(0, static_cast<std::size_t>(rows), [&](std::size_t j) {
+    const int y = share.row(static_cast<int>(j));
+    for (int x = 0; x < settings.width; ++x) body(x, y);
     const std::uint64_t done = ++rows_done;
     std::lock_guard lock(progress_mutex);
     progress.update(label, done, rows);
@@ -403,14 +404,17 @@ Image render(const Scene& scene, const Material& material, const RenderSettings&
 }
 
 std::vector<Image> render_bank(const Scene& scene, const MaterialBank& bank, const RenderSettings& settings,
-                               ProgressSink& progress, RenderStats* stats) {
+                               ProgressSink& progress, RenderStats* stats, RowShare share) {
   settings.validate();
+  MATLAS_CHECK(share.parts >= 1 && share.part >= 0 && share.part < share.parts, "a share of the rows");
   const auto start = std::chrono::steady_clock::now();
   const Sampling sampling(scene, settings);
   const int k_count = bank.count();
   if (k_count <= 0) throw Error("material bank is empty");
-  std::vector<Image> images(static_cast<std::size_t>(k_count), Image(settings.width, settings.height));
-  MATLAS_CHECK(sampling.counts.empty() || sampling.counts.size() == images[0].pixel_count(), "a sample count per pixel");
+  std::vector<Image> images(static_cast<std::size_t>(k_count), Image(settings.width, share.rows(settings.height)));
+  MATLAS_CHECK(sampling.counts.empty() ||
+                   sampling.counts.size() == static_cast<std::size_t>(settings.width) * static_cast<std::size_t>(settings.height),
+               "a sample count per pixel");
   std::atomic<std::uint64_t> taps{0};
   const std::size_t values = 3 * static_cast<std::size_t>(k_count);
   for_each_pixel(settings, progress, "render basis", [&](int x, int y) {
@@ -429,13 +433,14 @@ std::vector<Image> render_bank(const Scene& scene, const MaterialBank& bank, con
                                      },
                                      local_taps);
     const double inv = 1.0 / static_cast<double>(sampling.count(x, y));
+    const int row = (y - share.part) / share.parts;  // the share's row of image row y
     for (int k = 0; k < k_count; ++k) {
-      float* out = images[static_cast<std::size_t>(k)].pixel(x, y);
+      float* out = images[static_cast<std::size_t>(k)].pixel(x, row);
       for (int c = 0; c < 3; ++c)
         out[c] = static_cast<float>((constant[c] + acc[3 * static_cast<std::size_t>(k) + static_cast<std::size_t>(c)]) * inv);
     }
     taps += local_taps;
-  });
+  }, share);
   record_stats(stats, sampling, taps.load(), start);
   return images;
 }

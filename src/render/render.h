@@ -106,10 +106,24 @@ struct Control {
 Image render(const Scene& scene, const Material& material, const RenderSettings& settings,
              ProgressSink& progress = null_progress(), RenderStats* stats = nullptr, const Control& control = {});
 
+/// The rows of an image that a render computes: every `parts`-th row from row `part`, so that a
+/// render split across processes gives each a share of sky, object and ground alike (a band of
+/// rows would give one process the sky and another the object). The default is every row.
+struct RowShare {
+  int part = 0, parts = 1;
+  /// The number of rows of an image of `height` rows in this share.
+  int rows(int height) const { return height > part ? (height - part + parts - 1) / parts : 0; }
+  /// The image row of the share's row j.
+  int row(int j) const { return part + j * parts; }
+};
+
 /// Renders every material of a bank with the same samples: images[k] for material k. Equal to
-/// calling render() for each material (to rounding), at a fraction of the cost.
+/// calling render() for each material (to rounding), at a fraction of the cost. With a share of
+/// the rows, images of share.rows(height) rows: row j is image row share.row(j), the same pixels
+/// as the whole render's (every pixel's samples depend on the pixel only).
 std::vector<Image> render_bank(const Scene& scene, const MaterialBank& bank, const RenderSettings& settings,
-                               ProgressSink& progress = null_progress(), RenderStats* stats = nullptr);
+                               ProgressSink& progress = null_progress(), RenderStats* stats = nullptr,
+                               RowShare share = {});
 
 /// Per pixel (row-major), the number of camera samples a render takes (spp everywhere unless
 /// RenderSettings::grazing_samples > 1 or pixel_samples is set).

@@ -198,7 +198,114 @@ TEST_F(MpiBuild, ABadFileInOneRanksShareFailsEveryRankNamingIt) {
 TEST_F(MpiBuild, OtherCommandsRefuseToRunOnSeveralRanks) {
   const Result r = mpirun(2, {"info", files_of(db())[0].string()});
   EXPECT_NE(r.code, 0) << r.out;
-  EXPECT_NE(r.out.find("only `matlas build` splits its work across MPI ranks"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("only `matlas build`, `zonal` and `basis` split their work across MPI ranks"), std::string::npos)
+      << r.out;
+}
+
+/// The single-process model of the database (built once per test that needs one).
+fs::path single_model(const fs::path& dir, const fs::path& db) {
+  const fs::path model = dir / "zonal-basis.matlas";
+  if (!fs::exists(model)) {
+    const Result r = matlas({"build", db.string(), "-o", model.string(), "--quiet", "--dim", "2"});
+    EXPECT_EQ(r.code, 0) << r.out;
+  }
+  return model;
+}
+
+/// max |a - b| and max |a| over two float32 tensors of the same shape.
+std::pair<double, double> float_difference(const SafetensorsFile& a, const SafetensorsFile& b, const std::string& name) {
+  const auto x = a.view<float>(name, DType::F32), y = b.view<float>(name, DType::F32);
+  EXPECT_EQ(a.find(name)->shape, b.find(name)->shape) << name;
+  double d = 0, m = 0;
+  for (std::size_t k = 0; k < std::min(x.size(), y.size()); ++k) {
+    d = std::max(d, std::abs(double{x[k]} - double{y[k]}));
+    m = std::max(m, std::abs(double{x[k]}));
+  }
+  return {d, m};
+}
+
+// `mpirun -np 2 matlas zonal`: each rank projects its share of the tables (a folder's files, or a
+// model's mean and materials); rank 0 writes the single process's file.
+TEST_F(MpiBuild, ZonalOnTwoRanksWritesTheSingleProcessCoefficients) {
+  const fs::path model = single_model(dir_->path(), db());
+  for (const fs::path& input : {db(), model}) {
+    const std::string stem = input == db() ? "zonal-db" : "zonal-model";
+    const fs::path single = dir_->path() / (stem + "-1.safetensors"), split = dir_->path() / (stem + "-2.safetensors");
+    const std::vector<std::string> flags{"--bands", "8", "--theta-o", "8"};
+    std::vector<std::string> args{"zonal", input.string(), "-o", single.string()};
+    args.insert(args.end(), flags.begin(), flags.end());
+    Result r = matlas(args);
+    ASSERT_EQ(r.code, 0) << r.out;
+    args[3] = split.string();
+    r = mpirun(2, args);
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("12 materials"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("2 MPI ranks"), std::string::npos) << r.out;
+    const SafetensorsFile a = SafetensorsFile::open(single), b = SafetensorsFile::open(split);
+    EXPECT_EQ(a.metadata().at("names"), b.metadata().at("names")) << stem;
+    EXPECT_EQ(a.find("coefficients")->shape, b.find("coefficients")->shape) << stem;
+    EXPECT_EQ(a.find("coefficients")->shape[0], 12) << stem;
+    // A folder's tables are projected one by one, as one process does: the same bytes. A model's
+    // share goes through the same blocked products on fewer columns: the same to rounding.
+    if (input == db()) {
+      EXPECT_TRUE(same_bytes(a, b, "coefficients"));
+      EXPECT_EQ(b.find("mean"), nullptr);
+    } else {
+      for (const char* name : {"coefficients", "mean"}) {
+        const auto [d, m] = float_difference(a, b, name);
+        EXPECT_GT(m, 0.0) << name;
+        EXPECT_LE(d, 1e-6 * m) << name;
+      }
+    }
+  }
+}
+
+TEST_F(MpiBuild, ABadFileInOneRanksShareOfZonalFailsEveryRankNamingIt) {
+  const fs::path bad = dir_->path() / "bad-zonal";
+  fs::create_directories(bad);
+  for (const fs::path& f : files_of(db())) fs::copy_file(f, bad / f.filename());
+  const fs::path broken = files_of(bad)[8];  // rank 1 projects files 6..11
+  poke_value(broken, 100, std::numeric_limits<double>::quiet_NaN());
+  const fs::path out = dir_->path() / "bad-zonal.safetensors";
+  const Result r = mpirun(2, {"zonal", bad.string(), "-o", out.string(), "--bands", "4", "--theta-o", "4"});
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find(broken.filename().string()), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("NaN"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("rank 1 of 2"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+// `mpirun -np 2 matlas basis`: the previews' image basis (every other row on each rank) and a GI
+// basis (a share of the batches on each rank) are the single process's, pixel for pixel.
+TEST_F(MpiBuild, BasisOnTwoRanksRendersTheSingleProcessImages) {
+  const fs::path model = single_model(dir_->path(), db());
+  struct Case {
+    std::string stem;
+    std::vector<std::string> flags;
+    std::vector<std::string> tensors;
+  };
+  const std::vector<Case> cases{
+      {"image-basis", {"--width", "24", "--height", "17", "--spp", "4", "--precision", "f32"}, {"mean", "images"}},
+      {"gi-basis", {"--scene", "floor", "--width", "20", "--height", "15", "--spp", "2", "--batch", "4"},
+       {"p", "linear", "full"}}};
+  for (const Case& c : cases) {
+    const fs::path single = dir_->path() / (c.stem + "-1.safetensors"), split = dir_->path() / (c.stem + "-2.safetensors");
+    std::vector<std::string> args{"basis", model.string(), "-o", single.string()};
+    args.insert(args.end(), c.flags.begin(), c.flags.end());
+    Result r = matlas(args);
+    ASSERT_EQ(r.code, 0) << r.out;
+    args[3] = split.string();
+    r = mpirun(2, args);
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("wrote " + split.string()), std::string::npos) << r.out;
+    const SafetensorsFile a = SafetensorsFile::open(single), b = SafetensorsFile::open(split);
+    for (const std::string& name : c.tensors) {
+      EXPECT_TRUE(same_bytes(a, b, name)) << c.stem << " " << name;
+      const auto [d, m] = float_difference(a, b, name);
+      EXPECT_GT(m, 0.0) << c.stem << " " << name;  // not two black images
+      EXPECT_EQ(d, 0.0) << c.stem << " " << name;
+    }
+  }
 }
 
 }  // namespace

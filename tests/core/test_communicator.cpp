@@ -1,5 +1,11 @@
 // The serial communicator (one process: every collective is the identity), the error agreement
-// built on it, and the split of a pass into ranks' shares.
+// built on it, the split of a pass into ranks' shares, and gather_arrays between ranks simulated
+// by threads.
+#include <barrier>
+#include <cstring>
+#include <functional>
+#include <thread>
+
 #include <gtest/gtest.h>
 
 #include "core/check.h"
@@ -52,6 +58,86 @@ TEST(ShareOf, ContiguousNearlyEqualSharesCoverEverything) {
       EXPECT_LE(largest - smallest, 1u);
     }
   EXPECT_THROW(share_of(10, 2, 2), InternalError);
+}
+
+/// Ranks as threads of one process: each collective puts every rank's part in a shared slot
+/// between two barriers (enough for all_gather and gather, the collectives gather_arrays uses).
+class ThreadRanks {
+public:
+  explicit ThreadRanks(int size) : size_(size), slots_(static_cast<std::size_t>(size)), barrier_(size) {}
+
+  class Rank final : public Communicator {
+  public:
+    Rank(ThreadRanks& ranks, int rank) : ranks_(ranks), rank_(rank) {}
+    int rank() const override { return rank_; }
+    int size() const override { return ranks_.size_; }
+    void sum(std::span<double>) override { ADD_FAILURE() << "not simulated"; }
+    std::vector<std::uint64_t> all_gather(std::uint64_t value) override {
+      std::vector<std::uint64_t> all;
+      for (const auto& bytes : exchange(std::as_bytes(std::span(&value, 1)))) {
+        std::uint64_t v = 0;
+        std::memcpy(&v, bytes.data(), sizeof v);
+        all.push_back(v);
+      }
+      return all;
+    }
+    std::vector<std::byte> gather(std::span<const std::byte> bytes) override {
+      std::vector<std::byte> all;
+      for (const auto& part : exchange(bytes)) all.insert(all.end(), part.begin(), part.end());
+      return rank_ == 0 ? all : std::vector<std::byte>{};
+    }
+    void broadcast(std::string&) override { ADD_FAILURE() << "not simulated"; }
+    std::string first_error(const std::string& message) override { return message; }
+
+  private:
+    /// Every rank's bytes, in rank order.
+    std::vector<std::vector<std::byte>> exchange(std::span<const std::byte> mine) {
+      ranks_.slots_[static_cast<std::size_t>(rank_)].assign(mine.begin(), mine.end());
+      ranks_.barrier_.arrive_and_wait();
+      std::vector<std::vector<std::byte>> all = ranks_.slots_;
+      ranks_.barrier_.arrive_and_wait();  // nobody overwrites a slot before everyone copied it
+      return all;
+    }
+    ThreadRanks& ranks_;
+    int rank_;
+  };
+
+  /// Runs body(communicator) on every rank at once.
+  void run(const std::function<void(Communicator&)>& body) {
+    std::vector<std::thread> threads;
+    for (int r = 0; r < size_; ++r)
+      threads.emplace_back([this, r, &body] {
+        Rank rank(*this, r);
+        body(rank);
+      });
+    for (auto& t : threads) t.join();
+  }
+
+private:
+  int size_;
+  std::vector<std::vector<std::byte>> slots_;
+  std::barrier<> barrier_;
+};
+
+TEST(GatherArrays, RankZeroGetsEveryRanksArraysInRankOrder) {
+  // Three ranks holding 2, 0 and 3 arrays of different lengths (one empty): rank 0 gets the five
+  // in rank order, the others nothing.
+  const std::vector<std::vector<std::vector<double>>> held{
+      {{1.0, 2.0}, {3.0}}, {}, {{}, {4.0, 5.0, 6.0}, {7.0}}};
+  std::vector<std::vector<std::vector<double>>> got(3);
+  ThreadRanks ranks(3);
+  ranks.run([&](Communicator& c) {
+    got[static_cast<std::size_t>(c.rank())] = gather_arrays(c, held[static_cast<std::size_t>(c.rank())]);
+  });
+  const std::vector<std::vector<double>> expected{{1.0, 2.0}, {3.0}, {}, {4.0, 5.0, 6.0}, {7.0}};
+  EXPECT_EQ(got[0], expected);
+  EXPECT_TRUE(got[1].empty());
+  EXPECT_TRUE(got[2].empty());
+}
+
+TEST(GatherArrays, OneProcessKeepsItsArrays) {
+  const std::vector<std::vector<float>> mine{{1.0f}, {}, {2.0f, 3.0f}};
+  EXPECT_EQ(gather_arrays(serial_communicator(), mine), mine);
 }
 
 }  // namespace

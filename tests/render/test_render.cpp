@@ -202,6 +202,38 @@ TEST(Render, IsLinearInTheBrdfAndDeterministic) {
   EXPECT_NE(render(scene, fa, other).rgb, ia.rgb);
 }
 
+TEST(Render, ABanksRowSharesAreTheWholeRendersRows) {
+  // Every third row from rows 0, 1 and 2 (a render split across three processes): each share's
+  // row j is the whole render's row part + 3 j, bit for bit, and the shares cover the image. A
+  // height that 3 does not divide gives the shares different row counts.
+  SceneDescription d;
+  d.ground = true;
+  d.lights.push_back({Vec3(0.5, 1.0, 0.3).normalized(), Rgb::Constant(1.5)});
+  const Scene scene(d, std::nullopt, Environment(test::synthetic_environment(), 40.0));
+  const GgxConductor a{Rgb(0.9, 0.8, 0.5), 0.15};
+  const Lambertian b{Rgb(0.2, 0.5, 0.7)};
+  const FunctionMaterial fa([&](const Vec3& wi, const Vec3& wo) { return a(wi, wo); });
+  const FunctionMaterial fb([&](const Vec3& wi, const Vec3& wo) { return b(wi, wo); });
+  const MaterialList bank({&fa, &fb});
+  RenderSettings settings = small(16, 4);
+  settings.height = 11;
+  const std::vector<Image> whole = render_bank(scene, bank, settings);
+  int covered = 0;
+  for (int part = 0; part < 3; ++part) {
+    const RowShare share{part, 3};
+    const std::vector<Image> mine = render_bank(scene, bank, settings, null_progress(), nullptr, share);
+    ASSERT_EQ(mine.size(), 2u);
+    EXPECT_EQ(mine[0].height, part < 2 ? 4 : 3);  // rows 0,3,6,9 / 1,4,7,10 / 2,5,8
+    for (std::size_t k = 0; k < 2; ++k)
+      for (int j = 0; j < mine[k].height; ++j)
+        for (int x = 0; x < settings.width; ++x)
+          for (int c = 0; c < 3; ++c)
+            EXPECT_EQ(mine[k].pixel(x, j)[c], whole[k].pixel(x, share.row(j))[c]) << part << " " << j << " " << x;
+    covered += mine[0].height;
+  }
+  EXPECT_EQ(covered, settings.height);
+}
+
 TEST(Render, RejectsBadSettings) {
   const Scene scene{SceneDescription{}};
   const FunctionMaterial black([](const Vec3&, const Vec3&) { return Rgb(Rgb::Zero()); });
