@@ -14,6 +14,7 @@
 
 #include "cli/commands.h"
 #include "cli/print.h"
+#include "cli/world.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/file_io.h"
@@ -147,11 +148,15 @@ void run_sparse_evaluation(const EvaluateArgs& a, const MaterialSet& set, Termin
 }
 
 void run_evaluate(const EvaluateArgs& a, const Io& io) {
-  TerminalProgress progress(!a.quiet);
+  // Under mpirun every rank opens the database and takes its share of the study (its Gram and
+  // distance passes read a share of every file, its fits a share of the jobs); rank 0 then runs
+  // the model checks and writes the report alone.
+  Communicator& comm = world();
+  const bool root = comm.is_root();
+  TerminalProgress progress(!a.quiet && root);
   const fs::path input = a.input, out = a.output;
-  std::error_code ec;
-  if (!fs::exists(input, ec)) throw file_error(input, "no such model or folder");
-  refuse_output_among_inputs(out, {input});  // the report folder: not the model, nor the database
+  if (a.sparse && comm.size() > 1)
+    throw Error("--sparse runs in one process: run it without mpirun (or with -np 1)");
 
   eval::StudyOptions so;
   so.dims = a.dims;
@@ -170,14 +175,19 @@ void run_evaluate(const EvaluateArgs& a, const Io& io) {
   std::unique_ptr<Model> model;
   TemporaryModel temporary;
   std::string notes;
-  if (fs::is_directory(input, ec)) {
-    set = std::make_unique<MaterialSet>(MaterialSet::open({input}));
-  } else {
-    model = std::make_unique<Model>(Model::open(input));
-    const std::vector<fs::path> sources = model_sources(*model);
-    if (!sources.empty()) set = std::make_unique<MaterialSet>(MaterialSet::open(sources));
-    else notes = "The model's source files are not available: only the checks of the model itself were run.";
-  }
+  run_collectively(comm, [&] {
+    std::error_code ec;
+    if (!fs::exists(input, ec)) throw file_error(input, "no such model or folder");
+    refuse_output_among_inputs(out, {input});  // the report folder: not the model, nor the database
+    if (fs::is_directory(input, ec)) {
+      set = std::make_unique<MaterialSet>(MaterialSet::open({input}));
+    } else {
+      model = std::make_unique<Model>(Model::open(input));
+      const std::vector<fs::path> sources = model_sources(*model);
+      if (!sources.empty()) set = std::make_unique<MaterialSet>(MaterialSet::open(sources));
+      else notes = "The model's source files are not available: only the checks of the model itself were run.";
+    }
+  });
 
   if (a.sparse) {
     if (!set) throw file_error(input, "--sparse needs the database: a folder, or a model whose source files are present");
@@ -188,43 +198,51 @@ void run_evaluate(const EvaluateArgs& a, const Io& io) {
   std::unique_ptr<eval::StudyResult> study;
   if (set && !a.skip_study) {
     so.materials = a.materials >= 0 ? a.materials : eval::automatic_held_out(set->size());
-    if (!a.quiet) print(io.err, "evaluating %zu materials: q in {%s}, %zu layouts, %zu left out in turn (--materials)\n", set->size(),
-                               [&] { std::string s; for (int q : so.dims) s += (s.empty() ? "" : ",") + std::to_string(q); return s; }().c_str(),
-                               so.layouts.size(), so.materials > 0 ? std::min<std::size_t>(static_cast<std::size_t>(so.materials), set->size()) : set->size());
-    study = std::make_unique<eval::StudyResult>(eval::run_layout_study(*set, so, progress));
-  }
-
-  std::unique_ptr<eval::ModelChecks> checks;
-  std::unique_ptr<eval::ManifoldQuality> quality;
-  if (!a.skip_checks) {
-    if (!model) {
-      // A folder: build a model the way `matlas build` does (recommended layout, q = --model-dim).
-      BuildOptions bo;
-      bo.dim = a.model_dim;
-      bo.interpolation = interpolation_from_string(a.interpolation);
-      if (study) bo.layout = study->recommended;
-      temporary.path = fs::temp_directory_path() / ("matlas-evaluate-" + std::to_string(::getpid()) + ".matlas");
-      progress.message("building a q=" + std::to_string(bo.dim) + " model (" + bo.layout.to_string() + ") for the model checks");
-      build_model(*set, bo, temporary.path, progress);
-      model = std::make_unique<Model>(Model::open(temporary.path));
-      notes += (notes.empty() ? "" : " ") + std::string("Items 1-4 were measured on a q=") + std::to_string(bo.dim) +
-               " model built from the folder with layout " + bo.layout.to_string() + ".";
+    if (!a.quiet && root) {
+      print(io.err, "evaluating %zu materials: q in {%s}, %zu layouts, %zu left out in turn (--materials)", set->size(),
+            [&] { std::string s; for (int q : so.dims) s += (s.empty() ? "" : ",") + std::to_string(q); return s; }().c_str(),
+            so.layouts.size(), so.materials > 0 ? std::min<std::size_t>(static_cast<std::size_t>(so.materials), set->size()) : set->size());
+      if (comm.size() > 1) print(io.err, " on %d MPI ranks", comm.size());
+      print(io.err, "\n");
     }
-    checks = std::make_unique<eval::ModelChecks>(eval::run_model_checks(*model, set.get(), co, progress));
-    quality = std::make_unique<eval::ManifoldQuality>(eval::assess_manifold(*model, {}, progress));
+    run_collectively(comm, [&] { study = std::make_unique<eval::StudyResult>(eval::run_layout_study(*set, so, progress, comm)); });
   }
 
-  eval::ReportInput ri;
-  ri.command = a.command_line;
-  ri.input = fs::absolute(input).string();
-  ri.study = study.get();
-  ri.checks = checks.get();
-  ri.quality = quality.get();
-  ri.notes = notes;
-  ri.repo_root = fs::current_path();
-  eval::write_report(out, ri);
-  print(io.out, "wrote %s\n", (out / "index.html").string().c_str());
-  print_summary(study.get(), checks.get(), quality.get(), io);
+  // Rank 0 alone from here; the others wait for its outcome (a failure ends every rank with it).
+  run_collectively(comm, [&] {
+    if (!root) return;
+    std::unique_ptr<eval::ModelChecks> checks;
+    std::unique_ptr<eval::ManifoldQuality> quality;
+    if (!a.skip_checks) {
+      if (!model) {
+        // A folder: build a model the way `matlas build` does (recommended layout, q = --model-dim).
+        BuildOptions bo;
+        bo.dim = a.model_dim;
+        bo.interpolation = interpolation_from_string(a.interpolation);
+        if (study) bo.layout = study->recommended;
+        temporary.path = fs::temp_directory_path() / ("matlas-evaluate-" + std::to_string(::getpid()) + ".matlas");
+        progress.message("building a q=" + std::to_string(bo.dim) + " model (" + bo.layout.to_string() + ") for the model checks");
+        build_model(*set, bo, temporary.path, progress);
+        model = std::make_unique<Model>(Model::open(temporary.path));
+        notes += (notes.empty() ? "" : " ") + std::string("Items 1-4 were measured on a q=") + std::to_string(bo.dim) +
+                 " model built from the folder with layout " + bo.layout.to_string() + ".";
+      }
+      checks = std::make_unique<eval::ModelChecks>(eval::run_model_checks(*model, set.get(), co, progress));
+      quality = std::make_unique<eval::ManifoldQuality>(eval::assess_manifold(*model, {}, progress));
+    }
+
+    eval::ReportInput ri;
+    ri.command = a.command_line;
+    ri.input = fs::absolute(input).string();
+    ri.study = study.get();
+    ri.checks = checks.get();
+    ri.quality = quality.get();
+    ri.notes = notes;
+    ri.repo_root = fs::current_path();
+    eval::write_report(out, ri);
+    print(io.out, "wrote %s\n", (out / "index.html").string().c_str());
+    print_summary(study.get(), checks.get(), quality.get(), io);
+  });
 }
 
 void add_evaluate_command(CLI::App& app, const Io& io) {

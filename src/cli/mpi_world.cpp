@@ -39,7 +39,8 @@ std::string subcommand(const std::vector<std::string>& args) {
 
 /// The commands that split their work across ranks (the others would repeat it on every rank).
 bool splits_across_ranks(const std::string& command) {
-  return command == "build" || command == "zonal" || command == "basis" || command == "gi-basis";
+  return command == "build" || command == "evaluate" || command == "zonal" || command == "basis" ||
+         command == "gi-basis";
 }
 
 }  // namespace
@@ -67,7 +68,8 @@ int MpiWorld::run_command(const std::vector<std::string>& args, std::ostream& ou
   int code = 0;
   if (size_ > 1 && !splits_across_ranks(subcommand(args))) {
     if (rank_ == 0)
-      print(err, "matlas: error: only `matlas build`, `zonal` and `basis` split their work across MPI ranks; run "
+      print(err, "matlas: error: only `matlas build`, `evaluate`, `zonal` and `basis` split their work across MPI "
+                 "ranks; run "
                  "`matlas %s` without mpirun (or with -np 1)\n", subcommand(args).c_str());
     code = 2;
     failure_agreed_ = true;  // every rank comes to the same conclusion

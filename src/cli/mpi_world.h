@@ -4,12 +4,12 @@
 // (MATLAS_WITH_MPI); the rest of matlas never includes mpi.h. One binary serves both: started
 // without a launcher, `matlas` never initialises MPI.
 //
-// Only `build`, `zonal` and `basis` split their work across ranks; any other command refuses to
-// run on more than one rank (every rank would repeat the whole command and write the same
-// output). Errors: a failure on one rank is agreed by all in the collective steps
-// (run_collectively), every rank
-// exits 1 with the message; a rank that fails outside them (a bug, or before the ranks meet)
-// ends every rank with MPI_Abort, so that none waits forever for it.
+// Only `build`, `evaluate`, `zonal` and `basis` split their work across ranks; any other command
+// refuses to run on more than one rank (every rank would repeat the whole command and write the
+// same output). Errors: a failure on one rank is agreed by all in the collective steps
+// (run_collectively), every rank exits 1 with the message; a rank that fails outside them (a
+// bug, or before the ranks meet) ends every rank with MPI_Abort, so that none waits forever for
+// it.
 #include <cstdlib>
 #include <ostream>
 #include <string>

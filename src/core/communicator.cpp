@@ -80,6 +80,33 @@ std::vector<std::vector<std::byte>> gather_arrays(Communicator& comm, const std:
   return out;
 }
 
+std::vector<std::vector<std::byte>> all_gather_arrays(Communicator& comm, const std::vector<std::vector<std::byte>>& mine) {
+  if (comm.size() == 1) return mine;
+  // Rank 0 packs what it gathered as (8-byte length, bytes)... and broadcasts it.
+  std::string packed;
+  if (comm.is_root())
+    for (const auto& a : gather_arrays(comm, mine)) {
+      const std::uint64_t length = a.size();
+      packed.append(reinterpret_cast<const char*>(&length), sizeof length);
+      packed.append(reinterpret_cast<const char*>(a.data()), a.size());
+    }
+  else
+    gather_arrays(comm, mine);
+  comm.broadcast(packed);
+  std::vector<std::vector<std::byte>> all;
+  for (std::size_t at = 0; at < packed.size();) {
+    std::uint64_t length = 0;
+    MATLAS_CHECK_LE(at + sizeof length, packed.size());
+    std::memcpy(&length, packed.data() + at, sizeof length);
+    at += sizeof length;
+    MATLAS_CHECK_LE(at + length, packed.size());
+    const auto* first = reinterpret_cast<const std::byte*>(packed.data() + at);
+    all.emplace_back(first, first + length);
+    at += length;
+  }
+  return all;
+}
+
 std::pair<std::size_t, std::size_t> share_of(std::size_t items, int part, int parts) {
   MATLAS_CHECK(parts >= 1 && part >= 0 && part < parts, "a share of a split");
   const auto p = static_cast<std::size_t>(part), count = static_cast<std::size_t>(parts);

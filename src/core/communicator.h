@@ -74,6 +74,28 @@ std::vector<std::vector<T>> gather_arrays(Communicator& comm, const std::vector<
   return all;
 }
 
+/// Every rank's byte arrays on every rank, in rank order (gather_arrays, then broadcast: at most
+/// 2 GB in all). Collective.
+std::vector<std::vector<std::byte>> all_gather_arrays(Communicator& comm, const std::vector<std::vector<std::byte>>& mine);
+
+/// The same for arrays of a trivially copyable type.
+template <class T>
+std::vector<std::vector<T>> all_gather_arrays(Communicator& comm, const std::vector<std::vector<T>>& mine) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  std::vector<std::vector<std::byte>> bytes;
+  bytes.reserve(mine.size());
+  for (const auto& a : mine) {
+    const auto b = std::as_bytes(std::span<const T>(a));
+    bytes.emplace_back(b.begin(), b.end());
+  }
+  std::vector<std::vector<T>> all;
+  for (const auto& b : all_gather_arrays(comm, bytes)) {
+    std::vector<T>& a = all.emplace_back(b.size() / sizeof(T));
+    if (!b.empty()) std::memcpy(a.data(), b.data(), b.size());
+  }
+  return all;
+}
+
 /// Rank `part`'s contiguous share [first, last) of `items` items split into `parts` nearly equal
 /// shares (the first shares take one more item when they do not divide evenly).
 std::pair<std::size_t, std::size_t> share_of(std::size_t items, int part, int parts);

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 #include <string>
+#include <tuple>
 
 #include "core/error.h"
 #include "core/parallel.h"
@@ -36,6 +37,7 @@ CombinationResult evaluate_combinations(const MaterialSet& set, const Combinatio
 
   BlockOptions options;
   options.label = "evaluating " + std::to_string(m) + " combinations";
+  std::tie(options.first_value, options.end_value) = share_of(set.value_count(), query.share.part, query.share.parts);
   options.block_columns = std::clamp<std::size_t>(
       query.memory_budget / (2 * sizeof(double) * static_cast<std::size_t>(std::max<Eigen::Index>(m, 1))),
       1024, 32768);
@@ -96,7 +98,32 @@ CombinationResult evaluate_combinations(const MaterialSet& set, const Combinatio
   result.negatives = std::move(negatives);
   result.distances.reserve(sums.size());
   for (const auto& s : sums) result.distances.push_back(s.finish());
+  result.sums = std::move(sums);
   return result;
+}
+
+void reduce_combinations(CombinationResult& result, Communicator& comm) {
+  if (comm.size() == 1) return;
+  // One array: per pair its two sums and count, per item its negatives, then the values.
+  std::vector<double> all;
+  all.reserve(3 * result.sums.size() + result.negatives.size() + 1);
+  for (const DistanceSums& s : result.sums) {
+    all.push_back(s.cbrt_squared);
+    all.push_back(s.cosine_squared);
+    all.push_back(static_cast<double>(s.values));
+  }
+  for (const std::size_t k : result.negatives) all.push_back(static_cast<double>(k));
+  all.push_back(static_cast<double>(result.values));
+  comm.sum(all);
+  std::size_t at = 0;
+  for (DistanceSums& s : result.sums) {
+    s.cbrt_squared = all[at++];
+    s.cosine_squared = all[at++];
+    s.values = static_cast<std::size_t>(all[at++]);
+  }
+  for (std::size_t& k : result.negatives) k = static_cast<std::size_t>(all[at++]);
+  result.values = static_cast<std::size_t>(all[at]);
+  for (std::size_t p = 0; p < result.sums.size(); ++p) result.distances[p] = result.sums[p].finish();
 }
 
 }  // namespace matlas::eval

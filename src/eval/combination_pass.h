@@ -10,8 +10,10 @@
 
 #include <Eigen/Core>
 
+#include "core/communicator.h"
 #include "core/progress.h"
 #include "eval/brdf_distance.h"
+#include "manifold/gram.h"
 #include "manifold/material_set.h"
 
 namespace matlas::eval {
@@ -25,17 +27,26 @@ struct CombinationQuery {
   int value_stride = 1;
   /// Upper bound on the memory of the per-block item values (bytes); sets the block size.
   std::size_t memory_budget = std::size_t{256} << 20;
+  /// Which values this process reads: share `part` of `parts` contiguous shares of the value
+  /// indices (a pass split across ranks, whose sums reduce_combinations then adds up).
+  PassShare share{};
 };
 
 struct CombinationResult {
   std::vector<BrdfDistance> distances;    ///< one per query pair
   std::vector<std::size_t> negatives;     ///< per item: compared values below 0
   std::size_t values = 0;                 ///< values compared per item (kept, above the horizon)
+  std::vector<DistanceSums> sums;         ///< one per query pair: what `distances` is finished from
 };
 
 /// Runs the pass. Only values kept by the set (measured in every material) with a positive cosine
 /// factor are used. Throws matlas::Error on a malformed query.
 CombinationResult evaluate_combinations(const MaterialSet& set, const CombinationQuery& query,
                                         ProgressSink& progress = null_progress());
+
+/// Adds up the ranks' results of their shares (sums, negatives, values; Communicator::sum in
+/// double: exact for the counts below 2^53) and finishes the distances again: afterwards every
+/// rank holds the whole pass's result, the same to rounding as one process's.
+void reduce_combinations(CombinationResult& result, Communicator& comm);
 
 }  // namespace matlas::eval

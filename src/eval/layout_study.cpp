@@ -11,12 +11,14 @@
 #include <random>
 #include <set>
 
+#include "core/check.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "eval/combination_pass.h"
 #include "eval/gram_space.h"
 #include "eval/pca_baseline.h"
 #include "eval/statistics.h"
+#include "manifold/gram_reduce.h"
 #include "gp/convex_weights.h"
 
 namespace matlas::eval {
@@ -135,8 +137,8 @@ struct DistancePlan {
 /// streaming pass for every distance, per-configuration summaries, the recommendation.
 class LayoutStudy {
 public:
-  LayoutStudy(const MaterialSet& set, const StudyOptions& options, ProgressSink& progress)
-      : set_(set), options_(options), progress_(progress), n_(static_cast<int>(set.size())),
+  LayoutStudy(const MaterialSet& set, const StudyOptions& options, ProgressSink& progress, Communicator& comm)
+      : set_(set), options_(options), progress_(progress), comm_(comm), n_(static_cast<int>(set.size())),
         held_(spread_indices(n_, options.materials)), H_(held_.size()), L_(options.layouts.size()),
         Q_(options.dims.size()) {
     result_.names = set.names();
@@ -160,7 +162,11 @@ private:
     const auto t0 = Clock::now();
     for (const LayoutTransform& layout : options_.layouts) {
       progress_.message("Gram matrices for layout " + layout.to_string());
-      GramResult g = accumulate_gram(set_, layout, options_.block_columns, progress_);
+      GramResult g;
+      run_collectively(comm_, [&] {
+        g = accumulate_gram(set_, layout, options_.block_columns, progress_, nullptr, {comm_.rank(), comm_.size()});
+      });
+      run_collectively(comm_, [&] { reduce_gram(g, !layout.is_identity(), comm_); });
       if (linear_gram_.size() == 0) {
         linear_gram_ = g.gram;
         result_.kept_columns = g.kept_columns;
@@ -187,39 +193,109 @@ private:
       }
     const auto t0 = Clock::now();
     const std::size_t jobs_per_config = 1 + H_;
-    ProgressTask fits(progress_, "fitting latent maps", L_ * Q_ * jobs_per_config);
+    // This rank's contiguous share of the jobs; the ranks then exchange their results.
+    const auto [first_job, last_job] = share_of(L_ * Q_ * jobs_per_config, comm_.rank(), comm_.size());
+    ProgressTask fits(progress_, "fitting latent maps", last_job - first_job);
     std::mutex fits_mutex;  // ProgressTask counts from one thread at a time
     std::vector<double> job_seconds(L_ * Q_ * jobs_per_config, 0.0);
-    parallel_for(0, L_ * Q_ * jobs_per_config, [&](std::size_t lo, std::size_t hi) {
-      for (std::size_t job = lo; job < hi; ++job) {
-        const auto start = Clock::now();
-        const std::size_t c = job / jobs_per_config, k = job % jobs_per_config;
-        const std::size_t l = c / Q_;
-        const int q = options_.dims[c % Q_];
-        ConfigResult& config = result_.configs[c];
-        if (k == 0) {
-          const LatentFit fit = fit_latent(layout_grams_[l], columns, q, options_.fit);
-          config.layout = options_.layouts[l];
-          config.dim = q;
-          config.latent = fit.latent();
-          config.log_likelihood = fit.log_likelihood;
-        } else {
-          const int h = held_[k - 1];
-          const std::vector<int> subset = indices_without(n, h);
-          const LatentFit fit = fit_latent(centred_subset_gram(layout_grams_[l], subset), columns, q, options_.fit);
-          projections_[c][k - 1] = project_in_gram(fit, subset, layout_grams_[l], h, options_.projection_starts);
+    run_collectively(comm_, [&, first_job = first_job, last_job = last_job] {
+      parallel_for(first_job, last_job, [&](std::size_t lo, std::size_t hi) {
+        for (std::size_t job = lo; job < hi; ++job) {
+          const auto start = Clock::now();
+          const std::size_t c = job / jobs_per_config, k = job % jobs_per_config;
+          const std::size_t l = c / Q_;
+          const int q = options_.dims[c % Q_];
+          ConfigResult& config = result_.configs[c];
+          if (k == 0) {
+            const LatentFit fit = fit_latent(layout_grams_[l], columns, q, options_.fit);
+            config.layout = options_.layouts[l];
+            config.dim = q;
+            config.latent = fit.latent();
+            config.log_likelihood = fit.log_likelihood;
+          } else {
+            const int h = held_[k - 1];
+            const std::vector<int> subset = indices_without(n, h);
+            const LatentFit fit = fit_latent(centred_subset_gram(layout_grams_[l], subset), columns, q, options_.fit);
+            projections_[c][k - 1] = project_in_gram(fit, subset, layout_grams_[l], h, options_.projection_starts);
+          }
+          job_seconds[job] = seconds_since(start);
+          {
+            std::lock_guard lock(fits_mutex);
+            fits.advance();
+          }
         }
-        job_seconds[job] = seconds_since(start);
-        {
-          std::lock_guard lock(fits_mutex);
-          fits.advance();
-        }
-      }
+      });
     });
+    if (comm_.size() > 1) exchange_fits(first_job, last_job, job_seconds);
     for (std::size_t c = 0; c < L_ * Q_; ++c)
       for (std::size_t k = 0; k < jobs_per_config; ++k)
         result_.configs[c].fit_seconds += job_seconds[c * jobs_per_config + k];
     result_.fit_seconds = seconds_since(t0);
+  }
+
+  /// Every rank's fits on every rank (each rank computed jobs [first, last) of the
+  /// configurations' fits): the values travel as doubles, so every rank plans the same distances.
+  void exchange_fits(std::size_t first, std::size_t last, std::vector<double>& job_seconds) {
+    const std::size_t jobs_per_config = 1 + H_;
+    auto append = [](std::vector<double>& out, const Eigen::VectorXd& v) {
+      out.push_back(static_cast<double>(v.size()));
+      out.insert(out.end(), v.data(), v.data() + v.size());
+    };
+    std::vector<std::vector<double>> mine;
+    for (std::size_t job = first; job < last; ++job) {
+      const std::size_t c = job / jobs_per_config, k = job % jobs_per_config;
+      std::vector<double>& out = mine.emplace_back(1, job_seconds[job]);
+      if (k == 0) {
+        const ConfigResult& config = result_.configs[c];
+        out.push_back(config.log_likelihood);
+        out.push_back(static_cast<double>(config.latent.rows()));
+        out.push_back(static_cast<double>(config.latent.cols()));
+        out.insert(out.end(), config.latent.data(), config.latent.data() + config.latent.size());
+      } else {
+        const GramProjection& p = projections_[c][k - 1];
+        out.push_back(p.residual_squared);
+        append(out, p.x);
+        append(out, p.coefficients);
+        out.push_back(static_cast<double>(p.candidates.size()));
+        for (const Eigen::VectorXd& candidate : p.candidates) append(out, candidate);
+      }
+    }
+    const std::vector<std::vector<double>> all = all_gather_arrays(comm_, mine);
+    MATLAS_CHECK_EQ(all.size(), L_ * Q_ * jobs_per_config);  // every job, in job order
+    for (std::size_t job = 0; job < all.size(); ++job) {
+      const std::vector<double>& in = all[job];
+      std::size_t at = 0;
+      auto take = [&] {
+        MATLAS_CHECK_LT(at, in.size());
+        return in[at++];
+      };
+      auto vector = [&] {
+        const auto size = static_cast<Eigen::Index>(take());
+        MATLAS_CHECK_LE(at + static_cast<std::size_t>(size), in.size());
+        Eigen::VectorXd v = Eigen::Map<const Eigen::VectorXd>(in.data() + at, size);
+        at += static_cast<std::size_t>(size);
+        return v;
+      };
+      const std::size_t c = job / jobs_per_config, k = job % jobs_per_config;
+      job_seconds[job] = take();
+      if (k == 0) {
+        ConfigResult& config = result_.configs[c];
+        config.layout = options_.layouts[c / Q_];
+        config.dim = options_.dims[c % Q_];
+        config.log_likelihood = take();
+        const auto rows = static_cast<Eigen::Index>(take()), cols = static_cast<Eigen::Index>(take());
+        MATLAS_CHECK_EQ(at + static_cast<std::size_t>(rows * cols), in.size());
+        config.latent = Eigen::Map<const Eigen::MatrixXd>(in.data() + at, rows, cols);
+      } else {
+        GramProjection& p = projections_[c][k - 1];
+        p.residual_squared = take();
+        p.x = vector();
+        p.coefficients = vector();
+        p.candidates.resize(static_cast<std::size_t>(take()));
+        for (Eigen::VectorXd& candidate : p.candidates) candidate = vector();
+        MATLAS_CHECK_EQ(at, in.size());
+      }
+    }
   }
 
   /// The tables and pairs to measure: materials, PCA reconstructions (per q and held-out
@@ -300,7 +376,10 @@ private:
                       std::to_string(plan.pairs.size()) + " pairs, every " +
                       (query.value_stride == 1 ? std::string("value") : std::to_string(query.value_stride) + "th value") +
                       (options_.value_stride > 0 ? "" : " (--stride 1 for all)"));
-    CombinationResult pass = evaluate_combinations(set_, query, progress_);
+    query.share = {comm_.rank(), comm_.size()};  // each rank its share of the values, then their sums added up
+    CombinationResult pass;
+    run_collectively(comm_, [&] { pass = evaluate_combinations(set_, query, progress_); });
+    reduce_combinations(pass, comm_);
     result_.pass_seconds = seconds_since(t0);
     result_.compared_values = pass.values;
     result_.material_cbrt = Eigen::MatrixXd::Zero(n, n);
@@ -412,6 +491,7 @@ private:
   const MaterialSet& set_;
   const StudyOptions& options_;
   ProgressSink& progress_;
+  Communicator& comm_;
   const int n_;
   const std::vector<int> held_;  ///< the materials left out one at a time
   const std::size_t H_, L_, Q_;  ///< held-out materials, layouts, latent dimensions
@@ -424,9 +504,10 @@ private:
 
 }  // namespace
 
-StudyResult run_layout_study(const MaterialSet& set, const StudyOptions& options, ProgressSink& progress) {
+StudyResult run_layout_study(const MaterialSet& set, const StudyOptions& options, ProgressSink& progress,
+                             Communicator& comm) {
   validate(set, options);
-  return LayoutStudy(set, options, progress).run();
+  return LayoutStudy(set, options, progress, comm).run();
 }
 
 }  // namespace matlas::eval

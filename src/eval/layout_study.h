@@ -14,6 +14,7 @@
 
 #include <Eigen/Core>
 
+#include "core/communicator.h"
 #include "core/progress.h"
 #include "eval/brdf_distance.h"
 #include "eval/latent_fit.h"
@@ -112,8 +113,14 @@ struct StudyResult {
 };
 
 /// Runs the study. Progress through `progress`; throws matlas::Error on bad options.
+///
+/// Split across processes (`mpirun -np P matlas evaluate`, core/communicator.h; every rank calls
+/// this with its communicator): the Gram passes and the perceptual distances' pass read a share
+/// of every file's values each and add up their sums (manifold/gram_reduce.h,
+/// reduce_combinations), the latent fits are shared out by job and exchanged; every rank returns
+/// the whole result, the same to rounding as one process's.
 StudyResult run_layout_study(const MaterialSet& set, const StudyOptions& options,
-                             ProgressSink& progress = null_progress());
+                             ProgressSink& progress = null_progress(), Communicator& comm = serial_communicator());
 
 /// The material pairs used for paths: `count` distinct pairs drawn deterministically from seed.
 std::vector<std::pair<int, int>> choose_pairs(int n, int count, unsigned seed);

@@ -23,15 +23,17 @@ void read_block(const MaterialSet& set, std::size_t first, std::size_t count, Bl
 
 void for_each_column_block(const MaterialSet& set, const std::function<void(const ColumnBlock&)>& visit,
                            const BlockOptions& options, ProgressSink& progress) {
-  const std::size_t total = set.value_count();
+  const std::size_t total = std::min(set.value_count(), options.end_value);
+  const std::size_t begin = std::min(options.first_value, total);
   const std::size_t step = std::max<std::size_t>(1, options.block_columns);
-  const std::size_t blocks = (total + step - 1) / step;
+  const std::size_t blocks = (total - begin + step - 1) / step;
   ProgressTask task(progress, options.label, blocks);
+  if (blocks == 0) return;
 
   BlockMatrix buffers[2];
   std::vector<std::uint8_t> kept[2];
   auto start_read = [&](std::size_t b) {
-    const std::size_t first = b * step, count = std::min(step, total - first);
+    const std::size_t first = begin + b * step, count = std::min(step, total - first);
     return std::async(std::launch::async, [&, b, first, count] {
       // Cold files: have the disk fetch the block after this one while this one is read.
       if (first + count < total)
@@ -43,7 +45,7 @@ void for_each_column_block(const MaterialSet& set, const std::function<void(cons
   for (std::size_t b = 0; b < blocks; ++b) {
     pending.get();  // rethrows read errors
     if (b + 1 < blocks) pending = start_read(b + 1);
-    const std::size_t first = b * step, count = std::min(step, total - first);
+    const std::size_t first = begin + b * step, count = std::min(step, total - first);
     try {
       visit(ColumnBlock{first, count, buffers[b % 2], kept[b % 2]});
     } catch (...) {

@@ -39,9 +39,12 @@ struct BlockOptions {
   std::size_t block_columns = 32768;
   /// Label for progress reporting.
   std::string label = "reading";
+  /// The value indices the blocks cover, [first_value, end_value) clamped to the set's (one
+  /// rank's share of a distributed pass); default: all of them.
+  std::size_t first_value = 0, end_value = SIZE_MAX;
 };
 
-/// Calls visit(block) for consecutive blocks covering all columns, in order, from one thread
+/// Calls visit(block) for consecutive blocks covering the columns of the options' range, in order, from one thread
 /// (the visitor may use parallel_for inside). Reading of the next block overlaps with the
 /// visitor's work on the current one.
 void for_each_column_block(const MaterialSet& set, const std::function<void(const ColumnBlock&)>& visit,

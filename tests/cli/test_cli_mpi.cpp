@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iostream>
 #include <limits>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -198,7 +199,8 @@ TEST_F(MpiBuild, ABadFileInOneRanksShareFailsEveryRankNamingIt) {
 TEST_F(MpiBuild, OtherCommandsRefuseToRunOnSeveralRanks) {
   const Result r = mpirun(2, {"info", files_of(db())[0].string()});
   EXPECT_NE(r.code, 0) << r.out;
-  EXPECT_NE(r.out.find("only `matlas build`, `zonal` and `basis` split their work across MPI ranks"), std::string::npos)
+  EXPECT_NE(r.out.find("only `matlas build`, `evaluate`, `zonal` and `basis` split their work across MPI ranks"),
+            std::string::npos)
       << r.out;
 }
 
@@ -273,6 +275,56 @@ TEST_F(MpiBuild, ABadFileInOneRanksShareOfZonalFailsEveryRankNamingIt) {
   EXPECT_NE(r.out.find("NaN"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("rank 1 of 2"), std::string::npos) << r.out;
   EXPECT_FALSE(fs::exists(out));
+}
+
+/// The numbers of a CSV file's rows (the header and text fields left out), row by row.
+std::vector<std::vector<double>> csv_numbers(const fs::path& file) {
+  std::ifstream in(file);
+  std::string line;
+  std::getline(in, line);  // header
+  std::vector<std::vector<double>> rows;
+  while (std::getline(in, line)) {
+    std::vector<double>& row = rows.emplace_back();
+    std::stringstream fields(line);
+    for (std::string field; std::getline(fields, field, ',');) {
+      char* end = nullptr;
+      const double v = std::strtod(field.c_str(), &end);
+      if (!field.empty() && end == field.c_str() + field.size()) row.push_back(v);
+    }
+  }
+  return rows;
+}
+
+// `mpirun -np 2 matlas evaluate`: the Gram passes and the distance pass read half of every file
+// on each rank and add up their sums, the fits are shared out and exchanged; rank 0 writes the
+// report. The distances between the materials are the single process's to rounding; the fits
+// start from Grams equal to rounding, so on this database they reach the same optima.
+TEST_F(MpiBuild, EvaluateOnTwoRanksReportsTheSingleProcessStudy) {
+  const fs::path single = dir_->path() / "evaluate-1", split = dir_->path() / "evaluate-2";
+  std::vector<std::string> args{"evaluate", db().string(), "-o", single.string(), "--no-checks", "--quiet",
+                                "--dims",   "2,3",         "--layouts", "cosine-linear,cbrt", "--materials", "4",
+                                "--pairs",  "3"};
+  Result r = matlas(args);
+  ASSERT_EQ(r.code, 0) << r.out;
+  args[3] = split.string();
+  r = mpirun(2, args);
+  ASSERT_EQ(r.code, 0) << r.out;
+  ASSERT_TRUE(fs::exists(split / "report.json")) << r.out;
+  for (const char* file : {"material_distances.csv", "configs.csv", "loo.csv", "paths.csv"}) {
+    const auto a = csv_numbers(single / file), b = csv_numbers(split / file);
+    ASSERT_EQ(a.size(), b.size()) << file;
+    ASSERT_FALSE(a.empty()) << file;
+    double worst = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      ASSERT_EQ(a[i].size(), b[i].size()) << file << " row " << i;
+      for (std::size_t k = 0; k < a[i].size(); ++k) {
+        if (std::string(file) == "configs.csv" && k + 1 == a[i].size()) continue;  // the fits' seconds
+        worst = std::max(worst, std::abs(a[i][k] - b[i][k]) / std::max(1.0, std::abs(a[i][k])));
+      }
+    }
+    std::cout << file << ": largest difference " << worst << " (relative)\n";
+    EXPECT_LE(worst, 1e-6) << file;
+  }
 }
 
 // `mpirun -np 2 matlas basis`: the previews' image basis (every other row on each rank) and a GI

@@ -61,7 +61,8 @@ TEST(ShareOf, ContiguousNearlyEqualSharesCoverEverything) {
 }
 
 /// Ranks as threads of one process: each collective puts every rank's part in a shared slot
-/// between two barriers (enough for all_gather and gather, the collectives gather_arrays uses).
+/// between two barriers (all_gather, gather and broadcast: what gather_arrays and
+/// all_gather_arrays use).
 class ThreadRanks {
 public:
   explicit ThreadRanks(int size) : size_(size), slots_(static_cast<std::size_t>(size)), barrier_(size) {}
@@ -86,7 +87,10 @@ public:
       for (const auto& part : exchange(bytes)) all.insert(all.end(), part.begin(), part.end());
       return rank_ == 0 ? all : std::vector<std::byte>{};
     }
-    void broadcast(std::string&) override { ADD_FAILURE() << "not simulated"; }
+    void broadcast(std::string& text) override {
+      const auto all = exchange(std::as_bytes(std::span(text.data(), text.size())));
+      text.assign(reinterpret_cast<const char*>(all[0].data()), all[0].size());
+    }
     std::string first_error(const std::string& message) override { return message; }
 
   private:
@@ -135,9 +139,22 @@ TEST(GatherArrays, RankZeroGetsEveryRanksArraysInRankOrder) {
   EXPECT_TRUE(got[2].empty());
 }
 
+TEST(GatherArrays, AllGatherGivesEveryRankTheSameArraysInRankOrder) {
+  const std::vector<std::vector<std::vector<std::uint32_t>>> held{{{7u}}, {{}, {1u, 2u}}};
+  std::vector<std::vector<std::vector<std::uint32_t>>> got(2);
+  ThreadRanks ranks(2);
+  ranks.run([&](Communicator& c) {
+    got[static_cast<std::size_t>(c.rank())] = all_gather_arrays(c, held[static_cast<std::size_t>(c.rank())]);
+  });
+  const std::vector<std::vector<std::uint32_t>> expected{{7u}, {}, {1u, 2u}};
+  EXPECT_EQ(got[0], expected);
+  EXPECT_EQ(got[1], expected);
+}
+
 TEST(GatherArrays, OneProcessKeepsItsArrays) {
   const std::vector<std::vector<float>> mine{{1.0f}, {}, {2.0f, 3.0f}};
   EXPECT_EQ(gather_arrays(serial_communicator(), mine), mine);
+  EXPECT_EQ(all_gather_arrays(serial_communicator(), mine), mine);
 }
 
 }  // namespace

@@ -61,6 +61,40 @@ TEST_F(TinyDatabase, CombinationPassMatchesDirectDistances) {
   for (std::size_t i = 0; i < r.negatives.size(); ++i) EXPECT_EQ(r.negatives[i], 0u);
 }
 
+TEST_F(TinyDatabase, ThreeSharesOfTheCombinationPassAddUpToTheWholePass) {
+  // The shares of a pass split across ranks (CombinationQuery::share): their sums, added as
+  // reduce_combinations adds the ranks', finish into the whole pass's distances, and every value
+  // is compared once (counts add up exactly).
+  CombinationQuery q;
+  const auto n = static_cast<Eigen::Index>(set_->size());
+  q.coefficients = Eigen::MatrixXd::Identity(n, n);
+  q.pairs = {{0, 1}, {2, 4}, {3, 5}};
+  q.memory_budget = 4096;
+  q.value_stride = 3;
+  const CombinationResult whole = evaluate_combinations(*set_, q);
+  std::vector<DistanceSums> sums(q.pairs.size());
+  std::size_t values = 0;
+  for (int part = 0; part < 3; ++part) {
+    q.share = {part, 3};
+    const CombinationResult r = evaluate_combinations(*set_, q);
+    values += r.values;
+    EXPECT_GT(r.values, 0u);
+    EXPECT_LT(r.values, whole.values);
+    for (std::size_t p = 0; p < sums.size(); ++p) {
+      sums[p].cbrt_squared += r.sums[p].cbrt_squared;
+      sums[p].cosine_squared += r.sums[p].cosine_squared;
+      sums[p].values += r.sums[p].values;
+    }
+  }
+  EXPECT_EQ(values, whole.values);
+  for (std::size_t p = 0; p < sums.size(); ++p) {
+    const BrdfDistance d = sums[p].finish();
+    EXPECT_EQ(d.values, whole.distances[p].values);
+    EXPECT_NEAR(d.cbrt_cosine, whole.distances[p].cbrt_cosine, 1e-12 * whole.distances[p].cbrt_cosine);
+    EXPECT_NEAR(d.cosine_rmse, whole.distances[p].cosine_rmse, 1e-12 * whole.distances[p].cosine_rmse);
+  }
+}
+
 TEST_F(TinyDatabase, LeaveOneOutAgainstExplicitComputation) {
   StudyOptions o;
   o.dims = {2};
