@@ -273,6 +273,42 @@ void BM_GramSliceSingleVsDouble(benchmark::State& state) {
 }
 BENCHMARK(BM_GramSliceSingleVsDouble)->Iterations(3)->UseRealTime();
 
+/// The cost of the compensated sum (gram_update.h: each slice's product into a scratch, then
+/// added with TwoSum, so that a pass split across processes gives the same bits) against dsyrk
+/// accumulating straight into the sum (beta = 1, no compensation), one thread, same run, on a
+/// row-major n x 4096 block: the time ratio compensated / plain for n = 100 and n = 1000.
+void BM_GramCompensationCost(benchmark::State& state) {
+  const auto n = static_cast<int>(state.range(0));
+  const std::size_t k = 4096, slices = matlas::GramAccumulator::slices(k);
+  const std::size_t reps = n >= 1000 ? 1 : 32;
+  std::mt19937_64 rng(1);
+  std::normal_distribution<double> d;
+  BlockMatrix a(n, static_cast<Eigen::Index>(k));
+  for (Eigen::Index i = 0; i < a.size(); ++i) a.data()[i] = d(rng);
+  double t_plain = 0, t_compensated = 0;
+  for (auto _ : state) {
+    Eigen::MatrixXd plain = Eigen::MatrixXd::Zero(n, n);
+    double t0 = now();
+    for (std::size_t r = 0; r < reps; ++r)
+      for (std::size_t s = 0; s < slices; ++s)
+        matlas::blas::openblas().dsyrk(CblasColMajor, CblasUpper, CblasTrans, n,
+                                       static_cast<int>(matlas::GramAccumulator::kSlice), 1.0,
+                                       a.data() + s * matlas::GramAccumulator::kSlice, static_cast<int>(k), 1.0,
+                                       plain.data(), n);
+    t_plain += now() - t0;
+    matlas::GramAccumulator compensated(n, k);
+    t0 = now();
+    for (std::size_t r = 0; r < reps; ++r)
+      for (std::size_t s = 0; s < slices; ++s) compensated.add_slice(a.data(), k, k, s);
+    t_compensated += now() - t0;
+    benchmark::DoNotOptimize(plain.data());
+    benchmark::DoNotOptimize(compensated.total().data());
+  }
+  state.counters["plain_s"] = t_plain / static_cast<double>(state.iterations());
+  state.counters["compensated_over_plain"] = t_compensated / t_plain;
+}
+BENCHMARK(BM_GramCompensationCost)->Arg(100)->Arg(1000)->Iterations(3)->UseRealTime();
+
 const Model* bench_model() {
   static std::unique_ptr<Model> model;
   if (!model) {

@@ -95,6 +95,40 @@ void MpiWorld::sum(std::span<double> values) {
   }
 }
 
+namespace {
+
+/// MPI reduction of (value, low) pairs: inout += in with TwoSum, the rounding error kept in low.
+void add_compensated_pairs(void* in, void* inout, int* count, MPI_Datatype*) {
+  const auto* a = static_cast<const double*>(in);
+  auto* b = static_cast<double*>(inout);
+  for (int k = 0; k < *count; ++k, a += 2, b += 2) {
+    const double sum = a[0] + b[0];
+    const double back = sum - b[0];
+    b[1] += a[1] + ((b[0] - (sum - back)) + (a[0] - back));
+    b[0] = sum;
+  }
+}
+
+}  // namespace
+
+void MpiWorld::sum_compensated(std::span<double> value, std::span<double> low) {
+  MATLAS_CHECK_EQ(value.size(), low.size());
+  std::vector<double> pairs(2 * value.size());
+  for (std::size_t k = 0; k < value.size(); ++k) pairs[2 * k] = value[k], pairs[2 * k + 1] = low[k];
+  MPI_Datatype pair;
+  MPI_Type_contiguous(2, MPI_DOUBLE, &pair);
+  MPI_Type_commit(&pair);
+  MPI_Op op;
+  MPI_Op_create(&add_compensated_pairs, 1, &op);
+  for (std::size_t done = 0; done < value.size(); done += kMaxCount) {
+    const auto count = static_cast<int>(std::min(kMaxCount, value.size() - done));
+    MPI_Allreduce(MPI_IN_PLACE, pairs.data() + 2 * done, count, pair, op, MPI_COMM_WORLD);
+  }
+  MPI_Op_free(&op);
+  MPI_Type_free(&pair);
+  for (std::size_t k = 0; k < value.size(); ++k) value[k] = pairs[2 * k], low[k] = pairs[2 * k + 1];
+}
+
 std::vector<std::uint64_t> MpiWorld::all_gather(std::uint64_t value) {
   std::vector<std::uint64_t> all(static_cast<std::size_t>(size_));
   MPI_Allgather(&value, 1, MPI_UINT64_T, all.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD);

@@ -37,6 +37,7 @@ public:
   int rank() const override { return rank_; }
   int size() const override { return size_; }
   void sum(std::span<double> values) override;
+  void sum_compensated(std::span<double> value, std::span<double> low) override;
   std::vector<std::uint64_t> all_gather(std::uint64_t value) override;
   std::vector<std::byte> gather(std::span<const std::byte> bytes) override;
   void broadcast(std::string& text) override;

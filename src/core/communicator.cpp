@@ -16,6 +16,7 @@ public:
   int rank() const override { return 0; }
   int size() const override { return 1; }
   void sum(std::span<double>) override {}
+  void sum_compensated(std::span<double>, std::span<double>) override {}
   std::vector<std::uint64_t> all_gather(std::uint64_t value) override { return {value}; }
   std::vector<std::byte> gather(std::span<const std::byte> bytes) override { return {bytes.begin(), bytes.end()}; }
   void broadcast(std::string&) override {}

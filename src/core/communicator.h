@@ -28,6 +28,10 @@ public:
   virtual int size() const = 0;
   /// Element-wise sum over the ranks, in place, on every rank (MPI_Allreduce in double).
   virtual void sum(std::span<double> values) = 0;
+  /// Element-wise sum of compensated values value[k] + low[k] over the ranks, in place, on every
+  /// rank: each addition keeps its rounding error in low (TwoSum), so value + low is the exact
+  /// sum to about 2^-100, whatever the order in which the ranks' values meet.
+  virtual void sum_compensated(std::span<double> value, std::span<double> low) = 0;
   /// Every rank's value, in rank order, on every rank.
   virtual std::vector<std::uint64_t> all_gather(std::uint64_t value) = 0;
   /// The concatenation of every rank's bytes in rank order, on rank 0; empty on the others.

@@ -15,6 +15,7 @@
 #include "core/error.h"
 #include "core/parallel.h"
 #include "eval/combination_pass.h"
+#include "eval/fit_records.h"
 #include "eval/gram_space.h"
 #include "eval/pca_baseline.h"
 #include "eval/statistics.h"
@@ -237,63 +238,24 @@ private:
   /// configurations' fits): the values travel as doubles, so every rank plans the same distances.
   void exchange_fits(std::size_t first, std::size_t last, std::vector<double>& job_seconds) {
     const std::size_t jobs_per_config = 1 + H_;
-    auto append = [](std::vector<double>& out, const Eigen::VectorXd& v) {
-      out.push_back(static_cast<double>(v.size()));
-      out.insert(out.end(), v.data(), v.data() + v.size());
-    };
     std::vector<std::vector<double>> mine;
     for (std::size_t job = first; job < last; ++job) {
       const std::size_t c = job / jobs_per_config, k = job % jobs_per_config;
-      std::vector<double>& out = mine.emplace_back(1, job_seconds[job]);
-      if (k == 0) {
-        const ConfigResult& config = result_.configs[c];
-        out.push_back(config.log_likelihood);
-        out.push_back(static_cast<double>(config.latent.rows()));
-        out.push_back(static_cast<double>(config.latent.cols()));
-        out.insert(out.end(), config.latent.data(), config.latent.data() + config.latent.size());
-      } else {
-        const GramProjection& p = projections_[c][k - 1];
-        out.push_back(p.residual_squared);
-        append(out, p.x);
-        append(out, p.coefficients);
-        out.push_back(static_cast<double>(p.candidates.size()));
-        for (const Eigen::VectorXd& candidate : p.candidates) append(out, candidate);
-      }
+      const ConfigResult& config = result_.configs[c];
+      mine.push_back(k == 0 ? fit_record(job_seconds[job], config.log_likelihood, config.latent)
+                            : projection_record(job_seconds[job], projections_[c][k - 1]));
     }
     const std::vector<std::vector<double>> all = all_gather_arrays(comm_, mine);
     MATLAS_CHECK_EQ(all.size(), L_ * Q_ * jobs_per_config);  // every job, in job order
     for (std::size_t job = 0; job < all.size(); ++job) {
-      const std::vector<double>& in = all[job];
-      std::size_t at = 0;
-      auto take = [&] {
-        MATLAS_CHECK_LT(at, in.size());
-        return in[at++];
-      };
-      auto vector = [&] {
-        const auto size = static_cast<Eigen::Index>(take());
-        MATLAS_CHECK_LE(at + static_cast<std::size_t>(size), in.size());
-        Eigen::VectorXd v = Eigen::Map<const Eigen::VectorXd>(in.data() + at, size);
-        at += static_cast<std::size_t>(size);
-        return v;
-      };
       const std::size_t c = job / jobs_per_config, k = job % jobs_per_config;
-      job_seconds[job] = take();
+      ConfigResult& config = result_.configs[c];
       if (k == 0) {
-        ConfigResult& config = result_.configs[c];
         config.layout = options_.layouts[c / Q_];
         config.dim = options_.dims[c % Q_];
-        config.log_likelihood = take();
-        const auto rows = static_cast<Eigen::Index>(take()), cols = static_cast<Eigen::Index>(take());
-        MATLAS_CHECK_EQ(at + static_cast<std::size_t>(rows * cols), in.size());
-        config.latent = Eigen::Map<const Eigen::MatrixXd>(in.data() + at, rows, cols);
+        read_fit_record(all[job], job_seconds[job], config.log_likelihood, config.latent);
       } else {
-        GramProjection& p = projections_[c][k - 1];
-        p.residual_squared = take();
-        p.x = vector();
-        p.coefficients = vector();
-        p.candidates.resize(static_cast<std::size_t>(take()));
-        for (Eigen::VectorXd& candidate : p.candidates) candidate = vector();
-        MATLAS_CHECK_EQ(at, in.size());
+        read_projection_record(all[job], job_seconds[job], projections_[c][k - 1]);
       }
     }
   }

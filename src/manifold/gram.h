@@ -32,6 +32,10 @@ struct GramResult {
   Eigen::VectorXd mean;           ///< per kept column, in value-index order
   Eigen::MatrixXd gram;           ///< n x n centred Gram of the linear data
   Eigen::MatrixXd layout_gram;    ///< n x n centred Gram of the transformed data
+  /// What rounding the sums to double left out (gram + gram_low is the compensated sum,
+  /// gram_update.h): the ranks of a distributed pass add these too, so that their Grams are the
+  /// single process's bit for bit (gram_reduce.h).
+  Eigen::MatrixXd gram_low, layout_gram_low;
   Eigen::MatrixXd albedo;         ///< n x (kAlbedoAngles * 3) directional albedo curves of the kept data
   std::vector<std::uint64_t> hashes;  ///< xxh3-64 of each input file's value bytes (of the share's bytes)
   PassSteps steps;

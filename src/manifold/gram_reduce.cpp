@@ -6,6 +6,7 @@
 
 #include "core/check.h"
 #include "core/hash.h"
+#include "manifold/gram_update.h"
 
 namespace matlas {
 
@@ -13,6 +14,15 @@ namespace {
 
 void sum_matrix(Eigen::MatrixXd& m, Communicator& comm) {
   comm.sum(std::span<double>(m.data(), static_cast<std::size_t>(m.size())));
+}
+
+/// The ranks' compensated Gram sums added up (Communicator::sum_compensated) and rounded again:
+/// the single process's value bit for bit (gram_update.h).
+void sum_gram(Eigen::MatrixXd& value, Eigen::MatrixXd& low, Communicator& comm) {
+  MATLAS_CHECK_EQ(value.size(), low.size());
+  comm.sum_compensated(std::span(value.data(), static_cast<std::size_t>(value.size())),
+                       std::span(low.data(), static_cast<std::size_t>(low.size())));
+  round_compensated(value, low);
 }
 
 template <class T>
@@ -34,9 +44,13 @@ std::vector<std::uint64_t> reduce_gram(GramResult& g, bool separate_layout_gram,
   }
   g.kept_columns = std::accumulate(kept_per_rank.begin(), kept_per_rank.end(), std::size_t{0});
   require_kept_columns(g);
-  sum_matrix(g.gram, comm);
-  if (separate_layout_gram) sum_matrix(g.layout_gram, comm);
-  else g.layout_gram = g.gram;
+  sum_gram(g.gram, g.gram_low, comm);
+  if (separate_layout_gram) {
+    sum_gram(g.layout_gram, g.layout_gram_low, comm);
+  } else {
+    g.layout_gram = g.gram;
+    g.layout_gram_low = g.gram_low;
+  }
   sum_matrix(g.albedo, comm);
 
   // The file hashes of the shares' byte ranges, to rank 0. (The mask and the means stay with

@@ -5,6 +5,13 @@
 // single-threaded dsyrk. Slice s of every block goes into its own n x n accumulator and the
 // accumulators are summed in slice order at the end: the result does not depend on scheduling
 // or on the number of threads. Only upper triangles are computed.
+//
+// The slices' products are added with compensation (a high part and the rounding errors of its
+// additions, Knuth's TwoSum): the sum is the exact one to about 2^-100 of its terms, so its
+// rounding to double does not depend on the order of the additions either. A pass split across
+// processes (each summing its blocks, then the processes' sums added with the same compensation,
+// Communicator::sum_compensated) therefore gives the single process's Gram matrix bit for bit,
+// and the latent placements fitted to it the same layouts.
 #include <cstddef>
 #include <vector>
 
@@ -39,13 +46,30 @@ public:
   /// slices the sum's relative error stays near 1e-7 (tests/manifold/test_gram.cpp measures it).
   void add_slice(const float* a, std::size_t ld, std::size_t columns, std::size_t s);
 
-  /// The sum so far, symmetric.
+  /// The sum so far, symmetric, rounded to double.
   Eigen::MatrixXd total() const;
+  /// The sum so far as high + low (symmetric; low holds the additions' rounding errors).
+  void total(Eigen::MatrixXd& high, Eigen::MatrixXd& low) const;
 
 private:
+  void add_product(const double* product, std::size_t s);
+
   Eigen::Index n_;
-  std::vector<Eigen::MatrixXd> upper_;  ///< one upper-triangular accumulator per slice
+  /// Per slice, the upper triangles of the sum's high part and of its compensation.
+  std::vector<Eigen::MatrixXd> high_, low_;
 };
+
+/// high += value with its rounding error added to low (TwoSum): high + low keeps the exact sum.
+inline void add_compensated(double& high, double& low, double value) {
+  const double sum = high + value;
+  const double back = sum - high;
+  low += (high - (sum - back)) + (value - back);
+  high = sum;
+}
+
+/// value + low rounded to double into value, what the rounding left out into low (their sum
+/// unchanged): the form a compensated Gram is kept in (GramResult::gram, gram_low).
+void round_compensated(Eigen::MatrixXd& value, Eigen::MatrixXd& low);
 
 /// upper += upper triangle of A A^T, using all workers.
 void add_gram_upper(const BlockMatrix& a, Eigen::MatrixXd& upper);

@@ -20,9 +20,12 @@ TEST(SerialCommunicator, EveryCollectiveIsTheIdentity) {
   EXPECT_EQ(c.rank(), 0);
   EXPECT_EQ(c.size(), 1);
   EXPECT_TRUE(c.is_root());
-  std::vector<double> values{1.5, -2.0, 3.25};
+  std::vector<double> values{1.5, -2.0, 3.25}, low{1e-20, 0.0, -3e-19};
   c.sum(values);
   EXPECT_EQ(values, (std::vector<double>{1.5, -2.0, 3.25}));
+  c.sum_compensated(values, low);
+  EXPECT_EQ(values, (std::vector<double>{1.5, -2.0, 3.25}));
+  EXPECT_EQ(low, (std::vector<double>{1e-20, 0.0, -3e-19}));
   EXPECT_EQ(c.all_gather(42), (std::vector<std::uint64_t>{42}));
   const std::vector<std::byte> bytes{std::byte{1}, std::byte{2}, std::byte{3}};
   EXPECT_EQ(c.gather(bytes), bytes);
@@ -73,6 +76,7 @@ public:
     int rank() const override { return rank_; }
     int size() const override { return ranks_.size_; }
     void sum(std::span<double>) override { ADD_FAILURE() << "not simulated"; }
+    void sum_compensated(std::span<double>, std::span<double>) override { ADD_FAILURE() << "not simulated"; }
     std::vector<std::uint64_t> all_gather(std::uint64_t value) override {
       std::vector<std::uint64_t> all;
       for (const auto& bytes : exchange(std::as_bytes(std::span(&value, 1)))) {

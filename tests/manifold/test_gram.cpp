@@ -8,6 +8,7 @@
 #include "brdf/albedo_operator.h"
 #include "brdf/merl_grid.h"
 #include "manifold/gram.h"
+#include "manifold/gram_update.h"
 #include "manifold/kept_runs.h"
 #include "support/temp_dir.h"
 #include "synthetic_database.h"
@@ -124,7 +125,7 @@ TEST(GramPass, SharesAddUpToTheWholePass) {
   const std::size_t blocks = (set.value_count() + block - 1) / block;
   for (const int parts : {2, 3, static_cast<int>(blocks) + 2}) {  // the last: ranks without a block
     SCOPED_TRACE(std::to_string(parts) + " shares");
-    GramResult sum;
+    GramResult sum, exact;
     std::vector<bool> kept;
     std::vector<double> mean;
     std::size_t next = 0;
@@ -136,12 +137,25 @@ TEST(GramPass, SharesAddUpToTheWholePass) {
       mean.insert(mean.end(), g.mean.data(), g.mean.data() + g.mean.size());
       if (part == 0) {
         sum = std::move(g);
+        exact = sum;
       } else {
         sum.gram += g.gram;
         sum.layout_gram += g.layout_gram;
         sum.albedo += g.albedo;
+        // As the ranks add them (Communicator::sum_compensated): with the parts' rounding rests.
+        for (Eigen::Index k = 0; k < g.gram.size(); ++k) {
+          add_compensated(exact.gram.data()[k], exact.gram_low.data()[k], g.gram.data()[k]);
+          exact.gram_low.data()[k] += g.gram_low.data()[k];
+          add_compensated(exact.layout_gram.data()[k], exact.layout_gram_low.data()[k], g.layout_gram.data()[k]);
+          exact.layout_gram_low.data()[k] += g.layout_gram_low.data()[k];
+        }
       }
     }
+    round_compensated(exact.gram, exact.gram_low);
+    round_compensated(exact.layout_gram, exact.layout_gram_low);
+    // Compensated sums: the whole pass's bits, whatever the split.
+    EXPECT_EQ(exact.gram, whole.gram);
+    EXPECT_EQ(exact.layout_gram, whole.layout_gram);
     EXPECT_EQ(next, set.value_count());
     EXPECT_EQ(kept, whole.kept);
     ASSERT_EQ(mean.size(), static_cast<std::size_t>(whole.mean.size()));
