@@ -19,7 +19,7 @@ now() { date +%s.%N; }
 t0=$(now); cat "${files[@]}" > /dev/null; t1=$(now)
 raw=$(echo "$t1 - $t0" | bc -l)
 # One rank's byte ranges: the first 1/P of every file's values (MB-granular, as dd reads).
-size=$(stat -c %s "${files[0]}")
+size=$(stat -L -c %s "${files[0]}")
 share_mb=$((size / ranks / 1048576))
 t0=$(now); for f in "${files[@]}"; do dd if="$f" bs=1M count="$share_mb" status=none of=/dev/null; done; t1=$(now)
 raw_share=$(echo "$t1 - $t0" | bc -l)

@@ -69,6 +69,6 @@ bench() {
 }
 bench "zonal DB" zonal "$db" -o OUT
 bench "zonal MODEL" zonal "$model" -o OUT
-bench "basis MODEL (256x256, 64 spp)" basis "$model" -o OUT --width 256 --height 256 --precision f32
-bench "basis MODEL --scene floor" basis "$model" --scene floor -o OUT --width 128 --height 96 --spp 16
+bench "basis MODEL (512x512, 64 spp)" basis "$model" -o OUT --precision f32
+bench "basis MODEL --scene floor (256x192)" basis "$model" --scene floor -o OUT --width 256 --height 192 --spp 16
 bench "evaluate EVAL_DB" evaluate "$eval_db" -o OUT --no-checks --quiet --materials 8 --dims 2,5

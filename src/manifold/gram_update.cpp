@@ -9,16 +9,17 @@
 namespace matlas {
 
 GramAccumulator::GramAccumulator(Eigen::Index n, std::size_t max_columns)
-    : n_(n), high_(std::max<std::size_t>(1, slices(max_columns)), Eigen::MatrixXd::Zero(n, n)), low_(high_) {}
+    : n_(n), high_(Eigen::MatrixXd::Zero(n, n)), low_(Eigen::MatrixXd::Zero(n, n)),
+      product_(std::max<std::size_t>(1, slices(max_columns))), product_single_(product_.size()) {}
 
-void GramAccumulator::add_product(const double* product, std::size_t s) {
-  Eigen::MatrixXd& high = high_[s];
-  Eigen::MatrixXd& low = low_[s];
+template <class T>
+void GramAccumulator::add_product(const T* product) {
+  std::lock_guard lock(mutex_);
   for (Eigen::Index j = 0; j < n_; ++j) {
-    const double* column = product + j * n_;
-    double* h = high.col(j).data();
-    double* l = low.col(j).data();
-    for (Eigen::Index i = 0; i <= j; ++i) add_compensated(h[i], l[i], column[i]);
+    const T* column = product + j * n_;
+    double* h = high_.col(j).data();
+    double* l = low_.col(j).data();
+    for (Eigen::Index i = 0; i <= j; ++i) add_compensated(h[i], l[i], static_cast<double>(column[i]));
   }
 }
 
@@ -26,12 +27,12 @@ void GramAccumulator::add_slice(const double* a, std::size_t ld, std::size_t col
   const std::size_t first = s * kSlice;
   if (first >= columns) return;
   const auto count = static_cast<int>(std::min(kSlice, columns - first));
-  thread_local std::vector<double> product;
+  std::vector<double>& product = product_[s];
   product.resize(static_cast<std::size_t>(n_ * n_));
   // Row-major n x k with leading dimension ld is column-major k x n: P = A^T' A' = A A^T.
   blas::openblas().dsyrk(CblasColMajor, CblasUpper, CblasTrans, static_cast<int>(n_), count, 1.0, a + first,
               static_cast<int>(ld), 0.0, product.data(), static_cast<int>(n_));
-  add_product(product.data(), s);
+  add_product(product.data());
 }
 
 void GramAccumulator::add_slice(const float* a, std::size_t ld, std::size_t columns, std::size_t s) {
@@ -39,26 +40,16 @@ void GramAccumulator::add_slice(const float* a, std::size_t ld, std::size_t colu
   if (first >= columns) return;
   const auto count = static_cast<int>(std::min(kSlice, columns - first));
   const auto n = static_cast<int>(n_);
-  thread_local std::vector<float> product;
-  thread_local std::vector<double> widened;
+  std::vector<float>& product = product_single_[s];
   product.resize(static_cast<std::size_t>(n_ * n_));
-  widened.resize(product.size());
   blas::openblas().ssyrk(CblasColMajor, CblasUpper, CblasTrans, n, count, 1.0f, a + first, static_cast<int>(ld),
                          0.0f, product.data(), n);
-  for (Eigen::Index j = 0; j < n_; ++j)
-    for (Eigen::Index i = 0; i <= j; ++i) widened[static_cast<std::size_t>(j * n_ + i)] = product[static_cast<std::size_t>(j * n_ + i)];
-  add_product(widened.data(), s);
+  add_product(product.data());  // a float is exact in double
 }
 
 void GramAccumulator::total(Eigen::MatrixXd& high, Eigen::MatrixXd& low) const {
-  high = Eigen::MatrixXd::Zero(n_, n_);
-  low = Eigen::MatrixXd::Zero(n_, n_);
-  for (std::size_t s = 0; s < high_.size(); ++s)
-    for (Eigen::Index j = 0; j < n_; ++j)
-      for (Eigen::Index i = 0; i <= j; ++i) {
-        add_compensated(high(i, j), low(i, j), high_[s](i, j));
-        low(i, j) += low_[s](i, j);
-      }
+  high = high_;
+  low = low_;
   symmetrize_from_upper(high);
   symmetrize_from_upper(low);
 }

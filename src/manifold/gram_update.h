@@ -2,17 +2,17 @@
 // S += A A^T for row-major blocks A (n materials x k columns): the Gram update of a build pass.
 // OpenBLAS's dsyrk does not speed up with threads for this thin shape (n ~ 100), so each block's
 // columns are cut into fixed slices that the workers take as they become free, each slice a
-// single-threaded dsyrk. Slice s of every block goes into its own n x n accumulator and the
-// accumulators are summed in slice order at the end: the result does not depend on scheduling
-// or on the number of threads. Only upper triangles are computed.
+// single-threaded dsyrk into its own scratch. Only upper triangles are computed.
 //
-// The slices' products are added with compensation (a high part and the rounding errors of its
-// additions, Knuth's TwoSum): the sum is the exact one to about 2^-100 of its terms, so its
-// rounding to double does not depend on the order of the additions either. A pass split across
-// processes (each summing its blocks, then the processes' sums added with the same compensation,
-// Communicator::sum_compensated) therefore gives the single process's Gram matrix bit for bit,
-// and the latent placements fitted to it the same layouts.
+// The slices' products are added to one sum with compensation (a high part and the rounding
+// errors of its additions, Knuth's TwoSum): the sum is the exact one to about 2^-100 of its terms,
+// so its rounding to double does not depend on the order of the additions: not on scheduling or
+// the number of threads, and not on how a pass is split across processes (each summing its
+// blocks, then the processes' sums added with the same compensation,
+// Communicator::sum_compensated): a distributed pass gives the single process's Gram matrix bit
+// for bit, and the latent placements fitted to it the same layouts.
 #include <cstddef>
+#include <mutex>
 #include <vector>
 
 #include <Eigen/Core>
@@ -52,11 +52,17 @@ public:
   void total(Eigen::MatrixXd& high, Eigen::MatrixXd& low) const;
 
 private:
-  void add_product(const double* product, std::size_t s);
+  template <class T>
+  void add_product(const T* product);
 
   Eigen::Index n_;
-  /// Per slice, the upper triangles of the sum's high part and of its compensation.
-  std::vector<Eigen::MatrixXd> high_, low_;
+  /// The upper triangles of the sum's high part and of its compensation.
+  Eigen::MatrixXd high_, low_;
+  std::mutex mutex_;  ///< one product added to the sum at a time
+  /// Per slice, the product being added (one task per slice at a time; per slice rather than per
+  /// thread, so that the scratch does not grow with the number of workers): double or single.
+  std::vector<std::vector<double>> product_;
+  std::vector<std::vector<float>> product_single_;
 };
 
 /// high += value with its rounding error added to low (TwoSum): high + low keeps the exact sum.
