@@ -61,20 +61,25 @@ struct ConvexProjection::Iterate {
       if (c[i] > 0) add(A, i);
   }
 
-  /// y = L^-1 rhs (rhs and y may be the same array).
+  /// Row i of the factor, its first `count` entries (contiguous: L is stored by rows).
+  Eigen::Map<const Eigen::VectorXd> row(std::size_t i, std::size_t count) const {
+    return {L.data() + i * static_cast<std::size_t>(c.size()), static_cast<Eigen::Index>(count)};
+  }
+
+  /// y = L^-1 rhs (rhs and y may be the same array): a dot product with each row (Eigen's
+  /// vectorised reduction).
   void forward(const double* rhs, double* y) {
     for (std::size_t i = 0; i < size(); ++i) {
-      double sum = rhs[i];
-      for (std::size_t k = 0; k < i; ++k) sum -= l(i, k) * y[k];
-      y[i] = sum / l(i, i);
+      const Eigen::Map<const Eigen::VectorXd> done(y, static_cast<Eigen::Index>(i));
+      y[i] = (rhs[i] - row(i, i).dot(done)) / l(i, i);
     }
   }
-  /// y = L^-T y, in place.
+  /// y = L^-T y, in place: column i of L^T is row i of L, so each solved y_i is subtracted from
+  /// the ones before it along that row (contiguous, vectorised), instead of a strided column walk.
   void backward(double* y) {
     for (std::size_t i = size(); i-- > 0;) {
-      double sum = y[i];
-      for (std::size_t k = i + 1; k < size(); ++k) sum -= l(k, i) * y[k];
-      y[i] = sum / l(i, i);
+      y[i] /= l(i, i);
+      Eigen::Map<Eigen::VectorXd>(y, static_cast<Eigen::Index>(i)) -= y[i] * row(i, i);
     }
   }
 
