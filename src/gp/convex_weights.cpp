@@ -40,6 +40,7 @@ struct ConvexProjection::Iterate {
   std::vector<Eigen::Index> pos;    // position in `order` of each index, -1 where bound
   std::vector<double> L;            // A_FF = L L^T, row-major lower triangle, row stride n
   std::vector<double> u, v, cF, x;  // u = A_FF^-1 b_F, v = A_FF^-1 1, the free set's optimum
+  std::vector<std::pair<double, Eigen::Index>> negative;  // bound coefficients to free: (multiplier, index)
   bool v_valid = false;
   Eigen::VectorXd b, r;
 
@@ -184,8 +185,7 @@ double ConvexProjection::free_set_optimum(const Eigen::VectorXd& b, Iterate& it)
   return nu;
 }
 
-Eigen::Index ConvexProjection::most_negative_multiplier(const Eigen::VectorXd& b, double nu, double tolerance,
-                                                       Iterate& it) const {
+void ConvexProjection::negative_multipliers(const Eigen::VectorXd& b, double nu, double tolerance, Iterate& it) const {
   const Eigen::Index n = A_.rows();
   const std::size_t m = it.size();
   // (A c)_j of the bound j: the free columns summed (vectorised) while F is the smaller part,
@@ -195,8 +195,7 @@ Eigen::Index ConvexProjection::most_negative_multiplier(const Eigen::VectorXd& b
     it.r.setZero(n);
     for (std::size_t s = 0; s < m; ++s) it.r.noalias() += it.cF[s] * A_.col(it.order[s]);
   }
-  Eigen::Index worst = -1;
-  double most_negative = -tolerance;
+  it.negative.clear();
   for (Eigen::Index j = 0; j < n; ++j) {
     if (it.free(j)) continue;
     double Ac = 0;
@@ -205,12 +204,12 @@ Eigen::Index ConvexProjection::most_negative_multiplier(const Eigen::VectorXd& b
     else
       for (std::size_t s = 0; s < m; ++s) Ac += A_(it.order[s], j) * it.cF[s];
     const double lambda = Ac - b[j] - nu;
-    if (lambda < most_negative) {
-      most_negative = lambda;
-      worst = j;
-    }
+    if (lambda < -tolerance) it.negative.emplace_back(lambda, j);
   }
-  return worst;
+  // The most negative first (ties by index: the order does not depend on anything else).
+  const std::size_t keep = std::min(it.negative.size(), kFreedAtOnce);
+  std::partial_sort(it.negative.begin(), it.negative.begin() + static_cast<std::ptrdiff_t>(keep), it.negative.end());
+  it.negative.resize(keep);
 }
 
 void ConvexProjection::solve(const Eigen::VectorXd& b, Iterate& it) const {
@@ -226,12 +225,12 @@ void ConvexProjection::solve(const Eigen::VectorXd& b, Iterate& it) const {
       // free the most negative one.
       c.setZero();
       for (std::size_t s = 0; s < m; ++s) c[it.order[s]] = it.cF[s];
-      const Eigen::Index worst = most_negative_multiplier(b, nu, tolerance, it);
-      if (worst < 0) {
+      negative_multipliers(b, nu, tolerance, it);
+      if (it.negative.empty()) {
         c /= c.sum();
         return;
       }
-      it.add(A_, worst);
+      for (const auto& [lambda, j] : it.negative) it.add(A_, j);
       continue;
     }
     // Step from c towards c_F until the first free coefficient reaches 0; that one becomes bound.
