@@ -181,7 +181,7 @@ Reply Api::preview(const std::string& body) {
   const std::string env = parse_choice(j, "env", envs_, previews_->default_environment());
   const std::string object = parse_choice(j, "object", objects_, previews_->default_object());
   const int size = parse_int(j, "size", 16, 512, previews_->size());
-  Reply r = Reply::bytes(preview_png(model_.weights(x), point_key(x).insert(0, 1, 'x'), env, object, size), kPng);
+  Reply r = Reply::bytes(preview_png(weights_at(x), point_key(x).insert(0, 1, 'x'), env, object, size), kPng);
   r.headers.emplace_back("Cache-Control", "no-store");
   return r;
 }
@@ -216,7 +216,7 @@ Reply Api::preview_refine(const std::string& body) {
   PreviewSource::Refined refined;
   {
     auto slot = acquire(compute_);
-    refined = previews_->refine(model_.weights(x), point_key(x), env, object, seconds, denoise, superseded);
+    refined = previews_->refine(weights_at(x), point_key(x), env, object, seconds, denoise, superseded);
   }
   Reply r = Reply::bytes(encode_png_fast(refined.image, previews_->tone()), kPng);
   add_refinement_headers(r, refined.state, refined.interrupted);
@@ -260,7 +260,7 @@ Reply Api::weights(const std::string& body) {
   const auto j = parse_json_object(body);
   const Eigen::VectorXd x = parse_latent(j, "x", domain_);
   const int top = parse_int(j, "top", 0, model_.count(), std::min(8, model_.count()));
-  const Eigen::VectorXd w = model_.weights(x);
+  const Eigen::VectorXd w = weights_at(x);
   const Plausibility p = plausibility_(w);
   return Reply::json({{"x", to_json(x)}, {"weights", to_json(w)}, {"variance", model_.variance(x)},
                       {"top", top_weights(w, top)},
@@ -280,7 +280,7 @@ Reply Api::slice(const std::string& body) {
   std::string png;
   {
     auto slot = acquire(compute_);
-    png = atlas::slice_png(model_, model_.weights(x), phi_d, &vmax);
+    png = atlas::slice_png(model_, weights_at(x), phi_d, &vmax);
   }
   Reply r = Reply::bytes(std::move(png), kPng);
   r.headers.emplace_back("X-Matlas-Max", std::to_string(vmax));
@@ -292,7 +292,7 @@ Reply Api::lobe(const std::string& body) {
   const Eigen::VectorXd x = parse_latent(j, "x", domain_);
   const double theta_i = parse_number(j, "theta_i", 0.0, 89.0, 30.0);
   const int samples = parse_int(j, "samples", 8, 721, 181);
-  const atlas::Lobe lobe = atlas::incidence_plane_lobe(model_, model_.weights(x), theta_i, samples);
+  const atlas::Lobe lobe = atlas::incidence_plane_lobe(model_, weights_at(x), theta_i, samples);
   nlohmann::json rgb = nlohmann::json::array();
   for (const Rgb& v : lobe.value) rgb.push_back({v[0], v[1], v[2]});
   return Reply::json({{"theta_i", theta_i}, {"theta_o", lobe.theta_o_degrees}, {"rgb", rgb}});
@@ -301,7 +301,7 @@ Reply Api::lobe(const std::string& body) {
 Reply Api::albedo(const std::string& body) {
   const auto j = parse_json_object(body);
   const Eigen::VectorXd x = parse_latent(j, "x", domain_);
-  const auto curve = model_.albedo_curve(model_.weights(x));
+  const auto curve = model_.albedo_curve(weights_at(x));
   nlohmann::json rgb = nlohmann::json::array();
   for (const Rgb& v : curve) rgb.push_back({v[0], v[1], v[2]});
   return Reply::json({{"theta_o", atlas::albedo_angles_degrees()}, {"rgb", rgb}});
@@ -412,9 +412,9 @@ Reply Api::reference_reply(const std::string& body, bool radiance) {
   const double exposure = parse_number(j, "exposure", -16.0, 16.0, 0.0);
   const int size = parse_int(j, "size", 16, 512, 256);
   auto slot = acquire(heavy_);
-  Reply r = radiance ? Reply::bytes(realtime_->reference_radiance(model_.weights(x), env, rotation, exposure, size),
+  Reply r = radiance ? Reply::bytes(realtime_->reference_radiance(weights_at(x), env, rotation, exposure, size),
                                     "application/octet-stream")
-                     : Reply::bytes(realtime_->reference_png(model_.weights(x), env, rotation, exposure, size), kPng);
+                     : Reply::bytes(realtime_->reference_png(weights_at(x), env, rotation, exposure, size), kPng);
   r.headers.emplace_back("Cache-Control", "no-store");
   return r;
 }

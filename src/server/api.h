@@ -19,6 +19,7 @@
 #include "server/atlas_server.h"
 #include "server/compute_gate.h"
 #include "server/png_cache.h"
+#include "server/point_weights.h"
 #include "server/preview_generations.h"
 #include "server/realtime.h"
 #include "server/request_parsing.h"
@@ -117,6 +118,8 @@ public:
 private:
   /// The key of a latent point for caches and refinements (every coordinate to 17 digits).
   static std::string point_key(const Eigen::VectorXd& x);
+  /// model_.weights(x), solved once for the several requests a drag step makes (PointWeights).
+  Eigen::VectorXd weights_at(const Eigen::VectorXd& x) const { return point_weights_.weights(x, point_key(x)); }
   /// The headers of a refinement's answer (previews and the scene view): X-Matlas-Spp, -Error,
   /// -Converged, -Seconds, -Interrupted; never cached.
   static void add_refinement_headers(Reply& r, const render::RefinementState& state, bool interrupted);
@@ -146,6 +149,7 @@ private:
   /// The served model, as a handle whose queries default to the server's mode
   /// (ServerOptions::interpolation): the model itself is shared, never changed.
   const Model model_;
+  mutable PointWeights point_weights_{[this](const Eigen::VectorXd& x) { return model_.weights(x); }};
   PlausibilityProbe plausibility_;      ///< for one point (weights reply): 4096 sampled columns
   PlausibilityProbe map_plausibility_;  ///< for map cells: 256 sampled columns
   std::shared_ptr<const PreviewSource> previews_;

@@ -92,7 +92,7 @@ Api::ExportSubject Api::export_subject(const nlohmann::json& j) const {
 }
 
 BrdfTable Api::subject_table(const ExportSubject& s, ExportStats* stats) const {
-  const Eigen::VectorXd w = s.material ? model_.material_weights(*s.material) : model_.weights(s.x);
+  const Eigen::VectorXd w = s.material ? model_.material_weights(*s.material) : weights_at(s.x);
   return export_table(model_, w, stats);  // negative values clamped to 0
 }
 

@@ -73,7 +73,7 @@ Reply Api::gi(const std::string& scene_text, const std::string& x_text, const st
     tone = gi_tone(scene, auto_exposure, exposure, tone_text, state.basis.get(), nullptr);
     // The drag's image, shown until the refinement at rest replaces it: its fireflies removed
     // (render/firefly_filter.h: biased, said in a header).
-    Image image = state.basis->compose(model_.weights(x));
+    Image image = state.basis->compose(weights_at(x));
     fireflies = render::remove_fireflies(image);
     png = encode_png_fast(image, tone);
   }
@@ -108,7 +108,7 @@ Reply Api::gi_refine(const std::string& body) {
   {
     auto slot = acquire(compute_);
     try {
-      refined = gi_->refine(scene, model_.weights(x), point_key(x), seconds, superseded);
+      refined = gi_->refine(scene, weights_at(x), point_key(x), seconds, superseded);
     } catch (const PreviewSource::Interrupt&) {
       interrupted = true;
       if (auto r = gi_->refined(scene, point_key(x))) refined = std::move(*r);
