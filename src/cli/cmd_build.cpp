@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "cli/placement_options.h"
 #include "cli/print.h"
 #include "cli/latent_point.h"
 #include "cli/world.h"
@@ -37,10 +38,7 @@ struct BuildArgs {
   std::size_t block_columns = kDefaults.block_columns;
   std::string interpolation = to_string(kDefaults.interpolation);
   double convex_ridge = kDefaults.convex_ridge;
-  int sparse_inducing = kDefaults.sparse.inducing;
-  int sparse_rank = kDefaults.sparse.rank;
-  int sparse_block = kDefaults.sparse.block;
-  int sparse_coarse = kDefaults.sparse.coarse;
+  gp::SparseOptions sparse = kDefaults.sparse;
   std::string preset;
   bool quiet = false;
 };
@@ -81,10 +79,7 @@ void run_build(const BuildArgs& a, const Io& io) {
   o.optimize.max_iterations = a.max_iterations;
   o.optimize.tolerance = a.tolerance;
   o.optimize.starts = a.starts;  // 0: BuildOptions::default_starts
-  o.sparse.inducing = a.sparse_inducing;
-  o.sparse.rank = a.sparse_rank;
-  o.sparse.block = a.sparse_block;
-  o.sparse.coarse = a.sparse_coarse;
+  o.sparse = a.sparse;
   if (a.storage == "f16") o.storage = Storage::f16;
   else if (a.storage != "f32") throw Error("--storage must be f32 or f16, got '" + a.storage + "'");
   o.block_columns = a.block_columns;
@@ -159,25 +154,7 @@ void add_build_command(CLI::App& app, const Io& io) {
                   "Optimiser starts (the PCA start and rescaled copies; the best wins). Default: 3 "
                   "for q <= 2, where the likelihood has several maxima, else 1")
       ->check(CLI::Range(1, 100));
-  cmd->add_option("--sparse-inducing", args->sparse_inducing,
-                  "Sparse latent optimisation with M inducing points (0: exact). For thousands of "
-                  "materials: O(n M^2) per evaluation instead of O(n^3) (docs/GP.md)")
-      ->check(CLI::Range(0, 100000))
-      ->capture_default_str();
-  cmd->add_option("--sparse-rank", args->sparse_rank,
-                  "Rank of the data term of the sparse optimisation (the rest of the trace spread evenly)")
-      ->check(CLI::Range(1, 100000))
-      ->capture_default_str();
-  cmd->add_option("--sparse-block", args->sparse_block,
-                  "Largest block of exact local covariance in the sparse optimisation (1: FITC)")
-      ->check(CLI::Range(1, 100000))
-      ->capture_default_str();
-  cmd->add_option("--sparse-coarse", args->sparse_coarse,
-                  "Coarse-to-fine sparse optimisation: place C materials chosen at random first, the others "
-                  "from their nearest ones in the data, then refine all (0: all at once; -1, the default: n/10 "
-                  "from 2000 materials on, else 0; docs/GP.md)")
-      ->check(CLI::Range(-1, 100000000))
-      ->capture_default_str();
+  add_sparse_placement_options(*cmd, args->sparse);
   cmd->add_option("--tolerance", args->tolerance, "Optimiser relative tolerance")
       ->check(finite_number() & CLI::PositiveNumber)
       ->capture_default_str();

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "cli/placement_options.h"
 #include "cli/print.h"
 #include "cli/world.h"
 #include "core/atomic_file.h"
@@ -50,6 +51,7 @@ struct EvaluateArgs {
   int candidates = 1500;
   bool skip_checks = false;
   std::string interpolation = "convex";
+  gp::SparseOptions placement{};  ///< the fits' placement: exact unless --sparse-inducing
   bool quiet = false;
   std::string command_line;
 };
@@ -118,6 +120,7 @@ void run_sparse_evaluation(const EvaluateArgs& a, const MaterialSet& set, Termin
   so.candidates = a.candidates;
   if (!a.layouts.empty()) so.layout = LayoutTransform::parse(a.layouts.front());
   if (interpolation_from_string(a.interpolation) == Interpolation::gp) so.fit.convex_ridge = 0;
+  so.fit.sparse = a.placement;
   if (!a.quiet)
     print(io.err, "sparse reconstruction: %zu materials, each left out in turn (q = %d, %s)\n", set.size(), so.dim,
           so.layout.to_string().c_str());
@@ -283,6 +286,7 @@ void add_evaluate_command(CLI::App& app, const Io& io) {
       ->delimiter(',')->check(CLI::Range(1, 1000))->capture_default_str();
   cmd->add_option("--candidates", args->candidates, "--sparse: candidate directions (a random subset of the plan's lattice)")
       ->check(CLI::Range(10, 100000))->capture_default_str();
+  add_sparse_placement_options(*cmd, args->placement);  // the study's fits (items 5-7)
   cmd->add_flag("--no-checks", args->skip_checks, "Skip items 1-4 (checks of a model)");
   cmd->add_flag("--quiet", args->quiet, "No progress output");
   cmd->callback([io, args, cmd] {

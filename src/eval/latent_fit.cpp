@@ -21,9 +21,8 @@ LatentFit fit_latent(const Eigen::MatrixXd& centred_gram, double columns, int q,
   problem.columns = columns;
   problem.kernel.nugget = options.nugget;
   problem.prior = options.prior;
-  const Eigen::MatrixXd X0 = gp::pca_initialization(problem, q);
   const gp::OptimizeResult result =
-      gp::optimize_latent(problem, X0, BuildOptions::resolved(options.optimize, q), null_progress());
+      place_latent_points(problem, q, BuildOptions::resolved(options.optimize, q), options.sparse);
   LatentFit fit;
   fit.posterior = std::make_shared<const gp::GpPosterior>(result.latent, problem.kernel);
   fit.log_likelihood = result.value;

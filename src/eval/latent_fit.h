@@ -21,10 +21,14 @@ struct FitOptions {
   gp::LatentPrior prior = gp::LatentPrior::spread();  ///< as BuildOptions::prior
   /// Convex interpolation (BuildOptions::interpolation == convex) with this ridge; 0 = GP weights.
   double convex_ridge = 1e-2;
+  /// As BuildOptions::sparse: the sparse placement (inducing points) when enabled, for studies of
+  /// databases whose exact fits cost O(n^3) per likelihood evaluation.
+  gp::SparseOptions sparse{};
 };
 
 /// Latent points fitted to a centred Gram (of the layout transform), as a build places them: PCA
-/// initialisation, then maximisation of the GP log-likelihood.
+/// initialisation, then maximisation of the GP log-likelihood (place_latent_points, exact or
+/// sparse).
 struct LatentFit {
   std::shared_ptr<const gp::GpPosterior> posterior;
   /// The convex mode's projection (metric: the fitted Gram), or null for GP weights.

@@ -215,6 +215,22 @@ void place_slices(SafetensorsWriter& writer, AtomicFile* share_file, const GramR
   });
 }
 
+}  // namespace
+
+gp::OptimizeResult place_latent_points(const gp::LikelihoodProblem& problem, int q, const gp::OptimizeOptions& optimize,
+                                       const gp::SparseOptions& sparse, ProgressSink& progress) {
+  if (sparse.enabled() && optimize.method != gp::Optimizer::lbfgs)
+    throw Error("the sparse latent optimisation (--sparse-inducing) needs the lbfgs optimizer");
+  if (sparse.enabled()) {
+    const gp::SparseProblem p = gp::sparse_problem(problem, sparse.rank);
+    const Eigen::MatrixXd x0 = gp::sparse_pca_initialization(p, q, sparse.inducing, sparse.block);
+    return gp::optimize_sparse_latent(p, x0, sparse, optimize, progress);
+  }
+  return gp::optimize_latent(problem, gp::pca_initialization(problem, q), optimize, progress);
+}
+
+namespace {
+
 /// The latent placement: MAP optimisation of the GP likelihood over the layout Gram matrix (sparse
 /// when options.sparse is on), from PCA; the result and its figures go into `report`.
 void place_latent(const BuildOptions& options, const GramResult& g, BuildReport& report, ProgressSink& progress) {
@@ -224,15 +240,8 @@ void place_latent(const BuildOptions& options, const GramResult& g, BuildReport&
   problem.columns = static_cast<double>(g.kept_columns);
   problem.kernel = gp::Kernel{1.0, options.nugget};
   problem.prior = options.prior;
-  if (options.sparse.enabled()) {
-    const gp::SparseProblem sparse = gp::sparse_problem(problem, options.sparse.rank);
-    const Eigen::MatrixXd x0 = gp::sparse_pca_initialization(sparse, q, options.sparse.inducing, options.sparse.block);
-    report.optimization = gp::optimize_sparse_latent(sparse, x0, options.sparse,
-                                                     BuildOptions::resolved(options.optimize, q), progress);
-  } else {
-    const Eigen::MatrixXd x0 = gp::pca_initialization(problem, q);
-    report.optimization = gp::optimize_latent(problem, x0, BuildOptions::resolved(options.optimize, q), progress);
-  }
+  report.optimization =
+      place_latent_points(problem, q, BuildOptions::resolved(options.optimize, q), options.sparse, progress);
   report.log_likelihood = report.optimization.value;
   // Constructing the posterior checks that K is positive definite (matlas::Error otherwise).
   [[maybe_unused]] const gp::GpPosterior posterior(report.optimization.latent, problem.kernel);

@@ -80,15 +80,22 @@ struct BuildReport {
   double share_seconds = 0, wait_seconds = 0, reduce_seconds = 0, place_seconds = 0;
 };
 
+/// The latent placement of a build, and of the evaluation's fits: from PCA, the MAP optimisation
+/// of the GP likelihood of `problem` (its Gram, columns, kernel and priors) in q dimensions, exact,
+/// or sparse when `sparse` is enabled (gp/sparse_optimize.h; then `optimize` must be L-BFGS).
+gp::OptimizeResult place_latent_points(const gp::LikelihoodProblem& problem, int q, const gp::OptimizeOptions& optimize,
+                                       const gp::SparseOptions& sparse, ProgressSink& progress = null_progress());
+
 /// Builds a model and writes it atomically to `output`.
 ///
 /// With a communicator of P > 1 ranks (`mpirun -np P matlas build`; every rank calls this with
 /// the same set, options and output, on storage every rank sees), rank r reads only its share of
 /// the column blocks of every file (gram.h's PassShare), the ranks add up their Gram matrices and
 /// albedo curves (gram_reduce.h) and write their data into the one model file (data_shares.h);
-/// rank 0 places the latent points and writes the rest. The model is the single-process one but
-/// for rounding in the Gram sums (and what follows from them) and the source hashes (of the
-/// ranks' byte ranges). An error on any rank is thrown on every rank.
+/// rank 0 places the latent points and writes the rest. The model is the single-process one
+/// bit for bit (the Gram sums are compensated: gram_update.h) but for the albedo curves' last
+/// bits and the source hashes (of the ranks' byte ranges). An error on any rank is thrown on
+/// every rank.
 BuildReport build_model(const MaterialSet& set, const BuildOptions& options,
                         const std::filesystem::path& output, ProgressSink& progress = null_progress(),
                         Communicator& comm = serial_communicator());
