@@ -40,7 +40,11 @@ GramProjection project_in_gram(const LatentFit& fit, std::span<const int> subset
   auto coefficients = [&](const Eigen::VectorXd& x) {
     return raw_from_weights(fit.weights(x), subset, n);
   };
-  auto objective = [&](const Eigen::VectorXd& x) { return residual_squared(gram, coefficients(x), h); };
+  // The optimiser's points are close to one another: each convex solve starts from the last.
+  gp::ConvexProjection::WarmStart warm;
+  auto objective = [&](const Eigen::VectorXd& x) {
+    return residual_squared(gram, raw_from_weights(fit.weights(x, warm), subset, n), h);
+  };
 
   // Starting points: the latent points of the materials nearest to h in this Gram.
   Eigen::VectorXd distance2(static_cast<Eigen::Index>(subset.size()));

@@ -37,6 +37,11 @@ struct LatentFit {
   Eigen::VectorXd weights(const Eigen::VectorXd& x) const {
     return convex ? convex->from_centred(posterior->weights(x)) : posterior->weights(x);
   }
+  /// The same along a sequence of nearby points (an optimiser's): each convex solve starts from
+  /// the previous one's (gp::ConvexProjection::WarmStart).
+  Eigen::VectorXd weights(const Eigen::VectorXd& x, gp::ConvexProjection::WarmStart& warm) const {
+    return convex ? convex->from_centred(posterior->weights(x), warm) : posterior->weights(x);
+  }
   double log_likelihood = 0;
   const Eigen::MatrixXd& latent() const { return posterior->latent(); }
 };

@@ -130,6 +130,17 @@ struct ConvexProjection::Iterate {
   }
 };
 
+ConvexProjection::WarmStart::WarmStart() : it_(std::make_unique<Iterate>()) {}
+ConvexProjection::WarmStart::~WarmStart() = default;
+ConvexProjection::WarmStart::WarmStart(WarmStart&&) noexcept = default;
+ConvexProjection::WarmStart& ConvexProjection::WarmStart::operator=(WarmStart&&) noexcept = default;
+
+Eigen::VectorXd ConvexProjection::from_centred(const Eigen::Ref<const Eigen::VectorXd>& w, WarmStart& warm) const {
+  Eigen::VectorXd g = Combination(w).affine();
+  project_from(g, *warm.it_);
+  return g;
+}
+
 double ConvexProjection::check(const Eigen::Ref<const Eigen::VectorXd>& g) const {
   const Eigen::Index n = A_.rows();
   if (g.size() != n)

@@ -277,6 +277,28 @@ TEST(ConvexProjection, BatchOverAGridEqualsThePerPointSolveEverywhere) {
   }
 }
 
+TEST(ConvexProjection, AWarmStartEndsAtTheColdSolvesOptimum) {
+  // A sequence of points (a walk of small steps, then a jump across the map), each solved from
+  // the one before (WarmStart, as an optimiser's evaluations are): every solution satisfies the
+  // optimality conditions and equals the cold solve's to rounding.
+  const int n = 40;
+  const Eigen::MatrixXd X = test::random_points(n, 2, 11, 2.0);
+  const GpPosterior gp(X, Kernel{1.0, 1e-4});
+  const ConvexProjection p(test::centred_gram(test::random_low_rank_data(n, 60, 5, 3)));
+  ConvexProjection::WarmStart warm;
+  int needing_the_qp = 0;
+  for (int s = 0; s <= 40; ++s) {
+    const Eigen::Vector2d x = s < 40 ? Eigen::Vector2d(-1.0 + 0.02 * s, 0.3 - 0.01 * s) : Eigen::Vector2d(2.5, -2.0);
+    const Eigen::VectorXd w = gp.weights(x);
+    const Eigen::VectorXd g = Combination(w).affine();
+    needing_the_qp += g.minCoeff() < 0;
+    const Eigen::VectorXd warm_c = p.from_centred(w, warm), cold_c = p.from_centred(w);
+    expect_kkt(p.metric(), g, warm_c);
+    EXPECT_LE((warm_c - cold_c).cwiseAbs().maxCoeff(), 1e-10) << "step " << s;
+  }
+  EXPECT_GT(needing_the_qp, 30);  // the walk exercises the active-set method, not the convex shortcut
+}
+
 TEST(ConvexProjection, BatchRejectsMalformedColumns) {
   const ConvexProjection p(Eigen::MatrixXd::Identity(3, 3));
   Eigen::MatrixXd G(3, 2);
