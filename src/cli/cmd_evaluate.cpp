@@ -171,6 +171,7 @@ void run_evaluate(const EvaluateArgs& a, const Io& io) {
   so.path_segments = a.segments;
   so.value_stride = a.stride;
   if (interpolation_from_string(a.interpolation) == Interpolation::gp) so.fit.convex_ridge = 0;
+  so.fit.sparse = a.placement;
   eval::ModelCheckOptions co;
   co.map_resolution = a.map_resolution;
 
@@ -286,7 +287,7 @@ void add_evaluate_command(CLI::App& app, const Io& io) {
       ->delimiter(',')->check(CLI::Range(1, 1000))->capture_default_str();
   cmd->add_option("--candidates", args->candidates, "--sparse: candidate directions (a random subset of the plan's lattice)")
       ->check(CLI::Range(10, 100000))->capture_default_str();
-  add_sparse_placement_options(*cmd, args->placement);  // the study's fits (items 5-7)
+  add_sparse_placement_options(*cmd, args->placement);  // the fits of the study (items 5-7) and of --sparse
   cmd->add_flag("--no-checks", args->skip_checks, "Skip items 1-4 (checks of a model)");
   cmd->add_flag("--quiet", args->quiet, "No progress output");
   cmd->callback([io, args, cmd] {

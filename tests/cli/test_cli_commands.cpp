@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <cmath>
+#include <fstream>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -70,6 +71,34 @@ TEST_F(CliCommands, HelpListsExportAndCallsEvalADeprecatedAlias) {
   const Output v = call({"--version"});
   EXPECT_EQ(v.code, 0);
   EXPECT_CONTAINS(v.out, "matlas ");
+}
+
+TEST_F(CliCommands, EvaluateSparseInducingPlacesTheStudysFitsSparsely) {
+  // --sparse-inducing reaches the study's fits: their log-likelihood (the sparse bound) is not the
+  // exact study's.
+  auto study = [&](const std::string& name, const std::vector<std::string>& extra) {
+    std::vector<std::string> args{"evaluate", (dir_->path() / "db").string(), "-o", (dir_->path() / name).string(),
+                                  "--no-checks", "--quiet", "--dims", "2", "--layouts", "linear", "--materials", "2",
+                                  "--pairs", "1"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return call(args);
+  };
+  auto first_row = [&](const std::string& name) {  // "layout,q,log_likelihood" of configs.csv's first row
+    std::ifstream in(dir_->path() / name / "configs.csv");
+    std::string header, row;
+    std::getline(in, header);
+    std::getline(in, row);
+    std::size_t end = 0;
+    for (int field = 0; field < 3; ++field) end = row.find(',', end) + 1;
+    return row.substr(0, end - 1);
+  };
+  const Output exact = study("exact", {});
+  ASSERT_EQ(exact.code, 0) << exact.err;
+  const Output sparse = study("sparse", {"--sparse-inducing", "3"});
+  ASSERT_EQ(sparse.code, 0) << sparse.err;
+  EXPECT_EQ(first_row("exact").substr(0, 9), "linear,2,");
+  EXPECT_EQ(first_row("sparse").substr(0, 9), "linear,2,");
+  EXPECT_NE(first_row("exact"), first_row("sparse"));
 }
 
 TEST_F(CliCommands, ExportRefusesANonStandardGridUnderBothNames) {
