@@ -60,9 +60,15 @@ void run_collectively(Communicator& comm, const std::function<void()>& step);
 /// Collective; ranks may hold different numbers of arrays.
 std::vector<std::vector<std::byte>> gather_arrays(Communicator& comm, const std::vector<std::vector<std::byte>>& mine);
 
-/// The same for arrays of a trivially copyable type.
-template <class T>
-std::vector<std::vector<T>> gather_arrays(Communicator& comm, const std::vector<std::vector<T>>& mine) {
+/// Every rank's byte arrays on every rank, in rank order (gather_arrays, then broadcast: at most
+/// 2 GB in all). Collective.
+std::vector<std::vector<std::byte>> all_gather_arrays(Communicator& comm, const std::vector<std::vector<std::byte>>& mine);
+
+namespace detail {
+
+/// gather(comm, arrays as bytes), back as arrays of T: the typed form of a byte-array collective.
+template <class T, class Gather>
+std::vector<std::vector<T>> gather_typed(Gather gather, Communicator& comm, const std::vector<std::vector<T>>& mine) {
   static_assert(std::is_trivially_copyable_v<T>);
   std::vector<std::vector<std::byte>> bytes;
   bytes.reserve(mine.size());
@@ -71,33 +77,27 @@ std::vector<std::vector<T>> gather_arrays(Communicator& comm, const std::vector<
     bytes.emplace_back(b.begin(), b.end());
   }
   std::vector<std::vector<T>> all;
-  for (const auto& b : gather_arrays(comm, bytes)) {
+  for (const auto& b : gather(comm, bytes)) {
     std::vector<T>& a = all.emplace_back(b.size() / sizeof(T));
     if (!b.empty()) std::memcpy(a.data(), b.data(), b.size());
   }
   return all;
 }
 
-/// Every rank's byte arrays on every rank, in rank order (gather_arrays, then broadcast: at most
-/// 2 GB in all). Collective.
-std::vector<std::vector<std::byte>> all_gather_arrays(Communicator& comm, const std::vector<std::vector<std::byte>>& mine);
+}  // namespace detail
 
-/// The same for arrays of a trivially copyable type.
+/// gather_arrays for arrays of a trivially copyable type.
+template <class T>
+std::vector<std::vector<T>> gather_arrays(Communicator& comm, const std::vector<std::vector<T>>& mine) {
+  using Bytes = std::vector<std::vector<std::byte>>;
+  return detail::gather_typed<T>(static_cast<Bytes (*)(Communicator&, const Bytes&)>(&gather_arrays), comm, mine);
+}
+
+/// all_gather_arrays for arrays of a trivially copyable type.
 template <class T>
 std::vector<std::vector<T>> all_gather_arrays(Communicator& comm, const std::vector<std::vector<T>>& mine) {
-  static_assert(std::is_trivially_copyable_v<T>);
-  std::vector<std::vector<std::byte>> bytes;
-  bytes.reserve(mine.size());
-  for (const auto& a : mine) {
-    const auto b = std::as_bytes(std::span<const T>(a));
-    bytes.emplace_back(b.begin(), b.end());
-  }
-  std::vector<std::vector<T>> all;
-  for (const auto& b : all_gather_arrays(comm, bytes)) {
-    std::vector<T>& a = all.emplace_back(b.size() / sizeof(T));
-    if (!b.empty()) std::memcpy(a.data(), b.data(), b.size());
-  }
-  return all;
+  using Bytes = std::vector<std::vector<std::byte>>;
+  return detail::gather_typed<T>(static_cast<Bytes (*)(Communicator&, const Bytes&)>(&all_gather_arrays), comm, mine);
 }
 
 /// Rank `part`'s contiguous share [first, last) of `items` items split into `parts` nearly equal

@@ -210,21 +210,15 @@ private:
       }
   }
 
-  /// A Gram sum rounded to double, and what the rounding left out (rounded + rest = the sum).
-  static void rounded(const GramAccumulator& sum, Eigen::MatrixXd& value, Eigen::MatrixXd& rest) {
-    sum.total(value, rest);
-    round_compensated(value, rest);
-  }
-
   GramResult finish() {
     result_.kept_columns = mean_.size();
     if (whole_) require_kept_columns(result_);
     result_.hashes = hashers_.digests();
     result_.albedo = albedo_centred_.rowwise() + albedo_of_mean_;
     result_.mean = Eigen::Map<const Eigen::VectorXd>(mean_.data(), static_cast<Eigen::Index>(mean_.size()));
-    rounded(linear_gram_, result_.gram, result_.gram_low);
+    linear_gram_.total(result_.gram, result_.gram_low);
     if (separate_layout_) {
-      rounded(layout_gram_, result_.layout_gram, result_.layout_gram_low);
+      layout_gram_.total(result_.layout_gram, result_.layout_gram_low);
     } else {
       result_.layout_gram = result_.gram;
       result_.layout_gram_low = result_.gram_low;

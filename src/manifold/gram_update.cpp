@@ -47,11 +47,12 @@ void GramAccumulator::add_slice(const float* a, std::size_t ld, std::size_t colu
   add_product(product.data());  // a float is exact in double
 }
 
-void GramAccumulator::total(Eigen::MatrixXd& high, Eigen::MatrixXd& low) const {
-  high = high_;
-  low = low_;
-  symmetrize_from_upper(high);
-  symmetrize_from_upper(low);
+void GramAccumulator::total(Eigen::MatrixXd& value, Eigen::MatrixXd& rest) const {
+  value = high_;
+  rest = low_;
+  symmetrize_from_upper(value);
+  symmetrize_from_upper(rest);
+  round_compensated(value, rest);
 }
 
 void round_compensated(Eigen::MatrixXd& value, Eigen::MatrixXd& low) {
@@ -67,9 +68,9 @@ void round_compensated(Eigen::MatrixXd& value, Eigen::MatrixXd& low) {
 }
 
 Eigen::MatrixXd GramAccumulator::total() const {
-  Eigen::MatrixXd high, low;
-  total(high, low);
-  return high + low;
+  Eigen::MatrixXd value, rest;
+  total(value, rest);
+  return value;
 }
 
 void add_gram_upper(const BlockMatrix& a, Eigen::MatrixXd& upper) {

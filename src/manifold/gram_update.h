@@ -48,8 +48,9 @@ public:
 
   /// The sum so far, symmetric, rounded to double.
   Eigen::MatrixXd total() const;
-  /// The sum so far as high + low (symmetric; low holds the additions' rounding errors).
-  void total(Eigen::MatrixXd& high, Eigen::MatrixXd& low) const;
+  /// The sum so far rounded to double into `value` and what the rounding left out into `rest`
+  /// (value + rest is the compensated sum; both symmetric): GramResult::gram and gram_low.
+  void total(Eigen::MatrixXd& value, Eigen::MatrixXd& rest) const;
 
 private:
   template <class T>

@@ -88,6 +88,20 @@ Result mpirun(int ranks, const std::vector<std::string>& args) {
   return run_process(kMpiexec, all, 90);
 }
 
+/// `matlas COMMAND INPUT -o SINGLE FLAGS...` in one process, then with `mpirun -np 2` into SPLIT;
+/// both must succeed. Returns the two ranks' output.
+Result single_and_split(const std::string& command, const fs::path& input, const std::vector<std::string>& flags,
+                        const fs::path& single, const fs::path& split) {
+  std::vector<std::string> args{command, input.string(), "-o", single.string()};
+  args.insert(args.end(), flags.begin(), flags.end());
+  const Result one = matlas(args);
+  EXPECT_EQ(one.code, 0) << one.out;
+  args[3] = split.string();
+  Result two = mpirun(2, args);
+  EXPECT_EQ(two.code, 0) << two.out;
+  return two;
+}
+
 /// Overwrites value index v of a MERL file (the stored, unscaled double).
 void poke_value(const fs::path& file, std::size_t v, double value) {
   std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
@@ -143,13 +157,8 @@ protected:
 
 TEST_F(MpiBuild, TwoRanksWriteTheSingleProcessModel) {
   const fs::path single = dir_->path() / "single.matlas", split = dir_->path() / "split.matlas";
-  const std::vector<std::string> flags{"--quiet", "--block-columns", std::to_string(kBlockColumns)};
-  std::vector<std::string> args{"build", db().string(), "-o", single.string()};
-  args.insert(args.end(), flags.begin(), flags.end());
-  Result r = matlas(args);
-  ASSERT_EQ(r.code, 0) << r.out;
-  args[3] = split.string();
-  r = mpirun(2, args);
+  const Result r =
+      single_and_split("build", db(), {"--quiet", "--block-columns", std::to_string(kBlockColumns)}, single, split);
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("ranks            2 (MPI), the pass split by column blocks"), std::string::npos) << r.out;
   EXPECT_EQ(std::count_if(fs::directory_iterator(dir_->path()), fs::directory_iterator{},
@@ -230,13 +239,7 @@ TEST_F(MpiBuild, ZonalOnTwoRanksWritesTheSingleProcessCoefficients) {
   for (const fs::path& input : {db(), model}) {
     const std::string stem = input == db() ? "zonal-db" : "zonal-model";
     const fs::path single = dir_->path() / (stem + "-1.safetensors"), split = dir_->path() / (stem + "-2.safetensors");
-    const std::vector<std::string> flags{"--bands", "8", "--theta-o", "8"};
-    std::vector<std::string> args{"zonal", input.string(), "-o", single.string()};
-    args.insert(args.end(), flags.begin(), flags.end());
-    Result r = matlas(args);
-    ASSERT_EQ(r.code, 0) << r.out;
-    args[3] = split.string();
-    r = mpirun(2, args);
+    const Result r = single_and_split("zonal", input, {"--bands", "8", "--theta-o", "8"}, single, split);
     ASSERT_EQ(r.code, 0) << r.out;
     EXPECT_NE(r.out.find("12 materials"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("2 MPI ranks"), std::string::npos) << r.out;
@@ -299,13 +302,10 @@ std::vector<std::vector<double>> csv_numbers(const fs::path& file) {
 // to the 9 digits it prints.
 TEST_F(MpiBuild, EvaluateOnTwoRanksReportsTheSingleProcessStudy) {
   const fs::path single = dir_->path() / "evaluate-1", split = dir_->path() / "evaluate-2";
-  std::vector<std::string> args{"evaluate", db().string(), "-o", single.string(), "--no-checks", "--quiet",
-                                "--dims",   "2,3",         "--layouts", "cosine-linear,cbrt", "--materials", "4",
-                                "--pairs",  "3"};
-  Result r = matlas(args);
-  ASSERT_EQ(r.code, 0) << r.out;
-  args[3] = split.string();
-  r = mpirun(2, args);
+  const Result r = single_and_split("evaluate", db(),
+                                    {"--no-checks", "--quiet", "--dims", "2,3", "--layouts", "cosine-linear,cbrt",
+                                     "--materials", "4", "--pairs", "3"},
+                                    single, split);
   ASSERT_EQ(r.code, 0) << r.out;
   ASSERT_TRUE(fs::exists(split / "report.json")) << r.out;
   for (const char* file : {"material_distances.csv", "configs.csv", "loo.csv", "paths.csv"}) {
@@ -340,12 +340,7 @@ TEST_F(MpiBuild, BasisOnTwoRanksRendersTheSingleProcessImages) {
        {"p", "linear", "full"}}};
   for (const Case& c : cases) {
     const fs::path single = dir_->path() / (c.stem + "-1.safetensors"), split = dir_->path() / (c.stem + "-2.safetensors");
-    std::vector<std::string> args{"basis", model.string(), "-o", single.string()};
-    args.insert(args.end(), c.flags.begin(), c.flags.end());
-    Result r = matlas(args);
-    ASSERT_EQ(r.code, 0) << r.out;
-    args[3] = split.string();
-    r = mpirun(2, args);
+    const Result r = single_and_split("basis", model, c.flags, single, split);
     ASSERT_EQ(r.code, 0) << r.out;
     EXPECT_NE(r.out.find("wrote " + split.string()), std::string::npos) << r.out;
     const SafetensorsFile a = SafetensorsFile::open(single), b = SafetensorsFile::open(split);

@@ -175,15 +175,26 @@ TEST(Render, ATableCombinationIsTheWeightedSumOfItsTables) {
   EXPECT_THROW(TableCombination({&t1, &other}, {1.0, 1.0}), Error);
 }
 
-TEST(Render, IsLinearInTheBrdfAndDeterministic) {
+/// A sphere on the ground under a light and a synthetic environment.
+SceneDescription lit_sphere_on_ground() {
   SceneDescription d;
   d.ground = true;
   d.lights.push_back({Vec3(0.5, 1.0, 0.3).normalized(), Rgb::Constant(1.5)});
-  const Scene scene(d, std::nullopt, Environment(test::synthetic_environment(), 40.0));
-  const GgxConductor a{Rgb(0.9, 0.8, 0.5), 0.1};
-  const Lambertian b{Rgb(0.2, 0.5, 0.7)};
-  const FunctionMaterial fa([&](const Vec3& wi, const Vec3& wo) { return a(wi, wo); });
-  const FunctionMaterial fb([&](const Vec3& wi, const Vec3& wo) { return b(wi, wo); });
+  return d;
+}
+
+/// A glossy conductor and a diffuse material, as materials.
+const GgxConductor kConductor{Rgb(0.9, 0.8, 0.5), 0.1};
+const Lambertian kDiffuse{Rgb(0.2, 0.5, 0.7)};
+const FunctionMaterial kConductorMaterial([](const Vec3& wi, const Vec3& wo) { return kConductor(wi, wo); });
+const FunctionMaterial kDiffuseMaterial([](const Vec3& wi, const Vec3& wo) { return kDiffuse(wi, wo); });
+
+TEST(Render, IsLinearInTheBrdfAndDeterministic) {
+  const Scene scene(lit_sphere_on_ground(), std::nullopt, Environment(test::synthetic_environment(), 40.0));
+  const GgxConductor& a = kConductor;
+  const Lambertian& b = kDiffuse;
+  const FunctionMaterial& fa = kConductorMaterial;
+  const FunctionMaterial& fb = kDiffuseMaterial;
   const FunctionMaterial mix([&](const Vec3& wi, const Vec3& wo) { return Rgb(0.3 * a(wi, wo) + 0.7 * b(wi, wo)); });
   const RenderSettings settings = small(20, 8);
   const Image ia = render(scene, fa, settings), ib = render(scene, fb, settings), im = render(scene, mix, settings);
@@ -206,15 +217,8 @@ TEST(Render, ABanksRowSharesAreTheWholeRendersRows) {
   // Every third row from rows 0, 1 and 2 (a render split across three processes): each share's
   // row j is the whole render's row part + 3 j, bit for bit, and the shares cover the image. A
   // height that 3 does not divide gives the shares different row counts.
-  SceneDescription d;
-  d.ground = true;
-  d.lights.push_back({Vec3(0.5, 1.0, 0.3).normalized(), Rgb::Constant(1.5)});
-  const Scene scene(d, std::nullopt, Environment(test::synthetic_environment(), 40.0));
-  const GgxConductor a{Rgb(0.9, 0.8, 0.5), 0.15};
-  const Lambertian b{Rgb(0.2, 0.5, 0.7)};
-  const FunctionMaterial fa([&](const Vec3& wi, const Vec3& wo) { return a(wi, wo); });
-  const FunctionMaterial fb([&](const Vec3& wi, const Vec3& wo) { return b(wi, wo); });
-  const MaterialList bank({&fa, &fb});
+  const Scene scene(lit_sphere_on_ground(), std::nullopt, Environment(test::synthetic_environment(), 40.0));
+  const MaterialList bank({&kConductorMaterial, &kDiffuseMaterial});
   RenderSettings settings = small(16, 4);
   settings.height = 11;
   const std::vector<Image> whole = render_bank(scene, bank, settings);
