@@ -56,12 +56,13 @@ zonal::CoefficientSet model_coefficients(const Model& model, const zonal::Projec
   // those weights are exactly mean[column] and z_i[column] (Model::table), so they are read
   // straight from the column-interleaved storage, and only at the quadrature's bins. This rank
   // projects tables [first, last).
-  const auto [first, last] = share_of(n + 1, comm.rank(), comm.size());
+  const auto share = share_of(n + 1, comm.rank(), comm.size());
+  const std::size_t first = share.first, last = share.second;
   std::vector<zonal::ZonalCoefficients> mine;
   run_collectively(comm, [&] {
     if (first == last) return;
     mine = projector.project_many(
-        [&, first = first, last = last](std::uint32_t bin, int channel, double* out) {
+        [&](std::uint32_t bin, int channel, double* out) {
           const int column = model.column_of(static_cast<std::size_t>(channel) * bins + bin);
           if (column < 0) {
             std::fill(out, out + (last - first), 0.0);
