@@ -34,14 +34,18 @@ Eigen::VectorXd ConvexProjection::from_centred(const Eigen::Ref<const Eigen::Vec
 // The iterate of the active-set method and the Cholesky factor of A_FF on its free set F, kept
 // up to date as F changes by one index at a time (O(|F|^2) instead of a factorisation, O(|F|^3),
 // per change) and from one point to the next: neighbouring points mostly end on the same F.
+// The forward solutions y_b = L^-1 b_F and y_1 = L^-1 1 are kept up to date with the factor too
+// (O(|F|) per change: a new row's entry, or the removal's rotations applied to them), so that the
+// free set's optimum costs one backward solve: c_F = L^-T (y_b + nu y_1), with sum c_F =
+// y_1 . (y_b + nu y_1) = 1 fixing nu.
 struct ConvexProjection::Iterate {
   Eigen::VectorXd c;                // feasible: c >= 0, sum c = 1; empty: no start yet
   std::vector<Eigen::Index> order;  // F, in the factor's order
   std::vector<Eigen::Index> pos;    // position in `order` of each index, -1 where bound
   std::vector<double> L;            // A_FF = L L^T, row-major lower triangle, row stride n
-  std::vector<double> u, v, cF, x;  // u = A_FF^-1 b_F, v = A_FF^-1 1, the free set's optimum
+  std::vector<double> yb, y1, cF, x;  // L^-1 b_F, L^-1 1, the free set's optimum, scratch
   std::vector<std::pair<double, Eigen::Index>> negative;  // bound coefficients to free: (multiplier, index)
-  bool v_valid = false;
+  bool yb_valid = false, y1_valid = false;  // yb: for the b of this solve (it.b)
   Eigen::VectorXd b, r;
 
   bool free(Eigen::Index i) const { return pos[static_cast<std::size_t>(i)] >= 0; }
@@ -56,6 +60,7 @@ struct ConvexProjection::Iterate {
     MATLAS_DCHECK(c.sum() > 0, "coefficients summing to 1 have a positive part");
     c /= c.sum();
     order.clear();
+    yb_valid = y1_valid = false;
     pos.assign(static_cast<std::size_t>(n), -1);
     L.resize(static_cast<std::size_t>(n * n));
     for (Eigen::Index i = 0; i < n; ++i)
@@ -95,13 +100,19 @@ struct ConvexProjection::Iterate {
     // A_FF is a principal submatrix of a positive definite A: d >= its smallest eigenvalue > 0.
     if (!(d > 0)) throw Error("convex weights: the metric is not positive definite (ridge too small)");
     l(m, m) = std::sqrt(d);
+    // The forward solutions gain the new row's entry.
+    const Eigen::Map<const Eigen::VectorXd> row_m(x.data(), static_cast<Eigen::Index>(m));
+    if (y1_valid) y1.push_back((1.0 - row_m.dot(Eigen::Map<const Eigen::VectorXd>(y1.data(), row_m.size()))) / l(m, m));
+    if (yb_valid)
+      yb.push_back((b[j] - row_m.dot(Eigen::Map<const Eigen::VectorXd>(yb.data(), row_m.size()))) / l(m, m));
     order.push_back(j);
     pos[static_cast<std::size_t>(j)] = static_cast<Eigen::Index>(m);
-    v_valid = false;
   }
 
   /// F -= {j}: its row and column leave the factor, and the rows below it take a rank-1 update
-  /// (their part of the removed column folded back in: L22' L22'^T = L22 L22^T + x x^T).
+  /// (their part of the removed column folded back in: L22' L22'^T = L22 L22^T + x x^T) by
+  /// Givens rotations of the columns (k, removed); the same rotations of the unknowns turn the
+  /// forward solutions into those of the new factor (the equations of the rows kept still hold).
   void remove(Eigen::Index j) {
     const auto p = static_cast<std::size_t>(pos[static_cast<std::size_t>(j)]);
     const std::size_t m = size();
@@ -112,6 +123,9 @@ struct ConvexProjection::Iterate {
       for (std::size_t k = p + 1; k <= i; ++k) l(i - 1, k - 1) = l(i, k);
     }
     const std::size_t len = m - 1 - p;
+    double removed_b = 0, removed_1 = 0;  // the removed row's unknowns, rotated along
+    if (yb_valid) removed_b = yb[p], yb.erase(yb.begin() + static_cast<std::ptrdiff_t>(p));
+    if (y1_valid) removed_1 = y1[p], y1.erase(y1.begin() + static_cast<std::ptrdiff_t>(p));
     for (std::size_t k = 0; k < len; ++k) {
       const double lkk = l(p + k, p + k);
       const double norm = std::hypot(lkk, x[k]);
@@ -121,12 +135,21 @@ struct ConvexProjection::Iterate {
         l(p + i, p + k) = (l(p + i, p + k) + sn * x[i]) / cs;
         x[i] = cs * x[i] - sn * l(p + i, p + k);
       }
+      // The rotation (cos, sin) = (lkk, x_k) / norm of the unknowns (y_k, removed).
+      const double co = lkk / norm, si = x[k] / norm;
+      if (yb_valid) rotate(yb[p + k], removed_b, co, si);
+      if (y1_valid) rotate(y1[p + k], removed_1, co, si);
     }
     order.erase(order.begin() + static_cast<std::ptrdiff_t>(p));
     pos[static_cast<std::size_t>(j)] = -1;
     for (std::size_t i = p; i < order.size(); ++i)
       pos[static_cast<std::size_t>(order[i])] = static_cast<Eigen::Index>(i);
-    v_valid = false;
+  }
+
+  static void rotate(double& kept, double& removed, double co, double si) {
+    const double k = kept;
+    kept = co * k + si * removed;
+    removed = co * removed - si * k;
   }
 };
 
@@ -170,29 +193,33 @@ void ConvexProjection::project_from(Eigen::Ref<Eigen::VectorXd> g, Iterate& it, 
     it.b = Eigen::Map<const Eigen::VectorXd>(b, g.size());
   else
     it.b.noalias() = A_ * g;
+  it.yb_valid = false;  // a new b
   solve(it.b, it);
   MATLAS_DCHECK(it.c.size() == g.size() && it.c.minCoeff() >= 0, "the active-set iterate stays feasible");
   g = it.c;
 }
 
 double ConvexProjection::free_set_optimum(const Eigen::VectorXd& b, Iterate& it) const {
-  // A_FF c_F = b_F + nu 1, sum c_F = 1: c_F = u + nu v with u = A_FF^-1 b_F, v = A_FF^-1 1 (v
-  // changes only with F).
+  // A_FF c_F = b_F + nu 1, sum c_F = 1: c_F = L^-T (y_b + nu y_1), and 1^T L^-T = y_1^T gives
+  // sum c_F = y_1 . y_b + nu y_1 . y_1.
   const std::size_t m = it.size();
-  it.u.resize(m), it.cF.resize(m);
-  if (!it.v_valid) {
-    it.v.assign(m, 1.0);
-    it.forward(it.v.data(), it.v.data());
-    it.backward(it.v.data());
-    it.v_valid = true;
+  if (!it.y1_valid) {
+    it.y1.assign(m, 1.0);
+    it.forward(it.y1.data(), it.y1.data());
+    it.y1_valid = true;
   }
-  for (std::size_t s = 0; s < m; ++s) it.u[s] = b[it.order[s]];
-  it.forward(it.u.data(), it.u.data());
-  it.backward(it.u.data());
-  double usum = 0, vsum = 0;
-  for (std::size_t s = 0; s < m; ++s) usum += it.u[s], vsum += it.v[s];
-  const double nu = (1.0 - usum) / vsum;
-  for (std::size_t s = 0; s < m; ++s) it.cF[s] = it.u[s] + nu * it.v[s];
+  if (!it.yb_valid) {
+    it.yb.resize(m);
+    for (std::size_t s = 0; s < m; ++s) it.yb[s] = b[it.order[s]];
+    it.forward(it.yb.data(), it.yb.data());
+    it.yb_valid = true;
+  }
+  const auto em = static_cast<Eigen::Index>(m);
+  const Eigen::Map<const Eigen::VectorXd> yb(it.yb.data(), em), y1(it.y1.data(), em);
+  const double nu = (1.0 - y1.dot(yb)) / y1.squaredNorm();
+  it.cF.resize(m);
+  Eigen::Map<Eigen::VectorXd>(it.cF.data(), em) = yb + nu * y1;
+  it.backward(it.cF.data());
   return nu;
 }
 
