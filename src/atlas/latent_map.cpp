@@ -200,7 +200,7 @@ Image render_latent_map(const Model& model, const LatentPlane& plane, const MapO
     const int cells = std::max(2, o.cells);
     const int cx = std::max(2, static_cast<int>(std::lround(static_cast<double>(cells) * mw / longer)));
     const int cy = std::max(2, static_cast<int>(std::lround(static_cast<double>(cells) * mh / longer)));
-    const LatentGrid g = latent_grid(model, plane, cx, cy);
+    const LatentGrid g = latent_grid(model, plane, cx, cy, layer_interpolation(model, o.layer));
     std::optional<PlausibilityProbe> probe;
     if (o.layer == MapLayer::plausibility) probe.emplace(model, 256);
     const LayerCells layer = layer_cells(model, g, o.layer, o.style, probe ? &*probe : nullptr);

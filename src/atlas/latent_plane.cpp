@@ -118,6 +118,10 @@ int frame_core(const Model& model, LatentPlane& plane, double margin) {
 }
 
 LatentGrid latent_grid(const Model& model, const LatentPlane& plane, int cols, int rows) {
+  return latent_grid(model, plane, cols, rows, model.interpolation());
+}
+
+LatentGrid latent_grid(const Model& model, const LatentPlane& plane, int cols, int rows, Interpolation mode) {
   if (cols <= 0 || rows <= 0) throw Error("latent map: grid size must be positive");
   MATLAS_CHECK(plane.origin.size() == model.dim() && plane.axis_u.size() == model.dim() &&
                    plane.axis_v.size() == model.dim(),
@@ -138,7 +142,7 @@ LatentGrid latent_grid(const Model& model, const LatentPlane& plane, int cols, i
       g.points.row(cell(r, c)) = plane.point(u, v).transpose();
       path.row(along(r, c)) = g.points.row(cell(r, c));
     }
-  Model::Prediction predicted = model.predict_batch(path);
+  Model::Prediction predicted = model.predict_batch(path, mode);
   g.weights = std::move(predicted.weights);
   g.variance = std::move(predicted.variance);
   for (int r = 1; r < rows; r += 2)

@@ -52,5 +52,7 @@ struct LatentGrid {
   Eigen::VectorXd variance;  ///< cols * rows
 };
 LatentGrid latent_grid(const Model& model, const LatentPlane& plane, int cols, int rows);
+/// The same with the weights of `mode` (the variance is the same in every mode).
+LatentGrid latent_grid(const Model& model, const LatentPlane& plane, int cols, int rows, Interpolation mode);
 
 }  // namespace matlas::atlas

@@ -95,6 +95,10 @@ Eigen::Array3d colour_map(double t) {
 
 Eigen::Array3d implausible_colour() { return linear_of(kImplausibleSrgb); }
 
+Interpolation layer_interpolation(const Model& model, MapLayer layer) {
+  return layer == MapLayer::variance ? Interpolation::gp : model.interpolation();
+}
+
 LayerCells layer_cells(const Model& model, const LatentGrid& grid, MapLayer layer, const LayerStyle& style,
                        const PlausibilityProbe* probe) {
   MATLAS_CHECK(layer != MapLayer::image, "the image layer is composed from a basis, not coloured per cell");
@@ -138,7 +142,7 @@ LayerCells layer_cells(const Model& model, const LatentGrid& grid, MapLayer laye
 
 std::vector<unsigned char> map_layer_pixels(const Model& model, const LatentPlane& plane, int width, int height,
                                             MapLayer layer, const PlausibilityProbe* probe) {
-  const LayerCells cells = layer_cells(model, latent_grid(model, plane, width, height), layer, {}, probe);
+  const LayerCells cells = layer_cells(model, latent_grid(model, plane, width, height, layer_interpolation(model, layer)), layer, {}, probe);
   std::vector<unsigned char> pixels(cells.colour.size() * 4);
   for (std::size_t k = 0; k < cells.colour.size(); ++k) {
     unsigned char* px = pixels.data() + k * 4;

@@ -54,6 +54,10 @@ struct LayerStyle {
   double fade_from = kFadeFrom, fade_to = kFadeTo;
 };
 
+/// The weights a layer needs: the model's mode, but the GP's for the variance layer (which uses
+/// none: no convex projection to pay for).
+Interpolation layer_interpolation(const Model& model, MapLayer layer);
+
 /// The colour of every cell of a grid (albedo, variance or plausibility layer): linear RGB in
 /// [0, 1], and how far it fades into "no data here" (0: not at all; only the albedo layer fades).
 struct LayerCells {
