@@ -88,7 +88,8 @@ namespace {
 
 /// The legend strip: what the background means, including the "no data" hatch, and on a second
 /// row (`rows` = 2) how many labels were left out.
-void draw_legend(Image& im, int y0, int rows, const MapOptions& o, int labels_shown, int labels_total, int outside) {
+void draw_legend(Image& im, int y0, int rows, const MapOptions& o, Interpolation mode, int labels_shown, int labels_total,
+                 int outside) {
   const int w = im.width;
   for (int y = y0; y < im.height; ++y)
     for (int x = 0; x < w; ++x)
@@ -125,7 +126,7 @@ void draw_legend(Image& im, int y0, int rows, const MapOptions& o, int labels_sh
     // A bar from a material colour to the hatch, with the variance thresholds.
     char from[48], to[96];
     std::snprintf(from, sizeof from, "variance %.2g", o.style.fade_from);
-    std::snprintf(to, sizeof to, "%.2g: no data here (only the database mean)", o.style.fade_to);
+    std::snprintf(to, sizeof to, "%.2g: no data here (%s)", o.style.fade_to, far_from_data(mode));
     draw_text(im, x, ty, from, ts, white);
     x += text_width(from, ts) + pad;
     const Eigen::Array3d sample(0.45, 0.25, 0.12);
@@ -227,7 +228,7 @@ Image render_latent_map(const Model& model, const LatentPlane& plane, const MapO
         draw_text(map, static_cast<int>(std::lround(l.box.x0)) + 1, static_cast<int>(std::lround(l.box.y0)) + 1, model.names()[static_cast<std::size_t>(i)],
                   text_size, Rgb::Constant(1.0));
     }
-  if (o.legend) draw_legend(map, mh, legend_rows, o, labels.shown(), model.count(), outside);
+  if (o.legend) draw_legend(map, mh, legend_rows, o, model.interpolation(), labels.shown(), model.count(), outside);
   return map;
 }
 

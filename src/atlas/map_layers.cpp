@@ -68,6 +68,10 @@ MapLayer map_layer_from_name(const std::string& name, const std::string& what) {
   throw Error(what + " '" + name + "': expected albedo, variance, plausibility or image");
 }
 
+const char* far_from_data(Interpolation mode) {
+  return mode == Interpolation::convex ? "a mix of the nearest materials" : "only the database mean";
+}
+
 double uncertainty_fade(double variance, double from, double to) {
   if (!(to > from)) return variance >= from ? 1.0 : 0.0;
   const double t = std::clamp((variance - from) / (to - from), 0.0, 1.0);

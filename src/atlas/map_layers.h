@@ -34,6 +34,10 @@ MapLayer map_layer_from_name(const std::string& name, const std::string& what);
 /// complete (the browser uses the same, from GET /api/model).
 inline constexpr double kFadeFrom = 0.5, kFadeTo = 0.9;
 
+/// What a point far from the data is, for legends: the database mean under the GP's weights (they
+/// fall to 0), a mix of the nearest materials under convex weights (they still sum to 1).
+const char* far_from_data(Interpolation mode);
+
 /// How much of "no data here" to show at predictive variance v: 0 below `from`, 1 above `to`,
 /// smooth in between.
 double uncertainty_fade(double variance, double from, double to);

@@ -350,6 +350,33 @@ TEST_F(LatentMapTest, ServerLayersArePerPointQueriesOnTheRectangle) {
   EXPECT_THROW(map_layer_pixels(*model_, plane, w, h, MapLayer::plausibility), InternalError);
 }
 
+TEST(MapLegend, SaysWhatAPointFarFromTheDataIsUnderEachInterpolation) {
+  // Far from the data the GP's weights fall to 0 (the database mean) but convex weights still
+  // sum to 1: the legend must not call a convex model's far points the mean.
+  EXPECT_STREQ(far_from_data(Interpolation::gp), "only the database mean");
+  EXPECT_STREQ(far_from_data(Interpolation::convex), "a mix of the nearest materials");
+}
+
+TEST_F(LatentMapTest, TheVarianceLayerIsTheSameInEveryInterpolationMode) {
+  // The variance layer takes the GP's weights (it uses none): the same pixels as the posterior
+  // variance point by point, whatever the model's mode.
+  const LatentPlane plane = LatentPlane::automatic(*model_);
+  EXPECT_EQ(layer_interpolation(*model_, MapLayer::variance), Interpolation::gp);
+  ASSERT_EQ(model_->interpolation(), Interpolation::convex);
+  EXPECT_EQ(layer_interpolation(*model_, MapLayer::albedo), Interpolation::convex);
+  const int w = 5, h = 4;
+  const std::vector<unsigned char> px = map_layer_pixels(*model_, plane, w, h, MapLayer::variance);
+  for (int row = 0; row < h; ++row)
+    for (int col = 0; col < w; ++col) {
+      const Eigen::VectorXd x = plane.point(plane.u_min + (col + 0.5) / w * (plane.u_max - plane.u_min),
+                                            plane.v_max - (row + 0.5) / h * (plane.v_max - plane.v_min));
+      const Eigen::Array3d c = colour_map(model_->variance(x));
+      for (int k = 0; k < 3; ++k)
+        EXPECT_NEAR(px[4 * static_cast<std::size_t>(row * w + col) + k], 255.0 * srgb_encode(static_cast<float>(c[k])),
+                    0.5 + 1e-6);
+    }
+}
+
 TEST_F(LatentMapTest, AlbedoLayerIsTransparentFarFromTheDataAndOpaqueAtIt) {
   // A rectangle around material 0 (tiny: every cell at the data) and one in the domain's corner.
   const Eigen::VectorXd lo = model_->latent_min(), hi = model_->latent_max(), x0 = model_->latent().row(0).transpose();

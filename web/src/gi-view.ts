@@ -16,6 +16,7 @@
 import { api } from "./api";
 import { $, fillSelect, showBlob } from "./dom";
 import { LatestOnly } from "./latest";
+import { waitForLayer } from "./map-panel";
 import { retryWhileBusy, type Waiting } from "./retry";
 import type { PageStore } from "./state";
 import { clearError, setStatus } from "./status";
@@ -75,6 +76,8 @@ export function createGiView(store: PageStore): void {
     await new Promise((resolve) => setTimeout(resolve, 150));  // a short rest first: a drag starts no refinement
     let shownSpp = 0;
     while (!signal.aborted && current(input)) {
+      await waitForLayer(store.state.layerTiming, signal);
+      if (signal.aborted || !current(input)) return;
       const r = await api.giRefine(input.scene, input.x, input.exposure, input.tone, 1.0, signal);
       if (signal.aborted || !current(input)) return;
       if (r.spp === 0) continue;

@@ -32,7 +32,7 @@ async function main(): Promise<void> {
     () => store?.state ?? { env, object },
   );
   const { map } = panel;
-  store = createStore(model, map, env, object);
+  store = createStore(model, map, panel.layerTiming, env, object);
   createScenePickers(store);
   createPreview(store);
   createGiView(store);

@@ -15,6 +15,48 @@ export interface MapPanel {
   map: LatentMap;
   /** Asks for the background layer of the current view (debounced). */
   refreshLayer(): void;
+  layerTiming: LayerTiming;
+}
+
+/**
+ * Layers that take long to compute (many materials: each cell solves its convex weights) come in
+ * two steps: a coarse one, shown as soon as it arrives, then the full one over it. A layer's time
+ * grows about linearly with its width at a given aspect, not with its cells (each cell's convex
+ * solve starts from its neighbour's, and the work is in the changes of the solution along the
+ * rows: 16, 32, 64 and 128 cells wide took 0.55, 1.1, 2.3 and 5.0 s at n = 1000, docs/API.md),
+ * so the coarse layer's width is the full one's scaled to arrive in COARSE_TARGET_MS.
+ */
+export interface LayerTiming {
+  /** A coarse layer first when the last full layer took longer than this. */
+  coarseAfterMs: number;
+  /** How long the last full layer took (null: none yet; then models of more than
+   *  COARSE_FIRST_COUNT materials start coarse). */
+  lastMs: number | null;
+  /** Coarse layers shown so far. */
+  coarseShown: number;
+  /** Whether a layer is on its way: the refinements at rest wait meanwhile (waitForLayer). */
+  loading: boolean;
+}
+
+/**
+ * Resolves once no map layer is on its way (or `signal` aborts): the refinement loops of the
+ * preview and the scene view wait here before each pass, so that a layer the user asked for gets
+ * the server's cores (on 2 cores a layer at n = 1000 took twice as long beside them).
+ */
+export async function waitForLayer(timing: LayerTiming, signal: AbortSignal): Promise<void> {
+  while (timing.loading && !signal.aborted) await new Promise((resolve) => setTimeout(resolve, 50));
+}
+
+/** From this many materials the first layer is coarse first (128^2 cells: seconds at n = 1000). */
+const COARSE_FIRST_COUNT = 300;
+/** Cells per row of a full layer; the coarse one's at most and at least, and its time. */
+const LAYER_COLS = 128, COARSE_MAX_COLS = 64, COARSE_MIN_COLS = 12, COARSE_TARGET_MS = 500;
+
+/** The width of the coarse layer after a full one that took `lastMs` (null: none yet). */
+export function coarseColumns(lastMs: number | null): number {
+  if (lastMs === null || !(lastMs > 0)) return 24;
+  const cols = Math.round((LAYER_COLS * COARSE_TARGET_MS) / lastMs);
+  return Math.max(COARSE_MIN_COLS, Math.min(COARSE_MAX_COLS, cols));
 }
 
 export function createMapPanel(
@@ -35,7 +77,9 @@ export function createMapPanel(
   // While a layer is requested the map keeps showing the previous one (over its own rectangle)
   // and says that a new one is coming; a newer view aborts the request in flight.
   const mapWrap = $("map-wrap");
+  const layerTiming: LayerTiming = { coarseAfterMs: 400, lastMs: null, coarseShown: 0, loading: false };
   const loading = (on: boolean) => {
+    layerTiming.loading = on;
     mapWrap.classList.toggle("layer-loading", on);
     mapWrap.setAttribute("aria-busy", String(on));
   };
@@ -43,9 +87,22 @@ export function createMapPanel(
   const layer = new LatestOnly<{ view: ViewRect; kind: MapKind; axes: [number, number]; x: number[] }, ImageBitmap | null>(
     async ({ view, kind, axes, x }, signal) => {
       if (kind === "none") return null;
-      const rows = Math.max(4, Math.min(256, Math.round((128 * (view.y1 - view.y0)) / (view.x1 - view.x0))));
+      const rowsOf = (cols: number) =>
+        Math.max(4, Math.min(256, Math.round((cols * (view.y1 - view.y0)) / (view.x1 - view.x0))));
       const rect: MapRequest["rect"] = [view.x0, view.x1, view.y0, view.y1];
-      const blob = await api.map({ layer: kind, axes, x, rect, size: [128, rows] }, signal);
+      const slow = layerTiming.lastMs === null ? model.count > COARSE_FIRST_COUNT : layerTiming.lastMs > layerTiming.coarseAfterMs;
+      if (slow) {
+        const cols = coarseColumns(layerTiming.lastMs);
+        const coarse = await api.map({ layer: kind, axes, x, rect, size: [cols, rowsOf(cols)] }, signal);
+        const bitmap = await createImageBitmap(coarse);
+        if (!signal.aborted) {
+          map.setLayer(bitmap, view, kind === "albedo");
+          layerTiming.coarseShown += 1;
+        }
+      }
+      const started = performance.now();
+      const blob = await api.map({ layer: kind, axes, x, rect, size: [LAYER_COLS, rowsOf(LAYER_COLS)] }, signal);
+      layerTiming.lastMs = performance.now() - started;
       return createImageBitmap(blob);
     },
     (bitmap, input) => map.setLayer(bitmap, input.view, input.kind === "albedo"),
@@ -131,7 +188,7 @@ export function createMapPanel(
   });
   $("reset-view").addEventListener("click", () => map.resetView(true));
   $("core-view").addEventListener("click", () => map.resetView(true, true));
-  return { map, refreshLayer };
+  return { map, refreshLayer, layerTiming };
 }
 
 /** The interpolation mode badge next to the map, with what the mode means. */

@@ -9,6 +9,7 @@
 import { api, ApiError, type PreviewStatus } from "./api";
 import { $, showBlob } from "./dom";
 import { LatestOnly } from "./latest";
+import { waitForLayer } from "./map-panel";
 import { retryWhileBusy, type Waiting } from "./retry";
 import { sceneReady } from "./scene-ready";
 import type { PageStore, ShownPreview } from "./state";
@@ -47,6 +48,8 @@ export function createPreview(store: PageStore): void {
     const shown = store.state.shown;
     const least = shown && shown.env === input.env && shown.object === input.object ? 32 : 1;
     while (!signal.aborted && sameView(input)) {
+      await waitForLayer(store.state.layerTiming, signal);
+      if (signal.aborted || !sameView(input)) return;
       const r = await api.refine(input.x, input.env, input.object, 0.4, store.state.denoise, signal);
       if (signal.aborted || !sameView(input)) return;
       if (r.spp === 0) continue;  // interrupted before its first pass: nothing to show yet

@@ -2,6 +2,7 @@
 // browser tests and for debugging in the console.
 import type { FitSamplesReply, ModelInfo, WeightsReply } from "./api";
 import type { LatentMap } from "./map";
+import type { LayerTiming } from "./map-panel";
 import { Store } from "./store";
 
 /** An image shown in the preview: where, how large and in which scene. */
@@ -59,6 +60,8 @@ export interface PageState {
   /** The short list (compared side by side, exported together). */
   shortlist: ListItem[];
   map: LatentMap;
+  /** How the map's background layers arrive (map-panel.ts). */
+  layerTiming: LayerTiming;
 }
 
 export type PageStore = Store<PageState>;
@@ -69,12 +72,12 @@ declare global {
   }
 }
 
-export function createStore(model: ModelInfo, map: LatentMap, env: string, object: string): PageStore {
+export function createStore(model: ModelInfo, map: LatentMap, layerTiming: LayerTiming, env: string, object: string): PageStore {
   const store = new Store<PageState>({
     model, x: map.point.slice(), dragging: false, movedAt: 0, env, object, shown: null, shownScenes: [],
     previews: 0, latencies: [], refine: true, denoise: true, refined: null, refinedImages: 0, preparing: null, giShown: null, giImages: 0,
     giRefined: null, giRefinedImages: 0,
-    lastWeights: null, projected: null, fitted: null, plan: null, shortlist: [], map,
+    lastWeights: null, projected: null, fitted: null, plan: null, shortlist: [], map, layerTiming,
   });
   window.matlas = store.state;
   return store;

@@ -258,6 +258,38 @@ test("a map layer on its way keeps the previous one, says it is loading, and a n
   }
 });
 
+test("a slow map layer shows a coarse one at once, then the full one over it", async () => {
+  await page.waitForSelector("#map-wrap:not(.layer-loading)", { timeout: 20_000 });
+  // As if the last layer had been slow (a large model): every layer now comes coarse first.
+  // The last full layer took 2 s: the coarse one is sized to take a quarter of that (32 cells wide).
+  await page.evaluate(() => { window.matlas.layerTiming.coarseAfterMs = -1; window.matlas.layerTiming.lastMs = 2000; });
+  let release;
+  const held = new Promise((r) => (release = r));
+  const widths = [];
+  await page.route("**/api/map", async (route) => {
+    const width = JSON.parse(route.request().postData()).size[0];
+    widths.push(width);
+    if (width === 128) await held;  // the full layer waits until released
+    await route.continue().catch(() => {});
+  });
+  try {
+    const before = await page.evaluate(() => window.matlas.layerTiming.coarseShown);
+    await page.selectOption("#layer", "variance");
+    await page.waitForFunction((b) => window.matlas.layerTiming.coarseShown > b, before, { timeout: 10_000 });
+    assert.equal(await page.evaluate(() => window.matlas.map.layer.image.width), 32, "the coarse layer is shown");
+    assert.equal(await page.getAttribute("#map-wrap", "aria-busy"), "true", "and the full one is still coming");
+    release();
+    await page.waitForSelector("#map-wrap:not(.layer-loading)", { timeout: 20_000 });
+    assert.equal(await page.evaluate(() => window.matlas.map.layer.image.width), 128, "the full layer replaces it");
+    assert.deepEqual(widths, [32, 128]);
+  } finally {
+    release();
+    await page.unroute("**/api/map");
+    await page.evaluate(() => { window.matlas.layerTiming.coarseAfterMs = 400; window.matlas.layerTiming.lastMs = null; });
+    await page.selectOption("#layer", "albedo");
+  }
+});
+
 test("export downloads the MERL table of the current point", async () => {
   const x = await page.evaluate(() => window.matlas.x);
   if (await page.isHidden("#download-menu")) await page.click("#download-open");
