@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Cholesky>
+
 #include "core/blas.h"
 #include "core/check.h"
 #include "core/combination.h"
@@ -160,7 +162,9 @@ ConvexProjection::WarmStart& ConvexProjection::WarmStart::operator=(WarmStart&&)
 
 Eigen::VectorXd ConvexProjection::from_centred(const Eigen::Ref<const Eigen::VectorXd>& w, WarmStart& warm) const {
   Eigen::VectorXd g = Combination(w).affine();
+  const bool convex = g.minCoeff() >= 0;
   project_from(g, *warm.it_);
+  if (!convex) settle(g, warm.it_->b);
   return g;
 }
 
@@ -179,7 +183,34 @@ Eigen::VectorXd ConvexProjection::project(const Eigen::Ref<const Eigen::VectorXd
   Eigen::VectorXd c = g;
   Iterate it;
   project_from(c, it);
+  if (it.c.size() == c.size()) settle(c, it.b);
   return c;
+}
+
+void ConvexProjection::settle(Eigen::Ref<Eigen::VectorXd> c, const Eigen::VectorXd& b) const {
+  // The optimum's support in increasing order, and the free-set optimum on it from a fresh
+  // factorisation: A_SS c_S = b_S + nu 1, sum c_S = 1.
+  std::vector<Eigen::Index> support;
+  for (Eigen::Index i = 0; i < c.size(); ++i)
+    if (c[i] > 0) support.push_back(i);
+  const auto m = static_cast<Eigen::Index>(support.size());
+  Eigen::MatrixXd A(m, m);
+  Eigen::MatrixXd rhs(m, 2);
+  for (Eigen::Index s = 0; s < m; ++s) {
+    for (Eigen::Index t = 0; t < m; ++t) A(s, t) = A_(support[static_cast<std::size_t>(s)], support[static_cast<std::size_t>(t)]);
+    rhs(s, 0) = b[support[static_cast<std::size_t>(s)]];
+    rhs(s, 1) = 1.0;
+  }
+  const Eigen::LLT<Eigen::MatrixXd> llt(A);
+  if (llt.info() != Eigen::Success) return;  // keep the active-set method's own c
+  const Eigen::MatrixXd uv = llt.solve(rhs);
+  const double nu = (1.0 - uv.col(0).sum()) / uv.col(1).sum();
+  const Eigen::VectorXd cS = uv.col(0) + nu * uv.col(1);
+  // Rounding only: the support's optimum is positive where the method left it positive.
+  if (!cS.allFinite() || cS.minCoeff() < -1e-9) return;
+  c.setZero();
+  for (Eigen::Index s = 0; s < m; ++s) c[support[static_cast<std::size_t>(s)]] = std::max(0.0, cS[s]);
+  c /= c.sum();
 }
 
 void ConvexProjection::project_from(Eigen::Ref<Eigen::VectorXd> g, Iterate& it, const double* b) const {

@@ -62,7 +62,8 @@ public:
   double ridge() const { return ridge_; }
   const Eigen::MatrixXd& metric() const { return A_; }  ///< A
 
-  /// c(g) for affine coefficients g (length n, sum 1 up to rounding; throws otherwise).
+  /// c(g) for affine coefficients g (length n, sum 1 up to rounding; throws otherwise), settled
+  /// on its support (below): the bits depend on g alone.
   Eigen::VectorXd project(const Eigen::Ref<const Eigen::VectorXd>& g) const;
 
   /// The convex weights for the GP weights w of the centred data: c(g) of their affine
@@ -70,9 +71,11 @@ public:
   Eigen::VectorXd from_centred(const Eigen::Ref<const Eigen::VectorXd>& w) const;
 
   /// What a sequence of solves at nearby points shares: each starts from the previous one's
-  /// solution and free set (as project_batch's columns do), ending at the same optimum as a cold
-  /// solve (to rounding: about 1e-12) in fewer iterations. One per sequence (not shared between
-  /// threads); empty at first.
+  /// solution and free set (as project_batch's columns do) and ends, in fewer iterations, at the
+  /// same optimum as a cold solve; from_centred(w, warm) settles it on its support as project()
+  /// does, so that it gives the cold solve's weights bit for bit (where both find the same
+  /// support: always but for coefficients that are 0 to rounding). One per sequence (not shared
+  /// between threads); empty at first.
   class WarmStart {
   public:
     WarmStart();
@@ -112,6 +115,10 @@ private:
   /// c(g) into g, started from `it` (the previous solution; cold when it holds none), which then
   /// holds this solution (left as it was where g is convex already). b: A g if known (n values).
   void project_from(Eigen::Ref<Eigen::VectorXd> g, Iterate& it, const double* b = nullptr) const;
+  /// The optimum c (from project_from, for b = A g) recomputed on its support from a fresh
+  /// factorisation in index order, so that a point's weights do not depend on where its solve
+  /// started (cold or warm: the same support gives the same bits). O(|S|^3 / 3).
+  void settle(Eigen::Ref<Eigen::VectorXd> c, const Eigen::VectorXd& b) const;
 
   Eigen::MatrixXd A_;
   double ridge_;

@@ -376,6 +376,14 @@ Eigen::VectorXd Model::weights(const Eigen::Ref<const Eigen::VectorXd>& x, Inter
   return weights_from_gp(impl_->posterior->weights(x), mode);
 }
 Eigen::VectorXd Model::weights(const Eigen::Ref<const Eigen::VectorXd>& x) const { return weights(x, interpolation_); }
+Eigen::VectorXd Model::weights(const Eigen::Ref<const Eigen::VectorXd>& x, gp::ConvexProjection::WarmStart& warm) const {
+  if (interpolation_ != Interpolation::convex) return weights(x);
+  if (x.size() != dim())
+    throw Error("latent point has " + std::to_string(x.size()) + " coordinates, the model has q = " +
+                std::to_string(dim()));
+  if (!x.allFinite()) throw Error("latent point has a NaN or infinite coordinate");
+  return impl_->convex->from_centred(impl_->posterior->weights(x), warm);
+}
 
 Model::Prediction Model::predict_batch(const Eigen::MatrixXd& points) const {
   return predict_batch(points, interpolation_);

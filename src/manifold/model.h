@@ -19,6 +19,7 @@
 #include <nlohmann/json_fwd.hpp>  // metadata(): include manifold/model_metadata.h to read it
 
 #include "brdf/brdf_table.h"
+#include "gp/convex_weights.h"
 #include "gp/posterior.h"
 #include "manifold/interpolation.h"
 #include "manifold/model_format.h"  // kAlbedoAngles
@@ -77,6 +78,10 @@ public:
   /// convex weights (non-negative, sum 1). At a material's own point exactly e_i in both modes.
   Eigen::VectorXd weights(const Eigen::Ref<const Eigen::VectorXd>& x, Interpolation mode) const;
   Eigen::VectorXd weights(const Eigen::Ref<const Eigen::VectorXd>& x) const;
+  /// weights(x) with the convex solve started from the previous point's of the same sequence
+  /// (gp::ConvexProjection::WarmStart; faster for a nearby point, the same bits as weights(x)
+  /// where the solution's support is the same).
+  Eigen::VectorXd weights(const Eigen::Ref<const Eigen::VectorXd>& x, gp::ConvexProjection::WarmStart& warm) const;
   /// Weights (n x m, column j for row j of points, m x q) and GP predictive variances (length m)
   /// of many points, computed in parallel; the same as weights() and variance() per point.
   struct Prediction {

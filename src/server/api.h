@@ -149,7 +149,8 @@ private:
   /// The served model, as a handle whose queries default to the server's mode
   /// (ServerOptions::interpolation): the model itself is shared, never changed.
   const Model model_;
-  mutable PointWeights point_weights_{[this](const Eigen::VectorXd& x) { return model_.weights(x); }};
+  mutable PointWeights point_weights_{
+      [this](const Eigen::VectorXd& x, PointWeights::WarmStart& warm) { return model_.weights(x, warm); }};
   PlausibilityProbe plausibility_;      ///< for one point (weights reply): 4096 sampled columns
   PlausibilityProbe map_plausibility_;  ///< for map cells: 256 sampled columns
   std::shared_ptr<const PreviewSource> previews_;

@@ -19,11 +19,22 @@ Eigen::VectorXd PointWeights::weights(const Eigen::VectorXd& x, const std::strin
     }
   }
   if (solve) {
+    WarmStart warm;
+    {
+      std::lock_guard lock(mutex_);
+      if (!warm_.empty()) {
+        warm = std::move(warm_.back());
+        warm_.pop_back();
+      }
+    }
     try {
-      solve->set_value(solve_(x));
+      solve->set_value(solve_(x, warm));
     } catch (...) {
       solve->set_exception(std::current_exception());
     }
+    std::lock_guard lock(mutex_);
+    warm_.push_back(std::move(warm));
+    if (warm_.size() > kWarmKept) warm_.erase(warm_.begin());
   }
   return solved.get();
 }

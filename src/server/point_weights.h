@@ -3,23 +3,30 @@
 // a drag asks for one point several times at once (its preview, its weights and largest
 // contributors, slice, lobe, albedo curve, real-time reference), and with convex weights each ask
 // is a quadratic programme over the n materials (tens of milliseconds at n = 1000): the first
-// request of a point solves it, the others wait for that solve or find it done. The weights are
-// those of Model::weights(x), bit for bit (the same x, the same solve). Thread-safe.
+// request of a point solves it, the others wait for that solve or find it done. Each solve starts
+// from a previous one's state (gp::ConvexProjection::WarmStart; a drag step moves little, so the
+// solution changes little), and the weights are those of Model::weights(x) bit for bit all the
+// same (Model::weights(x, warm) settles the solution on its support). Thread-safe.
 #include <functional>
 #include <future>
 #include <mutex>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <Eigen/Core>
 
+#include "gp/convex_weights.h"
 #include "server/lru_cache.h"
 
 namespace matlas::server {
 
 class PointWeights {
 public:
-  using Solve = std::function<Eigen::VectorXd(const Eigen::VectorXd& x)>;
+  using WarmStart = gp::ConvexProjection::WarmStart;
+  /// solve(x, warm): the weights of x, the solve started from `warm` (a previous solve's state, or
+  /// empty), which it leaves holding its own.
+  using Solve = std::function<Eigen::VectorXd(const Eigen::VectorXd& x, WarmStart& warm)>;
   /// Weights by `solve` (the server's: Model::weights), the `capacity` points used last kept.
   explicit PointWeights(Solve solve, std::size_t capacity = 64) : solve_(std::move(solve)), points_(capacity) {}
 
@@ -31,6 +38,9 @@ private:
   Solve solve_;
   std::mutex mutex_;
   LruCache<std::shared_future<Eigen::VectorXd>> points_;
+  /// The states of finished solves, the latest last (concurrent solves each take one).
+  std::vector<WarmStart> warm_;
+  static constexpr std::size_t kWarmKept = 4;
 };
 
 }  // namespace matlas::server

@@ -16,7 +16,7 @@ namespace {
 /// A slow solve that counts its calls: w = (x0, 2 x0, 3 x0).
 struct CountingSolve {
   std::atomic<int>* calls;
-  Eigen::VectorXd operator()(const Eigen::VectorXd& x) const {
+  Eigen::VectorXd operator()(const Eigen::VectorXd& x, PointWeights::WarmStart&) const {
     ++*calls;
     std::this_thread::sleep_for(std::chrono::milliseconds(30));
     if (x[0] < 0) throw std::runtime_error("outside the map");
