@@ -158,12 +158,19 @@ export async function createRealtimeView(store: PageStore): Promise<ViewerState 
   }
 }
 
+/** The most materials for which the page computes the weights itself (local-weights.ts). */
+const LOCAL_WEIGHTS_MAX = 300;
+
 async function startRealtimeView(store: PageStore, card: CardStatus): Promise<ViewerState> {
   const canvas = $<HTMLCanvasElement>("rt-canvas");
   $("rt-info").textContent = "";
   card.waiting((t) => `the server computes the real-time coefficients of every material (once per model): ${t.toFixed(0)} s`);
   const t0 = performance.now();
-  const interpolationP = api.interpolation().catch(() => null);
+  // Weights in the page only where they are cheap: the state is 2 n^2 numbers (33 MB of JSON at
+  // n = 1000) and each convex step refactorises its active set (O(|F|^3) in JavaScript, hundreds
+  // of coefficients at n = 1000: seconds per move, the page stops responding); beyond
+  // LOCAL_WEIGHTS_MAX materials the server solves each point (warm-started from the last one).
+  const interpolationP = store.state.model.count <= LOCAL_WEIGHTS_MAX ? api.interpolation().catch(() => null) : Promise.resolve(null);
   const info = await api.realtime();
   card.waiting((t) => `loading the coefficients: ${t.toFixed(0)} s`, 0);
   const all = await fetchCoefficients((got, total) => {
