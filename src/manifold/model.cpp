@@ -340,7 +340,6 @@ Model::FileState Model::file_state() const {
 }
 
 std::uint64_t Model::mapping_faults() const { return impl_->file.mapping().faults(); }
-
 int Model::index_of(const std::string& name) const {
   const auto& names = impl_->names;
   const auto it = std::find(names.begin(), names.end(), name);
@@ -355,39 +354,33 @@ int Model::index_of(const std::string& name) const {
 
 Eigen::VectorXd Model::latent_min() const { return impl_->latent.colwise().minCoeff().transpose(); }
 Eigen::VectorXd Model::latent_max() const { return impl_->latent.colwise().maxCoeff().transpose(); }
-
 Interpolation Model::interpolation() const { return interpolation_; }
 Model Model::with_interpolation(Interpolation mode) const { return Model(impl_, mode); }
-
 Eigen::VectorXd Model::weights_from_gp(const Eigen::Ref<const Eigen::VectorXd>& w, Interpolation mode) const {
   MATLAS_CHECK_EQ(w.size(), Eigen::Index{count()});
   if (mode == Interpolation::gp) return w;
   return impl_->convex->from_centred(w);
 }
-Eigen::VectorXd Model::weights_from_gp(const Eigen::Ref<const Eigen::VectorXd>& w) const {
-  return weights_from_gp(w, interpolation_);
-}
+Eigen::VectorXd Model::weights_from_gp(const Eigen::Ref<const Eigen::VectorXd>& w) const { return weights_from_gp(w, interpolation_); }
 
-Eigen::VectorXd Model::weights(const Eigen::Ref<const Eigen::VectorXd>& x, Interpolation mode) const {
+void Model::check_point(const Eigen::Ref<const Eigen::VectorXd>& x) const {
   if (x.size() != dim())
     throw Error("latent point has " + std::to_string(x.size()) + " coordinates, the model has q = " +
                 std::to_string(dim()));
   if (!x.allFinite()) throw Error("latent point has a NaN or infinite coordinate");
+}
+Eigen::VectorXd Model::weights(const Eigen::Ref<const Eigen::VectorXd>& x, Interpolation mode) const {
+  check_point(x);
   return weights_from_gp(impl_->posterior->weights(x), mode);
 }
 Eigen::VectorXd Model::weights(const Eigen::Ref<const Eigen::VectorXd>& x) const { return weights(x, interpolation_); }
-Eigen::VectorXd Model::weights(const Eigen::Ref<const Eigen::VectorXd>& x, gp::ConvexProjection::WarmStart& warm) const {
+Eigen::VectorXd Model::weights(const Eigen::Ref<const Eigen::VectorXd>& x, WarmStart& warm) const {
   if (interpolation_ != Interpolation::convex) return weights(x);
-  if (x.size() != dim())
-    throw Error("latent point has " + std::to_string(x.size()) + " coordinates, the model has q = " +
-                std::to_string(dim()));
-  if (!x.allFinite()) throw Error("latent point has a NaN or infinite coordinate");
+  check_point(x);
   return impl_->convex->from_centred(impl_->posterior->weights(x), warm);
 }
 
-Model::Prediction Model::predict_batch(const Eigen::MatrixXd& points) const {
-  return predict_batch(points, interpolation_);
-}
+Model::Prediction Model::predict_batch(const Eigen::MatrixXd& points) const { return predict_batch(points, interpolation_); }
 Model::Prediction Model::predict_batch(const Eigen::MatrixXd& points, Interpolation mode) const {
   if (points.cols() != dim())
     throw Error("latent points have " + std::to_string(points.cols()) + " coordinates, the model has q = " +
@@ -411,8 +404,7 @@ Eigen::VectorXd Model::material_weights(int i) const {
 }
 
 double Model::variance(const Eigen::Ref<const Eigen::VectorXd>& x) const {
-  if (x.size() != dim()) throw Error("latent point has the wrong number of coordinates");
-  if (!x.allFinite()) throw Error("latent point has a NaN or infinite coordinate");
+  check_point(x);
   return impl_->posterior->variance(x);
 }
 

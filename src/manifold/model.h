@@ -78,10 +78,13 @@ public:
   /// convex weights (non-negative, sum 1). At a material's own point exactly e_i in both modes.
   Eigen::VectorXd weights(const Eigen::Ref<const Eigen::VectorXd>& x, Interpolation mode) const;
   Eigen::VectorXd weights(const Eigen::Ref<const Eigen::VectorXd>& x) const;
-  /// weights(x) with the convex solve started from the previous point's of the same sequence
-  /// (gp::ConvexProjection::WarmStart; faster for a nearby point, the same bits as weights(x)
-  /// where the solution's support is the same).
-  Eigen::VectorXd weights(const Eigen::Ref<const Eigen::VectorXd>& x, gp::ConvexProjection::WarmStart& warm) const;
+  /// What a sequence of weights(x, warm) queries shares: the last convex solve's state (empty at
+  /// first; one per sequence, not shared between threads).
+  using WarmStart = gp::ConvexProjection::WarmStart;
+  /// weights(x) with the convex solve started from the previous point's of the sequence: faster
+  /// for a nearby point, and the same bits as weights(x) (the solution is settled on its support,
+  /// gp/convex_weights.h).
+  Eigen::VectorXd weights(const Eigen::Ref<const Eigen::VectorXd>& x, WarmStart& warm) const;
   /// Weights (n x m, column j for row j of points, m x q) and GP predictive variances (length m)
   /// of many points, computed in parallel; the same as weights() and variance() per point.
   struct Prediction {
@@ -139,6 +142,8 @@ public:
   std::uint64_t mapping_faults() const;
 
 private:
+  /// Throws matlas::Error unless x has q finite coordinates.
+  void check_point(const Eigen::Ref<const Eigen::VectorXd>& x) const;
   struct Impl;
   Model(std::shared_ptr<const Impl> impl, Interpolation mode);
   std::shared_ptr<const Impl> impl_;  ///< the opened file: never changed after open()

@@ -2,11 +2,9 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cctype>
 #include <chrono>
 #include <cstdlib>
 #include <mutex>
-#include <string>
 #include <thread>
 
 #include <nlohmann/json.hpp>
@@ -375,26 +373,9 @@ struct AtlasServer::Impl {
   /// Accept-Encoding before the reply is written: gzip is used. (httplib hands handlers a const
   /// Request; the object itself is the server's own, not const.)
   static void without_brotli(const httplib::Request& req) {
-    auto& headers = const_cast<httplib::Request&>(req).headers;
-    for (auto it = headers.begin(); it != headers.end(); ++it) {
-      if (!iequals(it->first, "Accept-Encoding")) continue;
-      std::string kept;
-      std::size_t from = 0;
-      const std::string& value = it->second;
-      while (from <= value.size()) {
-        const std::size_t comma = std::min(value.find(',', from), value.size());
-        std::string coding = value.substr(from, comma - from);
-        coding.erase(0, coding.find_first_not_of(" \t"));
-        const std::string name = coding.substr(0, coding.find_first_of(" \t;"));
-        if (!name.empty() && !iequals(name, "br")) kept += (kept.empty() ? "" : ", ") + coding;
-        from = comma + 1;
-      }
-      it->second = kept;
-    }
-  }
-  static bool iequals(const std::string& a, const std::string& b) {
-    return a.size() == b.size() &&
-           std::equal(a.begin(), a.end(), b.begin(), [](unsigned char x, unsigned char y) { return std::tolower(x) == std::tolower(y); });
+    auto& headers = const_cast<httplib::Request&>(req).headers;  // names compare case-insensitively
+    const auto [first, last] = headers.equal_range("Accept-Encoding");
+    for (auto it = first; it != last; ++it) it->second = accept_encoding_without(it->second, "br");
   }
 
   /// Error and exception handlers, admission before routing, and the request log.

@@ -4,7 +4,7 @@
 // contributors, slice, lobe, albedo curve, real-time reference), and with convex weights each ask
 // is a quadratic programme over the n materials (tens of milliseconds at n = 1000): the first
 // request of a point solves it, the others wait for that solve or find it done. Each solve starts
-// from a previous one's state (gp::ConvexProjection::WarmStart; a drag step moves little, so the
+// from a previous one's state (Model::WarmStart; a drag step moves little, so the
 // solution changes little), and the weights are those of Model::weights(x) bit for bit all the
 // same (Model::weights(x, warm) settles the solution on its support). Thread-safe.
 #include <functional>
@@ -16,14 +16,14 @@
 
 #include <Eigen/Core>
 
-#include "gp/convex_weights.h"
+#include "manifold/model.h"
 #include "server/lru_cache.h"
 
 namespace matlas::server {
 
 class PointWeights {
 public:
-  using WarmStart = gp::ConvexProjection::WarmStart;
+  using WarmStart = Model::WarmStart;
   /// solve(x, warm): the weights of x, the solve started from `warm` (a previous solve's state, or
   /// empty), which it leaves holding its own.
   using Solve = std::function<Eigen::VectorXd(const Eigen::VectorXd& x, WarmStart& warm)>;

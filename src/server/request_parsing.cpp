@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cstdint>
+#include <cctype>
 #include <cmath>
 #include <sstream>
 
@@ -226,6 +227,25 @@ Eigen::VectorXd parse_latent_text(const std::string& text, const std::string& wh
 
 double parse_number_text(const std::string& text, const std::string& what, double lo, double hi) {
   return parse_number(nlohmann::json{{what, number_from_text(text, what)}}, what, lo, hi, 0.0);
+}
+
+std::string accept_encoding_without(const std::string& value, const std::string& coding) {
+  auto lower = [](std::string s) {
+    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+  };
+  const std::string unwanted = lower(coding);
+  std::string kept;
+  for (std::size_t from = 0; from <= value.size();) {
+    const std::size_t comma = std::min(value.find(',', from), value.size());
+    std::string item = value.substr(from, comma - from);
+    item.erase(0, item.find_first_not_of(" \t"));
+    item.erase(item.find_last_not_of(" \t") + 1);
+    const std::string name = item.substr(0, item.find_first_of(" \t;"));
+    if (!name.empty() && lower(name) != unwanted) kept += (kept.empty() ? "" : ", ") + item;
+    from = comma + 1;
+  }
+  return kept;
 }
 
 }  // namespace matlas::server

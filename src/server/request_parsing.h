@@ -72,4 +72,8 @@ Eigen::VectorXd parse_latent_text(const std::string& text, const std::string& wh
 /// A number given as text in [lo, hi]; `what` names it in errors.
 double parse_number_text(const std::string& text, const std::string& what, double lo, double hi);
 
+/// An Accept-Encoding header's value without the content coding `coding` (case-insensitive; its
+/// parameters, such as q=, go with it): "gzip, deflate, br" without "br" is "gzip, deflate".
+std::string accept_encoding_without(const std::string& value, const std::string& coding);
+
 }  // namespace matlas::server

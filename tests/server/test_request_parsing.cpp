@@ -111,5 +111,15 @@ TEST(RequestParsing, IntegersAreComparedWithoutWrapping) {
   }
 }
 
+TEST(RequestParsing, AcceptEncodingWithoutACodingKeepsTheOthersAndTheirParameters) {
+  EXPECT_EQ(accept_encoding_without("gzip, deflate, br", "br"), "gzip, deflate");
+  EXPECT_EQ(accept_encoding_without("br;q=1.0, gzip;q=0.8", "br"), "gzip;q=0.8");
+  EXPECT_EQ(accept_encoding_without("BR,gzip", "br"), "gzip");
+  EXPECT_EQ(accept_encoding_without(" br ", "br"), "");
+  EXPECT_EQ(accept_encoding_without("gzip, brotli-like, identity", "br"), "gzip, brotli-like, identity");
+  EXPECT_EQ(accept_encoding_without("", "br"), "");
+  EXPECT_EQ(accept_encoding_without(",,gzip,", "br"), "gzip");
+}
+
 }  // namespace
 }  // namespace matlas::server

@@ -290,6 +290,40 @@ test("a slow map layer shows a coarse one at once, then the full one over it", a
   }
 });
 
+test("the refinement at rest waits while a map layer is on its way, then goes on", async () => {
+  await page.waitForSelector("#map-wrap:not(.layer-loading)", { timeout: 20_000 });
+  let release;
+  const held = new Promise((r) => (release = r));
+  await page.route("**/api/map", async (route) => {
+    await held;
+    await route.continue().catch(() => {});
+  });
+  const sent = [];
+  const onRequest = (r) => r.url().endsWith("/api/preview/refine") && sent.push(JSON.parse(r.postData()).x);
+  try {
+    await page.selectOption("#layer", "variance");
+    await page.waitForSelector("#map-wrap.layer-loading", { timeout: 5_000 });
+    await page.waitForTimeout(600);  // a refinement pass already in flight ends (0.4 s each)
+    page.on("request", onRequest);
+    // A new point while the layer is held: its preview shows, its refinement waits.
+    const box = await page.locator("#map").boundingBox();
+    await page.mouse.click(box.x + box.width * 0.41, box.y + box.height * 0.47);
+    await page.waitForTimeout(1500);
+    assert.equal(sent.length, 0, "no refinement asked while the layer is on its way");
+    const x = await page.evaluate(() => window.matlas.x);
+    const refined = page.waitForRequest((r) => r.url().endsWith("/api/preview/refine"), { timeout: 10_000 });
+    release();
+    await refined;
+    assert.deepEqual(sent[0], x, "once the layer came, the new point refines");
+  } finally {
+    release();
+    page.off("request", onRequest);
+    await page.unroute("**/api/map");
+    await page.waitForSelector("#map-wrap:not(.layer-loading)", { timeout: 20_000 });
+    await page.selectOption("#layer", "albedo");
+  }
+});
+
 test("export downloads the MERL table of the current point", async () => {
   const x = await page.evaluate(() => window.matlas.x);
   if (await page.isHidden("#download-menu")) await page.click("#download-open");
