@@ -2,7 +2,8 @@
 // through playwright-core) on a running `matlas serve`: switches the layer between albedo and
 // plausibility `rounds` times and reports, from the change in the page (the select's change event,
 // including the page's 120 ms debounce), the time until the first picture of the layer is on the
-// map (the coarse one where the page asks for one first) and until the full-resolution layer is.
+// map (the coarse one where the page asks for one first) and until the full-resolution layer is,
+// per layer.
 //
 //   node bench/map_layer_browser.mjs http://127.0.0.1:8080/ [rounds=4]
 import { createRequire } from "node:module";
@@ -30,7 +31,7 @@ try {
   const firstFull = Date.now() - opened;
   const n = await page.evaluate(() => window.matlas.model.count);
   console.log(`n = ${n}: page opened -> first layer on the map ${firstAny} ms, full layer ${firstFull} ms`);
-  const first = [], full = [];
+  const first = { albedo: [], plausibility: [] }, full = { albedo: [], plausibility: [] };
   for (let r = 0; r < rounds; r++) {
     const kind = r % 2 ? "albedo" : "plausibility";
     // Times taken in the page: from the change event to the layer's image replaced, and to idle.
@@ -49,13 +50,16 @@ try {
         if (performance.now() - t0 > 120_000) throw new Error("no layer within 120 s");
       }
     }, kind);
-    first.push(t[0]);
-    full.push(t[1]);
+    first[kind].push(t[0]);
+    full[kind].push(t[1]);
   }
   const median = (a) => [...a].sort((x, y) => x - y)[Math.floor(a.length / 2)].toFixed(0);
-  const cols = await page.evaluate(() => window.matlas.layerTiming);
-  console.log(`${rounds} layer changes: first picture of the layer median ${median(first)} ms (${first.map((v) => v.toFixed(0)).join(", ")}), ` +
-    `full layer median ${median(full)} ms (${full.map((v) => v.toFixed(0)).join(", ")}); coarse layers shown ${cols.coarseShown}`);
+  const list = (a) => a.map((v) => v.toFixed(0)).join(", ");
+  for (const kind of ["plausibility", "albedo"]) {
+    console.log(`${kind}, ${first[kind].length} changes: first picture median ${median(first[kind])} ms (${list(first[kind])}), ` +
+      `full layer median ${median(full[kind])} ms (${list(full[kind])})`);
+  }
+  console.log(`coarse layers shown: ${(await page.evaluate(() => window.matlas.layerTiming)).coarseShown}`);
 } finally {
   await context.close();
   rmSync(profile, { recursive: true, force: true });

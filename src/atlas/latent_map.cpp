@@ -201,7 +201,8 @@ Image render_latent_map(const Model& model, const LatentPlane& plane, const MapO
     const int cells = std::max(2, o.cells);
     const int cx = std::max(2, static_cast<int>(std::lround(static_cast<double>(cells) * mw / longer)));
     const int cy = std::max(2, static_cast<int>(std::lround(static_cast<double>(cells) * mh / longer)));
-    const LatentGrid g = latent_grid(model, plane, cx, cy, layer_interpolation(model, o.layer));
+    const LatentGrid g = latent_grid(model, plane, cx, cy, layer_interpolation(model, o.layer),
+                                     layer_projected_below(o.layer, o.style));
     std::optional<PlausibilityProbe> probe;
     if (o.layer == MapLayer::plausibility) probe.emplace(model, 256);
     const LayerCells layer = layer_cells(model, g, o.layer, o.style, probe ? &*probe : nullptr);

@@ -121,7 +121,8 @@ LatentGrid latent_grid(const Model& model, const LatentPlane& plane, int cols, i
   return latent_grid(model, plane, cols, rows, model.interpolation());
 }
 
-LatentGrid latent_grid(const Model& model, const LatentPlane& plane, int cols, int rows, Interpolation mode) {
+LatentGrid latent_grid(const Model& model, const LatentPlane& plane, int cols, int rows, Interpolation mode,
+                       double project_below) {
   if (cols <= 0 || rows <= 0) throw Error("latent map: grid size must be positive");
   MATLAS_CHECK(plane.origin.size() == model.dim() && plane.axis_u.size() == model.dim() &&
                    plane.axis_v.size() == model.dim(),
@@ -142,9 +143,20 @@ LatentGrid latent_grid(const Model& model, const LatentPlane& plane, int cols, i
       g.points.row(cell(r, c)) = plane.point(u, v).transpose();
       path.row(along(r, c)) = g.points.row(cell(r, c));
     }
-  Model::Prediction predicted = model.predict_batch(path, mode);
+  Model::Prediction predicted = model.predict_batch(path, Interpolation::gp);
   g.weights = std::move(predicted.weights);
   g.variance = std::move(predicted.variance);
+  // The projections of the cells that need one, in path order (neighbours stay consecutive).
+  std::vector<Eigen::Index> projected;
+  for (Eigen::Index k = 0; k < g.variance.size(); ++k)
+    if (g.variance[k] < project_below) projected.push_back(k);
+  if (projected.size() == static_cast<std::size_t>(g.variance.size())) {
+    model.weights_from_gp_batch(g.weights, mode);
+  } else if (!projected.empty()) {
+    Eigen::MatrixXd part = g.weights(Eigen::all, projected);
+    model.weights_from_gp_batch(part, mode);
+    g.weights(Eigen::all, projected) = part;
+  }
   for (int r = 1; r < rows; r += 2)
     for (int c = 0; c < cols / 2; ++c) {
       g.weights.col(cell(r, c)).swap(g.weights.col(cell(r, cols - 1 - c)));

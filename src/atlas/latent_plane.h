@@ -2,6 +2,8 @@
 // The one grid of latent maps (the `matlas map` pictures and the server's map layers): a 2D plane
 // through the latent space, framed on the data or on a given rectangle, and a grid of cell
 // centres over it with each point's weights and predictive variance.
+#include <limits>
+
 #include <Eigen/Core>
 
 #include "manifold/model.h"
@@ -52,7 +54,10 @@ struct LatentGrid {
   Eigen::VectorXd variance;  ///< cols * rows
 };
 LatentGrid latent_grid(const Model& model, const LatentPlane& plane, int cols, int rows);
-/// The same with the weights of `mode` (the variance is the same in every mode).
-LatentGrid latent_grid(const Model& model, const LatentPlane& plane, int cols, int rows, Interpolation mode);
+/// The same with the weights of `mode` (the variance is the same in every mode). In the convex
+/// mode only the cells whose predictive variance is below `project_below` are projected; the
+/// others keep the GP's weights (for layers that fade such cells out completely).
+LatentGrid latent_grid(const Model& model, const LatentPlane& plane, int cols, int rows, Interpolation mode,
+                       double project_below = std::numeric_limits<double>::infinity());
 
 }  // namespace matlas::atlas

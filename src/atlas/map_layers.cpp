@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "core/check.h"
@@ -103,6 +104,10 @@ Interpolation layer_interpolation(const Model& model, MapLayer layer) {
   return layer == MapLayer::variance ? Interpolation::gp : model.interpolation();
 }
 
+double layer_projected_below(MapLayer layer, const LayerStyle& style) {
+  return layer == MapLayer::albedo ? style.fade_to : std::numeric_limits<double>::infinity();
+}
+
 LayerCells layer_cells(const Model& model, const LatentGrid& grid, MapLayer layer, const LayerStyle& style,
                        const PlausibilityProbe* probe) {
   MATLAS_CHECK(layer != MapLayer::image, "the image layer is composed from a basis, not coloured per cell");
@@ -146,7 +151,10 @@ LayerCells layer_cells(const Model& model, const LatentGrid& grid, MapLayer laye
 
 std::vector<unsigned char> map_layer_pixels(const Model& model, const LatentPlane& plane, int width, int height,
                                             MapLayer layer, const PlausibilityProbe* probe) {
-  const LayerCells cells = layer_cells(model, latent_grid(model, plane, width, height, layer_interpolation(model, layer)), layer, {}, probe);
+  const LayerCells cells = layer_cells(model,
+                  latent_grid(model, plane, width, height, layer_interpolation(model, layer),
+                              layer_projected_below(layer, {})),
+                  layer, {}, probe);
   std::vector<unsigned char> pixels(cells.colour.size() * 4);
   for (std::size_t k = 0; k < cells.colour.size(); ++k) {
     unsigned char* px = pixels.data() + k * 4;

@@ -61,6 +61,9 @@ struct LayerStyle {
 /// The weights a layer needs: the model's mode, but the GP's for the variance layer (which uses
 /// none: no convex projection to pay for).
 Interpolation layer_interpolation(const Model& model, MapLayer layer);
+/// The predictive variance from which a layer's cells are not seen (latent_grid's project_below):
+/// the albedo layer's fade_to (the cell is all "no data here"), no limit for the others.
+double layer_projected_below(MapLayer layer, const LayerStyle& style);
 
 /// The colour of every cell of a grid (albedo, variance or plausibility layer): linear RGB in
 /// [0, 1], and how far it fades into "no data here" (0: not at all; only the albedo layer fades).

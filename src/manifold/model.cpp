@@ -387,15 +387,16 @@ Model::Prediction Model::predict_batch(const Eigen::MatrixXd& points, Interpolat
                 std::to_string(dim()));
   if (!points.allFinite()) throw Error("latent point has a NaN or infinite coordinate");
   gp::GpPosterior::Batch b = impl_->posterior->predict_batch(points);
-  // Convex mode: each point's solve starts from the previous point's solution, in one run per
-  // worker (gp/convex_weights.h, project_batch): fastest when consecutive points are neighbours
-  // (latent_grid passes its cells in that order).
-  if (mode == Interpolation::convex) {
-    const auto m = static_cast<Eigen::Index>(points.rows());
-    const auto workers = static_cast<Eigen::Index>(std::max(1u, worker_count()));
-    impl_->convex->from_centred_batch(b.weights, (m + workers - 1) / workers);
-  }
+  weights_from_gp_batch(b.weights, mode);
   return {std::move(b.weights), std::move(b.variance)};
+}
+void Model::weights_from_gp_batch(Eigen::Ref<Eigen::MatrixXd> W, Interpolation mode) const {
+  MATLAS_CHECK_EQ(W.rows(), Eigen::Index{count()});
+  if (mode != Interpolation::convex) return;
+  // Each column's solve starts from the previous column's solution, in one run per worker
+  // (gp/convex_weights.h, project_batch): fastest when consecutive columns are neighbours.
+  const auto workers = static_cast<Eigen::Index>(std::max(1u, worker_count()));
+  impl_->convex->from_centred_batch(W, (W.cols() + workers - 1) / workers);
 }
 
 Eigen::VectorXd Model::material_weights(int i) const {
@@ -414,7 +415,6 @@ float Model::mean(std::size_t column) const { return impl_->mean[column]; }
 const float* Model::data_f32(std::size_t column) const {
   return impl_->data_f32 ? impl_->data_f32 + column * static_cast<std::size_t>(impl_->n) : nullptr;
 }
-
 void Model::data(std::size_t column, float* out) const {
   const std::size_t base = column * static_cast<std::size_t>(impl_->n);
   for (int i = 0; i < impl_->n; ++i)

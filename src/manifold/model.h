@@ -97,6 +97,9 @@ public:
   /// projection.
   Eigen::VectorXd weights_from_gp(const Eigen::Ref<const Eigen::VectorXd>& w, Interpolation mode) const;
   Eigen::VectorXd weights_from_gp(const Eigen::Ref<const Eigen::VectorXd>& w) const;
+  /// weights_from_gp of every column of W (n x m), in place, in parallel (for `mode` convex each
+  /// solve starts from the previous column's: pass neighbouring points in order).
+  void weights_from_gp_batch(Eigen::Ref<Eigen::MatrixXd> W, Interpolation mode) const;
   /// Weights with all mass on material i.
   Eigen::VectorXd material_weights(int i) const;
   /// GP predictive variance in kernel units: 0 at the data, towards 1 far from it.

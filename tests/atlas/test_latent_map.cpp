@@ -350,6 +350,38 @@ TEST_F(LatentMapTest, ServerLayersArePerPointQueriesOnTheRectangle) {
   EXPECT_THROW(map_layer_pixels(*model_, plane, w, h, MapLayer::plausibility), InternalError);
 }
 
+TEST_F(LatentMapTest, TheAlbedoLayerProjectsOnlyTheCellsItShows) {
+  // A strip from material 0 out to far from the data: cells below the fade's end have the convex
+  // weights of the point (and its albedo); cells beyond it are fully transparent, their weights
+  // left the GP's (never shown, not worth a projection).
+  ASSERT_EQ(model_->interpolation(), Interpolation::convex);
+  const Eigen::VectorXd x0 = model_->latent().row(0).transpose();
+  const Eigen::VectorXd span = model_->latent_max() - model_->latent_min();
+  const LatentPlane strip = LatentPlane::rectangle(x0, 0, 1, x0[0], x0[0] + 3 * span[0], x0[1] - 0.05 * span[1],
+                                                   x0[1] + 0.05 * span[1]);
+  const int w = 12, h = 2;
+  const LatentGrid g = latent_grid(*model_, strip, w, h, Interpolation::convex, kFadeTo);
+  const std::vector<unsigned char> px = map_layer_pixels(*model_, strip, w, h, MapLayer::albedo);
+  int shown = 0, hidden = 0;
+  for (int cell = 0; cell < w * h; ++cell) {
+    const Eigen::VectorXd x = g.points.row(cell).transpose();
+    const unsigned char* p = px.data() + 4 * cell;
+    if (model_->variance(x) < kFadeTo) {
+      ++shown;
+      EXPECT_LE((g.weights.col(cell) - model_->weights(x)).cwiseAbs().maxCoeff(), 1e-10) << "cell " << cell;
+      const Rgb a = model_->albedo_curve(model_->weights(x)).front();
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(p[c], 255.0 * srgb_encode(static_cast<float>(std::clamp(a[c], 0.0, 1.0))), 0.5 + 1e-6);
+    } else {
+      ++hidden;
+      EXPECT_EQ(p[3], 0) << "cell " << cell;
+      EXPECT_LE((g.weights.col(cell) - model_->weights(x, Interpolation::gp)).cwiseAbs().maxCoeff(), 1e-10);
+    }
+  }
+  EXPECT_GT(shown, 0);
+  EXPECT_GT(hidden, 0);
+}
+
 TEST(MapLegend, SaysWhatAPointFarFromTheDataIsUnderEachInterpolation) {
   // Far from the data the GP's weights fall to 0 (the database mean) but convex weights still
   // sum to 1: the legend must not call a convex model's far points the mean.

@@ -29,9 +29,10 @@ export interface MapPanel {
 export interface LayerTiming {
   /** A coarse layer first when the last full layer took longer than this. */
   coarseAfterMs: number;
-  /** How long the last full layer took (null: none yet; then models of more than
-   *  COARSE_FIRST_COUNT materials start coarse). */
-  lastMs: number | null;
+  /** How long the last full layer of each kind took (none yet: models of more than
+   *  COARSE_FIRST_COUNT materials start coarse). Kinds differ by 10x at n = 1000 (the albedo
+   *  layer projects only the cells it shows). */
+  lastMs: Partial<Record<string, number>>;
   /** Coarse layers shown so far. */
   coarseShown: number;
   /** Whether a layer is on its way: the refinements at rest wait meanwhile (waitForLayer). */
@@ -52,9 +53,9 @@ const COARSE_FIRST_COUNT = 300;
 /** Cells per row of a full layer; the coarse one's at most and at least, and its time. */
 const LAYER_COLS = 128, COARSE_MAX_COLS = 64, COARSE_MIN_COLS = 12, COARSE_TARGET_MS = 500;
 
-/** The width of the coarse layer after a full one that took `lastMs` (null: none yet). */
-export function coarseColumns(lastMs: number | null): number {
-  if (lastMs === null || !(lastMs > 0)) return 24;
+/** The width of the coarse layer after a full one of its kind that took `lastMs` (none yet: undefined). */
+export function coarseColumns(lastMs: number | undefined): number {
+  if (lastMs === undefined || !(lastMs > 0)) return 24;
   const cols = Math.round((LAYER_COLS * COARSE_TARGET_MS) / lastMs);
   return Math.max(COARSE_MIN_COLS, Math.min(COARSE_MAX_COLS, cols));
 }
@@ -77,7 +78,7 @@ export function createMapPanel(
   // While a layer is requested the map keeps showing the previous one (over its own rectangle)
   // and says that a new one is coming; a newer view aborts the request in flight.
   const mapWrap = $("map-wrap");
-  const layerTiming: LayerTiming = { coarseAfterMs: 400, lastMs: null, coarseShown: 0, loading: false };
+  const layerTiming: LayerTiming = { coarseAfterMs: 800, lastMs: {}, coarseShown: 0, loading: false };
   const loading = (on: boolean) => {
     layerTiming.loading = on;
     mapWrap.classList.toggle("layer-loading", on);
@@ -90,9 +91,10 @@ export function createMapPanel(
       const rowsOf = (cols: number) =>
         Math.max(4, Math.min(256, Math.round((cols * (view.y1 - view.y0)) / (view.x1 - view.x0))));
       const rect: MapRequest["rect"] = [view.x0, view.x1, view.y0, view.y1];
-      const slow = layerTiming.lastMs === null ? model.count > COARSE_FIRST_COUNT : layerTiming.lastMs > layerTiming.coarseAfterMs;
+      const last = layerTiming.lastMs[kind];
+      const slow = last === undefined ? model.count > COARSE_FIRST_COUNT : last > layerTiming.coarseAfterMs;
       if (slow) {
-        const cols = coarseColumns(layerTiming.lastMs);
+        const cols = coarseColumns(last);
         const coarse = await api.map({ layer: kind, axes, x, rect, size: [cols, rowsOf(cols)] }, signal);
         const bitmap = await createImageBitmap(coarse);
         if (!signal.aborted) {
@@ -102,7 +104,7 @@ export function createMapPanel(
       }
       const started = performance.now();
       const blob = await api.map({ layer: kind, axes, x, rect, size: [LAYER_COLS, rowsOf(LAYER_COLS)] }, signal);
-      layerTiming.lastMs = performance.now() - started;
+      layerTiming.lastMs[kind] = performance.now() - started;
       return createImageBitmap(blob);
     },
     (bitmap, input) => map.setLayer(bitmap, input.view, input.kind === "albedo"),

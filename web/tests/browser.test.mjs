@@ -262,7 +262,7 @@ test("a slow map layer shows a coarse one at once, then the full one over it", a
   await page.waitForSelector("#map-wrap:not(.layer-loading)", { timeout: 20_000 });
   // As if the last layer had been slow (a large model): every layer now comes coarse first.
   // The last full layer took 2 s: the coarse one is sized to take a quarter of that (32 cells wide).
-  await page.evaluate(() => { window.matlas.layerTiming.coarseAfterMs = -1; window.matlas.layerTiming.lastMs = 2000; });
+  await page.evaluate(() => { window.matlas.layerTiming.coarseAfterMs = -1; window.matlas.layerTiming.lastMs = { variance: 2000 }; });
   let release;
   const held = new Promise((r) => (release = r));
   const widths = [];
@@ -285,7 +285,7 @@ test("a slow map layer shows a coarse one at once, then the full one over it", a
   } finally {
     release();
     await page.unroute("**/api/map");
-    await page.evaluate(() => { window.matlas.layerTiming.coarseAfterMs = 400; window.matlas.layerTiming.lastMs = null; });
+    await page.evaluate(() => { window.matlas.layerTiming.coarseAfterMs = 800; window.matlas.layerTiming.lastMs = {}; });
     await page.selectOption("#layer", "albedo");
   }
 });
