@@ -93,12 +93,12 @@ MaterialInnerProducts inner_products(const Model& model, const BrdfTable& table)
   return ip;
 }
 
-double projection_residual(const Model& model, const MaterialInnerProducts& ip,
-                           const Eigen::VectorXd& x, Eigen::VectorXd* gradient) {
+double projection_residual(const Model& model, const MaterialInnerProducts& ip, const Eigen::VectorXd& x,
+                           Eigen::VectorXd* gradient, Model::WarmStart* warm) {
   const Eigen::MatrixXd& s = model.gram();
   MATLAS_CHECK(ip.distance2.size() == model.count() && ip.g.size() == model.count(), "inner products of this model");
   MATLAS_CHECK(ip.anchor >= 0 && ip.anchor < model.count(), "the anchor is a material");
-  Eigen::VectorXd u = model.weights(x);
+  Eigen::VectorXd u = warm ? model.weights(x, *warm) : model.weights(x);
   u[ip.anchor] -= 1.0;
   const Eigen::VectorXd su = s * u;
   const double r = ip.distance2[ip.anchor] - 2.0 * u.dot(ip.g) + u.dot(su);
@@ -110,7 +110,8 @@ double projection_residual(const Model& model, const MaterialInnerProducts& ip,
       Eigen::VectorXd xp = x, xm = x;
       xp[d] += h;
       xm[d] -= h;
-      (*gradient)[d] = (projection_residual(model, ip, xp, nullptr) - projection_residual(model, ip, xm, nullptr)) / (2 * h);
+      (*gradient)[d] =
+          (projection_residual(model, ip, xp, nullptr, warm) - projection_residual(model, ip, xm, nullptr, warm)) / (2 * h);
     }
   } else if (gradient) {
     // dr/dx = sum_i g_i dk_i/dx with g = K^-1 (2 S u - 2 g), dk_i/dx = -2 (x - x_i) k_i / l^2.
@@ -154,8 +155,9 @@ Projection project_material(const Model& model, const BrdfTable& table, int star
   search.max_iterations = 200;
   search.gradient_tolerance = search.relative_gradient_tolerance = 1e-8;
   const double scale = 1.0 / norm2;  // keep the objective O(1)
+  Model::WarmStart warm;  // one search's points are near each other
   auto objective = [&](const Eigen::VectorXd& x, Eigen::VectorXd& grad) {
-    const double r = projection_residual(model, ip, x, &grad);
+    const double r = projection_residual(model, ip, x, &grad, &warm);
     grad *= scale;
     return r * scale;
   };
@@ -170,6 +172,7 @@ Projection project_material(const Model& model, const BrdfTable& table, int star
     }
   }
   for (Eigen::VectorXd x : seeds) {
+    warm = Model::WarmStart();
     double fx = 0;
     if (const std::optional<double> end = gp::minimize_lbfgs(objective, x, search)) {
       fx = *end;

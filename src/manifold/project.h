@@ -46,9 +46,11 @@ struct Projection {
 /// distances to the material (nearest first, ties in index order; fewer if there are fewer).
 std::vector<int> nearest_materials(const Eigen::Ref<const Eigen::VectorXd>& distance2, int count);
 
-/// Residual |z - m(x)|^2 and, if `gradient` is given, its gradient with respect to x.
-double projection_residual(const Model& model, const MaterialInnerProducts& ip,
-                           const Eigen::VectorXd& x, Eigen::VectorXd* gradient = nullptr);
+/// Residual |z - m(x)|^2 and, if `gradient` is given, its gradient with respect to x. `warm`, if
+/// given, starts the convex solves from the previous evaluation's (an optimiser's points are
+/// near each other; the weights, hence the residual, are the same: Model::weights(x, warm)).
+double projection_residual(const Model& model, const MaterialInnerProducts& ip, const Eigen::VectorXd& x,
+                           Eigen::VectorXd* gradient = nullptr, Model::WarmStart* warm = nullptr);
 
 /// Projects a material (same grid as the model) onto the model. `starts` nearest materials seed
 /// the search, plus the centroid of the latent points.
