@@ -23,8 +23,9 @@ export interface MapPanel {
  * two steps: a coarse one, shown as soon as it arrives, then the full one over it. A layer's time
  * grows about linearly with its width at a given aspect, not with its cells (each cell's convex
  * solve starts from its neighbour's, and the work is in the changes of the solution along the
- * rows: 16, 32, 64 and 128 cells wide took 0.55, 1.1, 2.3 and 5.0 s at n = 1000, docs/API.md),
- * so the coarse layer's width is the full one's scaled to arrive in COARSE_TARGET_MS.
+ * rows: 16, 32, 64 and 128 cells wide took 0.55, 1.1, 2.3 and 5.0 s at n = 1000,
+ * docs/BENCHMARKS.md "Map layers"), so the coarse layer's width is the full one's scaled to
+ * arrive in COARSE_TARGET_MS.
  */
 export interface LayerTiming {
   /** A coarse layer first when the last full layer took longer than this. */
