@@ -6,23 +6,12 @@
 // per layer.
 //
 //   node bench/map_layer_browser.mjs http://127.0.0.1:8080/ [rounds=4]
-import { createRequire } from "node:module";
-import { mkdtempSync, rmSync } from "node:fs";
-import { tmpdir } from "node:os";
-import { join, resolve } from "node:path";
+import { openChromium } from "./chromium.mjs";
 
-const require = createRequire(resolve(import.meta.dirname, "..", "web", "package.json"));
-const { chromium } = require("playwright-core");
 const url = process.argv[2] ?? "http://127.0.0.1:8080/";
 const rounds = Number(process.argv[3] ?? 4);
-const profile = mkdtempSync(join(tmpdir(), "matlas-layer-"));
-const context = await chromium.launchPersistentContext(profile, {
-  executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium", headless: true, viewport: { width: 1440, height: 1000 },
-  args: ["--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run", "--disable-background-networking",
-    "--disable-component-update", "--disable-sync"],
-});
+const { page, close } = await openChromium({ viewport: { width: 1440, height: 1000 } });
 try {
-  const page = context.pages()[0] ?? (await context.newPage());
   const opened = Date.now();
   await page.goto(url);
   await page.waitForFunction(() => window.matlas && window.matlas.map.layer !== null, null, { timeout: 120_000 });
@@ -61,6 +50,5 @@ try {
   }
   console.log(`coarse layers shown: ${(await page.evaluate(() => window.matlas.layerTiming)).coarseShown}`);
 } finally {
-  await context.close();
-  rmSync(profile, { recursive: true, force: true });
+  await close();
 }

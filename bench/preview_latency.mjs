@@ -4,25 +4,12 @@
 // event to the decoded image on screen (percentiles), as the page itself measures it.
 //
 //   node bench/preview_latency.mjs http://127.0.0.1:8080/ [drags=5]
-//
-// Run from web/ or with NODE_PATH=web/node_modules so that playwright-core resolves.
-import { createRequire } from "node:module";
-import { mkdtempSync, rmSync } from "node:fs";
-import { tmpdir } from "node:os";
-import { join, resolve } from "node:path";
+import { openChromium } from "./chromium.mjs";
 
-const require = createRequire(resolve(import.meta.dirname, "..", "web", "package.json"));
-const { chromium } = require("playwright-core");
 const url = process.argv[2] ?? "http://127.0.0.1:8080/";
 const drags = Number(process.argv[3] ?? 5);
-const profile = mkdtempSync(join(tmpdir(), "matlas-latency-"));
-const context = await chromium.launchPersistentContext(profile, {
-  executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium", headless: true, viewport: { width: 1440, height: 1000 },
-  args: ["--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run", "--disable-background-networking",
-    "--disable-component-update", "--disable-sync"],
-});
+const { page, close } = await openChromium({ viewport: { width: 1440, height: 1000 } });
 try {
-  const page = context.pages()[0] ?? (await context.newPage());
   await page.goto(url);
   await page.waitForFunction(() => window.matlas && window.matlas.previews >= 1, null, { timeout: 60_000 });
   const info = await page.evaluate(() => ({ n: window.matlas.model.count, preview: window.matlas.model.preview }));
@@ -46,6 +33,5 @@ try {
   console.log(`n = ${info.n}, preview ${info.preview.size} px (dragging: ${info.preview.drag_size} px)`);
   console.log(`${all.length} previews over ${drags} drags: pointer-to-image latency median ${q(0.5)} ms, p90 ${q(0.9)} ms, p99 ${q(0.99)} ms, max ${all[all.length - 1].toFixed(1)} ms`);
 } finally {
-  await context.close();
-  rmSync(profile, { recursive: true, force: true });
+  await close();
 }

@@ -10,28 +10,17 @@
 //
 // The full frames take seconds with software WebGL; the viewer draws them in tiles between
 // pointer events, so the scripted drags below run while tiles are pending.
-import { createRequire } from "node:module";
-import { mkdtempSync, rmSync } from "node:fs";
-import { tmpdir } from "node:os";
-import { join, resolve } from "node:path";
+import { openChromium } from "./chromium.mjs";
 
-const require = createRequire(resolve(import.meta.dirname, "..", "web", "package.json"));
-const { chromium } = require("playwright-core");
 const url = process.argv[2] ?? "http://127.0.0.1:8080/";
 const frames = Number(process.argv[3] ?? 40);
-const profile = mkdtempSync(join(tmpdir(), "matlas-realtime-bench-"));
-const context = await chromium.launchPersistentContext(profile, {
-  executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium", headless: true, viewport: { width: 1440, height: 1400 },
-  args: ["--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--ignore-gpu-blocklist",
-    "--disable-quic", "--no-first-run", "--disable-background-networking", "--disable-component-update", "--disable-sync"],
-});
+const { page, close } = await openChromium({ viewport: { width: 1440, height: 1400 }, webgl: true });
 const pct = (v) => {
   const s = [...v].sort((a, b) => a - b);
   const at = (p) => s[Math.min(s.length - 1, Math.floor(p * s.length))];
   return `n ${s.length}, min ${s[0].toFixed(1)}, p10 ${at(0.1).toFixed(1)}, median ${at(0.5).toFixed(1)}, p90 ${at(0.9).toFixed(1)}, max ${s[s.length - 1].toFixed(1)} ms`;
 };
 try {
-  const page = context.pages()[0] ?? (await context.newPage());
   page.on("crash", () => console.error("the page crashed"));
   page.on("console", (m) => m.type() === "error" && console.error("page:", m.text()));
   const t0 = Date.now();
@@ -111,6 +100,5 @@ try {
     console.log(`pointer move to frame: not measured (${e.message.split("\n")[0]})`);
   }
 } finally {
-  await context.close();
-  rmSync(profile, { recursive: true, force: true });
+  await close();
 }
