@@ -88,8 +88,8 @@ namespace {
 
 /// The legend strip: what the background means, including the "no data" hatch, and on a second
 /// row (`rows` = 2) how many labels were left out.
-void draw_legend(Image& im, int y0, int rows, const MapOptions& o, Interpolation mode, int labels_shown, int labels_total,
-                 int outside) {
+void draw_legend(Image& im, int y0, int rows, const MapOptions& o, Interpolation mode, bool fades,
+                 bool plausible_everywhere, int labels_shown, int labels_total, int outside) {
   const int w = im.width;
   for (int y = y0; y < im.height; ++y)
     for (int x = 0; x < w; ++x)
@@ -113,32 +113,40 @@ void draw_legend(Image& im, int y0, int rows, const MapOptions& o, Interpolation
     }
     x += bar_w + pad;
     draw_text(im, x, ty, "1 (far from the data)", ts, white);
-  } else if (o.layer == MapLayer::plausibility) {
-    draw_text(im, x, ty, "dimmed albedo: plausible;", ts, white);
-    x += text_width("dimmed albedo: plausible;", ts) + pad;
-    const Eigen::Array3d red = implausible_colour();
-    for (int y = by; y < by + bar_h; ++y)
-      for (int bx = 0; bx < bar_h; ++bx)
-        for (int k = 0; k < 3; ++k) im.pixel(x + bx, y)[k] = static_cast<float>(red[k]);
-    x += bar_h + pad;
-    draw_text(im, x, ty, "not plausible (negative values or albedo outside [0, 1])", ts, white);
   } else {
-    // A bar from a material colour to the hatch, with the variance thresholds.
-    char from[48], to[96];
-    std::snprintf(from, sizeof from, "variance %.2g", o.style.fade_from);
-    std::snprintf(to, sizeof to, "%.2g: no data here (%s)", o.style.fade_to, far_from_data(mode));
-    draw_text(im, x, ty, from, ts, white);
-    x += text_width(from, ts) + pad;
-    const Eigen::Array3d sample(0.45, 0.25, 0.12);
-    for (int bx = 0; bx < bar_w; ++bx) {
-      const double f = uncertainty_fade(o.style.fade_from + (o.style.fade_to - o.style.fade_from) * bx / (bar_w - 1.0), o.style.fade_from, o.style.fade_to);
-      for (int y = by; y < by + bar_h; ++y) {
-        const Eigen::Array3d c = (1 - f) * sample + f * unknown_colour(x + bx, y);
-        for (int k = 0; k < 3; ++k) im.pixel(x + bx, y)[k] = static_cast<float>(c[k]);
-      }
+    if (o.layer == MapLayer::plausibility && plausible_everywhere) {
+      draw_text(im, x, ty, "all plausible (a convex mix of plausible materials);", ts, white);
+      x += text_width("all plausible (a convex mix of plausible materials);", ts) + pad;
+    } else if (o.layer == MapLayer::plausibility) {
+      draw_text(im, x, ty, "dimmed albedo: plausible;", ts, white);
+      x += text_width("dimmed albedo: plausible;", ts) + pad;
+      const Eigen::Array3d red = implausible_colour();
+      for (int y = by; y < by + bar_h; ++y)
+        for (int bx = 0; bx < bar_h; ++bx)
+          for (int k = 0; k < 3; ++k) im.pixel(x + bx, y)[k] = static_cast<float>(red[k]);
+      x += bar_h + pad;
+      const char* what = fades ? "not plausible;" : "not plausible (negative values or albedo outside [0, 1])";
+      draw_text(im, x, ty, what, ts, white);
+      x += text_width(what, ts) + pad;
     }
-    x += bar_w + pad;
-    draw_text(im, x, ty, to, ts, white);
+    if (fades) {
+      // A bar from a material colour to the hatch, with the variance thresholds.
+      char from[48], to[96];
+      std::snprintf(from, sizeof from, "variance %.2g", o.style.fade_from);
+      std::snprintf(to, sizeof to, "%.2g: no data here (%s)", o.style.fade_to, far_from_data(mode));
+      draw_text(im, x, ty, from, ts, white);
+      x += text_width(from, ts) + pad;
+      const Eigen::Array3d sample(0.45, 0.25, 0.12);
+      for (int bx = 0; bx < bar_w; ++bx) {
+        const double f = uncertainty_fade(o.style.fade_from + (o.style.fade_to - o.style.fade_from) * bx / (bar_w - 1.0), o.style.fade_from, o.style.fade_to);
+        for (int y = by; y < by + bar_h; ++y) {
+          const Eigen::Array3d c = (1 - f) * sample + f * unknown_colour(x + bx, y);
+          for (int k = 0; k < 3; ++k) im.pixel(x + bx, y)[k] = static_cast<float>(c[k]);
+        }
+      }
+      x += bar_w + pad;
+      draw_text(im, x, ty, to, ts, white);
+    }
   }
   if (rows > 1) {
     std::string note;
@@ -162,6 +170,9 @@ Image render_latent_map(const Model& model, const LatentPlane& plane, const MapO
   const int legend_h = o.legend ? legend_rows * std::max(22, o.size / 28) : 0;
   Image map(mw, mh + legend_h);
   const int longer = std::max(mw, mh);
+  std::optional<PlausibilityProbe> probe;
+  if (o.layer == MapLayer::plausibility) probe.emplace(model, 256);
+  const bool plausible_everywhere = plausible_by_construction(model, probe ? &*probe : nullptr);
   if (o.layer == MapLayer::image) {
     if (!o.basis) throw Error("latent map: the image layer needs an image basis (--basis)");
     if (o.basis->count() != model.count())
@@ -202,9 +213,7 @@ Image render_latent_map(const Model& model, const LatentPlane& plane, const MapO
     const int cx = std::max(2, static_cast<int>(std::lround(static_cast<double>(cells) * mw / longer)));
     const int cy = std::max(2, static_cast<int>(std::lround(static_cast<double>(cells) * mh / longer)));
     const LatentGrid g = latent_grid(model, plane, cx, cy, layer_interpolation(model, o.layer),
-                                     layer_projected_below(o.layer, o.style));
-    std::optional<PlausibilityProbe> probe;
-    if (o.layer == MapLayer::plausibility) probe.emplace(model, 256);
+                                     layer_projected_below(model, o.layer, o.style));
     const LayerCells layer = layer_cells(model, g, o.layer, o.style, probe ? &*probe : nullptr);
     const std::vector<Eigen::Array3d>& colour = layer.colour;
     const std::vector<double>& fade = layer.fade;
@@ -229,7 +238,8 @@ Image render_latent_map(const Model& model, const LatentPlane& plane, const MapO
         draw_text(map, static_cast<int>(std::lround(l.box.x0)) + 1, static_cast<int>(std::lround(l.box.y0)) + 1, model.names()[static_cast<std::size_t>(i)],
                   text_size, Rgb::Constant(1.0));
     }
-  if (o.legend) draw_legend(map, mh, legend_rows, o, model.interpolation(), labels.shown(), model.count(), outside);
+  if (o.legend) draw_legend(map, mh, legend_rows, o, model.interpolation(), layer_fades(model, o.layer),
+                           plausible_everywhere, labels.shown(), model.count(), outside);
   return map;
 }
 

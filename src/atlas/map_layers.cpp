@@ -104,8 +104,17 @@ Interpolation layer_interpolation(const Model& model, MapLayer layer) {
   return layer == MapLayer::variance ? Interpolation::gp : model.interpolation();
 }
 
-double layer_projected_below(MapLayer layer, const LayerStyle& style) {
-  return layer == MapLayer::albedo ? style.fade_to : std::numeric_limits<double>::infinity();
+bool plausible_by_construction(const Model& model, const PlausibilityProbe* probe) {
+  return model.interpolation() == Interpolation::convex && probe != nullptr && probe->inputs_plausible();
+}
+
+bool layer_fades(const Model& model, MapLayer layer) {
+  return layer == MapLayer::albedo || layer == MapLayer::image ||
+         (layer == MapLayer::plausibility && layer_interpolation(model, layer) == Interpolation::convex);
+}
+
+double layer_projected_below(const Model& model, MapLayer layer, const LayerStyle& style) {
+  return layer_fades(model, layer) ? style.fade_to : std::numeric_limits<double>::infinity();
 }
 
 LayerCells layer_cells(const Model& model, const LatentGrid& grid, MapLayer layer, const LayerStyle& style,
@@ -119,11 +128,13 @@ LayerCells layer_cells(const Model& model, const LatentGrid& grid, MapLayer laye
   out.colour.resize(cells);
   out.fade.assign(cells, 0.0);
   // The albedo and plausibility by matrix products over all cells at once.
+  const bool by_construction = layer == MapLayer::plausibility && plausible_by_construction(model, probe);
+  const bool fades = layer_fades(model, layer);
   Eigen::MatrixXd albedo;
   std::vector<Plausibility> plausibility;
   if (layer != MapLayer::variance) {
     albedo = normal_albedo(model, grid.weights);
-    if (layer == MapLayer::plausibility) plausibility = plausibility_of(*probe, grid.weights);
+    if (layer == MapLayer::plausibility && !by_construction) plausibility = plausibility_of(*probe, grid.weights);
     MATLAS_CHECK(albedo.rows() >= 3 && albedo.cols() == grid.weights.cols(), "an albedo column per cell");
   }
   for (std::size_t k = 0; k < cells; ++k) {
@@ -133,13 +144,13 @@ LayerCells layer_cells(const Model& model, const LatentGrid& grid, MapLayer laye
       continue;
     }
     const Eigen::Array3d a = (albedo.block<3, 1>(0, j).array() * style.albedo_gain).max(0.0).min(1.0);
+    if (fades) out.fade[k] = uncertainty_fade(grid.variance[j], style.fade_from, style.fade_to);
     if (layer == MapLayer::albedo) {
       out.colour[k] = a;
-      out.fade[k] = uncertainty_fade(grid.variance[j], style.fade_from, style.fade_to);
     } else {
       // Plausible: the albedo, dimmed. Not plausible: red, brighter the larger the violation
       // (mixed in sRGB).
-      const double violation = plausibility[k].violation();
+      const double violation = by_construction ? 0.0 : plausibility[k].violation();
       const double t = violation > 0 ? 0.45 + 0.55 * std::clamp(violation / 0.3, 0.0, 1.0) : 0.0;
       Eigen::Array3d srgb;
       for (int c = 0; c < 3; ++c) srgb[c] = srgb_encode(static_cast<float>(a[c]));
@@ -153,7 +164,7 @@ std::vector<unsigned char> map_layer_pixels(const Model& model, const LatentPlan
                                             MapLayer layer, const PlausibilityProbe* probe) {
   const LayerCells cells = layer_cells(model,
                   latent_grid(model, plane, width, height, layer_interpolation(model, layer),
-                              layer_projected_below(layer, {})),
+                              layer_projected_below(model, layer, {})),
                   layer, {}, probe);
   std::vector<unsigned char> pixels(cells.colour.size() * 4);
   for (std::size_t k = 0; k < cells.colour.size(); ++k) {

@@ -61,12 +61,23 @@ struct LayerStyle {
 /// The weights a layer needs: the model's mode, but the GP's for the variance layer (which uses
 /// none: no convex projection to pay for).
 Interpolation layer_interpolation(const Model& model, MapLayer layer);
+/// Whether the plausibility layer has nothing to find: convex weights over inputs that are all
+/// plausible on the probe's samples (PlausibilityProbe::inputs_plausible). Then the layer is the
+/// dimmed albedo and probes no cell.
+bool plausible_by_construction(const Model& model, const PlausibilityProbe* probe);
+
+/// Whether a layer fades into "no data here" far from the data: the albedo and image layers, and the
+/// plausibility layer of convex weights (there a point is a mix of the nearest materials, as
+/// plausible as they are; the GP's weights are shown everywhere).
+bool layer_fades(const Model& model, MapLayer layer);
+
 /// The predictive variance from which a layer's cells are not seen (latent_grid's project_below):
-/// the albedo layer's fade_to (the cell is all "no data here"), no limit for the others.
-double layer_projected_below(MapLayer layer, const LayerStyle& style);
+/// fade_to for the layers that fade (the cell is all "no data here"), no limit for the others.
+double layer_projected_below(const Model& model, MapLayer layer, const LayerStyle& style);
 
 /// The colour of every cell of a grid (albedo, variance or plausibility layer): linear RGB in
-/// [0, 1], and how far it fades into "no data here" (0: not at all; only the albedo layer fades).
+/// [0, 1], and how far it fades into "no data here" (0: not at all; the layers that fade are
+/// those of layer_projected_below).
 struct LayerCells {
   std::vector<Eigen::Array3d> colour;
   std::vector<double> fade;

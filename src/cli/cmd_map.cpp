@@ -113,8 +113,8 @@ void add_map_command(CLI::App& app, const Io& io) {
       ->capture_default_str();
   cmd->add_option("--gain", a->gain, "Albedo display gain")->check(finite_number())->capture_default_str();
   cmd->add_option("--fade", a->fade,
-                  "Predictive variances FROM,TO over which the albedo/image layers fade into the hatched "
-                  "'no data here' grey")
+                  "Predictive variances FROM,TO over which the albedo/image layers (and the plausibility "
+                  "layer of convex weights) fade into the hatched 'no data here' grey")
       ->capture_default_str();
   cmd->add_flag("--no-labels", a->no_labels, "Do not write material names");
   cmd->add_flag("--no-legend", a->no_legend, "No legend strip under the map");

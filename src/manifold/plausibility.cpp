@@ -27,6 +27,12 @@ PlausibilityProbe::PlausibilityProbe(const Model& model, std::size_t samples) : 
     means_[s] = model.mean(c);
     for (int i = 0; i < n; ++i) centred_(s, i) = static_cast<double>(z[static_cast<std::size_t>(i)]) - means_[s];
   }
+  // Input i: its sampled values are the stored ones, its albedo curve a row of material_albedo.
+  const Eigen::MatrixXd& albedo = model.material_albedo();
+  MATLAS_CHECK_EQ(albedo.rows(), n);
+  inputs_plausible_ = albedo.size() == 0 || (albedo.minCoeff() >= 0.0 && albedo.maxCoeff() <= 1.0);
+  for (Eigen::Index s = 0; s < count && inputs_plausible_; ++s)
+    inputs_plausible_ = (centred_.row(s).array() + means_[s]).minCoeff() >= 0.0;
 }
 
 namespace {

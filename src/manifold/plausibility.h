@@ -34,11 +34,16 @@ public:
   /// The same for many weight vectors (columns of W, n x m), with matrix products.
   std::vector<Plausibility> batch(const Eigen::MatrixXd& W) const;
   std::size_t samples() const { return static_cast<std::size_t>(means_.size()); }
+  /// Whether every input (database material) is plausible on the probe's samples. Then so is
+  /// every convex combination of them, to rounding: non-negative values and albedo within [0, 1]
+  /// are convex constraints.
+  bool inputs_plausible() const { return inputs_plausible_; }
 
 private:
   const Model& model_;
   Eigen::VectorXd means_;    ///< the sampled columns' means
   Eigen::MatrixXd centred_;  ///< samples x n: the stored inputs minus their column's mean
+  bool inputs_plausible_ = false;
 };
 
 }  // namespace matlas

@@ -139,6 +139,7 @@ Api::Api(const Model& model, std::shared_ptr<const PreviewSource> previews, cons
   // weights summing to 1); models without the field predate the choice and are "gp".
   j["interpolation"] = std::string(to_string(model_.interpolation()));  // the server's mode
   j["uncertainty"] = {{"fade_from", atlas::kFadeFrom}, {"fade_to", atlas::kFadeTo}};
+  j["plausible_everywhere"] = atlas::plausible_by_construction(model_, &map_plausibility_);
   j["albedo_angles"] = kAlbedoAngles;
   if (gi_) j["gi"] = {{"scenes", gi_->scenes()}, {"preloaded", gi_->preloaded()}, {"views", gi_->views()}};
   model_json_ = j.dump();

@@ -423,9 +423,12 @@ TEST_F(LatentMapTest, AlbedoLayerIsTransparentFarFromTheDataAndOpaqueAtIt) {
   ASSERT_GT(model_->variance(corner.point(corner.u_min, corner.v_min)), 0.9) << "the test needs a corner far from the data";
   const auto far = map_layer_pixels(*model_, corner, 4, 4, MapLayer::albedo);
   EXPECT_EQ(far[(3 * 4 + 0) * 4 + 3], 0) << "bottom-left cell, at the corner";
-  const PlausibilityProbe probe(*model_, 256);
-  for (MapLayer l : {MapLayer::variance, MapLayer::plausibility}) {  // other layers are opaque
-    const auto opaque = map_layer_pixels(*model_, corner, 4, 4, l, &probe);
+  // Opaque: the variance layer, and the plausibility layer of the GP's weights (that of convex
+  // weights fades like the albedo layer: test_plausibility_layer.cpp).
+  const Model gp = model_->with_interpolation(Interpolation::gp);
+  const PlausibilityProbe probe(gp, 256);
+  for (MapLayer l : {MapLayer::variance, MapLayer::plausibility}) {
+    const auto opaque = map_layer_pixels(gp, corner, 4, 4, l, &probe);
     for (std::size_t k = 3; k < opaque.size(); k += 4) EXPECT_EQ(opaque[k], 255);
   }
 }

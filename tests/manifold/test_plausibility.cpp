@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 #include <string>
 
 #include "core/check.h"
@@ -24,6 +25,34 @@ Model small_model(const test::TempDir& dir, int count) {
   o.dim = 2;
   build_model(MaterialSet::open({dir / "db"}), o, dir / "m.matlas");
   return Model::open(dir / "m.matlas");
+}
+
+TEST(Plausibility, ConvexMixesOfPlausibleInputsArePlausible) {
+  // inputs_plausible says whether every input is; when they all are, so is every convex mix (what
+  // lets the plausibility layer of a convex model skip its probe). One database of each kind:
+  // scaled down, every albedo is below 1; scaled up, some are above.
+  for (const double scale : {0.2, 8.0}) {
+    test::TempDir dir;
+    test::write_database(dir / "db", 6, 1, scale);
+    BuildOptions o;
+    o.dim = 2;
+    build_model(MaterialSet::open({dir / "db"}), o, dir / "m.matlas");
+    const Model m = Model::open(dir / "m.matlas");
+    const PlausibilityProbe probe(m, 256);
+    bool every = true;
+    for (int i = 0; i < m.count(); ++i) every = every && probe(m.material_weights(i)).violation() == 0.0;
+    EXPECT_EQ(probe.inputs_plausible(), every) << "scale " << scale;
+    ASSERT_EQ(every, scale < 1.0) << "scale " << scale << ": the databases are one of each kind";
+    if (!every) continue;
+    std::mt19937 rng(3);
+    std::exponential_distribution<double> e(1.0);
+    for (int trial = 0; trial < 50; ++trial) {
+      Eigen::VectorXd w(m.count());
+      for (int i = 0; i < m.count(); ++i) w[i] = trial % 5 == 0 && i % 2 ? 0.0 : e(rng);
+      w /= w.sum();
+      EXPECT_EQ(probe(w).violation(), 0.0) << "convex weights " << w.transpose();
+    }
+  }
 }
 
 TEST(Plausibility, InputsArePlausibleAndExtrapolationIsCaught) {

@@ -42,6 +42,8 @@ export interface ModelInfo {
   interpolation?: "gp" | "convex";
   /** Predictive variances over which the albedo layer fades into "no data here". */
   uncertainty?: { fade_from: number; fade_to: number };
+  /** Convex weights over inputs that are all plausible: every point is, and the plausibility layer fades like the albedo one. */
+  plausible_everywhere: boolean;
   /** The scene view's GI scenes (GET /api/gi), those ready from the start first; absent without any. */
   gi?: { scenes: string[]; preloaded: string[]; views?: { [scene: string]: string[] } };
 }

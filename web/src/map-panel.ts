@@ -13,8 +13,8 @@ type MapKind = NonNullable<MapRequest["layer"]> | "none";
 
 export interface MapPanel {
   map: LatentMap;
-  /** Asks for the background layer of the current view (debounced). */
-  refreshLayer(): void;
+  /** Asks for the background layer of the current view, after `delayMs` (default 120: debounced). */
+  refreshLayer(delayMs?: number): void;
   layerTiming: LayerTiming;
 }
 
@@ -80,6 +80,12 @@ export function createMapPanel(
   // and says that a new one is coming; a newer view aborts the request in flight.
   const mapWrap = $("map-wrap");
   const layerTiming: LayerTiming = { coarseAfterMs: 800, lastMs: {}, coarseShown: 0, loading: false };
+  // What a point far from the data is depends on the interpolation: the GP's weights fall to zero
+  // (the database mean), convex weights still sum to 1 (a mix of the nearest materials). The layers
+  // that fade there (transparent cells, drawn over the "no data here" hatching): the albedo layer,
+  // and the plausibility layer of convex weights.
+  const convex = (model.interpolation ?? "gp") === "convex";
+  const hatched = (kind: MapKind) => kind === "albedo" || (kind === "plausibility" && convex);
   const loading = (on: boolean) => {
     layerTiming.loading = on;
     mapWrap.classList.toggle("layer-loading", on);
@@ -99,7 +105,7 @@ export function createMapPanel(
         const coarse = await api.map({ layer: kind, axes, x, rect, size: [cols, rowsOf(cols)] }, signal);
         const bitmap = await createImageBitmap(coarse);
         if (!signal.aborted) {
-          map.setLayer(bitmap, view, kind === "albedo");
+          map.setLayer(bitmap, view, hatched(kind));
           layerTiming.coarseShown += 1;
         }
       }
@@ -108,17 +114,18 @@ export function createMapPanel(
       layerTiming.lastMs[kind] = performance.now() - started;
       return createImageBitmap(blob);
     },
-    (bitmap, input) => map.setLayer(bitmap, input.view, input.kind === "albedo"),
+    (bitmap, input) => map.setLayer(bitmap, input.view, hatched(input.kind)),
     (e) => setStatus(`map layer: ${(e as Error).message}`, true, "map layer"),
     () => loading(false),
   );
-  const refreshLayer = () => {
+  // Debounced for views (a pan or zoom sends many); at once for a change of layer.
+  const refreshLayer = (delayMs = 120) => {
     clearTimeout(layerTimer);
     layerTimer = window.setTimeout(() => {
       const kind = layerSel.value as MapKind;
       loading(kind !== "none");
       layer.request({ view: map.view, kind, axes: map.axes, x: map.point.slice() }, performance.now(), true);
-    }, 120);
+    }, delayMs);
   };
 
   const map = new LatentMap(
@@ -143,14 +150,12 @@ export function createMapPanel(
         tooltip.style.top = `${Math.min(cy - wrap.top + 14, wrap.height - 150)}px`;
         tooltip.hidden = false;
       },
-      viewChanged: refreshLayer,
+      viewChanged: () => refreshLayer(),
     },
   );
 
   const fade = model.uncertainty ?? { fade_from: 0.5, fade_to: 0.9 };
-  // What a point far from the data is depends on the interpolation: the GP's weights fall to zero
-  // (the database mean), convex weights still sum to 1 (a mix of the nearest materials).
-  const far = (model.interpolation ?? "gp") === "convex"
+  const far = convex
     ? "a point there is a mix of the nearest materials (see Largest weights), not a measured one"
     : "the model only has the database mean there";
   const showLegend = () => {
@@ -162,9 +167,16 @@ export function createMapPanel(
           item("hatch", `no data here (variance &gt; ${fade.fade_to}): ${far}`)
         : kind === "variance"
           ? item("variance", "predictive variance 0 (at the data) → 1 (far away)")
-          : kind === "plausibility"
-            ? item("red", "not physically plausible (negative values or albedo outside [0, 1])")
-            : "";
+          : kind === "plausibility" && model.plausible_everywhere
+            ? item("fade", `every point is plausible (a convex mix of plausible materials): dimmed albedo, fading out from variance ${fade.fade_from}`) +
+              item("hatch", `no data here (variance &gt; ${fade.fade_to}): ${far}`)
+            : kind === "plausibility" && convex
+              // Convex weights: far from the data a mix of the nearest materials, as plausible as they are.
+              ? item("red", "not physically plausible (negative values or albedo outside [0, 1])") +
+                item("hatch", `no data here (variance &gt; ${fade.fade_to}): ${far}`)
+              : kind === "plausibility"
+                ? item("red", "not physically plausible (negative values or albedo outside [0, 1])")
+                : "";
   };
   if (model.dim > 2) {
     $("legend-far").textContent =
@@ -183,7 +195,7 @@ export function createMapPanel(
   layerSel.addEventListener("change", () => {
     if (layerSel.value === "none") map.setLayer(null, map.view);
     showLegend();
-    refreshLayer();
+    refreshLayer(0);
   });
   $<HTMLInputElement>("labels").addEventListener("change", (e) => {
     map.showLabels = (e.target as HTMLInputElement).checked;

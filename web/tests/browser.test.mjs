@@ -217,6 +217,14 @@ test("the plausibility line and map layer describe the current point", async () 
   const layer = page.waitForResponse((r) => r.url().endsWith("/api/map") && r.request().postData().includes("plausibility"));
   await page.selectOption("#layer", "plausibility");
   assert.equal((await layer).status(), 200);
+  // The legend says what the layer can show: nothing to find over plausible inputs mixed convexly;
+  // otherwise red, and under convex weights the albedo layer's "no data here" far from the data.
+  const model = JSON.parse((await api("/api/model")).toString());
+  assert.equal(typeof model.plausible_everywhere, "boolean");
+  const legend = await page.textContent("#legend-layer");
+  assert.match(legend, model.plausible_everywhere ? /every point is plausible/ : /not physically plausible/, legend);
+  if (model.interpolation === "convex") assert.match(legend, /no data here/, legend);
+  else assert.doesNotMatch(legend, /no data here/, legend);
   await page.selectOption("#layer", "albedo");
 });
 
