@@ -31,8 +31,8 @@ export interface LayerTiming {
   /** A coarse layer first when the last full layer took longer than this. */
   coarseAfterMs: number;
   /** How long the last full layer of each kind took (none yet: models of more than
-   *  COARSE_FIRST_COUNT materials start coarse). Kinds differ by 10x at n = 1000 (the albedo
-   *  layer projects only the cells it shows). */
+   *  COARSE_FIRST_COUNT materials start coarse). Kinds differ (the variance layer projects
+   *  nothing, about twice as fast as the others at n = 1000). */
   lastMs: Partial<Record<string, number>>;
   /** Coarse layers shown so far. */
   coarseShown: number;
@@ -79,7 +79,7 @@ export function createMapPanel(
   // While a layer is requested the map keeps showing the previous one (over its own rectangle)
   // and says that a new one is coming; a newer view aborts the request in flight.
   const mapWrap = $("map-wrap");
-  const layerTiming: LayerTiming = { coarseAfterMs: 800, lastMs: {}, coarseShown: 0, loading: false };
+  const layerTiming: LayerTiming = { coarseAfterMs: 1200, lastMs: {}, coarseShown: 0, loading: false };
   // What a point far from the data is depends on the interpolation: the GP's weights fall to zero
   // (the database mean), convex weights still sum to 1 (a mix of the nearest materials). The layers
   // that fade there (transparent cells, drawn over the "no data here" hatching): the albedo layer,

@@ -293,7 +293,7 @@ test("a slow map layer shows a coarse one at once, then the full one over it", a
   } finally {
     release();
     await page.unroute("**/api/map");
-    await page.evaluate(() => { window.matlas.layerTiming.coarseAfterMs = 800; window.matlas.layerTiming.lastMs = {}; });
+    await page.evaluate(() => { window.matlas.layerTiming.coarseAfterMs = 1200; window.matlas.layerTiming.lastMs = {}; });
     await page.selectOption("#layer", "albedo");
   }
 });
