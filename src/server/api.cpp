@@ -209,9 +209,9 @@ Reply Api::preview_refine(const std::string& body) {
   const std::string object = parse_choice(j, "object", objects_, previews_->default_object());
   const double seconds = parse_number(j, "seconds", 0.05, 5.0, 0.5);
   const bool denoise = parse_flag(j, "denoise", false);
-  // A newer preview request from the same client (the pointer moved, or the scene's basis image
-  // arrived) stops the pass under way: the answer is the refinement as it was, marked
-  // X-Matlas-Interrupted (200: an expected event, not an error).
+  // A newer preview or map layer request from the same client (the pointer moved, the scene's
+  // basis image arrived, the map asks for a layer) stops the pass under way: the answer is the
+  // refinement as it was, marked X-Matlas-Interrupted (200: an expected event, not an error).
   const std::string client = request_client();
   SupersededSink superseded(preview_generations_, client, preview_generations_.current(client));
   PreviewSource::Refined refined;
@@ -341,6 +341,9 @@ Reply Api::map_layer(const std::string& body) {
     width = parse_int_value(s[0], "\"size\"[0] (width)", 4, 256);
     height = parse_int_value(s[1], "\"size\"[1] (height)", 4, 256);
   }
+  // The page pauses its refinement at rest while a layer is on its way; the pass under way stops
+  // too, so that the layer has the cores (as a newer preview request stops it).
+  preview_generations_.advance(request_client());
   auto slot = acquire(heavy_);
   const auto plane = atlas::LatentPlane::rectangle(base, axis_x, axis_y, rect[0], rect[1], rect[2], rect[3]);
   return Reply::bytes(atlas::map_layer_png(model_, plane, width, height, layer, &map_plausibility_), kPng);

@@ -1,9 +1,11 @@
-// The refinement of the preview at rest (POST /api/preview/refine): a newer preview request from
-// the same client interrupts the pass under way (200 with the state so far, X-Matlas-Interrupted),
-// one from another client does not.
+// The refinement of the preview at rest (POST /api/preview/refine): a newer preview or map layer
+// request from the same client interrupts the pass under way (200 with the state so far,
+// X-Matlas-Interrupted), one from another client does not.
 #include <atomic>
 #include <chrono>
+#include <functional>
 #include <future>
+#include <utility>
 #include <string>
 #include <thread>
 
@@ -64,7 +66,10 @@ public:
   mutable std::atomic<bool> refining{false};
 };
 
-TEST(PreviewRefinement, ANewPreviewFromTheSameClientInterruptsTheRefinement) {
+/// Starts a refinement of 5 s at material 0's point, then sends `path` with `body` (made from that
+/// point) from the same client: the refinement's status and X-Matlas-Interrupted, the request's status.
+std::pair<std::string, int> refinement_after(const std::string& path,
+                                             const std::function<std::string(const std::vector<double>&)>& body) {
   test::TempDir dir("matlas-refine");
   const Model model = test::build_small_model(dir.path(), 4, 5);
   auto source = std::make_shared<SlowRefineSource>();
@@ -74,22 +79,39 @@ TEST(PreviewRefinement, ANewPreviewFromTheSameClientInterruptsTheRefinement) {
   AtlasServer server(model, source, so);
   server.start();
   const std::vector<double> x = {model.latent()(0, 0), model.latent()(0, 1)};
-  const std::string body = nlohmann::json{{"x", x}, {"seconds", 5}}.dump();
+  const std::string refine_body = nlohmann::json{{"x", x}, {"seconds", 5}}.dump();
 
   const auto started = std::chrono::steady_clock::now();
   auto refine = std::async(std::launch::async, [&] {
     httplib::Client c("127.0.0.1", server.port());
     c.set_read_timeout(30, 0);
-    auto r = c.Post("/api/preview/refine", body, "application/json");
+    auto r = c.Post("/api/preview/refine", refine_body, "application/json");
     return r ? std::to_string(r->status) + " " + r->get_header_value("X-Matlas-Interrupted") : std::string("none");
   });
   while (!source->refining) std::this_thread::sleep_for(std::chrono::milliseconds(5));
   httplib::Client c("127.0.0.1", server.port());
-  auto preview = c.Post("/api/preview", nlohmann::json{{"x", x}}.dump(), "application/json");
-  ASSERT_TRUE(preview);
-  EXPECT_EQ(preview->status, 200);
-  EXPECT_EQ(refine.get(), "200 1");
+  auto next = c.Post(path, body(x), "application/json");
+  const std::string refined = refine.get();
   EXPECT_LT(std::chrono::steady_clock::now() - started, std::chrono::seconds(10));
+  return {refined, next ? next->status : -1};
+}
+
+TEST(PreviewRefinement, ANewPreviewFromTheSameClientInterruptsTheRefinement) {
+  const auto [refined, status] =
+      refinement_after("/api/preview", [](const std::vector<double>& x) { return nlohmann::json{{"x", x}}.dump(); });
+  EXPECT_EQ(status, 200);
+  EXPECT_EQ(refined, "200 1");
+}
+
+TEST(PreviewRefinement, AMapLayerFromTheSameClientInterruptsTheRefinement) {
+  // The page waits for its layer before refining again: the pass under way gives the layer the cores.
+  const auto [refined, status] = refinement_after("/api/map", [](const std::vector<double>& x) {
+    return nlohmann::json{{"layer", "variance"}, {"x", x}, {"rect", {x[0] - 1, x[0] + 1, x[1] - 1, x[1] + 1}},
+                          {"size", {8, 8}}}
+        .dump();
+  });
+  EXPECT_EQ(status, 200);
+  EXPECT_EQ(refined, "200 1");
 }
 
 }  // namespace
