@@ -118,6 +118,8 @@ void run_build(const BuildArgs& a, const Io& io) {
     print(io.err, "warning: the latent placement did not converge (%s); the model is usable but its layout "
                  "is not a maximum of the likelihood: raise --max-iterations or --starts\n",
                  r.optimization.stop_reason.c_str());
+  if (const std::string hint = placement_hint(set.size(), o.sparse, r.pass_seconds, r.optimize_seconds); !hint.empty())
+    print(io.err, "%s", hint.c_str());
   print(io.out, "  storage          %s, relative L2 rounding error %.3g\n",
               o.storage == Storage::f16 ? "float16" : "float32", r.storage_relative_error);
   print(io.out, "  time             reading %.2f s, latent placement %.2f s, finishing the file %.2f s\n",
