@@ -14,9 +14,9 @@ namespace matlas::cli {
 void add_sparse_placement_options(CLI::App& cmd, gp::SparseOptions& sparse);
 
 /// What `matlas build` tells a user whose exact placement of `materials` took longer than the
-/// pass over the data (from 1000 materials on): that the sparse placement exists, what it costs
-/// and what it gains (docs/BENCHMARKS.md, "n = 1000 on one machine"). Empty when there is nothing
-/// to say: sparse already, fewer materials, or a placement no longer than the pass.
+/// pass over the data (from 1000 materials on): how to place them sooner and at what cost
+/// (docs/BENCHMARKS.md, "n = 1000 on one machine"). Empty when there is nothing to say: sparse
+/// already, fewer materials, or a placement no longer than the pass.
 std::string placement_hint(std::size_t materials, const gp::SparseOptions& sparse, double pass_seconds,
                            double placement_seconds);
 
