@@ -26,10 +26,6 @@ void add_sparse_placement_options(CLI::App& cmd, gp::SparseOptions& sparse) {
       ->capture_default_str();
 }
 
-}  // namespace matlas::cli
-
-namespace matlas::cli {
-
 std::string placement_hint(std::size_t materials, const gp::SparseOptions& sparse, double pass_seconds,
                            double placement_seconds) {
   if (sparse.enabled() || materials < 1000 || !(placement_seconds > pass_seconds)) return {};

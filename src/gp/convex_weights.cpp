@@ -194,14 +194,10 @@ void ConvexProjection::settle(Eigen::Ref<Eigen::VectorXd> c, const Eigen::Vector
   for (Eigen::Index i = 0; i < c.size(); ++i)
     if (c[i] > 0) support.push_back(i);
   const auto m = static_cast<Eigen::Index>(support.size());
-  Eigen::MatrixXd A(m, m);
   Eigen::MatrixXd rhs(m, 2);
-  for (Eigen::Index s = 0; s < m; ++s) {
-    for (Eigen::Index t = 0; t < m; ++t) A(s, t) = A_(support[static_cast<std::size_t>(s)], support[static_cast<std::size_t>(t)]);
-    rhs(s, 0) = b[support[static_cast<std::size_t>(s)]];
-    rhs(s, 1) = 1.0;
-  }
-  const Eigen::LLT<Eigen::MatrixXd> llt(A);
+  rhs.col(0) = b(support);
+  rhs.col(1).setOnes();
+  const Eigen::LLT<Eigen::MatrixXd> llt(A_(support, support));
   if (llt.info() != Eigen::Success) return;  // keep the active-set method's own c
   const Eigen::MatrixXd uv = llt.solve(rhs);
   const double nu = (1.0 - uv.col(0).sum()) / uv.col(1).sum();
@@ -209,7 +205,7 @@ void ConvexProjection::settle(Eigen::Ref<Eigen::VectorXd> c, const Eigen::Vector
   // Rounding only: the support's optimum is positive where the method left it positive.
   if (!cS.allFinite() || cS.minCoeff() < -1e-9) return;
   c.setZero();
-  for (Eigen::Index s = 0; s < m; ++s) c[support[static_cast<std::size_t>(s)]] = std::max(0.0, cS[s]);
+  c(support) = cS.cwiseMax(0.0);
   c /= c.sum();
 }
 

@@ -23,9 +23,9 @@ export interface MapPanel {
  * two steps: a coarse one, shown as soon as it arrives, then the full one over it. A layer's time
  * grows about linearly with its width at a given aspect, not with its cells (each cell's convex
  * solve starts from its neighbour's, and the work is in the changes of the solution along the
- * rows: 16, 32, 64 and 128 cells wide took 0.55, 1.1, 2.3 and 5.0 s at n = 1000,
- * docs/BENCHMARKS.md "Map layers"), so the coarse layer's width is the full one's scaled to
- * arrive in COARSE_TARGET_MS.
+ * rows: the plausibility layer 16, 32, 64 and 128 cells wide took 0.07, 0.13, 0.27 and 0.79 s
+ * at n = 1000, docs/BENCHMARKS.md "Map layers"), so the coarse layer's width is the full one's
+ * scaled to arrive in COARSE_TARGET_MS.
  */
 export interface LayerTiming {
   /** A coarse layer first when the last full layer took longer than this. */
@@ -159,24 +159,21 @@ export function createMapPanel(
     ? "a point there is a mix of the nearest materials (see Largest weights), not a measured one"
     : "the model only has the database mean there";
   const showLegend = () => {
-    const kind = layerSel.value;
+    const kind = layerSel.value as MapKind;
     const item = (swatch: string, text: string) => `<span class="item"><span class="swatch ${swatch}"></span>${text}</span>`;
-    $("legend-layer").innerHTML =
+    // What the layer's colours mean, then, for the layers that fade, what the hatching means.
+    const meaning =
       kind === "albedo"
-        ? item("fade", `albedo fades out from variance ${fade.fade_from}`) +
-          item("hatch", `no data here (variance &gt; ${fade.fade_to}): ${far}`)
+        ? item("fade", `albedo fades out from variance ${fade.fade_from}`)
         : kind === "variance"
           ? item("variance", "predictive variance 0 (at the data) → 1 (far away)")
           : kind === "plausibility" && model.plausible_everywhere
-            ? item("fade", `every point is plausible (a convex mix of plausible materials): dimmed albedo, fading out from variance ${fade.fade_from}`) +
-              item("hatch", `no data here (variance &gt; ${fade.fade_to}): ${far}`)
-            : kind === "plausibility" && convex
-              // Convex weights: far from the data a mix of the nearest materials, as plausible as they are.
-              ? item("red", "not physically plausible (negative values or albedo outside [0, 1])") +
-                item("hatch", `no data here (variance &gt; ${fade.fade_to}): ${far}`)
-              : kind === "plausibility"
-                ? item("red", "not physically plausible (negative values or albedo outside [0, 1])")
-                : "";
+            ? item("fade", `every point is plausible (a convex mix of plausible materials): dimmed albedo, fading out from variance ${fade.fade_from}`)
+            : kind === "plausibility"
+              ? item("red", "not physically plausible (negative values or albedo outside [0, 1])")
+              : "";
+    $("legend-layer").innerHTML =
+      meaning + (hatched(kind) ? item("hatch", `no data here (variance &gt; ${fade.fade_to}): ${far}`) : "");
   };
   if (model.dim > 2) {
     $("legend-far").textContent =
