@@ -20,8 +20,11 @@
 #include <cstdlib>
 #include <vector>
 #include <random>
+#include <string>
 
 #include "core/blas.h"
+#include "core/tiled_cholesky.h"
+#include "core/tiled_products.h"
 #include "gp/initialize.h"
 #include "gp/optimize.h"
 
@@ -121,6 +124,48 @@ void BM_InverseFromCholesky(benchmark::State& state) {
   state.counters["lapack_over_recursive"] = t_lapack / t_recursive;
 }
 BENCHMARK(BM_InverseFromCholesky)->Iterations(5)->UseRealTime()->Unit(benchmark::kMillisecond);
+
+/// The exact evaluation's dense steps at n = 1000 (a random SPD matrix, a factor R of rank n), each
+/// as one single-threaded OpenBLAS call and as the tiles that run on the workers (core/tiled_*.h),
+/// same run; counters in ms per call and the ratio single / tiled (on 2 cores at most 2).
+void BM_TiledSteps(benchmark::State& state) {
+  using namespace matlas::blas;
+  const int n = static_cast<int>(state.range(0));
+  const Library& lib = openblas();
+  const Eigen::MatrixXd a = Eigen::MatrixXd::Random(n, n);
+  const Eigen::MatrixXd K = a * a.transpose() / n + Eigen::MatrixXd::Identity(n, n);
+  const Eigen::MatrixXd R = Eigen::MatrixXd::Random(n, n);
+  Eigen::MatrixXd L, W(n, n), Kinv(n, n), B(n, n), G(n, n);
+  double single[3] = {}, tiled[3] = {};
+  const auto time = [](double& total, const auto& f) {
+    const auto t0 = std::chrono::steady_clock::now();
+    f();
+    total += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  int info = 0;
+  for (auto _ : state) {
+    time(single[0], [&] { L = K; lib.dpotrf("L", &n, L.data(), &n, &info); });
+    time(tiled[0], [&] { L = K; info = tiled_cholesky(n, L.data(), n); });
+    time(single[1], [&] { Kinv = L; inverse_from_cholesky(n, Kinv.data(), n); });
+    time(tiled[1], [&] { tiled_inverse_from_cholesky(n, L.data(), n, W.data(), Kinv.data(), n); });
+    time(single[2], [&] {
+      lib.dsymm(CblasColMajor, CblasLeft, CblasLower, n, n, 1.0, Kinv.data(), n, R.data(), n, 0.0, B.data(), n);
+      lib.dsyrk(CblasColMajor, CblasLower, CblasNoTrans, n, n, 1.0, B.data(), n, 0.0, G.data(), n);
+    });
+    time(tiled[2], [&] {
+      tiled_product(n, n, n, 1.0, Kinv.data(), n, R.data(), n, B.data(), n);
+      tiled_lower_gram(n, n, 1.0, B.data(), n, G.data(), n);
+    });
+  }
+  const double calls = static_cast<double>(state.iterations());
+  const char* names[3] = {"cholesky", "inverse", "products"};
+  for (int k = 0; k < 3; ++k) {
+    state.counters[std::string(names[k]) + "_single_ms"] = single[k] / calls * 1e3;
+    state.counters[std::string(names[k]) + "_tiled_ms"] = tiled[k] / calls * 1e3;
+    state.counters[std::string(names[k]) + "_ratio"] = single[k] / tiled[k];
+  }
+}
+BENCHMARK(BM_TiledSteps)->Arg(1000)->Iterations(10)->UseRealTime()->Unit(benchmark::kMillisecond);
 
 /// A real build's problem: MATLAS_BENCH_GRAM names a file of n x n doubles (a model's
 /// layout_gram tensor), MATLAS_BENCH_LATENT one of n x q doubles (its latent points, row-major);

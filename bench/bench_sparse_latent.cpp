@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "eval/manifold_quality.h"
+#include "gp/coarse_placement.h"
 #include "gp/initialize.h"
 #include "gp/likelihood.h"
 #include "gp/optimize.h"
@@ -348,6 +349,73 @@ int run_gram(const char* path, int m, int r, double ridge) {
   return 0;
 }
 
+/// The exact placement one-stage and coarse-to-fine on a built model's layout Gram (q dims):
+/// experiment for issue 31's build target.
+int run_stages(const char* path, int q, int coarse, int coarse_iterations, const std::vector<int>& limits) {
+  const Model a = Model::open(path);
+  gp::LikelihoodProblem e;
+  e.gram = a.convex_metric();
+  e.gram.diagonal().array() -= 1e-2;
+  e.columns = static_cast<double>(a.kept_columns());
+  e.kernel = gp::Kernel{1.0, 1e-4};
+  e.prior = gp::LatentPrior::spread();
+  const Eigen::MatrixXd D = gram_distances(e.gram);
+  gp::LikelihoodEvaluator ev(e);
+  const double n = static_cast<double>(e.gram.rows());
+  const auto report = [&](const char* label, int k, double secs, const gp::OptimizeResult& r) {
+    const Eigen::MatrixXd Xc = r.latent.rowwise() - r.latent.colwise().mean();
+    std::printf("%-14s K=%5d %7.1f s  l/n %10.5f  trust5 %.4f  LOO %.5f  rms %.3f (%s)\n", label, k, secs,
+                ev.normalized(r.latent) / n, eval::trustworthiness(D, r.latent, 5), loo_error(e.gram, r.latent, e.kernel),
+                std::sqrt(Xc.squaredNorm() / n), r.stop_reason.c_str());
+
+    std::fflush(stdout);
+  };
+  if (coarse < 0) {
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(e.gram / (e.gram.trace() / n));
+    const Eigen::VectorXd l = eig.eigenvalues().reverse();
+    double tail = l.sum();
+    for (Eigen::Index k = 0; k < l.size(); ++k) {
+      tail -= l[k];
+      if (k < 10 || k % 50 == 0) std::printf("k=%4ld  lambda %.3e  tail %.3e\n", static_cast<long>(k), l[k], tail);
+    }
+    return 0;
+  }
+  if (coarse == 0) {
+    for (int k : limits) {
+      gp::OptimizeOptions o;
+      o.max_iterations = k;
+      const auto t0 = std::chrono::steady_clock::now();
+      const gp::OptimizeResult r = gp::optimize_latent(e, gp::pca_initialization(e, q), o, null_progress());
+      report("one stage", k, seconds_since(t0), r);
+    }
+    return 0;
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::vector<Eigen::Index> rows = gp::coarse_subset(e.gram.rows(), coarse);
+  gp::LikelihoodProblem sub = e;
+  const Eigen::VectorXi idx = Eigen::Map<const Eigen::Matrix<Eigen::Index, Eigen::Dynamic, 1>>(rows.data(), static_cast<Eigen::Index>(rows.size())).cast<int>();
+  sub.gram = e.gram(idx, idx);
+  gp::OptimizeOptions oc;
+  oc.max_iterations = coarse_iterations;
+  const gp::OptimizeResult c = gp::optimize_latent(sub, gp::pca_initialization(sub, q), oc, null_progress());
+  const double t_coarse = seconds_since(t0);
+  std::printf("coarse %d items: %.1f s, %d iterations (%s)\n", coarse, t_coarse, c.iterations, c.stop_reason.c_str());
+  const gp::LowRankGram lr = gp::low_rank_gram(e.gram, 64);
+  Eigen::MatrixXd X1 = gp::interpolate_layout(lr, rows, c.latent);
+  X1 = X1.rowwise() - X1.colwise().mean();
+  const double s = gp::best_scale_factor(ev, X1, 0.25, 4.0);
+  X1 *= s;
+  std::printf("interpolated, scaled by %.3f: %.1f s\n", s, seconds_since(t0));
+  for (int k : limits) {
+    gp::OptimizeOptions o;
+    o.max_iterations = k;
+    const auto t1 = std::chrono::steady_clock::now();
+    const gp::OptimizeResult r = gp::optimize_latent(e, X1, o, null_progress());
+    report("coarse-to-fine", k, t_coarse + seconds_since(t1), r);
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -368,6 +436,11 @@ int main(int argc, char** argv) {
       return run_accuracy(arg(2, 1000), arg(3, 64), ms);
     }
     if (mode == "gram" && argc > 2) return run_gram(argv[2], arg(3, 30), arg(4, 64), argc > 5 ? std::stod(argv[5]) : 1e-2);
+    if (mode == "stages" && argc > 6) {
+      std::vector<int> limits;
+      for (int k = 6; k < argc; ++k) limits.push_back(std::stoi(argv[k]));
+      return run_stages(argv[2], arg(3, 5), arg(4, 0), arg(5, 1000), limits);
+    }
     if (mode == "models" && argc > 3) return run_models(argv[2], argv[3], argc > 4 ? std::stod(argv[4]) : 1e-2);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_sparse_latent: %s\n", e.what());

@@ -37,6 +37,7 @@ Library load() {
   bind(handle, "cblas_ssyrk", lib.ssyrk);
   bind(handle, "cblas_dsymm", lib.dsymm);
   bind(handle, "cblas_dtrmm", lib.dtrmm);
+  bind(handle, "cblas_dtrsm", lib.dtrsm);
   bind(handle, "dtrtri_", lib.dtrtri);
   bind(handle, "dlauum_", lib.dlauum);
   bind(handle, "dpotrf_", lib.dpotrf);
@@ -55,10 +56,9 @@ const Library& openblas() {
   return lib;
 }
 
-namespace {
-
-/// The lower triangle of `a` (n x n) replaced by its inverse: [A 0; C D]^-1 = [A^-1 0; -D^-1 C A^-1 D^-1].
-int invert_lower(const Library& lib, int n, double* a, int lda) {
+// [A 0; C D]^-1 = [A^-1 0; -D^-1 C A^-1 D^-1].
+int invert_lower_triangle(int n, double* a, int lda) {
+  const Library& lib = openblas();
   constexpr int kLeaf = 16;
   int info = 0;
   if (n <= kLeaf) {
@@ -68,18 +68,16 @@ int invert_lower(const Library& lib, int n, double* a, int lda) {
   const int h = n / 2, m = n - h;
   double* c = a + h;                                    // m x h below A
   double* d = a + h + static_cast<std::ptrdiff_t>(h) * lda;  // m x m
-  if ((info = invert_lower(lib, h, a, lda)) != 0) return info;
-  if ((info = invert_lower(lib, m, d, lda)) != 0) return info + h;
+  if ((info = invert_lower_triangle(h, a, lda)) != 0) return info;
+  if ((info = invert_lower_triangle(m, d, lda)) != 0) return info + h;
   lib.dtrmm(CblasColMajor, CblasRight, CblasLower, CblasNoTrans, CblasNonUnit, m, h, 1.0, a, lda, c, lda);
   lib.dtrmm(CblasColMajor, CblasLeft, CblasLower, CblasNoTrans, CblasNonUnit, m, h, -1.0, d, lda, c, lda);
   return 0;
 }
 
-}  // namespace
-
 int inverse_from_cholesky(int n, double* a, int lda) {
   const Library& lib = openblas();
-  const int info = invert_lower(lib, n, a, lda);
+  const int info = invert_lower_triangle(n, a, lda);
   if (info != 0) return info;
   int lauum_info = 0;
   lib.dlauum("L", &n, a, &lda, &lauum_info);  // L^-T L^-1

@@ -31,6 +31,7 @@ struct Library {
   decltype(&cblas_ssyrk) ssyrk;
   decltype(&cblas_dsymm) dsymm;
   decltype(&cblas_dtrmm) dtrmm;
+  decltype(&cblas_dtrsm) dtrsm;
   /// LAPACK's Cholesky factorisation (Fortran interface): uplo "L" or "U", n, a, lda, info.
   void (*dpotrf)(const char* uplo, const int* n, double* a, const int* lda, int* info);
   /// LAPACK's triangular inverse (uplo, diag "N" or "U", n, a, lda, info) and the product
@@ -45,6 +46,11 @@ struct Library {
 /// The library, loaded on the first call (thread-safe). Throws matlas::Error naming the library
 /// and the loader's message when it cannot be loaded or lacks a routine.
 const Library& openblas();
+
+/// The lower triangle of `a` (n x n, leading dimension lda) replaced by its inverse, recursively
+/// (the first half and the second inverted in turn and joined by two dtrmm, down to 16 columns);
+/// returns LAPACK's info (0, or i > 0: a_ii is zero).
+int invert_lower_triangle(int n, double* a, int lda);
 
 /// K^-1 from the lower Cholesky factor L of K (n x n, column-major, leading dimension lda): the
 /// lower triangle of `a` holds L on entry and the lower triangle of K^-1 on return (what LAPACK's

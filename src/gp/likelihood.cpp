@@ -1,12 +1,16 @@
 #include "gp/likelihood.h"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <string>
 
 #include "core/check.h"
 #include "core/blas.h"
+#include "core/tiled_cholesky.h"
+#include "core/tiled_products.h"
 #include "core/error.h"
+#include "core/parallel.h"
 #include "core/vector_math.h"
 
 namespace matlas::gp {
@@ -77,46 +81,68 @@ double LikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, Eigen::MatrixXd
   const blas::Library& blas = blas::openblas();
   const int nn = static_cast<int>(n), r = static_cast<int>(R_.cols());
   L_ = K_;
-  int info = 0;
-  blas.dpotrf("L", &nn, L_.data(), &nn, &info);
+  int info = blas::tiled_cholesky(nn, L_.data(), nn);
   if (info != 0 || !acceptable_cholesky_pivots(L_.diagonal()))
     throw Error("likelihood: the covariance matrix of the latent points is not positive definite (duplicate "
                 "latent points with nugget " + std::to_string(kernel_.nugget) + "?); use a nugget > 0");
   const double log_det = 2.0 * L_.diagonal().array().log().sum();
   MATLAS_CHECK(std::isfinite(log_det), "log|K| after an accepted Cholesky factor");
-  Kinv_ = L_;
-  info = blas::inverse_from_cholesky(nn, Kinv_.data(), nn);  // lower triangle of K^-1
+  Kinv_.resize(n, n);
+  W_.resize(n, n);
+  info = blas::tiled_inverse_from_cholesky(nn, L_.data(), nn, W_.data(), Kinv_.data(), nn);  // lower triangle of K^-1
   if (info != 0) throw Error("likelihood: inverting the covariance matrix failed (LAPACK info " + std::to_string(info) + ")");
 
-  // t = tr(K^-1 S~) = sum(R o B) with B = K^-1 R (dsymm reads the lower triangle of K^-1).
+  // t = tr(K^-1 S~) = sum(R o B) with B = K^-1 R: K^-1 made whole, then one product in column
+  // blocks over the workers (with OpenBLAS single-threaded, one dsymm left the other cores idle).
+  Kinv_.triangularView<Eigen::StrictlyUpper>() = Kinv_.transpose();
   B_.resize(n, r);
-  blas.dsymm(CblasColMajor, CblasLeft, CblasLower, nn, r, 1.0, Kinv_.data(), nn, R_.data(), nn, 0.0, B_.data(), nn);
+  blas::tiled_product(nn, r, nn, 1.0, Kinv_.data(), nn, R_.data(), nn, B_.data(), nn);
   const double t = (R_.array() * B_.array()).sum();
   if (!(t > 0) || !std::isfinite(t))
     throw Error("likelihood: tr(K^-1 S) is not positive (" + std::to_string(t) + "): K is too ill-conditioned");
   double value = -beta_ * log_det - nd * std::log(t / nd) - nd;
   // The repulsive prior: lambda sum_{i<j} log(1 - e^{-u} + floor), u = |x_i - x_j|^2 / rho^2, and
   // (when asked) its gradient, d/dx_i = sum_j F_ij (x_i - x_j) with F_ij = lambda e^{-u} /
-  // (1 - e^{-u} + floor) 2 / rho^2, F kept for the gradient below. Over the whole matrix at
-  // once, with one expm1 per pair for both, so that libmvec's vector functions do the work;
+  // (1 - e^{-u} + floor) 2 / rho^2, F kept for the gradient below. Over whole columns at a
+  // time, with one expm1 per pair for both, so that libmvec's vector functions do the work;
   // pairs with u >= 40 (e^-40) and the diagonal contribute exactly nothing.
   const double inv_r2 = 1.0 / (radius_ * radius_);
   const Eigen::Index q = X.cols();
   if (repulsion_ > 0) {
-    E_ = D2_ * -inv_r2;
-    expm1_in_place(E_.data(), static_cast<std::size_t>(E_.size()));  // e^{-u} - 1
-    Logs_ = kRepulsionFloor - E_.array();
-    log_in_place(Logs_.data(), static_cast<std::size_t>(Logs_.size()));
     const double cutoff = 40.0 / inv_r2;  // u >= 40 <=> d^2 >= 40 rho^2
+    const double scale = repulsion_ * 2.0 * inv_r2;
+    E_.resize(n, n);
+    Logs_.resize(n, n);
+    if (gradient != nullptr) F_.resize(n, n);
+    // In fixed blocks of columns on the workers; their sums added in order (the same bits with
+    // any number of workers).
+    constexpr Eigen::Index kBlock = 128;
+    const auto blocks = static_cast<std::size_t>((n + kBlock - 1) / kBlock);
+    sums_.assign(blocks, 0.0);
+    const auto block = [&](std::size_t b) {
+      const Eigen::Index c0 = static_cast<Eigen::Index>(b) * kBlock, w = std::min(kBlock, n - c0);
+      const auto size = static_cast<std::size_t>(n * w);
+      E_.middleCols(c0, w) = D2_.middleCols(c0, w) * -inv_r2;
+      expm1_in_place(E_.col(c0).data(), size);  // e^{-u} - 1
+      Logs_.middleCols(c0, w) = kRepulsionFloor - E_.middleCols(c0, w).array();
+      log_in_place(Logs_.col(c0).data(), size);
+      double sum = 0.0;
+      for (Eigen::Index j = c0; j < c0 + w; ++j)
+        for (Eigen::Index i = j + 1; i < n; ++i) sum += D2_(i, j) < cutoff ? Logs_(i, j) : 0.0;
+      sums_[b] = sum;
+      if (gradient == nullptr) return;
+      const auto e = E_.middleCols(c0, w).array();
+      F_.middleCols(c0, w) =
+          (D2_.middleCols(c0, w).array() < cutoff).select(scale * (1.0 + e) / (kRepulsionFloor - e), 0.0);
+      for (Eigen::Index j = c0; j < c0 + w; ++j) F_(j, j) = 0.0;
+    };
+    if (blocks == 1)
+      block(0);
+    else
+      parallel_for_each(0, blocks, block);
     double sum = 0.0;
-    for (Eigen::Index j = 0; j < n; ++j)
-      for (Eigen::Index i = j + 1; i < n; ++i) sum += D2_(i, j) < cutoff ? Logs_(i, j) : 0.0;
+    for (const double s : sums_) sum += s;
     value += repulsion_ * sum;
-    if (gradient != nullptr) {
-      const double scale = repulsion_ * 2.0 * inv_r2;
-      F_ = (D2_.array() < cutoff).select(scale * (1.0 + E_.array()) / (kRepulsionFloor - E_.array()), 0.0);
-      F_.diagonal().setZero();
-    }
   }
   MATLAS_CHECK(std::isfinite(value), "the likelihood's determinant, trace and barrier terms");
   value -= 0.5 * precision_ * X.squaredNorm();
@@ -124,7 +150,7 @@ double LikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, Eigen::MatrixXd
 
   // dl/dK = G = -beta K^-1 + (n/t) K^-1 S~ K^-1, and K^-1 S~ K^-1 = B B^T.
   G_.resize(n, n);
-  blas.dsyrk(CblasColMajor, CblasLower, CblasNoTrans, nn, r, nd / t, B_.data(), nn, 0.0, G_.data(), nn);
+  blas::tiled_lower_gram(nn, r, nd / t, B_.data(), nn, G_.data(), nn);
   G_.triangularView<Eigen::Lower>() -= beta_ * Kinv_;
   G_.triangularView<Eigen::StrictlyUpper>() = G_.transpose();
   // dl/dx_i = sum_j (G_ij + G_ji) dK_ij/dx_i with dK_ij/dx_i = -2 (x_i - x_j) K_ij / l^2 (i != j),

@@ -6,6 +6,7 @@
 // Only the n x n Gram S enters, so the data (millions of columns for MERL) is read once.
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <vector>
 
 #include "gp/kernel.h"
 
@@ -96,8 +97,9 @@ private:
   double beta_ = 1;
   double repulsion_ = 0, radius_ = 0.1, precision_ = 0;
   // Workspaces, sized on first use.
-  Eigen::MatrixXd K_, L_, B_, Kinv_, G_;  // L_: K's Cholesky factor in its lower triangle; B_ = K^-1 R
+  Eigen::MatrixXd K_, L_, W_, B_, Kinv_, G_;  // L_: K's Cholesky factor in its lower triangle; W_: L^-1; B_ = K^-1 R
   Eigen::MatrixXd D2_, E_, Logs_, F_;     // squared distances; the repulsion's expm1, log and forces
+  std::vector<double> sums_;               // the repulsion's sum per block of columns
 };
 
 }  // namespace matlas::gp
