@@ -12,6 +12,9 @@
 //                                           data, leave-one-out error of the data, Procrustes
 //   bench_sparse_latent models EXACT SPARSE [RIDGE]  the same comparison for two built models
 //                                           (their layout Gram from the convex metric)
+//   bench_sparse_latent stages MODEL Q C KC K...  exact placements of a model's layout Gram
+//                                           stopped after K iterations: from PCA (C = 0) or
+//                                           coarse-to-fine (C items first, KC iterations)
 // q = 2, nugget 1e-4, l = 1, the build's priors (LatentPrior::spread), one start each.
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -349,8 +352,10 @@ int run_gram(const char* path, int m, int r, double ridge) {
   return 0;
 }
 
-/// The exact placement one-stage and coarse-to-fine on a built model's layout Gram (q dims):
-/// experiment for issue 31's build target.
+/// Exact placements of a built model's layout Gram in q dimensions, stopped after each of `limits`
+/// iterations: from PCA (coarse 0), or coarse-to-fine (`coarse` random items placed first with
+/// `coarse_iterations`, the others interpolated from their nearest in the data, the layout scaled,
+/// then all refined); time, l / n, trustworthiness (k = 5) and leave-one-out error of each.
 int run_stages(const char* path, int q, int coarse, int coarse_iterations, const std::vector<int>& limits) {
   const Model a = Model::open(path);
   gp::LikelihoodProblem e;
@@ -370,16 +375,6 @@ int run_stages(const char* path, int q, int coarse, int coarse_iterations, const
 
     std::fflush(stdout);
   };
-  if (coarse < 0) {
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(e.gram / (e.gram.trace() / n));
-    const Eigen::VectorXd l = eig.eigenvalues().reverse();
-    double tail = l.sum();
-    for (Eigen::Index k = 0; k < l.size(); ++k) {
-      tail -= l[k];
-      if (k < 10 || k % 50 == 0) std::printf("k=%4ld  lambda %.3e  tail %.3e\n", static_cast<long>(k), l[k], tail);
-    }
-    return 0;
-  }
   if (coarse == 0) {
     for (int k : limits) {
       gp::OptimizeOptions o;
@@ -446,7 +441,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "bench_sparse_latent: %s\n", e.what());
     return 1;
   }
-  std::fprintf(stderr, "usage: %s eval [M] | optimize N M [R] | converge N M R K... | accuracy N R M... | gram MODEL M R | models EXACT SPARSE [RIDGE]\n",
+  std::fprintf(stderr, "usage: %s eval [M] | optimize N M [R] | converge N M R K... | accuracy N R M... | gram MODEL M R | models EXACT SPARSE [RIDGE] | stages MODEL Q C KC K...\n",
                argv[0]);
   return 2;
 }
