@@ -34,6 +34,7 @@ struct BuildArgs {
   int max_iterations = kDefaults.optimize.max_iterations;
   gp::LatentPrior prior = kDefaults.prior;
   int starts = 0;  ///< 0: BuildOptions::default_starts (3 for q <= 2, where the likelihood is multimodal, else 1)
+  int coarse = kDefaults.optimize.coarse;
   double tolerance = kDefaults.optimize.tolerance;
   std::size_t block_columns = kDefaults.block_columns;
   std::string interpolation = to_string(kDefaults.interpolation);
@@ -79,6 +80,7 @@ void run_build(const BuildArgs& a, const Io& io) {
   o.optimize.max_iterations = a.max_iterations;
   o.optimize.tolerance = a.tolerance;
   o.optimize.starts = a.starts;  // 0: BuildOptions::default_starts
+  o.optimize.coarse = a.coarse;
   o.sparse = a.sparse;
   if (a.storage == "f16") o.storage = Storage::f16;
   else if (a.storage != "f32") throw Error("--storage must be f32 or f16, got '" + a.storage + "'");
@@ -156,6 +158,12 @@ void add_build_command(CLI::App& app, const Io& io) {
                   "Optimiser starts (the PCA start and rescaled copies; the best wins). Default: 3 "
                   "for q <= 2, where the likelihood has several maxima, else 1")
       ->check(CLI::Range(1, 100));
+  cmd->add_option("--coarse", args->coarse,
+                  "Coarse-to-fine exact placement: place C materials chosen at random first, the others from "
+                  "their nearest ones in the data, then refine all (0: all at once). With a small "
+                  "--max-iterations on 1000 materials or more, --coarse 300 gets much further (docs/GP.md)")
+      ->check(CLI::Range(0, 100000000))
+      ->capture_default_str();
   add_sparse_placement_options(*cmd, args->sparse);
   cmd->add_option("--tolerance", args->tolerance, "Optimiser relative tolerance")
       ->check(finite_number() & CLI::PositiveNumber)

@@ -32,10 +32,11 @@ std::string placement_hint(std::size_t materials, const gp::SparseOptions& spars
   char text[768];
   std::snprintf(text, sizeof text,
                 "note: the exact latent placement of %zu materials took %.0f s against %.0f s for the data "
-                "(O(n^3) per evaluation). A smaller --max-iterations stops it sooner, keeping the "
-                "neighbourhoods but reconstructing the inputs less well; --sparse-inducing 100 costs "
-                "O(n M^2) per evaluation, for several thousand materials (docs/BENCHMARKS.md, "
-                "\"n = 1000 on one machine\", measures both)\n",
+                "(O(n^3) per evaluation). --max-iterations 150 --coarse 300 (300 of them placed first, "
+                "then a short refinement of all) takes a fraction of that, keeping the neighbourhoods "
+                "but reconstructing the inputs less well; --sparse-inducing 100 costs O(n M^2) per "
+                "evaluation, for several thousand materials (docs/BENCHMARKS.md, \"n = 1000 on one "
+                "machine\", measures them)\n",
                 materials, placement_seconds, pass_seconds);
   return text;
 }

@@ -1,7 +1,7 @@
 #pragma once
-// Coarse-to-fine latent placement for large databases (docs/GP.md, "Coarse-to-fine placement"): the
-// sparse objective's L-BFGS needs thousands of iterations at n = 10,000 because it moves every
-// point at once, and the long-wavelength structure of the map settles slowest. A subset of the
+// Coarse-to-fine latent placement for large databases (docs/GP.md, "Coarse-to-fine placement"):
+// L-BFGS needs thousands of iterations at n = 1000 (exact) or 10,000 (sparse) because it moves
+// every point at once, and the long-wavelength structure of the map settles slowest. A subset of the
 // items is placed first (a smaller problem of the same kind, cheaper per iteration and quicker to
 // settle), every other item is put where its nearest subset items in the data lie, and the whole
 // layout is then refined from there.
@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "gp/likelihood.h"
 #include "gp/sparse_likelihood.h"
 
 namespace matlas::gp {
@@ -30,5 +31,14 @@ SparseProblem subset_problem(const SparseProblem& p, const std::vector<Eigen::In
 /// neighbours < 1.
 Eigen::MatrixXd interpolate_layout(const LowRankGram& data, const std::vector<Eigen::Index>& rows,
                                    const Eigen::MatrixXd& placed, int neighbours = 4, double jitter = 1e-3);
+
+/// The same with the distances of the n x n Gram matrix S (|z_i - z_j|^2 = S_ii + S_jj - 2 S_ij),
+/// for the exact placement.
+Eigen::MatrixXd interpolate_layout(const Eigen::MatrixXd& gram, const std::vector<Eigen::Index>& rows,
+                                   const Eigen::MatrixXd& placed, int neighbours = 4, double jitter = 1e-3);
+
+/// The exact problem of the rows `rows` of p: their rows and columns of the Gram, the same
+/// columns, kernel and priors.
+LikelihoodProblem subset_problem(const LikelihoodProblem& p, const std::vector<Eigen::Index>& rows);
 
 }  // namespace matlas::gp

@@ -5,12 +5,15 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <limits>
 #include <optional>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "core/error.h"
+#include "gp/coarse_placement.h"
+#include "gp/initialize.h"
 #include "gp/optimize_methods.h"
 #include "gp/optimize_run.h"
 
@@ -90,12 +93,10 @@ std::vector<OptimizeResult> run_starts_concurrently(const LikelihoodProblem& p, 
   return out;
 }
 
-}  // namespace
-
-OptimizeResult optimize_latent(const LikelihoodProblem& p, Eigen::MatrixXd X0, const OptimizeOptions& o,
-                               ProgressSink& sink) {
-  if (!X0.allFinite()) throw Error("optimize_latent: the initial latent points contain NaN or infinity");
-  if (o.starts < 1) throw Error("optimize_latent: starts must be >= 1 (got " + std::to_string(o.starts) + ")");
+/// optimize_latent without a coarse stage: the starts from X0 (concurrently when none can stop the
+/// others), the best kept.
+OptimizeResult optimize_all_at_once(const LikelihoodProblem& p, const Eigen::MatrixXd& X0, const OptimizeOptions& o,
+                                    ProgressSink& sink) {
   if (o.starts == 1) return optimize_one(p, X0, o, sink);
 
   // Starts in parallel when none can stop the others (a time limit or target is checked serially):
@@ -119,6 +120,61 @@ OptimizeResult optimize_latent(const LikelihoodProblem& p, Eigen::MatrixXd X0, c
     starts.add(optimize_one(p, scaled_start(X0, centroid, k), *one, sink), k);
   }
   return starts.finish();
+}
+
+/// optimize_latent with a coarse stage (o.coarse in (0, n)): the starts on the subset, the
+/// interpolation of the others, one refinement of all.
+OptimizeResult coarse_to_fine(const LikelihoodProblem& p, const Eigen::MatrixXd& X0, const OptimizeOptions& o,
+                              ProgressSink& sink) {
+  const auto begin = std::chrono::steady_clock::now();
+  const std::vector<Eigen::Index> rows = coarse_subset(X0.rows(), o.coarse);
+  sink.message("coarse placement: " + std::to_string(rows.size()) + " of " + std::to_string(X0.rows()) + " items");
+  OptimizeOptions first = o;  // the target is the whole problem's: not for the subset's objective
+  first.coarse = 0;
+  first.target_value = std::numeric_limits<double>::infinity();
+  first.max_iterations = std::max(o.max_iterations, OptimizeOptions::kCoarseIterations);
+  // The subset's start: its rows of X0, about their centroid, scaled to the subset's best.
+  const LikelihoodProblem subset = subset_problem(p, rows);
+  Eigen::MatrixXd S0 = X0(rows, Eigen::all);
+  S0 = S0.rowwise() - S0.colwise().mean();
+  if (S0.norm() > 0) {
+    LikelihoodEvaluator evaluator(subset);
+    S0 *= best_scale_factor(evaluator, S0, 0.1, 10.0);
+  }
+  const OptimizeResult coarse = optimize_all_at_once(subset, S0, first, sink);
+  // The interpolated layout about its centroid, scaled to the whole problem's best (n items
+  // spread wider than the subset's: their repulsion and covariance want room).
+  Eigen::MatrixXd X1 = interpolate_layout(p.gram, rows, coarse.latent);
+  X1 = X1.rowwise() - X1.colwise().mean();
+  if (X1.norm() > 0) {  // else a degenerate subset layout: nothing to scale
+    LikelihoodEvaluator evaluator(p);
+    const double a = best_scale_factor(evaluator, X1, 0.25, 4.0);
+    sink.message("coarse placement: the others interpolated, the layout scaled by " + std::to_string(a));
+    X1 *= a;
+  }
+  sink.message("refinement of all " + std::to_string(X0.rows()) + " items");
+  OptimizeOptions refine = o;
+  refine.coarse = 0;
+  refine.starts = 1;
+  const double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  if (o.time_limit_seconds > 0) refine.time_limit_seconds = std::max(1e-3, o.time_limit_seconds - spent);
+  OptimizeResult r = optimize_one(p, X1, refine, sink);
+  r.iterations += coarse.iterations;
+  r.evaluations += coarse.evaluations;
+  r.best_start = coarse.best_start;
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  return r;
+}
+
+}  // namespace
+
+OptimizeResult optimize_latent(const LikelihoodProblem& p, Eigen::MatrixXd X0, const OptimizeOptions& o,
+                               ProgressSink& sink) {
+  if (!X0.allFinite()) throw Error("optimize_latent: the initial latent points contain NaN or infinity");
+  if (o.starts < 1) throw Error("optimize_latent: starts must be >= 1 (got " + std::to_string(o.starts) + ")");
+  if (o.coarse < 0) throw Error("optimize_latent: the coarse subset's size must be >= 0 (0: all at once)");
+  if (o.coarse > 0 && o.coarse < X0.rows()) return coarse_to_fine(p, X0, o, sink);
+  return optimize_all_at_once(p, X0, o, sink);
 }
 
 const char* to_string(Optimizer method) {

@@ -35,6 +35,16 @@ struct OptimizeOptions {
   /// basin; with L-BFGS a few starts cost little. The limits (iterations per start, time and
   /// target overall) apply as documented above.
   int starts = 1;
+  /// Coarse-to-fine (gp/coarse_placement.h, docs/GP.md): when 0 < coarse < n, `coarse` items
+  /// chosen at random are placed first (from their rows of X0; every start runs on them, with at
+  /// least kCoarseIterations iterations: one costs about (coarse / n)^3 of one over all items),
+  /// the others go where their nearest placed items in the data lie, the layout is scaled to the
+  /// whole problem's best, and all are refined from there within max_iterations. 0 (the default):
+  /// all at once. A short placement of many items gets much further this way; at 5000 iterations
+  /// of 1000 materials it ends near the one-stage value with neighbourhoods kept less well
+  /// (docs/BENCHMARKS.md). (The sparse placement's is SparseOptions::coarse.)
+  int coarse = 0;
+  static constexpr int kCoarseIterations = 1000;
 };
 
 struct OptimizeResult {

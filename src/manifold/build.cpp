@@ -54,6 +54,7 @@ void validate(const MaterialSet& set, const BuildOptions& o) {
     throw Error("--nugget must be in (0, 1], got " + std::to_string(o.nugget));
   if (!(o.convex_ridge > 0.0) || !std::isfinite(o.convex_ridge))
     throw Error("--convex-ridge must be finite and > 0, got " + std::to_string(o.convex_ridge));
+  if (o.optimize.coarse < 0) throw Error("--coarse must be >= 0, got " + std::to_string(o.optimize.coarse));
   if (o.sparse.inducing < 0 || o.sparse.coarse < -1 || (o.sparse.enabled() && (o.sparse.rank < 1 || o.sparse.block < 1)))
     throw Error("--sparse-inducing must be >= 0, --sparse-coarse >= -1, --sparse-rank and --sparse-block >= 1");
   if (o.sparse.enabled() && o.optimize.method != gp::Optimizer::lbfgs)
@@ -144,7 +145,8 @@ json model_metadata_skeleton(const MaterialSet& set, const BuildOptions& options
                   {"block", options.sparse.block},
                   {"coarse", options.sparse.coarse >= 0 ? options.sparse.coarse
                                                         : gp::automatic_coarse(static_cast<Eigen::Index>(set.size()))}}
-           : json{{"method", "exact"}}},
+           : json{{"method", "exact"},
+                  {"coarse", options.optimize.coarse < static_cast<int>(set.size()) ? options.optimize.coarse : 0}}},
       {"albedo", albedo_rule_description()},
       {"sources", sources},
   };

@@ -7,6 +7,7 @@
 #include "gp/coarse_placement.h"
 #include "gp/initialize.h"
 #include "gp/likelihood.h"
+#include "gp/optimize.h"
 #include "gp/sparse_optimize.h"
 #include "gp_test_data.h"
 
@@ -110,6 +111,63 @@ TEST(CoarsePlacement, CoarseToFineReachesTheOneStageObjective) {
   EXPECT_EQ(automatic_coarse(1999), 0);
   EXPECT_EQ(automatic_coarse(2000), 200);
   EXPECT_EQ(automatic_coarse(10000), 1000);
+}
+
+TEST(CoarsePlacement, TheGramsDistancesInterpolateAsTheFactorsDo) {
+  LowRankGram data;
+  data.factor = random_points(30, 4, 3);
+  const std::vector<Eigen::Index> rows{2, 5, 11, 17, 29};
+  const Eigen::MatrixXd placed = random_points(5, 2, 4);
+  const Eigen::MatrixXd gram = data.factor * data.factor.transpose();
+  for (const double jitter : {0.0, 1e-3}) {
+    const Eigen::MatrixXd a = interpolate_layout(data, rows, placed, 3, jitter);
+    const Eigen::MatrixXd b = interpolate_layout(gram, rows, placed, 3, jitter);
+    EXPECT_LT((a - b).norm(), 1e-9 * a.norm()) << "jitter " << jitter;
+  }
+  EXPECT_THROW(interpolate_layout(Eigen::MatrixXd(gram.topRows(29)), rows, placed), Error);
+  EXPECT_THROW(interpolate_layout(gram, {2, 30}, placed.topRows(2)), Error);
+}
+
+TEST(CoarsePlacement, ExactSubsetProblemKeepsItsRowsAndColumnsOfTheGram) {
+  LikelihoodProblem p;
+  const Eigen::MatrixXd y = random_points(10, 3, 2);
+  p.gram = y * y.transpose();
+  p.columns = 77;
+  p.prior = LatentPrior::spread();
+  const LikelihoodProblem s = subset_problem(p, {1, 4, 9});
+  ASSERT_EQ(s.gram.rows(), 3);
+  ASSERT_EQ(s.gram.cols(), 3);
+  EXPECT_EQ(s.gram(1, 2), p.gram(4, 9));
+  EXPECT_EQ(s.gram(0, 0), p.gram(1, 1));
+  EXPECT_EQ(s.columns, 77);
+  EXPECT_EQ(s.prior.repulsion, p.prior.repulsion);
+  EXPECT_THROW(subset_problem(p, {3, 10}), Error);
+}
+
+TEST(CoarsePlacement, ExactCoarseToFineReachesTheOneStageObjective) {
+  // The exact placement of the same kind of data, n = 200: 60 items first, then all.
+  const int n = 200;
+  LikelihoodProblem p = test::two_parameter_curves(n);
+  p.prior = LatentPrior::spread();
+  const Eigen::MatrixXd X0 = pca_initialization(p, 2);
+  OptimizeOptions o;
+  o.tolerance = 1e-6;
+  ASSERT_EQ(o.coarse, 0);  // all at once by default
+  const OptimizeResult direct = optimize_latent(p, X0, o, null_progress());
+  OptimizeOptions two = o;
+  two.coarse = 60;
+  const OptimizeResult staged = optimize_latent(p, X0, two, null_progress());
+  ASSERT_EQ(staged.latent.rows(), n);
+  const double l0 = log_likelihood(p, X0);
+  EXPECT_GT(staged.value, direct.value - 0.2 * (direct.value - l0)) << "start " << l0 << " direct " << direct.value;
+  EXPECT_EQ(staged.value, staged.history.back());
+  EXPECT_GT(staged.iterations, static_cast<int>(staged.history.size()) - 1);  // both stages counted
+  // A subset as large as the database is the one-stage optimisation itself.
+  OptimizeOptions all = o;
+  all.coarse = n;
+  EXPECT_EQ(optimize_latent(p, X0, all, null_progress()).latent, direct.latent);
+  all.coarse = -1;
+  EXPECT_THROW(optimize_latent(p, X0, all, null_progress()), Error);
 }
 
 }  // namespace
