@@ -191,14 +191,26 @@ int main(int argc, char** argv) {
         p = *end == ',' ? end + 1 : end;
       }
     }
+    // MATLAS_BENCH_FIREFLY_RANKS=1,2: the neighbours' ranks compared with (the served one's alone by default).
+    std::vector<int> ranks = {render::kFireflyRank};
+    if (const char* list = std::getenv("MATLAS_BENCH_FIREFLY_RANKS")) {
+      ranks.clear();
+      for (const char* p = list; *p;) {
+        char* end = nullptr;
+        ranks.push_back(static_cast<int>(std::strtol(p, &end, 10)));
+        p = *end == ',' ? end + 1 : end;
+      }
+    }
+    for (const int rank : ranks)
     for (const double ratio : ratios) {
       Image filtered = composed;
-      const int replaced = render::remove_fireflies(filtered, ratio);
+      const int replaced = render::remove_fireflies(filtered, ratio, rank);
       const Errors fe = compare(filtered, small_ref);
-      std::printf("composed and filtered at ratio %.1f (%d pixels replaced): L1 %.4f, RMS %.4f, pixels > 20x %d (+%d dark), "
-                  "largest ratio %.1f\n",
-                  ratio, replaced, fe.l1, fe.rms, fe.over20, fe.over20_dark, fe.max_ratio);
-      if (ratio == render::kFireflyRatio) write_png(out, "composed-filtered.png", filtered, exposure);
+      std::printf("composed and filtered at ratio %.1f, rank %d (%d pixels replaced): L1 %.4f, RMS %.4f, pixels > 20x %d "
+                  "(+%d dark), largest ratio %.1f\n",
+                  ratio, rank, replaced, fe.l1, fe.rms, fe.over20, fe.over20_dark, fe.max_ratio);
+      if (ratio == render::kFireflyRatio && rank == render::kFireflyRank)
+        write_png(out, "composed-filtered.png", filtered, exposure);
     }
     write_png(out, "composed.png", composed, exposure);
     std::printf("load average at the end %.1f\n", load_average());

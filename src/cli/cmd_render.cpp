@@ -317,7 +317,7 @@ void add_variant(CLI::App& app, const Io& io, const Variant& v) {
                 "With --basis: add the scene's automatic exposure (its log-average luminance with the mean material to "
                 "middle grey), as the browser's scene view does by default");
   cmd->add_flag("--remove-fireflies", a->remove_fireflies,
-                "With --basis: replace lone pixels over 3x their brightest neighbour by their neighbours' median, as "
+                "With --basis: replace lone pixels and lone pairs over 2.5x their other neighbours by their neighbours' median, as "
                 "the browser's scene view does while dragging (biased: the composition is then no longer linear)");
   cmd->callback([io, a, cmd, name = std::string(v.name)] {
     a->given = given_options(*cmd);
