@@ -173,8 +173,8 @@ std::vector<fs::path> input_paths(const py::object& inputs) {
 }
 
 Model build(const py::object& inputs, const std::optional<fs::path>& output_arg, int dim, double nugget, const std::string& optimizer,
-            const std::string& layout, const std::string& storage, int starts, int max_iterations,
-            const py::object& progress) {
+            const std::string& layout, const std::string& storage, int starts, int max_iterations, int coarse,
+            int sparse_inducing, const py::object& progress) {
   BuildOptions o;
   o.dim = dim;
   o.nugget = nugget;
@@ -182,6 +182,8 @@ Model build(const py::object& inputs, const std::optional<fs::path>& output_arg,
   o.optimize.method = gp::optimizer_from_string(optimizer);
   o.optimize.max_iterations = max_iterations;
   o.optimize.starts = starts;  // 0: BuildOptions::default_starts
+  o.optimize.coarse = coarse;
+  o.sparse.inducing = sparse_inducing;
   if (storage == "f16") o.storage = Storage::f16;
   else if (storage != "f32") throw py::value_error("storage must be 'f32' or 'f16', got '" + storage + "'");
   const std::vector<fs::path> paths = input_paths(inputs);
@@ -368,11 +370,13 @@ truncated, corrupted or not a model.)doc")
   m.def("build", &build, "inputs"_a, "output"_a = py::none(), py::kw_only(), "dim"_a = defaults.dim,
         "nugget"_a = defaults.nugget, "optimizer"_a = gp::to_string(defaults.optimize.method),
         "layout"_a = defaults.layout.to_string(), "storage"_a = "f32", "starts"_a = 0,
-        "max_iterations"_a = defaults.optimize.max_iterations,
-        "progress"_a = py::none(),
+        "max_iterations"_a = defaults.optimize.max_iterations, "coarse"_a = defaults.optimize.coarse,
+        "sparse_inducing"_a = defaults.sparse.inducing, "progress"_a = py::none(),
         "Builds a map from a folder (every MERL .binary and RGL .bsdf file in it) or a list of files and/or\n"
         "folders, writes it atomically to `output` (or, when None, to a temporary file removed once the model\n"
-        "is open) and returns the opened Model. progress(label, done, total)\n"
+        "is open) and returns the opened Model. The options are `matlas build`'s (coarse: --coarse,\n"
+        "sparse_inducing: --sparse-inducing; for a thousand materials or more, max_iterations=150 with\n"
+        "coarse=300 is the fast exact placement). progress(label, done, total)\n"
         "is called as the work advances (any thread, with the GIL held); an exception it raises stops the\n"
         "reporting and is raised again when the build returns.");
   m.def("blas_kernels", [] { return std::string(blas::openblas().corename()); },

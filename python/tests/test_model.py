@@ -119,3 +119,24 @@ def test_default_build_is_the_commands(database, tmp_path, dim):
     assert py["layout_transform"] == "cosine-cbrt"
     for key in ("method", "iterations", "converged"):
         assert py["optimizer"][key] == cli["optimizer"][key], key
+
+
+@pytest.mark.skipif(not os.environ.get("MATLAS_COMMAND"), reason="the matlas command's path is not given")
+def test_coarse_and_sparse_builds_are_the_commands(database, tmp_path):
+    """coarse= and sparse_inducing= place the points as `matlas build --coarse` / `--sparse-inducing` do."""
+    folder, _ = database
+    env = dict(os.environ, OPENBLAS_CORETYPE=matlas.blas_kernels())
+    for kwargs, flags, expect in (({"coarse": 4}, ["--coarse", "4"], {"method": "exact", "coarse": 4}),
+                                  ({"sparse_inducing": 3}, ["--sparse-inducing", "3"], {"method": "sparse"})):
+        from_python = matlas.build(folder, tmp_path / "py.matlas", dim=2, max_iterations=200, **kwargs)
+        subprocess.run([os.environ["MATLAS_COMMAND"], "build", str(folder), "-o", str(tmp_path / "cli.matlas"),
+                        "--dim", "2", "--max-iterations", "200", "--quiet", *flags], check=True,
+                       capture_output=True, env=env)
+        from_command = matlas.Model(tmp_path / "cli.matlas")
+        assert np.array_equal(from_python.latent, from_command.latent), flags
+        placement = from_python.metadata["latent_optimization"]
+        assert placement == from_command.metadata["latent_optimization"]
+        for key, value in expect.items():
+            assert placement[key] == value, (flags, placement)
+    with pytest.raises(matlas.Error, match="coarse"):
+        matlas.build(folder, tmp_path / "bad.matlas", coarse=-1)
