@@ -154,6 +154,8 @@ def build(
     storage: str = "f32",
     starts: int = 0,
     max_iterations: int = 5000,
+    coarse: int = 0,
+    sparse_inducing: int = 0,
     progress: Optional[Callable[[str, int, int], Any]] = None,
 ) -> Model: ...
 def blas_kernels() -> str:
