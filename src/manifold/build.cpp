@@ -55,6 +55,8 @@ void validate(const MaterialSet& set, const BuildOptions& o) {
   if (!(o.convex_ridge > 0.0) || !std::isfinite(o.convex_ridge))
     throw Error("--convex-ridge must be finite and > 0, got " + std::to_string(o.convex_ridge));
   if (o.optimize.coarse < 0) throw Error("--coarse must be >= 0, got " + std::to_string(o.optimize.coarse));
+  if (o.optimize.coarse > 0 && o.sparse.enabled())
+    throw Error("--coarse is the exact placement's; with --sparse-inducing, --sparse-coarse sets the sparse one's");
   if (o.sparse.inducing < 0 || o.sparse.coarse < -1 || (o.sparse.enabled() && (o.sparse.rank < 1 || o.sparse.block < 1)))
     throw Error("--sparse-inducing must be >= 0, --sparse-coarse >= -1, --sparse-rank and --sparse-block >= 1");
   if (o.sparse.enabled() && o.optimize.method != gp::Optimizer::lbfgs)

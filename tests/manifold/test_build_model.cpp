@@ -238,6 +238,21 @@ TEST(BuildModel, SparseLatentOptimisationWithAllPointsInducingIsTheExactOne) {
   EXPECT_EQ(b.metadata()["latent_optimization"]["coarse"], 0);  // automatic: all at once below 2000
   coarse.sparse.coarse = -2;
   EXPECT_THROW(build_model(set, coarse, dir / "negative.matlas"), Error);
+  // The exact placement's coarse-to-fine (--coarse): recorded likewise; refused beside the sparse one.
+  EXPECT_EQ(a.metadata()["latent_optimization"]["coarse"], 0);
+  BuildOptions exact_coarse = exact;
+  exact_coarse.optimize.coarse = 4;
+  build_model(set, exact_coarse, dir / "exact-coarse.matlas");
+  const Model d = Model::open(dir / "exact-coarse.matlas");
+  EXPECT_EQ(d.metadata()["latent_optimization"]["method"], "exact");
+  EXPECT_EQ(d.metadata()["latent_optimization"]["coarse"], 4);
+  EXPECT_TRUE(d.latent().allFinite());
+  EXPECT_NE(d.latent(), a.latent());
+  exact_coarse.sparse = sparse.sparse;
+  EXPECT_THROW(build_model(set, exact_coarse, dir / "both.matlas"), Error);
+  exact_coarse = exact;
+  exact_coarse.optimize.coarse = -1;
+  EXPECT_THROW(build_model(set, exact_coarse, dir / "negative-exact.matlas"), Error);
   sparse.optimize.method = gp::Optimizer::hooke_jeeves;
   EXPECT_THROW(build_model(set, sparse, dir / "hj.matlas"), Error);
 }
