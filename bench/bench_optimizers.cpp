@@ -154,7 +154,7 @@ void BM_TiledSteps(benchmark::State& state) {
     });
     time(tiled[2], [&] {
       tiled_product(n, n, n, 1.0, Kinv.data(), n, R.data(), n, B.data(), n);
-      tiled_lower_gram(n, n, 1.0, B.data(), n, G.data(), n);
+      tiled_lower_gram(n, n, 1.0, B.data(), n, 0.0, G.data(), n);
     });
   }
   const double calls = static_cast<double>(state.iterations());

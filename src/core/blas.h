@@ -18,6 +18,7 @@
 // Only the routines matlas calls are bound. If the process had loaded OpenBLAS already (numpy in
 // the same Python process, say), that library and its kernels are used as they are, and it too
 // runs single-threaded from then on.
+#include <cstddef>
 #include <string>
 
 #include <cblas.h>  // the CBLAS enums and declarations (nothing is linked against them)
@@ -42,6 +43,11 @@ struct Library {
   decltype(&openblas_get_corename) corename;
   decltype(&openblas_get_config) config;
 };
+
+/// The offset of element (row, col) of a column-major matrix with leading dimension ld.
+inline std::ptrdiff_t element(int row, int col, int ld) {
+  return static_cast<std::ptrdiff_t>(row) + static_cast<std::ptrdiff_t>(col) * ld;
+}
 
 /// The library, loaded on the first call (thread-safe). Throws matlas::Error naming the library
 /// and the loader's message when it cannot be loaded or lacks a routine.

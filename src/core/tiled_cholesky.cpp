@@ -7,12 +7,11 @@
 #include "core/blas.h"
 #include "core/check.h"
 #include "core/parallel.h"
+#include "core/tiled_products.h"
 
 namespace matlas::blas {
 
 namespace {
-
-std::ptrdiff_t at(int row, int col, int ld) { return static_cast<std::ptrdiff_t>(row) + static_cast<std::ptrdiff_t>(col) * ld; }
 
 /// The tile grid of an n x n matrix: tile k spans [start(k), start(k) + size(k)).
 struct Tiles {
@@ -21,13 +20,6 @@ struct Tiles {
   int start(int k) const { return k * tile; }
   int size(int k) const { return std::min(tile, n - k * tile); }
 };
-
-/// body(i) for i in [0, count), on the workers when there is more than one.
-template <class Body>
-void for_tiles(std::size_t count, const Body& body) {
-  if (count == 1) return body(0);
-  if (count > 1) parallel_for_each(0, count, body);
-}
 
 }  // namespace
 
@@ -42,30 +34,20 @@ int tiled_cholesky(int n, double* a, int lda, int tile) {
   const Tiles t(n, tile);
   for (int k = 0; k < t.count; ++k) {
     const int k0 = t.start(k), kb = t.size(k);
-    double* akk = a + at(k0, k0, lda);
+    double* akk = a + element(k0, k0, lda);
     lib.dpotrf("L", &kb, akk, &lda, &info);
     if (info != 0) return k0 + info;
     // The tiles below the diagonal one: A_ik L_kk^-T.
-    const int below = t.count - k - 1;
-    for_tiles(static_cast<std::size_t>(below), [&](std::size_t b) {
+    parallel_for_each(0, static_cast<std::size_t>(t.count - k - 1), [&](std::size_t b) {
       const int i = k + 1 + static_cast<int>(b);
       lib.dtrsm(CblasColMajor, CblasRight, CblasLower, CblasTrans, CblasNonUnit, t.size(i), kb, 1.0, akk, lda,
-                a + at(t.start(i), k0, lda), lda);
+                a + element(t.start(i), k0, lda), lda);
     });
-    // The trailing lower tiles: A_ij -= A_ik A_jk^T.
-    std::vector<std::pair<int, int>> trailing;
-    for (int i = k + 1; i < t.count; ++i)
-      for (int j = k + 1; j <= i; ++j) trailing.emplace_back(i, j);
-    for_tiles(trailing.size(), [&](std::size_t u) {
-      const auto [i, j] = trailing[u];
-      const double* aik = a + at(t.start(i), k0, lda);
-      double* aij = a + at(t.start(i), t.start(j), lda);
-      if (i == j)
-        lib.dsyrk(CblasColMajor, CblasLower, CblasNoTrans, t.size(i), kb, -1.0, aik, lda, 1.0, aij, lda);
-      else
-        lib.dgemm(CblasColMajor, CblasNoTrans, CblasTrans, t.size(i), t.size(j), kb, -1.0, aik, lda,
-                  a + at(t.start(j), k0, lda), lda, 1.0, aij, lda);
-    });
+    // The trailing lower tiles: A_ij -= A_ik A_jk^T, the same tiles as this grid's.
+    if (k + 1 < t.count) {
+      const int k1 = t.start(k + 1);
+      tiled_lower_gram(n - k1, kb, -1.0, a + element(k1, k0, lda), lda, 1.0, a + element(k1, k1, lda), lda, tile);
+    }
   }
   return 0;
 }
@@ -80,7 +62,7 @@ int invert_lower_tiled(int n, double* a, int lda, int tile) {
   const Library& lib = openblas();
   const int h = n / 2, m = n - h;
   double* c = a + h;
-  double* d = a + at(h, h, lda);
+  double* d = a + element(h, h, lda);
   int infos[2] = {0, 0};
   parallel_for_each(0, 2, [&](std::size_t half) {
     infos[half] = half == 0 ? invert_lower_tiled(h, a, lda, tile) : invert_lower_tiled(m, d, lda, tile);
@@ -88,15 +70,15 @@ int invert_lower_tiled(int n, double* a, int lda, int tile) {
   if (infos[0] != 0) return infos[0];
   if (infos[1] != 0) return infos[1] + h;
   const Tiles rows(m, tile), cols(h, tile);
-  for_tiles(static_cast<std::size_t>(rows.count), [&](std::size_t b) {
+  parallel_for_each(0, static_cast<std::size_t>(rows.count), [&](std::size_t b) {
     const int r0 = rows.start(static_cast<int>(b));
     lib.dtrmm(CblasColMajor, CblasRight, CblasLower, CblasNoTrans, CblasNonUnit, rows.size(static_cast<int>(b)), h, 1.0,
               a, lda, c + r0, lda);
   });
-  for_tiles(static_cast<std::size_t>(cols.count), [&](std::size_t b) {
+  parallel_for_each(0, static_cast<std::size_t>(cols.count), [&](std::size_t b) {
     const int c0 = cols.start(static_cast<int>(b));
     lib.dtrmm(CblasColMajor, CblasLeft, CblasLower, CblasNoTrans, CblasNonUnit, m, cols.size(static_cast<int>(b)), -1.0,
-              d, lda, c + at(0, c0, lda), lda);
+              d, lda, c + element(0, c0, lda), lda);
   });
   return 0;
 }
@@ -107,13 +89,13 @@ int tiled_inverse_from_cholesky(int n, const double* l, int ldl, double* work, d
   MATLAS_CHECK(n >= 0 && tile > 0 && ldl >= n && ldi >= n);
   if (n == 0) return 0;
   if (n <= tile) {
-    for (int j = 0; j < n; ++j) std::copy(l + at(j, j, ldl), l + at(n, j, ldl), inverse + at(j, j, ldi));
+    for (int j = 0; j < n; ++j) std::copy(l + element(j, j, ldl), l + element(n, j, ldl), inverse + element(j, j, ldi));
     return inverse_from_cholesky(n, inverse, ldi);
   }
   // W = L^-1 in `work`, its strict upper triangle zero (the products below read whole tiles).
   for (int j = 0; j < n; ++j) {
-    std::fill(work + at(0, j, n), work + at(j, j, n), 0.0);
-    std::copy(l + at(j, j, ldl), l + at(n, j, ldl), work + at(j, j, n));
+    std::fill(work + element(0, j, n), work + element(j, j, n), 0.0);
+    std::copy(l + element(j, j, ldl), l + element(n, j, ldl), work + element(j, j, n));
   }
   if (const int info = invert_lower_tiled(n, work, n, tile); info != 0) return info;
   // K^-1 = W^T W: tile (i, j), i >= j, is W[i0:, I]^T W[i0:, J] (W's rows above i0 are zero in I).
@@ -122,11 +104,11 @@ int tiled_inverse_from_cholesky(int n, const double* l, int ldl, double* work, d
   for (int i = 0; i < t.count; ++i)
     for (int j = 0; j <= i; ++j) lower.emplace_back(i, j);
   const Library& lib = openblas();
-  for_tiles(lower.size(), [&](std::size_t u) {
+  parallel_for_each(0, lower.size(), [&](std::size_t u) {
     const auto [i, j] = lower[u];
     const int i0 = t.start(i), rows = n - i0;
-    lib.dgemm(CblasColMajor, CblasTrans, CblasNoTrans, t.size(i), t.size(j), rows, 1.0, work + at(i0, i0, n), n,
-              work + at(i0, t.start(j), n), n, 0.0, inverse + at(i0, t.start(j), ldi), ldi);
+    lib.dgemm(CblasColMajor, CblasTrans, CblasNoTrans, t.size(i), t.size(j), rows, 1.0, work + element(i0, i0, n), n,
+              work + element(i0, t.start(j), n), n, 0.0, inverse + element(i0, t.start(j), ldi), ldi);
   });
   return 0;
 }

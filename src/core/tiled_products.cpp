@@ -1,7 +1,6 @@
 #include "core/tiled_products.h"
 
 #include <algorithm>
-#include <cstddef>
 #include <vector>
 
 #include "core/blas.h"
@@ -9,14 +8,6 @@
 #include "core/parallel.h"
 
 namespace matlas::blas {
-
-namespace {
-
-std::ptrdiff_t offset(int row, int col, int ld) {
-  return static_cast<std::ptrdiff_t>(row) + static_cast<std::ptrdiff_t>(col) * ld;
-}
-
-}  // namespace
 
 void tiled_product(int m, int n, int k, double alpha, const double* a, int lda, const double* b, int ldb, double* c,
                    int ldc, int block) {
@@ -26,14 +17,14 @@ void tiled_product(int m, int n, int k, double alpha, const double* a, int lda, 
   const auto blocks = static_cast<std::size_t>((n + block - 1) / block);
   const auto one = [&](std::size_t j) {
     const int c0 = static_cast<int>(j) * block, width = std::min(block, n - c0);
-    lib.dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, m, width, k, alpha, a, lda, b + offset(0, c0, ldb), ldb,
-              0.0, c + offset(0, c0, ldc), ldc);
+    lib.dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, m, width, k, alpha, a, lda, b + element(0, c0, ldb), ldb,
+              0.0, c + element(0, c0, ldc), ldc);
   };
-  if (blocks == 1) return one(0);
   parallel_for_each(0, blocks, one);
 }
 
-void tiled_lower_gram(int n, int k, double alpha, const double* a, int lda, double* c, int ldc, int tile) {
+void tiled_lower_gram(int n, int k, double alpha, const double* a, int lda, double beta, double* c, int ldc,
+                      int tile) {
   MATLAS_CHECK(n >= 0 && k >= 0 && tile > 0);
   if (n == 0) return;
   const Library& lib = openblas();
@@ -50,12 +41,11 @@ void tiled_lower_gram(int n, int k, double alpha, const double* a, int lda, doub
     const int r0 = at.row * tile, rows = std::min(tile, n - r0);
     const int c0 = at.col * tile, cols = std::min(tile, n - c0);
     if (at.row == at.col)
-      lib.dsyrk(CblasColMajor, CblasLower, CblasNoTrans, rows, k, alpha, a + r0, lda, 0.0, c + offset(r0, r0, ldc), ldc);
+      lib.dsyrk(CblasColMajor, CblasLower, CblasNoTrans, rows, k, alpha, a + r0, lda, beta, c + element(r0, r0, ldc), ldc);
     else
-      lib.dgemm(CblasColMajor, CblasNoTrans, CblasTrans, rows, cols, k, alpha, a + r0, lda, a + c0, lda, 0.0,
-                c + offset(r0, c0, ldc), ldc);
+      lib.dgemm(CblasColMajor, CblasNoTrans, CblasTrans, rows, cols, k, alpha, a + r0, lda, a + c0, lda, beta,
+                c + element(r0, c0, ldc), ldc);
   };
-  if (lower.size() == 1) return one(0);
   parallel_for_each(0, lower.size(), one);
 }
 

@@ -11,8 +11,10 @@ namespace matlas::blas {
 void tiled_product(int m, int n, int k, double alpha, const double* a, int lda, const double* b, int ldb, double* c,
                    int ldc, int block = 128);
 
-/// The lower triangle of C = alpha A A^T (A: n x k, C: n x n), in tiles of `tile` x `tile`
-/// (dsyrk on the diagonal tiles, dgemm below them); C's strict upper triangle is not touched.
-void tiled_lower_gram(int n, int k, double alpha, const double* a, int lda, double* c, int ldc, int tile = 192);
+/// The lower triangle of C = alpha A A^T + beta C (A: n x k, C: n x n), in tiles of `tile` x
+/// `tile` (dsyrk on the diagonal tiles, dgemm below them); C's strict upper triangle is not
+/// touched.
+void tiled_lower_gram(int n, int k, double alpha, const double* a, int lda, double beta, double* c, int ldc,
+                      int tile = 192);
 
 }  // namespace matlas::blas

@@ -136,10 +136,7 @@ double LikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, Eigen::MatrixXd
           (D2_.middleCols(c0, w).array() < cutoff).select(scale * (1.0 + e) / (kRepulsionFloor - e), 0.0);
       for (Eigen::Index j = c0; j < c0 + w; ++j) F_(j, j) = 0.0;
     };
-    if (blocks == 1)
-      block(0);
-    else
-      parallel_for_each(0, blocks, block);
+    parallel_for_each(0, blocks, block);
     double sum = 0.0;
     for (const double s : sums_) sum += s;
     value += repulsion_ * sum;
@@ -150,7 +147,7 @@ double LikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, Eigen::MatrixXd
 
   // dl/dK = G = -beta K^-1 + (n/t) K^-1 S~ K^-1, and K^-1 S~ K^-1 = B B^T.
   G_.resize(n, n);
-  blas::tiled_lower_gram(nn, r, nd / t, B_.data(), nn, G_.data(), nn);
+  blas::tiled_lower_gram(nn, r, nd / t, B_.data(), nn, 0.0, G_.data(), nn);
   G_.triangularView<Eigen::Lower>() -= beta_ * Kinv_;
   G_.triangularView<Eigen::StrictlyUpper>() = G_.transpose();
   // dl/dx_i = sum_j (G_ij + G_ji) dK_ij/dx_i with dK_ij/dx_i = -2 (x_i - x_j) K_ij / l^2 (i != j),

@@ -3,13 +3,12 @@
 // worker as on all of them.
 #include <gtest/gtest.h>
 
-#include <tbb/task_arena.h>
-
 #include <Eigen/Core>
 #include <Eigen/LU>
 
 #include "core/blas.h"
 #include "core/tiled_cholesky.h"
+#include "one_worker.h"
 
 namespace matlas {
 namespace {
@@ -92,9 +91,7 @@ TEST(TiledCholesky, OneWorkerGivesTheSameBitsAsAll) {
     return std::pair<Eigen::MatrixXd, Eigen::MatrixXd>(L.triangularView<Eigen::Lower>(),
                                                       inverse.triangularView<Eigen::Lower>());
   };
-  const auto all = both();
-  std::pair<Eigen::MatrixXd, Eigen::MatrixXd> one;
-  tbb::task_arena(1).execute([&] { one = both(); });
+  const auto all = both(), one = test::on_one_worker(both);
   EXPECT_TRUE(one.first == all.first);
   EXPECT_TRUE(one.second == all.second);
 }

@@ -2,11 +2,10 @@
 // one; the strict upper triangle untouched; the same bits on one worker as on all of them.
 #include <gtest/gtest.h>
 
-#include <tbb/task_arena.h>
-
 #include <Eigen/Core>
 
 #include "core/tiled_products.h"
+#include "one_worker.h"
 
 namespace matlas {
 namespace {
@@ -24,21 +23,23 @@ TEST(TiledProduct, IsTheProduct) {
   }
 }
 
-TEST(TiledLowerGram, IsTheLowerTriangleOfAAt) {
+TEST(TiledLowerGram, IsTheLowerTriangleOfAAtPlusBetaC) {
   for (const int tile : {8, 256}) {
     for (const auto& [n, k] : {std::pair{1, 1}, {9, 3}, {40, 17}, {100, 64}}) {
       SCOPED_TRACE(testing::Message() << n << " x " << k << " tile " << tile);
       const Eigen::MatrixXd A = Eigen::MatrixXd::Random(n, k);
-      Eigen::MatrixXd C = Eigen::MatrixXd::Constant(n, n, 7.0);
-      blas::tiled_lower_gram(n, k, 2.0, A.data(), n, C.data(), n, tile);
-      const Eigen::MatrixXd want = 2.0 * A * A.transpose();
-      for (Eigen::Index j = 0; j < n; ++j)
-        for (Eigen::Index i = 0; i < n; ++i) {
-          if (i >= j)
-            EXPECT_NEAR(C(i, j), want(i, j), 1e-13 * want.norm());
-          else
-            EXPECT_EQ(C(i, j), 7.0);
-        }
+      for (const double beta : {0.0, 0.5}) {
+        Eigen::MatrixXd C = Eigen::MatrixXd::Constant(n, n, 7.0);
+        blas::tiled_lower_gram(n, k, 2.0, A.data(), n, beta, C.data(), n, tile);
+        const Eigen::MatrixXd want = (2.0 * A * A.transpose()).array() + beta * 7.0;
+        for (Eigen::Index j = 0; j < n; ++j)
+          for (Eigen::Index i = 0; i < n; ++i) {
+            if (i >= j)
+              EXPECT_NEAR(C(i, j), want(i, j), 1e-13 * want.norm()) << "beta " << beta;
+            else
+              EXPECT_EQ(C(i, j), 7.0);
+          }
+      }
     }
   }
 }
@@ -49,12 +50,10 @@ TEST(TiledProducts, OneWorkerGivesTheSameBitsAsAll) {
   const auto both = [&] {
     Eigen::MatrixXd P(n, k), G = Eigen::MatrixXd::Zero(n, n);
     blas::tiled_product(n, k, n, 1.0, A.data(), n, B.data(), n, P.data(), n, 32);
-    blas::tiled_lower_gram(n, k, 1.0, P.data(), n, G.data(), n, 64);
+    blas::tiled_lower_gram(n, k, 1.0, P.data(), n, 0.0, G.data(), n, 64);
     return std::pair<Eigen::MatrixXd, Eigen::MatrixXd>(P, G);
   };
-  const auto all = both();
-  std::pair<Eigen::MatrixXd, Eigen::MatrixXd> one;
-  tbb::task_arena(1).execute([&] { one = both(); });
+  const auto all = both(), one = test::on_one_worker(both);
   EXPECT_TRUE(one.first == all.first);
   EXPECT_TRUE(one.second == all.second);
 }
