@@ -12,9 +12,9 @@
 //                                           data, leave-one-out error of the data, Procrustes
 //   bench_sparse_latent models EXACT SPARSE [RIDGE]  the same comparison for two built models
 //                                           (their layout Gram from the convex metric)
-//   bench_sparse_latent stages MODEL Q C KC K...  exact placements of a model's layout Gram
-//                                           stopped after K iterations: from PCA (C = 0) or
-//                                           coarse-to-fine (C items first, KC iterations)
+//   bench_sparse_latent stages MODEL Q C K...  exact placements of a model's layout Gram
+//                                           stopped after K iterations: all at once (C = 0) or
+//                                           coarse-to-fine (C items first, as build --coarse C)
 // q = 2, nugget 1e-4, l = 1, the build's priors (LatentPrior::spread), one start each.
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -30,7 +30,6 @@
 #include <vector>
 
 #include "eval/manifold_quality.h"
-#include "gp/coarse_placement.h"
 #include "gp/initialize.h"
 #include "gp/likelihood.h"
 #include "gp/optimize.h"
@@ -353,10 +352,10 @@ int run_gram(const char* path, int m, int r, double ridge) {
 }
 
 /// Exact placements of a built model's layout Gram in q dimensions, stopped after each of `limits`
-/// iterations: from PCA (coarse 0), or coarse-to-fine (`coarse` random items placed first with
-/// `coarse_iterations`, the others interpolated from their nearest in the data, the layout scaled,
-/// then all refined); time, l / n, trustworthiness (k = 5) and leave-one-out error of each.
-int run_stages(const char* path, int q, int coarse, int coarse_iterations, const std::vector<int>& limits) {
+/// iterations, from PCA: all at once (coarse 0) or coarse-to-fine (`OptimizeOptions::coarse`, as
+/// `matlas build --coarse`); time (the start included), l / n, trustworthiness (k = 5) and
+/// leave-one-out error of each.
+int run_stages(const char* path, int q, int coarse, const std::vector<int>& limits) {
   const Model a = Model::open(path);
   gp::LikelihoodProblem e;
   e.gram = a.convex_metric();
@@ -367,46 +366,19 @@ int run_stages(const char* path, int q, int coarse, int coarse_iterations, const
   const Eigen::MatrixXd D = gram_distances(e.gram);
   gp::LikelihoodEvaluator ev(e);
   const double n = static_cast<double>(e.gram.rows());
-  const auto report = [&](const char* label, int k, double secs, const gp::OptimizeResult& r) {
-    const Eigen::MatrixXd Xc = r.latent.rowwise() - r.latent.colwise().mean();
-    std::printf("%-14s K=%5d %7.1f s  l/n %10.5f  trust5 %.4f  LOO %.5f  rms %.3f (%s)\n", label, k, secs,
-                ev.normalized(r.latent) / n, eval::trustworthiness(D, r.latent, 5), loo_error(e.gram, r.latent, e.kernel),
-                std::sqrt(Xc.squaredNorm() / n), r.stop_reason.c_str());
-
-    std::fflush(stdout);
-  };
-  if (coarse == 0) {
-    for (int k : limits) {
-      gp::OptimizeOptions o;
-      o.max_iterations = k;
-      const auto t0 = std::chrono::steady_clock::now();
-      const gp::OptimizeResult r = gp::optimize_latent(e, gp::pca_initialization(e, q), o, null_progress());
-      report("one stage", k, seconds_since(t0), r);
-    }
-    return 0;
-  }
-  const auto t0 = std::chrono::steady_clock::now();
-  const std::vector<Eigen::Index> rows = gp::coarse_subset(e.gram.rows(), coarse);
-  gp::LikelihoodProblem sub = e;
-  const Eigen::VectorXi idx = Eigen::Map<const Eigen::Matrix<Eigen::Index, Eigen::Dynamic, 1>>(rows.data(), static_cast<Eigen::Index>(rows.size())).cast<int>();
-  sub.gram = e.gram(idx, idx);
-  gp::OptimizeOptions oc;
-  oc.max_iterations = coarse_iterations;
-  const gp::OptimizeResult c = gp::optimize_latent(sub, gp::pca_initialization(sub, q), oc, null_progress());
-  const double t_coarse = seconds_since(t0);
-  std::printf("coarse %d items: %.1f s, %d iterations (%s)\n", coarse, t_coarse, c.iterations, c.stop_reason.c_str());
-  const gp::LowRankGram lr = gp::low_rank_gram(e.gram, 64);
-  Eigen::MatrixXd X1 = gp::interpolate_layout(lr, rows, c.latent);
-  X1 = X1.rowwise() - X1.colwise().mean();
-  const double s = gp::best_scale_factor(ev, X1, 0.25, 4.0);
-  X1 *= s;
-  std::printf("interpolated, scaled by %.3f: %.1f s\n", s, seconds_since(t0));
-  for (int k : limits) {
+  for (const int k : limits) {
     gp::OptimizeOptions o;
     o.max_iterations = k;
-    const auto t1 = std::chrono::steady_clock::now();
-    const gp::OptimizeResult r = gp::optimize_latent(e, X1, o, null_progress());
-    report("coarse-to-fine", k, t_coarse + seconds_since(t1), r);
+    o.coarse = coarse;
+    const auto t0 = std::chrono::steady_clock::now();
+    const gp::OptimizeResult r = gp::optimize_latent(e, gp::pca_initialization(e, q), o, null_progress());
+    const double secs = seconds_since(t0);
+    const Eigen::MatrixXd Xc = r.latent.rowwise() - r.latent.colwise().mean();
+    std::printf("%-14s K=%5d %7.1f s  l/n %10.5f  trust5 %.4f  LOO %.5f  rms %.3f (%s)\n",
+                coarse > 0 ? "coarse-to-fine" : "one stage", k, secs, ev.normalized(r.latent) / n,
+                eval::trustworthiness(D, r.latent, 5), loo_error(e.gram, r.latent, e.kernel),
+                std::sqrt(Xc.squaredNorm() / n), r.stop_reason.c_str());
+    std::fflush(stdout);
   }
   return 0;
 }
@@ -431,17 +403,17 @@ int main(int argc, char** argv) {
       return run_accuracy(arg(2, 1000), arg(3, 64), ms);
     }
     if (mode == "gram" && argc > 2) return run_gram(argv[2], arg(3, 30), arg(4, 64), argc > 5 ? std::stod(argv[5]) : 1e-2);
-    if (mode == "stages" && argc > 6) {
+    if (mode == "stages" && argc > 5) {
       std::vector<int> limits;
-      for (int k = 6; k < argc; ++k) limits.push_back(std::stoi(argv[k]));
-      return run_stages(argv[2], arg(3, 5), arg(4, 0), arg(5, 1000), limits);
+      for (int k = 5; k < argc; ++k) limits.push_back(std::stoi(argv[k]));
+      return run_stages(argv[2], arg(3, 5), arg(4, 0), limits);
     }
     if (mode == "models" && argc > 3) return run_models(argv[2], argv[3], argc > 4 ? std::stod(argv[4]) : 1e-2);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_sparse_latent: %s\n", e.what());
     return 1;
   }
-  std::fprintf(stderr, "usage: %s eval [M] | optimize N M [R] | converge N M R K... | accuracy N R M... | gram MODEL M R | models EXACT SPARSE [RIDGE] | stages MODEL Q C KC K...\n",
+  std::fprintf(stderr, "usage: %s eval [M] | optimize N M [R] | converge N M R K... | accuracy N R M... | gram MODEL M R | models EXACT SPARSE [RIDGE] | stages MODEL Q C K...\n",
                argv[0]);
   return 2;
 }

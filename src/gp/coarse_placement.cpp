@@ -156,4 +156,21 @@ LikelihoodProblem subset_problem(const LikelihoodProblem& p, const std::vector<E
   return s;
 }
 
+OptimizeOptions refinement_options(const OptimizeOptions& o, double spent) {
+  OptimizeOptions refine = o;
+  refine.coarse = 0;
+  refine.starts = 1;
+  if (o.time_limit_seconds > 0) refine.time_limit_seconds = std::max(1e-3, o.time_limit_seconds - spent);
+  return refine;
+}
+
+OptimizeResult with_coarse_stage(OptimizeResult refined, const OptimizeResult& coarse,
+                                 std::chrono::steady_clock::time_point begin) {
+  refined.iterations += coarse.iterations;
+  refined.evaluations += coarse.evaluations;
+  refined.best_start = coarse.best_start;
+  refined.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  return refined;
+}
+
 }  // namespace matlas::gp

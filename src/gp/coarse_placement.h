@@ -6,10 +6,12 @@
 // settle), every other item is put where its nearest subset items in the data lie, and the whole
 // layout is then refined from there.
 #include <Eigen/Core>
+#include <chrono>
 #include <cstdint>
 #include <vector>
 
 #include "gp/likelihood.h"
+#include "gp/optimize.h"
 #include "gp/sparse_likelihood.h"
 
 namespace matlas::gp {
@@ -40,5 +42,14 @@ Eigen::MatrixXd interpolate_layout(const Eigen::MatrixXd& gram, const std::vecto
 /// The exact problem of the rows `rows` of p: their rows and columns of the Gram, the same
 /// columns, kernel and priors.
 LikelihoodProblem subset_problem(const LikelihoodProblem& p, const std::vector<Eigen::Index>& rows);
+
+/// The refinement's options after a coarse stage that took `spent` seconds: one start, all at
+/// once, what is left of the time limit.
+OptimizeOptions refinement_options(const OptimizeOptions& o, double spent);
+
+/// The refinement's result counted with its coarse stage's: iterations and evaluations of both,
+/// the coarse stage's winning start, the seconds since `begin`.
+OptimizeResult with_coarse_stage(OptimizeResult refined, const OptimizeResult& coarse,
+                                 std::chrono::steady_clock::time_point begin);
 
 }  // namespace matlas::gp

@@ -153,17 +153,8 @@ OptimizeResult coarse_to_fine(const LikelihoodProblem& p, const Eigen::MatrixXd&
     X1 *= a;
   }
   sink.message("refinement of all " + std::to_string(X0.rows()) + " items");
-  OptimizeOptions refine = o;
-  refine.coarse = 0;
-  refine.starts = 1;
   const double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
-  if (o.time_limit_seconds > 0) refine.time_limit_seconds = std::max(1e-3, o.time_limit_seconds - spent);
-  OptimizeResult r = optimize_one(p, X1, refine, sink);
-  r.iterations += coarse.iterations;
-  r.evaluations += coarse.evaluations;
-  r.best_start = coarse.best_start;
-  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
-  return r;
+  return with_coarse_stage(optimize_one(p, X1, refinement_options(o, spent), sink), coarse, begin);
 }
 
 }  // namespace

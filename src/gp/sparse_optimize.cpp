@@ -181,16 +181,9 @@ OptimizeResult coarse_to_fine(const SparseProblem& p, const Eigen::MatrixXd& X0,
     X1 *= a;
   }
   sink.message("refinement of all " + std::to_string(X0.rows()) + " items");
-  OptimizeOptions refine = o;
-  refine.starts = 1;
-  if (o.time_limit_seconds > 0) refine.time_limit_seconds = std::max(1e-3, o.time_limit_seconds - coarse.seconds);
   one_stage.inducing = s.inducing;
-  OptimizeResult r = optimize_sparse_latent(p, X1, one_stage, refine, sink, inducing_out);
-  r.iterations += coarse.iterations;
-  r.evaluations += coarse.evaluations;
-  r.best_start = coarse.best_start;
-  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return r;
+  return with_coarse_stage(
+      optimize_sparse_latent(p, X1, one_stage, refinement_options(o, coarse.seconds), sink, inducing_out), coarse, start);
 }
 
 }  // namespace
