@@ -182,6 +182,7 @@ std::string gi_basis_key(const Model& model, const pathtrace::World& world, cons
                               {"scene", pathtrace::scene_to_json(world.spec())},
                               {"width", s.width}, {"height", s.height}, {"spp", s.spp}, {"seed", s.seed},
                               {"max_depth", s.max_depth}, {"roulette_depth", s.roulette_depth},
+                              {"mirror_probability", s.mirror_probability},
                               {"density", density_record(s.density)}};
   return key.dump();
 }

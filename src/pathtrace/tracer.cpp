@@ -8,6 +8,7 @@
 #include "core/check.h"
 #include "core/error.h"
 #include "core/parallel.h"
+#include "pathtrace/mirrored_environment.h"
 #include "render/adaptive_sampling.h"
 #include "render/sampling.h"
 
@@ -59,7 +60,7 @@ struct Frame {
 class PathTracer {
 public:
   PathTracer(const World& world, const render::MaterialBank* bank, const TraceSettings& settings)
-      : world_(world), bank_(bank), s_(settings) {}
+      : world_(world), bank_(bank), s_(settings), mirrors_(world, settings.mirror_probability) {}
 
   /// One camera path through pixel position (px, py), its contributions added to `acc`.
   /// Long (about 120 lines) by choice: one loop iteration is one path vertex, and its emission,
@@ -126,8 +127,12 @@ public:
           acc.add(c * surface_eval(obj.surface, wi, wo), touches, prod.data());
         }
       };
+      // The density of the vertex's next direction (local): its own, mixed with the environment's
+      // mirror images when it sees a glossy plane.
+      const double mirrored = mirrors_.probability(hit->object);
       const auto bsdf_pdf = [&](const Vec3& wi) {
-        return measured ? s_.density.pdf(wo, wi) : surface_pdf(obj.surface, wo, wi);
+        const double own = measured ? s_.density.pdf(wo, wi) : surface_pdf(obj.surface, wo, wi);
+        return mirrored > 0 ? (1.0 - mirrored) * own + mirrored * mirrors_.pdf(hit->object, frame.to_world(wi)) : own;
       };
 
       // Next-event estimation: the environment.
@@ -163,9 +168,17 @@ public:
 
       // Continue the path.
       Vec3 wi;
-      const double pdf = measured ? s_.density.sample(wo, u[5], u[6], u[7], &wi)
-                                  : surface_sample(obj.surface, wo, u[5], u[6], u[7], &wi);
-      MATLAS_DCHECK(!(pdf < 0), "a sampling density");
+      double pdf = 0;
+      if (u[5] < mirrored) {
+        wi = frame.to_local(mirrors_.sample(hit->object, u[5] / mirrored, u[6], u[7]));
+        if (wi.z() <= 0) return;
+        pdf = bsdf_pdf(wi);
+      } else {
+        const double v = (u[5] - mirrored) / (1.0 - mirrored);
+        pdf = measured ? s_.density.sample(wo, v, u[6], u[7], &wi) : surface_sample(obj.surface, wo, v, u[6], u[7], &wi);
+        MATLAS_DCHECK(!(pdf < 0), "a sampling density");
+        if (mirrored > 0 && pdf > 0) pdf = bsdf_pdf(wi);
+      }
       if (!(pdf > 0)) return;
       const Vec3 wi_world = frame.to_world(wi);
       if (wi_world.dot(ng) <= 0) return;
@@ -194,6 +207,7 @@ public:
   const World& world_;
   const render::MaterialBank* bank_;
   const TraceSettings& s_;
+  const MirroredEnvironment mirrors_;
 };
 
 }  // namespace
@@ -204,6 +218,7 @@ void TraceSettings::validate() const {
   if (max_depth <= 0 || max_depth > 64) throw Error("max depth must be in 1..64");
   if (roulette_depth < 1) throw Error("roulette depth must be positive");
   density.validate();
+  if (!(mirror_probability >= 0 && mirror_probability < 1)) throw Error("the mirror probability must be in [0, 1)");
   if (density.environment != 0)
     throw Error("the path tracer samples the environment by next-event estimation: its density's environment probability must be 0");
   render::check_pixel_samples(pixel_samples.get(), width, height);

@@ -1,7 +1,10 @@
 #pragma once
 // The path tracer (docs/GI.md). Unidirectional paths from the camera with next-event estimation
 // (environment and area lights, one sample each per vertex) combined with the surfaces' sampling
-// densities by multiple importance sampling (power heuristic), and Russian roulette. Directional
+// densities by multiple importance sampling (power heuristic), and Russian roulette. A vertex that
+// sees a glossy plane draws its next direction from a mixture of its own density and the
+// environment's mirror image in the plane (pathtrace/mirrored_environment.h: the caustics of a
+// glossy floor). Directional
 // lights (delta lights) are connected at every vertex, each by one shadow ray, without MIS. With
 // max_depth = 1 the image is the direct lighting alone: what the previews' estimator computes
 // (render/render.h) for the same scene (pathtrace/preview_scene.h).
@@ -37,12 +40,17 @@ struct TraceSettings {
   int max_depth = 8;       ///< scattering vertices per path (1: direct lighting only)
   int roulette_depth = 3;  ///< Russian roulette from this many vertices on
   FixedDensity density = default_fixed_density();  ///< the measured object's sampling density
+  /// The probability of drawing a vertex's next direction towards the environment's mirror image
+  /// in a glossy plane of the scene (pathtrace/mirrored_environment.h), in [0, 1); used only at
+  /// vertices that see such a plane (0 elsewhere). 0: every vertex samples its own density.
+  double mirror_probability = 0.25;
   /// Per pixel (row-major), its share of the samples: pixel p takes max(1, round(spp x share))
   /// (adaptive sampling, render/adaptive_sampling.h; the same for every material of a bank, so
   /// the split stays exact). Null: spp everywhere.
   std::shared_ptr<const std::vector<double>> pixel_samples;
-  /// Throws matlas::Error for non-positive sizes, spp or depth, a bad density, or pixel_samples
-  /// of another size than the image or with a share that is not positive and finite.
+  /// Throws matlas::Error for non-positive sizes, spp or depth, a bad density, a mirror
+  /// probability outside [0, 1), or pixel_samples of another size than the image or with a share
+  /// that is not positive and finite.
   void validate() const;
 };
 
