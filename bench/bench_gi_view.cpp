@@ -18,7 +18,12 @@
 // that travels). OUT_DIR gets PNGs (auto exposure, ACES): reference, refined at 5 s / 30 s, composed
 // (and composed-filtered, its fireflies removed as served).
 // MATLAS_BENCH_ADAPTIVE=1 refines with adaptive sampling (the server's refinement has none);
-// MATLAS_BENCH_NO_DRAG=1 skips part 3.
+// MATLAS_BENCH_NO_DRAG=1 skips part 3; MATLAS_BENCH_MIRROR_PROBABILITY=p traces with another
+// TraceSettings::mirror_probability; MATLAS_BENCH_REFERENCE=PREFIX keeps the 512 x 384 reference's
+// halves in PREFIX-a.exr / PREFIX-b.exr (read when they exist: a long reference made once);
+// MATLAS_BENCH_SERVED=1 denoises after every step as the server does (its time counted in the
+// refinement's) and MATLAS_BENCH_DENOISE=k:r:f,... tries other denoiser settings at 5 s and at the
+// end (ProgressiveTrace::denoised; the served pathtrace::scene_denoise_settings() by default).
 #include <sys/resource.h>
 
 #include <chrono>
@@ -36,6 +41,7 @@
 #include "manifold/model.h"
 #include "pathtrace/progressive_trace.h"
 #include "render/auto_exposure.h"
+#include "render/denoise.h"
 #include "render/firefly_filter.h"
 
 namespace {
@@ -93,6 +99,56 @@ void write_png(const std::string& dir, const std::string& name, const Image& ima
   write_image(std::filesystem::path(dir) / name, image, ToneMap{ToneMap::Curve::aces, exposure});
 }
 
+/// The error against the truth: the RMS against the reference with the reference's own noise
+/// taken out in quadrature (the two are independent).
+double without_reference_noise(double rms, double reference_rms) {
+  return std::sqrt(std::max(0.0, rms * rms - reference_rms * reference_rms));
+}
+
+/// The denoiser's settings: the served ones (pathtrace::scene_denoise_settings) or those of
+/// MATLAS_BENCH_DENOISE=k:r:f,... (strength, search radius, patch radius).
+
+std::vector<render::DenoiseSettings> denoise_settings_tried() {
+  std::vector<render::DenoiseSettings> tried = {scene_denoise_settings()};
+  if (const char* list = std::getenv("MATLAS_BENCH_DENOISE")) {
+    tried.clear();
+    std::string text = list;
+    for (std::size_t start = 0; start < text.size();) {
+      const std::size_t end = std::min(text.find(',', start), text.size());
+      render::DenoiseSettings d;
+      double k = 0;
+      int r = 0, f = 0;
+      if (std::sscanf(text.substr(start, end - start).c_str(), "%lf:%d:%d", &k, &r, &f) == 3) {
+        d.strength = k, d.search_radius = r, d.patch_radius = f;
+        tried.push_back(d);
+      }
+      start = end + 1;
+    }
+  }
+  return tried;
+}
+
+/// The refinement as it stands, plain and denoised (ProgressiveTrace::denoised, biased) with each
+/// of denoise_settings_tried(), against the reference.
+void report_denoised(const ProgressiveTrace& refine, const Image& reference, double reference_rms,
+                     const std::string& dir, const std::string& name, double exposure) {
+  const std::vector<render::DenoiseSettings> tried = denoise_settings_tried();
+  const Errors plain = compare(refine.image(), reference);
+  std::printf("  %s, %d spp: plain L1 %.4f, RMS %.4f (%.4f without the reference's noise)\n", name.c_str(),
+              refine.state().spp, plain.l1, plain.rms, without_reference_noise(plain.rms, reference_rms));
+  for (const render::DenoiseSettings& d : tried) {
+    const auto t = std::chrono::steady_clock::now();
+    const render::DenoiseResult r = refine.denoised(d);
+    const double took = seconds_since(t);
+    const Errors e = compare(r.image, reference);
+    std::printf("  denoised k %.2f, search %d, patch %d (%.2f s): L1 %.4f, RMS %.4f (%.4f without the reference's "
+                "noise), estimated noise left %.4f\n",
+                d.strength, d.search_radius, d.patch_radius, took, e.l1, e.rms,
+                without_reference_noise(e.rms, reference_rms), r.relative_error);
+    if (&d == &tried.front()) write_png(dir, name + "-denoised.png", r.image, exposure);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -113,6 +169,7 @@ int main(int argc, char** argv) {
     const int ref_spp = std::stoi(argv[7]);
     TraceSettings base;
     base.density = fit_gi_density(model);
+    if (const char* m = std::getenv("MATLAS_BENCH_MIRROR_PROBABILITY")) base.mirror_probability = std::stod(m);
     const auto bank = atlas::model_point_bank(model, w);
     std::printf("scene %s/%s, point %s | %s, n = %d, load average %.1f (2-core machine, shared)\n", argv[2], argv[3],
                 argv[4], argv[5], model.count(), load_start);
@@ -122,17 +179,35 @@ int main(int argc, char** argv) {
     ref.width = 512, ref.height = 384, ref.spp = ref_spp / 2, ref.seed = 777;
     auto t0 = std::chrono::steady_clock::now();
     double c0 = cpu_seconds();
-    const TraceImages ra = trace(*world, bank.get(), ref);
-    ref.seed = 778;
-    const TraceImages rb = trace(*world, bank.get(), ref);
-    Image reference = ra.full(0);
-    const Image half_b = rb.full(0);
+    // MATLAS_BENCH_REFERENCE=PREFIX: the reference's halves are read from PREFIX-a.exr and
+    // PREFIX-b.exr when both exist (a long reference made once), else traced and written there.
+    const char* cached = std::getenv("MATLAS_BENCH_REFERENCE");
+    const std::string prefix = cached ? cached : "";
+    Image reference, half_b;
+    const bool read = !prefix.empty() && std::filesystem::exists(prefix + "-a.exr") && std::filesystem::exists(prefix + "-b.exr");
+    if (read) {
+      reference = read_image(prefix + "-a.exr");
+      half_b = read_image(prefix + "-b.exr");
+    } else {
+      reference = trace(*world, bank.get(), ref).full(0);
+      ref.seed = 778;
+      half_b = trace(*world, bank.get(), ref).full(0);
+      if (!prefix.empty()) {
+        write_exr(prefix + "-a.exr", reference);
+        write_exr(prefix + "-b.exr", half_b);
+      }
+    }
+    const Image half_a = reference;
     for (std::size_t i = 0; i < reference.rgb.size(); ++i) reference.rgb[i] = 0.5f * (reference.rgb[i] + half_b.rgb[i]);
     // The reference's own error: its halves differ by sqrt(2) x the error of one half, which is
     // sqrt(2) x the error of the whole: the whole's error is |A - B| / 2.
-    const Errors halves = compare(ra.full(0), half_b);
-    std::printf("reference 512x384, %d spp: %.0f s wall, %.0f s CPU; its own error about L1 %.4f, RMS %.4f\n", ref_spp,
-                seconds_since(t0), cpu_seconds() - c0, halves.l1 / 2, halves.rms / 2);
+    const Errors halves = compare(half_a, half_b);
+    if (read)
+      std::printf("reference 512x384 read from %s-{a,b}.exr; its own error about L1 %.4f, RMS %.4f\n", prefix.c_str(),
+                  halves.l1 / 2, halves.rms / 2);
+    else
+      std::printf("reference 512x384, %d spp: %.0f s wall, %.0f s CPU; its own error about L1 %.4f, RMS %.4f\n", ref_spp,
+                  seconds_since(t0), cpu_seconds() - c0, halves.l1 / 2, halves.rms / 2);
     const double exposure = render::auto_exposure(reference);
     write_png(out, "reference.png", reference, exposure);
 
@@ -150,8 +225,13 @@ int main(int argc, char** argv) {
     t0 = std::chrono::steady_clock::now();
     c0 = cpu_seconds();
     bool wrote5 = false;
+    // MATLAS_BENCH_SERVED=1: as the server answers the browser, the image denoised after every
+    // step (with the first of denoise_settings_tried()), its time in the refinement's.
+    const bool served = std::getenv("MATLAS_BENCH_SERVED") != nullptr;
+    Image last_denoised;
     while (seconds_since(t0) < seconds) {
       const render::RefinementState st = refine.refine(std::min(1.0, std::max(0.05, seconds - seconds_since(t0))));
+      if (served) last_denoised = refine.denoised(denoise_settings_tried().front()).image;
       const Image im = refine.image();
       const Errors e = compare(im, reference);
       std::printf("| %.1f | %.1f | %d | %.4f | %.4f | %.4f | %d |\n", seconds_since(t0), cpu_seconds() - c0, st.spp,
@@ -159,10 +239,22 @@ int main(int argc, char** argv) {
       std::fflush(stdout);
       if (!wrote5 && seconds_since(t0) >= 5) {
         write_png(out, "refined-5s.png", im, exposure);
+        const auto r0 = std::chrono::steady_clock::now();
+        const double rc0 = cpu_seconds();
+        report_denoised(refine, reference, halves.rms / 2, out, "refined-5s", exposure);
+        t0 += std::chrono::steady_clock::now() - r0;  // (the report's time is not the refinement's)
+        c0 += cpu_seconds() - rc0;
         wrote5 = true;
       }
     }
     write_png(out, "refined-end.png", refine.image(), exposure);
+    if (served && seconds > 0) {
+      const Errors e = compare(last_denoised, reference);
+      std::printf("  served: the last image denoised within %.1f s, %d spp: L1 %.4f, RMS %.4f (%.4f without the "
+                  "reference's noise)\n", seconds_since(t0), refine.state().spp, e.l1, e.rms,
+                  without_reference_noise(e.rms, halves.rms / 2));
+    }
+    if (seconds > 0) report_denoised(refine, reference, halves.rms / 2, out, "refined-end", exposure);
 
     // 3. The composed image of the drag (MATLAS_BENCH_NO_DRAG=1: skipped).
     if (std::getenv("MATLAS_BENCH_NO_DRAG") != nullptr) return 0;

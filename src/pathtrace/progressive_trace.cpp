@@ -3,7 +3,9 @@
 #include <algorithm>
 
 #include "core/check.h"
+#include "core/parallel.h"
 #include "render/auto_exposure.h"
+#include "render/firefly_filter.h"
 
 namespace matlas::pathtrace {
 
@@ -18,6 +20,26 @@ namespace {
 const ProgressiveTraceSettings& validated(const ProgressiveTraceSettings& settings) {
   settings.validate();
   return settings;
+}
+
+/// ProgressiveTrace::regions(): the first hits of 2 x 2 rays per pixel.
+std::vector<std::uint8_t> first_hit_regions(const World& world, int width, int height) {
+  std::vector<std::uint8_t> out(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
+  parallel_for_each(0, static_cast<std::size_t>(height), [&](std::size_t row) {
+    const int y = static_cast<int>(row);
+    for (int x = 0; x < width; ++x) {
+      int label = -1;
+      for (int k = 0; k < 4 && label != 0; ++k) {
+        Vec3 o, d;
+        world.camera_ray(x + 0.25 + 0.5 * (k % 2), y + 0.25 + 0.5 * (k / 2), width, height, &o, &d);
+        const auto hit = world.intersect(o, d);
+        const int seen = hit ? std::min(hit->object + 1, 255) : 255;
+        label = label < 0 || label == seen ? seen : 0;
+      }
+      out[row * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)] = static_cast<std::uint8_t>(label);
+    }
+  });
+  return out;
 }
 
 }  // namespace
@@ -35,6 +57,23 @@ ProgressiveTrace::ProgressiveTrace(std::shared_ptr<const World> world, std::shar
           },
           [first = settings_.trace.seed](int pass) { return pass_seed(first, pass); }, "progressive trace") {
   MATLAS_CHECK(world_ && bank_ && bank_->count() == 1);
+  region_ = first_hit_regions(*world_, settings_.trace.width, settings_.trace.height);
+}
+
+render::DenoiseResult ProgressiveTrace::denoised(const render::DenoiseSettings& settings) const {
+  const render::RefinementHalves h = refinement_.halves();
+  if (h.samples_a == 0 || h.samples_b == 0) {
+    render::DenoiseResult plain;
+    plain.image = refinement_.image();
+    plain.relative_error = refinement_.state().relative_error;
+    return plain;
+  }
+  // Each half's lone fireflies first (render/firefly_filter.h): the filter would spread them over
+  // the pixels whose patches resemble theirs, small bright squares on the object at 100+ spp.
+  Image a = h.a, b = h.b;
+  render::remove_fireflies(a);
+  render::remove_fireflies(b);
+  return render::denoise_halves(a, b, h.samples_a, h.samples_b, region_, {}, settings);
 }
 
 Image ProgressiveTrace::pass(TraceSettings s, ProgressSink& progress) {

@@ -4,7 +4,8 @@
 // previews refine) whose passes are independent trace()s of the point's own material (a bank of
 // one, the model's material at the point: the full image I = P + N z + I2 of m(x), no interpolated
 // I2), each with its own seed, none of them the basis's, and whose error is measured over the
-// whole image. Nothing of the basis (other sampling, interpolated I2) is mixed in.
+// whole image. Nothing of the basis (other sampling, interpolated I2) is mixed in. Its mean can be
+// denoised from its two halves, region by region (the object each pixel sees first).
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "formats/image_io.h"
 #include "pathtrace/tracer.h"
 #include "render/adaptive_sampling.h"
+#include "render/denoise.h"
 #include "render/refinement.h"
 #include "pathtrace/world.h"
 
@@ -37,6 +39,18 @@ struct ProgressiveTraceSettings {
   void validate() const;
 };
 
+/// The denoiser's settings for the scene view (render/denoise.h): stronger than the previews'
+/// (k = 1 on patches of 3 x 3 within 9 x 9 windows: walls and floors are smooth where previews
+/// have highlights), from a sweep against a 4096-spp reference of the floor scene (docs/GI.md,
+/// "Denoising the view at rest").
+inline render::DenoiseSettings scene_denoise_settings() {
+  render::DenoiseSettings s;
+  s.search_radius = 4;
+  s.patch_radius = 1;
+  s.strength = 1.0;
+  return s;
+}
+
 class ProgressiveTrace {
 public:
   /// The world and the bank (one material) must outlive the refinement (shared pointers).
@@ -50,6 +64,15 @@ public:
   render::RefinementState state() const { return refinement_.state(); }
   /// The mean of every pass so far (black before the first).
   Image image() const { return refinement_.image(); }
+  /// The mean denoised from its two halves (render/denoise.h: biased, consistent), with the noise
+  /// it estimates left; each half's lone fireflies are removed first (render/firefly_filter.h),
+  /// pixels are averaged only with pixels that see the same object first, and pixels whose
+  /// footprint spans two objects (silhouettes, the floor's horizon) are left as they are. Before
+  /// both halves have samples: image() and an infinite error.
+  render::DenoiseResult denoised(const render::DenoiseSettings& settings = scene_denoise_settings()) const;
+  /// Per pixel, what its footprint sees first: 1 + the object's index, 255 the environment (or
+  /// objects from 254 on), 0 a footprint over two of them (2 x 2 rays per pixel).
+  const std::vector<std::uint8_t>& regions() const { return region_; }
   /// The seed of pass k (never the trace settings' own seed, which the basis uses).
   static std::uint64_t pass_seed(std::uint64_t seed, int pass);
   /// Per pixel, its share of a pass's samples since the trial (null before it or without
@@ -66,6 +89,7 @@ private:
   ProgressiveTraceSettings settings_;
   int passes_ = 0;  ///< passes traced before the trial
   std::shared_ptr<const std::vector<double>> pixel_samples_;
+  std::vector<std::uint8_t> region_;  ///< regions(): for the denoiser
   render::Refinement refinement_;
 };
 

@@ -69,6 +69,14 @@ void Api::add_refinement_headers(Reply& r, const render::RefinementState& state,
   if (interrupted) r.headers.emplace_back("X-Matlas-Interrupted", "1");
 }
 
+void Api::add_denoised_headers(Reply& r, bool denoised, double denoised_error) {
+  if (!denoised) return;
+  char error[32];
+  std::snprintf(error, sizeof error, "%.6g", denoised_error);
+  r.headers.emplace_back("X-Matlas-Denoised", "1");
+  r.headers.emplace_back("X-Matlas-Denoised-Error", error);
+}
+
 std::string Api::point_key(const Eigen::VectorXd& x) {
   std::string key;
   char buf[32];
@@ -221,12 +229,7 @@ Reply Api::preview_refine(const std::string& body) {
   }
   Reply r = Reply::bytes(encode_png_fast(refined.image, previews_->tone()), kPng);
   add_refinement_headers(r, refined.state, refined.interrupted);
-  if (refined.denoised) {
-    char error[32];
-    std::snprintf(error, sizeof error, "%.6g", refined.denoised_error);
-    r.headers.emplace_back("X-Matlas-Denoised", "1");
-    r.headers.emplace_back("X-Matlas-Denoised-Error", error);
-  }
+  add_denoised_headers(r, refined.denoised, refined.denoised_error);
   return r;
 }
 

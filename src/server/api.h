@@ -123,6 +123,9 @@ private:
   /// The headers of a refinement's answer (previews and the scene view): X-Matlas-Spp, -Error,
   /// -Converged, -Seconds, -Interrupted; never cached.
   static void add_refinement_headers(Reply& r, const render::RefinementState& state, bool interrupted);
+  /// X-Matlas-Denoised: 1 and X-Matlas-Denoised-Error (the noise the denoiser estimates left) for
+  /// a denoised refinement; nothing otherwise.
+  static void add_denoised_headers(Reply& r, bool denoised, double denoised_error);
   Reply reference_reply(const std::string& body, bool radiance);
   ComputeGate::Slot acquire(ComputeGate& gate);
   std::string preview_png(const Eigen::VectorXd& w, const std::string& key, const std::string& env,

@@ -91,6 +91,7 @@ Reply Api::gi_refine(const std::string& body) {
   const std::string scene = gi_scene(j.contains("scene") && j["scene"].is_string() ? j["scene"].get<std::string>() : "");
   const Eigen::VectorXd x = parse_latent(j, "x", domain_);
   const double seconds = parse_number(j, "seconds", 0.05, 5.0, 0.5);
+  const bool denoise = parse_flag(j, "denoise", false);
   const bool auto_exposure = j.contains("exposure") && j["exposure"].is_string() && j["exposure"].get<std::string>() == "auto";
   const double exposure = auto_exposure ? 0.0 : parse_number(j, "exposure", -16.0, 16.0, 0.0);
   std::string tone_text;
@@ -108,10 +109,10 @@ Reply Api::gi_refine(const std::string& body) {
   {
     auto slot = acquire(compute_);
     try {
-      refined = gi_->refine(scene, weights_at(x), point_key(x), seconds, superseded);
+      refined = gi_->refine(scene, weights_at(x), point_key(x), seconds, denoise, superseded);
     } catch (const PreviewSource::Interrupt&) {
       interrupted = true;
-      if (auto r = gi_->refined(scene, point_key(x))) refined = std::move(*r);
+      if (auto r = gi_->refined(scene, point_key(x), denoise)) refined = std::move(*r);
     }
   }
   const ToneMap tone = gi_tone(scene, auto_exposure, exposure, tone_text, state.basis.get(),
@@ -119,6 +120,7 @@ Reply Api::gi_refine(const std::string& body) {
   Reply r = Reply::bytes(refined.state.spp > 0 ? encode_png_fast(refined.image, tone) : std::string(), kPng);
   if (refined.state.spp == 0) r = Reply::json({{"spp", 0}});
   add_refinement_headers(r, refined.state, interrupted);
+  add_denoised_headers(r, refined.denoised, refined.denoised_error);
   char used[32];
   std::snprintf(used, sizeof used, "%.3f", tone.exposure);
   r.headers.emplace_back("X-Matlas-Exposure", used);

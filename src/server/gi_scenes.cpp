@@ -202,8 +202,27 @@ std::shared_ptr<const atlas::GiBasis> GiScenes::wait(const std::string& scene) c
   return s.value;
 }
 
+namespace {
+
+GiScenes::Refined refined_image(const pathtrace::ProgressiveTrace& trace, const render::RefinementState& state,
+                                bool denoise) {
+  GiScenes::Refined out;
+  out.state = state;
+  if (denoise && state.passes >= 2) {
+    render::DenoiseResult d = trace.denoised();
+    out.image = std::move(d.image);
+    out.denoised = true;
+    out.denoised_error = d.relative_error;
+  } else {
+    out.image = trace.image();
+  }
+  return out;
+}
+
+}  // namespace
+
 GiScenes::Refined GiScenes::refine(const std::string& scene, const Eigen::VectorXd& w, const std::string& point,
-                                   double seconds, ProgressSink& progress) const {
+                                   double seconds, bool denoise, ProgressSink& progress) const {
   Impl& im = *impl_;
   const std::string key = scene + "|" + point;
   std::shared_ptr<pathtrace::ProgressiveTrace> trace;
@@ -224,14 +243,19 @@ GiScenes::Refined GiScenes::refine(const std::string& scene, const Eigen::Vector
     }
   }
   const render::RefinementState state = trace->refine(seconds, progress);
-  return {trace->image(), state};
+  return refined_image(*trace, state, denoise);
 }
 
-std::optional<GiScenes::Refined> GiScenes::refined(const std::string& scene, const std::string& point) const {
-  std::lock_guard lock(impl_->refine_mutex);
-  const auto* trace = impl_->refinements.peek(scene + "|" + point);
-  if (!trace) return std::nullopt;
-  return Refined{(*trace)->image(), (*trace)->state()};
+std::optional<GiScenes::Refined> GiScenes::refined(const std::string& scene, const std::string& point,
+                                                   bool denoise) const {
+  std::shared_ptr<pathtrace::ProgressiveTrace> trace;
+  {
+    std::lock_guard lock(impl_->refine_mutex);
+    const auto* found = impl_->refinements.peek(scene + "|" + point);
+    if (!found) return std::nullopt;
+    trace = *found;
+  }
+  return refined_image(*trace, trace->state(), denoise);
 }
 
 }  // namespace matlas::server

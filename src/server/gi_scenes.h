@@ -90,14 +90,19 @@ public:
   /// row of a pass and may throw to stop it (the refinement stays as it was before that pass;
   /// the exception propagates). Needs no basis. matlas::Error for a scene not offered or one
   /// given only as a basis file (no scene to trace).
+  /// With `denoise`, from the second pass on, the image is the refinement denoised from its two
+  /// halves (ProgressiveTrace::denoised: biased; `denoised_error` the noise it estimates left,
+  /// `state.relative_error` stays the plain mean's).
   struct Refined {
     Image image;
     render::RefinementState state;
+    bool denoised = false;
+    double denoised_error = 0;
   };
   Refined refine(const std::string& scene, const Eigen::VectorXd& w, const std::string& point, double seconds,
-                 ProgressSink& progress) const;
+                 bool denoise, ProgressSink& progress) const;
   /// The refinement of `point` in `scene` as it stands (nothing traced), if there is one.
-  std::optional<Refined> refined(const std::string& scene, const std::string& point) const;
+  std::optional<Refined> refined(const std::string& scene, const std::string& point, bool denoise) const;
 
 private:
   struct Impl;

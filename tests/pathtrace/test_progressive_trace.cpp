@@ -152,5 +152,76 @@ TEST(ProgressiveTrace, TheTrialChoosesSharesAndTheRefinementRestartsWithThem) {
   EXPECT_EQ(early.pixel_samples(), nullptr);
 }
 
+
+TEST(ProgressiveTrace, RegionsAreWhatEachPixelSeesFirst) {
+  // The floor scene at 32 x 24: the sphere (object 0) in the middle, the floor (1) at the bottom,
+  // the wall (2) at the top; pixels on the sphere's silhouette see two objects (0).
+  const Fixture f;
+  ProgressiveTraceSettings s = f.settings();
+  s.trace.width = 32;
+  s.trace.height = 24;
+  const ProgressiveTrace p(std::make_shared<const World>(load_scene("floor", "sphere")), f.bank, s);
+  const std::vector<std::uint8_t>& r = p.regions();
+  ASSERT_EQ(r.size(), 32u * 24u);
+  EXPECT_EQ(r[12 * 32 + 16], 1);
+  EXPECT_EQ(r[23 * 32 + 0], 2);
+  EXPECT_EQ(r[0 * 32 + 0], 3);
+  int silhouette = 0;
+  for (const std::uint8_t label : r) silhouette += label == 0;
+  EXPECT_GT(silhouette, 10);
+  EXPECT_LT(silhouette, 120);
+}
+
+TEST(ProgressiveTrace, TheDenoisedImageIsCloserToALongTraceAndKeepsSilhouettes) {
+  // The floor scene at 32 x 24 with a grey measured sphere, refined to 32 spp, against a
+  // 1024-spp trace (other seeds): the denoised image (its bias included) is nearer than the mean.
+  const BrdfTable grey = tabulate([](const Vec3&, const Vec3&) -> Rgb { return Rgb::Constant(0.5 / kPi); });
+  const auto bank = std::make_shared<const render::MaterialList>(
+      render::MaterialList::owning({std::make_shared<const render::TableMaterial>(grey)}));
+  const auto world = std::make_shared<const World>(load_scene("floor", "sphere"));
+  ProgressiveTraceSettings s;
+  s.trace.width = 32;
+  s.trace.height = 24;
+  s.trace.spp = 8;
+  s.trace.seed = 21;
+  s.limits.max_pass_spp = 8;
+  s.adaptive.enabled = false;
+  ProgressiveTrace p(world, bank, s);
+  EXPECT_FALSE(std::isfinite(p.denoised().relative_error)) << "one half is empty before two passes";
+  while (p.state().spp < 32) p.refine(0.0);
+  TraceSettings long_trace = s.trace;
+  long_trace.spp = 1024;
+  long_trace.seed = 99;
+  const Image reference = trace(*world, bank.get(), long_trace).full(0);
+  const Image mean = p.image();
+  const render::DenoiseResult d = p.denoised();
+  const auto error = [&](const Image& im) {
+    double e = 0, r = 0;
+    for (std::size_t i = 0; i < im.rgb.size(); ++i) {
+      e += (double(im.rgb[i]) - reference.rgb[i]) * (double(im.rgb[i]) - reference.rgb[i]);
+      r += double(reference.rgb[i]) * reference.rgb[i];
+    }
+    return std::sqrt(e / r);
+  };
+  EXPECT_LT(error(d.image), 0.8 * error(mean)) << error(d.image) << " " << error(mean);
+  EXPECT_LT(d.relative_error, p.state().relative_error);
+  // Silhouette pixels are not averaged with others: each is its mean, or (a firefly in a half,
+  // removed before filtering) darker than it.
+  int silhouette = 0, darker = 0;
+  const auto luminance = [](const float* v) { return 0.2126 * v[0] + 0.7152 * v[1] + 0.0722 * v[2]; };
+  for (std::size_t px = 0; px < p.regions().size(); ++px) {
+    if (p.regions()[px] != 0) continue;
+    ++silhouette;
+    bool same = true;
+    for (std::size_t c = 0; c < 3; ++c)
+      same = same && std::abs(d.image.rgb[3 * px + c] - mean.rgb[3 * px + c]) <= 1e-5f * (1.0f + mean.rgb[3 * px + c]);
+    if (same) continue;
+    ++darker;
+    EXPECT_LT(luminance(&d.image.rgb[3 * px]), luminance(&mean.rgb[3 * px])) << px;
+  }
+  EXPECT_GT(silhouette, 10);
+  EXPECT_LE(darker, silhouette / 5) << "only fireflies change at a silhouette";
+}
+
 }  // namespace
 }  // namespace matlas::pathtrace

@@ -118,12 +118,28 @@ TEST_F(GiEndpointTest, RefinementAtRestAddsSamplesAndSendsTheRefinedImage) {
   // tone-mapped as asked.
   char key[80];
   std::snprintf(key, sizeof key, "%.17g,%.17g,", x[0], x[1]);
-  const auto refined = gi_->refined("floor", key);
+  const auto refined = gi_->refined("floor", key, false);
   ASSERT_TRUE(refined.has_value());
   EXPECT_EQ(refined->state.spp, spp2);
   EXPECT_EQ(refined->image.width, 48);
   EXPECT_EQ(refined->image.height, 32);
+  EXPECT_FALSE(refined->denoised);
   EXPECT_EQ(second->body, encode_png_fast(refined->image, ToneMap{ToneMap::Curve::clamp, -1.0}));
+  EXPECT_FALSE(second->has_header("X-Matlas-Denoised"));
+  // Denoised on request (two passes are in): the library's denoised refinement, marked so, with
+  // the noise it estimates left below the plain mean's.
+  const std::string denoise_body = json{{"scene", "floor"}, {"x", {x[0], x[1]}}, {"seconds", 0.05}, {"exposure", -1},
+                                        {"tone", "clamp"}, {"denoise", true}}.dump();
+  const auto third = c.Post("/api/gi/refine", denoise_body, "application/json");
+  ASSERT_EQ(third->status, 200) << third->body;
+  EXPECT_EQ(third->get_header_value("X-Matlas-Denoised"), "1");
+  const auto denoised = gi_->refined("floor", key, true);
+  ASSERT_TRUE(denoised.has_value());
+  EXPECT_TRUE(denoised->denoised);
+  EXPECT_EQ(third->body, encode_png_fast(denoised->image, ToneMap{ToneMap::Curve::clamp, -1.0}));
+  EXPECT_LT(std::stod(third->get_header_value("X-Matlas-Denoised-Error")),
+            std::stod(third->get_header_value("X-Matlas-Error")));
+  EXPECT_NE(denoised->image.rgb, gi_->refined("floor", key, false)->image.rgb);
   // Bad requests name what is wrong.
   EXPECT_EQ(c.Post("/api/gi/refine", R"({"scene": "attic", "x": [0, 0]})", "application/json")->status, 400);
   EXPECT_EQ(c.Post("/api/gi/refine", R"({"scene": "floor", "x": [0, 0], "tone": "sepia"})", "application/json")->status, 400);

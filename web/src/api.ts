@@ -161,6 +161,7 @@ export interface GiRefineRequest {
   seconds?: number;
   exposure?: number | "auto";
   tone?: string;
+  denoise?: boolean;
 }
 
 /** A refined preview (POST /api/preview/refine) and how far it has converged. */
@@ -399,7 +400,7 @@ async function refinedReply(r: Response): Promise<Refined> {
     error: Number.isFinite(error) ? error : null,
     converged: r.headers.get("X-Matlas-Converged") === "1",
     interrupted: r.headers.get("X-Matlas-Interrupted") === "1",
-    denoised: r.headers.get("X-Matlas-Denoised") === "1",  // never set by the scene view
+    denoised: r.headers.get("X-Matlas-Denoised") === "1",
   };
 }
 
@@ -465,9 +466,9 @@ export const api = {
     return { blob: await r.blob(), exposure: Number(r.headers.get("X-Matlas-Exposure") ?? 0) };
   },
   /** The scene view refined at rest (POST /api/gi/refine): a direct trace of the point, pass after pass. */
-  giRefine: async (scene: string, x: Point, exposure: number | "auto", tone: string, seconds: number, signal?: AbortSignal):
-    Promise<Refined & { exposure: number }> => {
-    const r = await post("api/gi/refine", { scene, x, exposure, tone, seconds } satisfies GiRefineRequest, signal);
+  giRefine: async (scene: string, x: Point, exposure: number | "auto", tone: string, seconds: number, denoise: boolean,
+    signal?: AbortSignal): Promise<Refined & { exposure: number }> => {
+    const r = await post("api/gi/refine", { scene, x, exposure, tone, seconds, denoise } satisfies GiRefineRequest, signal);
     return { ...(await refinedReply(r)), exposure: Number(r.headers.get("X-Matlas-Exposure") ?? 0) };
   },
   thumbnailUrl: (index: number, env: string, object: string): string =>

@@ -11,8 +11,10 @@
 // asks POST /api/gi/refine again and again; the server path-traces the point directly at full size
 // (512 x 384 by default), pass after pass, and the page lays the refined image over the composed
 // one from 4 spp on (as many samples per unit of image as the 256 x 192, 16-spp basis). The refined
-// image is never mixed with the composed one. Moving the point, the scene, view, exposure or tone
-// hides it and stops the refinement (the next GET /api/gi also stops the server's pass).
+// image is never mixed with the composed one. It is denoised as the previews are (the same
+// "denoise" setting, a toggle on each view: the server's dual-buffer filter, biased, labelled in the
+// badge). Moving the point, the scene, view, exposure or tone hides it and stops the refinement
+// (the next GET /api/gi also stops the server's pass).
 import { api } from "./api";
 import { $, fillSelect, showBlob } from "./dom";
 import { LatestOnly } from "./latest";
@@ -35,6 +37,7 @@ export function createGiView(store: PageStore): void {
   const sel = $<HTMLSelectElement>("gi-scene"), img = $<HTMLImageElement>("gi"), progress = $("gi-progress");
   const info = $("gi-info");
   const camera = $<HTMLSelectElement>("gi-camera"), refinedImg = $<HTMLImageElement>("gi-refined"), badge = $("gi-refine");
+  const denoiseToggle = $<HTMLButtonElement>("gi-denoise");
   const auto = $<HTMLInputElement>("gi-auto"), exposure = $<HTMLInputElement>("gi-exposure");
   const exposureValue = $("gi-exposure-value"), tone = $<HTMLSelectElement>("gi-tone");
   const showExposure = (stops: number) => {
@@ -64,6 +67,7 @@ export function createGiView(store: PageStore): void {
     refiningKey = "";
     refinedImg.hidden = true;
     badge.hidden = true;
+    denoiseToggle.hidden = true;
     if (store.state.giRefined) store.update({ giRefined: null });
   };
   const current = (input: GiInput) => {
@@ -74,30 +78,33 @@ export function createGiView(store: PageStore): void {
   };
   const refine = async (input: GiInput, signal: AbortSignal) => {
     await new Promise((resolve) => setTimeout(resolve, 150));  // a short rest first: a drag starts no refinement
-    let shownSpp = 0;
+    let shownSpp = 0, shownDenoised: boolean | null = null;
+    const denoise = store.state.denoise;
     while (!signal.aborted && current(input)) {
       await waitForLayer(store.state.layerTiming, signal);
       if (signal.aborted || !current(input)) return;
-      const r = await api.giRefine(input.scene, input.x, input.exposure, input.tone, 1.0, signal);
+      const r = await api.giRefine(input.scene, input.x, input.exposure, input.tone, 1.0, denoise, signal);
       if (signal.aborted || !current(input)) return;
       if (r.spp === 0) continue;
       badge.hidden = false;
       badge.classList.toggle("converged", r.converged);
       const err = r.error === null ? "" : ` · ±${(100 * r.error).toFixed(r.error < 0.01 ? 2 : 1)} %`;
-      badge.textContent = `${r.converged ? "converged" : "refining"} · ${r.spp} spp${err}`;
-      if (r.spp > shownSpp && r.spp >= 4) {
+      badge.textContent = `${r.denoised ? "denoised · " : ""}${r.converged ? "converged" : "refining"} · ${r.spp} spp${err}`;
+      if ((r.spp > shownSpp || r.denoised !== shownDenoised) && r.spp >= 4) {
         await showBlob(refinedImg, r.blob);
         if (signal.aborted || !current(input)) return;
         refinedImg.hidden = false;
+        denoiseToggle.hidden = false;
         shownSpp = r.spp;
+        shownDenoised = r.denoised;
         refinedImg.dataset.spp = String(r.spp);
         info.textContent = `${refinedImg.naturalWidth}×${refinedImg.naturalHeight} · ${r.spp} spp`;
         store.update({
-          giRefined: { x: input.x, scene: input.scene, spp: r.spp, error: r.error, converged: r.converged },
+          giRefined: { x: input.x, scene: input.scene, spp: r.spp, error: r.error, converged: r.converged, denoised: r.denoised },
           giRefinedImages: store.state.giRefinedImages + 1,
         });
       }
-      if (r.converged) return;
+      if (r.converged && r.denoised === denoise) return;
     }
   };
   const startRefining = (input: GiInput) => {
@@ -171,5 +178,18 @@ export function createGiView(store: PageStore): void {
   tone.addEventListener("change", () => request(false));
   store.on(["x"], () => request(false));
   store.on(["dragging"], (st) => st.dragging && stopRefining());
+  // The denoiser on or off (shared with the reference render's toggle): the same refinement (its
+  // samples stay on the server), shown the other way.
+  denoiseToggle.addEventListener("click", () => store.update({ denoise: !store.state.denoise }));
+  store.on(["denoise"], (st) => {
+    denoiseToggle.setAttribute("aria-pressed", String(st.denoise));
+    denoiseToggle.classList.toggle("on", st.denoise);
+    const shown = st.giShown;
+    if (refining && shown && !st.dragging) {
+      const input = { ...shown } as GiInput;
+      stopRefining();
+      startRefining(input);
+    }
+  });
   request(false);
 }

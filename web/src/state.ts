@@ -49,7 +49,7 @@ export interface PageState {
   giShown: { x: number[]; scene: string } | null;
   giImages: number;
   /** The scene view's refinement at rest: the point, scene and samples of the refined image shown. */
-  giRefined: { x: number[]; scene: string; spp: number; error: number | null; converged: boolean } | null;
+  giRefined: { x: number[]; scene: string; spp: number; error: number | null; converged: boolean; denoised: boolean } | null;
   giRefinedImages: number;
   lastWeights: WeightsReply | null;
   projected: { x: number[]; residual: number } | null;

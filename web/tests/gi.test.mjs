@@ -178,6 +178,21 @@ test("at rest the scene view is refined pass after pass; moving the point stops 
   await giSettled("floor");
 });
 
+test("the refined scene view is denoised by default and labelled; its toggle shows the plain mean", async () => {
+  await giSettled("floor");
+  await page.waitForFunction(() => window.matlas.giRefined && window.matlas.giRefined.denoised, null, { timeout: 60_000 });
+  assert.match(await page.textContent("#gi-refine"), /^denoised · (refining|converged) · \d+ spp/);
+  assert.equal(await page.isVisible("#gi-denoise"), true);
+  assert.equal(await page.getAttribute("#gi-denoise", "aria-pressed"), "true");
+  await page.click("#gi-denoise");
+  await page.waitForFunction(() => window.matlas.giRefined && !window.matlas.giRefined.denoised, null, { timeout: 60_000 });
+  assert.doesNotMatch(await page.textContent("#gi-refine"), /denoised/);
+  assert.equal(await page.getAttribute("#gi-denoise", "aria-pressed"), "false");
+  assert.equal(await page.getAttribute("#preview-denoise", "aria-pressed"), "false", "one denoise setting for both views");
+  await page.click("#gi-denoise");
+  await page.waitForFunction(() => window.matlas.giRefined && window.matlas.giRefined.denoised, null, { timeout: 60_000 });
+});
+
 test("the view picker shows the scene from another camera", async () => {
   await giSettled("floor");
   const front = await pixels(null);
