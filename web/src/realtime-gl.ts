@@ -60,6 +60,8 @@ export class RealtimeGl {
   readonly frameTimes: number[] = [];
   /** The same for the reduced frames drawn during interaction. */
   readonly fastFrameTimes: number[] = [];
+  /** The reduced frames of map drags (drawReducedNow): when each ended and its milliseconds. */
+  readonly dragFrames: { end: number; ms: number }[] = [];
   /** Side of the reduced frames relative to the canvas. */
   static readonly fastScale = 0.25;
   /** Highest band of the reduced frames (at most the bands shown); adapted to the budget. */
@@ -340,11 +342,40 @@ export class RealtimeGl {
     }, interactive ? this.refineMs : 0);
   }
 
-  /** Draws a reduced frame now if none is pending for this animation frame (map drags). */
+  /** The end and length of the last reduced frame of a map drag (pacing, below). */
+  private lastReduced = { end: -Infinity, ms: 0 };
+  private pacedDraw: ReturnType<typeof setTimeout> | null = null;
+  /** A reduced frame over this many ms is slow (longer than an animation frame): paced. */
+  static readonly slowFrameMs = 17;
+  /** After a slow reduced frame of t ms, the next is drawn no sooner than this x t ms later. */
+  static readonly pacing = 3;
+
+  /**
+   * Draws a reduced frame now (map drags). Paced when frames are slow: a frame waits for the GPU
+   * (its time adapts the bands), which holds the page, so after a frame of t ms over an animation
+   * frame the next (with the newest coefficients) waits 3t. A software GPU on a small machine
+   * (about 30 ms a frame, on the cores the page and the server use) then takes a quarter of the
+   * page's time and the reference render keeps up with the pointer while the map is dragged
+   * (docs/BENCHMARKS.md: the drag's median 60-66 ms -> 29-37 ms on the 2-core VM; the real-time
+   * view shows a quarter of the frames there); a GPU's frames of a few ms are not held back.
+   */
   drawReducedNow(): void {
     if (this.refine) clearTimeout(this.refine);
+    this.refine = null;
     this.tiles = null;
-    this.draw(true);
+    const { end, ms: last } = this.lastReduced;
+    const wait = last > RealtimeGl.slowFrameMs ? end + RealtimeGl.pacing * last - performance.now() : 0;
+    if (wait > 0) {
+      this.pacedDraw ??= setTimeout(() => {
+        this.pacedDraw = null;
+        this.drawReducedNow();
+      }, wait);
+      return;
+    }
+    const ms = this.draw(true);
+    this.lastReduced = { end: performance.now(), ms };
+    this.dragFrames.push(this.lastReduced);
+    if (this.dragFrames.length > 1000) this.dragFrames.shift();
     this.refine = setTimeout(() => {
       this.refine = null;
       this.startRefinement();
@@ -455,6 +486,7 @@ export class RealtimeGl {
   private record(times: number[], ms: number, end: number, fast: boolean): void {
     times.push(ms);
     if (times.length > 1000) times.shift();
+
     this.onFrame(end, fast);
   }
 

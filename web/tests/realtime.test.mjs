@@ -237,6 +237,21 @@ test("dragging on the map changes the material shown", async () => {
   const d = meanAbsDiff(before.px, after.px);
   const latencies = await page.evaluate(() => window.matlasViewer.moveToFrame);
   console.log(`drag: mean pixel change ${d.toFixed(2)}; move-to-frame ${latencies.map((l) => l.toFixed(0)).join(" ")} ms`);
+  // Paced: after a slow reduced frame (software WebGL here) the next starts no sooner than 3x its
+  // time after it ended, so the page keeps time for the reference render.
+  const { frames, slow, pacing } = await page.evaluate(() => ({
+    frames: window.matlasViewer.gl.dragFrames.slice(-12),
+    slow: window.matlasViewer.gl.constructor.slowFrameMs, pacing: window.matlasViewer.gl.constructor.pacing }));
+  assert.ok(frames.length >= 2, `reduced frames drawn during the drag: ${frames.length}`);
+  let paced = 0;
+  for (let i = 1; i < frames.length; ++i) {
+    const gap = frames[i].end - frames[i - 1].end;
+    if (frames[i - 1].ms <= slow || gap > 2000) continue;  // a fast frame, or an earlier drag
+    assert.ok(gap >= pacing * frames[i - 1].ms + frames[i].ms - 2,
+      `frame ${i}: ended ${gap.toFixed(1)} ms after one of ${frames[i - 1].ms.toFixed(1)} ms`);
+    paced++;
+  }
+  console.log(`drag: ${paced} paced reduced frames (${frames.map((f) => f.ms.toFixed(0)).join(" ")} ms)`);
   await page.locator("#rt-canvas").screenshot({ path: join(results, "realtime-dragged.png") });
   assert.ok(d > 0.5, `the canvas changed by ${d}`);
   // The weights came from the page (GET /api/interpolation), not a request per move.
