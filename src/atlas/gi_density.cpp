@@ -7,14 +7,24 @@
 
 namespace matlas::atlas {
 
-pathtrace::FixedDensity fit_gi_density(const Model& model) {
+namespace {
+
+SamplingFitOptions gi_fit_options() {
   SamplingFitOptions o;
   o.environment = 0.0;
   o.cosine = 0.1;
   o.lobe_share = 0.1;
   o.sharpest_share = 0.3;
   o.tabulated = 0.3;
-  return fit_sampling_mixture(model, o);
+  return o;
+}
+
+}  // namespace
+
+pathtrace::FixedDensity fit_gi_density(const Model& model) { return fit_sampling_mixture(model, gi_fit_options()); }
+
+pathtrace::FixedDensity fit_gi_density(const render::MaterialBank& bank) {
+  return fit_sampling_mixture(bank, gi_fit_options());
 }
 
 std::string density_record(const pathtrace::FixedDensity& d) {

@@ -18,6 +18,9 @@
 namespace matlas {
 class Model;
 }
+namespace matlas::render {
+class MaterialBank;
+}
 
 namespace matlas::atlas {
 
@@ -25,6 +28,8 @@ namespace matlas::atlas {
 /// estimation takes the environment), cosine 0.1, the three quantile GGX lobes 0.1 each, a GGX
 /// lobe at the sharpest material's width 0.3 and the tabulated theta_h lobe 0.3.
 pathtrace::FixedDensity fit_gi_density(const Model& model);
+/// The same fit to a bank's materials (a MERL file traced on its own: its lobes' widths).
+pathtrace::FixedDensity fit_gi_density(const render::MaterialBank& bank);
 
 /// A record of a density (probabilities, lobes and a hash of the tabulated profile), as basis
 /// keys and file metadata hold it.

@@ -16,6 +16,7 @@
 #include <string>
 
 #include "atlas/gi_basis.h"
+#include "atlas/gi_density.h"
 #include "atlas/model_basis.h"
 #include "atlas/model_material.h"
 #include "atlas/sampling_fit.h"
@@ -96,12 +97,11 @@ Image trace_input(const RenderArgs& a, const pathtrace::World& world, bool gi_sc
   pathtrace::TraceImages r;
   pathtrace::TraceSettings settings;
   if (is_merl(a.input)) {
-    if (a.given.contains("--density") && a.path.density == "fitted")
-      throw Error("--density fitted needs a model (its database): a MERL file is traced with the fixed lobes");
     const BrdfTable table = merl_input(a);
     const render::TableMaterial material(table);
     const render::MaterialList bank({&material});
     settings = a.path.settings(a.options, nullptr);
+    if (a.path.density == "fitted") settings.density = atlas::fit_gi_density(bank);  // its own lobes
     r = pathtrace::trace(world, &bank, settings, progress);
   } else {
     const Model model = Model::open(a.input);

@@ -111,8 +111,8 @@ void add_path_options(CLI::App& cmd, PathOptions& o) {
                  "mesh file")
       ->capture_default_str();
   cmd.add_option("--density", o.density,
-                 "Path tracer: the measured object's sampling density, fitted (to the model's database: no fireflies "
-                 "from sharp measured peaks) or fixed (the former lobes, for comparison; always for a MERL file)")
+                 "Path tracer: the measured object's sampling density, fitted (to the model's database, or to a MERL "
+                 "file's own table: no fireflies from sharp measured peaks) or fixed (the former lobes, for comparison)")
       ->capture_default_str();
   cmd.add_option("--max-depth", o.max_depth, "Path tracer: scattering vertices per path (8 by default; 1: direct lighting only)")
       ->check(CLI::Range(1, 64));

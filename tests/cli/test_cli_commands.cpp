@@ -109,6 +109,39 @@ TEST_F(CliCommands, ExportRefusesANonStandardGridUnderBothNames) {
   }
 }
 
+TEST(CliRender, AMerlFileIsTracedWithADensityFittedToItsOwnTable) {
+  // A MERL file in a GI scene: by default its paths sample a density fitted to its own lobes (as a
+  // model's are fitted to its database), --density fixed the former constant lobes; each image is
+  // the library's trace with that density.
+  test::TempDir t;
+  write_database(t.path() / "db", random_catalog(1, 11), null_progress(), MerlDims{90, 90, 180});
+  const fs::path file = *fs::directory_iterator(t.path() / "db");
+  const BrdfTable table = read_merl(file);
+  const render::TableMaterial material(table);
+  const render::MaterialList bank({&material});
+  pathtrace::TraceSettings s;
+  s.width = 8;
+  s.height = 6;
+  s.spp = 2;
+  const pathtrace::World box(pathtrace::load_scene("box", "sphere"));
+  const auto rendered = [&](std::vector<std::string> extra) {
+    std::vector<std::string> args = {"render", file.string(), "--scene", "box", "--width", "8", "--height", "6",
+                                     "--spp", "2", "-o", (t.path() / "out.exr").string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const Output r = call(args);
+    EXPECT_EQ(r.code, 0) << r.err;
+    return read_image(t.path() / "out.exr");
+  };
+  s.density = atlas::fit_gi_density(bank);
+  const Image fitted = pathtrace::trace(box, &bank, s).full(0);
+  EXPECT_EQ(rendered({}).rgb, fitted.rgb);
+  EXPECT_EQ(rendered({"--density", "fitted"}).rgb, fitted.rgb);
+  s.density = pathtrace::default_fixed_density();
+  const Image fixed = pathtrace::trace(box, &bank, s).full(0);
+  EXPECT_EQ(rendered({"--density", "fixed"}).rgb, fixed.rgb);
+  EXPECT_NE(fitted.rgb, fixed.rgb) << "other densities, other samples";
+}
+
 TEST(CliExport, WritesTheMaterialAndEvalIsTheSameCommand) {
   test::TempDir t;
   write_database(t.path() / "db", random_catalog(3, 5), null_progress(), MerlDims{90, 90, 180});
