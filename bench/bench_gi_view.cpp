@@ -107,7 +107,6 @@ double without_reference_noise(double rms, double reference_rms) {
 
 /// The denoiser's settings: the served ones (pathtrace::scene_denoise_settings) or those of
 /// MATLAS_BENCH_DENOISE=k:r:f,... (strength, search radius, patch radius).
-
 std::vector<render::DenoiseSettings> denoise_settings_tried() {
   std::vector<render::DenoiseSettings> tried = {scene_denoise_settings()};
   if (const char* list = std::getenv("MATLAS_BENCH_DENOISE")) {
@@ -129,10 +128,10 @@ std::vector<render::DenoiseSettings> denoise_settings_tried() {
 }
 
 /// The refinement as it stands, plain and denoised (ProgressiveTrace::denoised, biased) with each
-/// of denoise_settings_tried(), against the reference.
-void report_denoised(const ProgressiveTrace& refine, const Image& reference, double reference_rms,
-                     const std::string& dir, const std::string& name, double exposure) {
-  const std::vector<render::DenoiseSettings> tried = denoise_settings_tried();
+/// of `tried`, against the reference.
+void report_denoised(const ProgressiveTrace& refine, const std::vector<render::DenoiseSettings>& tried,
+                     const Image& reference, double reference_rms, const std::string& dir, const std::string& name,
+                     double exposure) {
   const Errors plain = compare(refine.image(), reference);
   std::printf("  %s, %d spp: plain L1 %.4f, RMS %.4f (%.4f without the reference's noise)\n", name.c_str(),
               refine.state().spp, plain.l1, plain.rms, without_reference_noise(plain.rms, reference_rms));
@@ -226,12 +225,13 @@ int main(int argc, char** argv) {
     c0 = cpu_seconds();
     bool wrote5 = false;
     // MATLAS_BENCH_SERVED=1: as the server answers the browser, the image denoised after every
-    // step (with the first of denoise_settings_tried()), its time in the refinement's.
+    // step (with the first of `tried`), its time in the refinement's.
     const bool served = std::getenv("MATLAS_BENCH_SERVED") != nullptr;
+    const std::vector<render::DenoiseSettings> tried = denoise_settings_tried();
     Image last_denoised;
     while (seconds_since(t0) < seconds) {
       const render::RefinementState st = refine.refine(std::min(1.0, std::max(0.05, seconds - seconds_since(t0))));
-      if (served) last_denoised = refine.denoised(denoise_settings_tried().front()).image;
+      if (served) last_denoised = refine.denoised(tried.front()).image;
       const Image im = refine.image();
       const Errors e = compare(im, reference);
       std::printf("| %.1f | %.1f | %d | %.4f | %.4f | %.4f | %d |\n", seconds_since(t0), cpu_seconds() - c0, st.spp,
@@ -241,7 +241,7 @@ int main(int argc, char** argv) {
         write_png(out, "refined-5s.png", im, exposure);
         const auto r0 = std::chrono::steady_clock::now();
         const double rc0 = cpu_seconds();
-        report_denoised(refine, reference, halves.rms / 2, out, "refined-5s", exposure);
+        report_denoised(refine, tried, reference, halves.rms / 2, out, "refined-5s", exposure);
         t0 += std::chrono::steady_clock::now() - r0;  // (the report's time is not the refinement's)
         c0 += cpu_seconds() - rc0;
         wrote5 = true;
@@ -254,7 +254,7 @@ int main(int argc, char** argv) {
                   "reference's noise)\n", seconds_since(t0), refine.state().spp, e.l1, e.rms,
                   without_reference_noise(e.rms, halves.rms / 2));
     }
-    if (seconds > 0) report_denoised(refine, reference, halves.rms / 2, out, "refined-end", exposure);
+    if (seconds > 0) report_denoised(refine, tried, reference, halves.rms / 2, out, "refined-end", exposure);
 
     // 3. The composed image of the drag (MATLAS_BENCH_NO_DRAG=1: skipped).
     if (std::getenv("MATLAS_BENCH_NO_DRAG") != nullptr) return 0;

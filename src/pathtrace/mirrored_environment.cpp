@@ -36,14 +36,15 @@ Vec3 MirroredEnvironment::sample(int object, double u_plane, double u0, double u
   const int count = usable(object);
   MATLAS_CHECK_GT(count, 0);
   int pick = std::min(count - 1, static_cast<int>(u_plane * count));
+  const Plane* chosen = nullptr;
+  for (const Plane& p : planes_)
+    if (p.object != object && pick-- == 0) {
+      chosen = &p;
+      break;
+    }
+  MATLAS_CHECK(chosen != nullptr, "a usable plane was picked");
   double pdf_env = 0;
-  const Vec3 d = world_.environment().sample(u0, u1, &pdf_env);
-  for (const Plane& p : planes_) {
-    if (p.object == object) continue;
-    if (pick-- == 0) return mirror(d, p.normal);
-  }
-  MATLAS_CHECK(false, "a plane was picked");
-  return d;
+  return mirror(world_.environment().sample(u0, u1, &pdf_env), chosen->normal);
 }
 
 double MirroredEnvironment::pdf(int object, const Vec3& w) const {

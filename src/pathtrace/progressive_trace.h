@@ -42,7 +42,7 @@ struct ProgressiveTraceSettings {
 /// The denoiser's settings for the scene view (render/denoise.h): stronger than the previews'
 /// (k = 1 on patches of 3 x 3 within 9 x 9 windows: walls and floors are smooth where previews
 /// have highlights), from a sweep against a 4096-spp reference of the floor scene (docs/GI.md,
-/// "Denoising the view at rest").
+/// "The view at rest: measurements").
 inline render::DenoiseSettings scene_denoise_settings() {
   render::DenoiseSettings s;
   s.search_radius = 4;

@@ -130,9 +130,11 @@ public:
       // The density of the vertex's next direction (local): its own, mixed with the environment's
       // mirror images when it sees a glossy plane.
       const double mirrored = mirrors_.probability(hit->object);
-      const auto bsdf_pdf = [&](const Vec3& wi) {
-        const double own = measured ? s_.density.pdf(wo, wi) : surface_pdf(obj.surface, wo, wi);
+      const auto mixed = [&](double own, const Vec3& wi) {
         return mirrored > 0 ? (1.0 - mirrored) * own + mirrored * mirrors_.pdf(hit->object, frame.to_world(wi)) : own;
+      };
+      const auto bsdf_pdf = [&](const Vec3& wi) {
+        return mixed(measured ? s_.density.pdf(wo, wi) : surface_pdf(obj.surface, wo, wi), wi);
       };
 
       // Next-event estimation: the environment.
@@ -177,7 +179,7 @@ public:
         const double v = (u[5] - mirrored) / (1.0 - mirrored);
         pdf = measured ? s_.density.sample(wo, v, u[6], u[7], &wi) : surface_sample(obj.surface, wo, v, u[6], u[7], &wi);
         MATLAS_DCHECK(!(pdf < 0), "a sampling density");
-        if (mirrored > 0 && pdf > 0) pdf = bsdf_pdf(wi);
+        if (pdf > 0) pdf = mixed(pdf, wi);  // (the draw's own density is its pdf(): not evaluated twice)
       }
       if (!(pdf > 0)) return;
       const Vec3 wi_world = frame.to_world(wi);

@@ -20,15 +20,11 @@ import { $, fillSelect, showBlob } from "./dom";
 import { LatestOnly } from "./latest";
 import { waitForLayer } from "./map-panel";
 import { retryWhileBusy, type Waiting } from "./retry";
-import type { PageStore } from "./state";
+import type { PageState, PageStore } from "./state";
 import { clearError, setStatus } from "./status";
 
-interface GiInput {
-  x: number[];
-  scene: string;
-  exposure: number | "auto";
-  tone: string;
-}
+/** What the view shows: a point in a scene at an exposure and tone curve (as the page state keeps it). */
+type GiInput = NonNullable<PageState["giShown"]>;
 
 export function createGiView(store: PageStore): void {
   const gi = store.state.model.gi;
@@ -186,9 +182,8 @@ export function createGiView(store: PageStore): void {
     denoiseToggle.classList.toggle("on", st.denoise);
     const shown = st.giShown;
     if (refining && shown && !st.dragging) {
-      const input = { ...shown } as GiInput;
       stopRefining();
-      startRefining(input);
+      startRefining(shown);
     }
   });
   request(false);

@@ -46,7 +46,7 @@ export interface PageState {
   /** While the server prepares the current scene: how long the page has been waiting for it. */
   preparing: { env: string; object: string; attempts: number; waitedMs: number } | null;
   /** The image shown in the scene view (GET /api/gi), and how many it has shown. */
-  giShown: { x: number[]; scene: string } | null;
+  giShown: { x: number[]; scene: string; exposure: number | "auto"; tone: string } | null;
   giImages: number;
   /** The scene view's refinement at rest: the point, scene and samples of the refined image shown. */
   giRefined: { x: number[]; scene: string; spp: number; error: number | null; converged: boolean; denoised: boolean } | null;
