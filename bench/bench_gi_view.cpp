@@ -22,7 +22,7 @@
 // TraceSettings::mirror_probability; MATLAS_BENCH_REFERENCE=PREFIX keeps the 512 x 384 reference's
 // halves in PREFIX-a.exr / PREFIX-b.exr (read when they exist: a long reference made once);
 // MATLAS_BENCH_SERVED=1 denoises after every step as the server does (its time counted in the
-// refinement's) and MATLAS_BENCH_DENOISE=k:r:f,... tries other denoiser settings at 5 s and at the
+// refinement's; steps of 1 s, from 5 s on 2 s, as the page asks them) and MATLAS_BENCH_DENOISE=k:r:f,... tries other denoiser settings at 5 s and at the
 // end (ProgressiveTrace::denoised; the served pathtrace::scene_denoise_settings() by default).
 #include <sys/resource.h>
 
@@ -225,12 +225,14 @@ int main(int argc, char** argv) {
     c0 = cpu_seconds();
     bool wrote5 = false;
     // MATLAS_BENCH_SERVED=1: as the server answers the browser, the image denoised after every
-    // step (with the first of `tried`), its time in the refinement's.
+    // step (with the first of `tried`), its time in the refinement's, the steps as the page asks.
     const bool served = std::getenv("MATLAS_BENCH_SERVED") != nullptr;
     const std::vector<render::DenoiseSettings> tried = denoise_settings_tried();
     Image last_denoised;
     while (seconds_since(t0) < seconds) {
-      const render::RefinementState st = refine.refine(std::min(1.0, std::max(0.05, seconds - seconds_since(t0))));
+      // Steps as the page asks them when served: 1 s, then 2 s from 5 s of rest on (web/src/gi-view.ts).
+      const double step = served && seconds_since(t0) >= 5 ? 2.0 : 1.0;
+      const render::RefinementState st = refine.refine(std::min(step, std::max(0.05, seconds - seconds_since(t0))));
       if (served) last_denoised = refine.denoised(tried.front()).image;
       const Image im = refine.image();
       const Errors e = compare(im, reference);

@@ -8,7 +8,7 @@
 // server's progress (retry.ts); picking another scene supersedes the request in flight.
 // The view picker offers the built-in scenes' cameras (each view, "SCENE@VIEW", a scene of its own).
 // Refinement at rest: once the composed image of a point is shown and the pointer rests, the page
-// asks POST /api/gi/refine again and again; the server path-traces the point directly at full size
+// asks POST /api/gi/refine again and again (1 s each, 2 s from 5 s of rest on); the server path-traces the point directly at full size
 // (512 x 384 by default), pass after pass, and the page lays the refined image over the composed
 // one from 4 spp on (as many samples per unit of image as the 256 x 192, 16-spp basis). The refined
 // image is never mixed with the composed one. It is denoised as the previews are (the same
@@ -75,11 +75,14 @@ export function createGiView(store: PageStore): void {
   const refine = async (input: GiInput, signal: AbortSignal) => {
     await new Promise((resolve) => setTimeout(resolve, 150));  // a short rest first: a drag starts no refinement
     let shownSpp = 0, shownDenoised: boolean | null = null;
-    const denoise = store.state.denoise;
+    const denoise = store.state.denoise, restedAt = performance.now();
     while (!signal.aborted && current(input)) {
       await waitForLayer(store.state.layerTiming, signal);
       if (signal.aborted || !current(input)) return;
-      const r = await api.giRefine(input.scene, input.x, input.exposure, input.tone, 1.0, denoise, signal);
+      // Steps of 1 s, from 5 s of rest on 2 s: each answer is denoised (about 0.4 s at 512 x 384 on
+      // two cores), which longer steps leave more of the time to trace (docs/GI.md).
+      const seconds = performance.now() - restedAt < 5000 ? 1.0 : 2.0;
+      const r = await api.giRefine(input.scene, input.x, input.exposure, input.tone, seconds, denoise, signal);
       if (signal.aborted || !current(input)) return;
       if (r.spp === 0) continue;
       badge.hidden = false;
