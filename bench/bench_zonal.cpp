@@ -1,5 +1,6 @@
 // Rotated-ZH speed (docs/REALTIME.md): projection of one MERL-grid table to coefficients (L = 32,
-// 32 view angles, the `matlas zonal` default), the per-band prefiltering of one environment, and
+// 32 view angles, the `matlas zonal` default; the viewer's, with its lobes and window per view
+// angle), the per-band prefiltering of one environment, and
 // the CPU reference's cost per shaded point. The table is a tabulated rough plastic (the same
 // lookups as a measured BRDF); the environment is the installed studio map when present.
 #include <benchmark/benchmark.h>
@@ -42,6 +43,19 @@ void BM_ProjectTable(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_ProjectTable)->Arg(16)->Arg(32)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+/// The viewer's projection (L = 16, T = 32, the four lobes) without and with the window per view
+/// angle (arg 1: zonal/ring_limit.h, floor 0.05): the limiter's share of a material's projection.
+void BM_ViewerProjection(benchmark::State& state) {
+  zonal::ProjectionSettings s;
+  s.bands = 16;
+  s.lobes = zonal::kDefaultLobes;
+  if (state.range(0)) s.ring_floor = 0.05;
+  const zonal::ZonalProjector projector(s);
+  for (auto _ : state) benchmark::DoNotOptimize(projector.project(table()).values.data());
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_ViewerProjection)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_PrefilterEnvironment(benchmark::State& state) {
   const render::Environment env = environment();

@@ -7,17 +7,17 @@
 //                        [--lobes none|64,256,...] [--ref-cache DIR] [--dump DIR]
 //                        FILE.binary... > results.csv
 //   bench_zonal_accuracy --sheet OUT.png [--env studio] [--sheet-size 128] [--sheet-spp 1024]
-//                        [--bands 16] [--exposure 0] FILE.binary...
+//                        [--bands 16] [--lobes ...] [--window ...] [--exposure 0] FILE.binary...
 //
-// --sheet: a before/after picture instead of the study: one row per material, columns the path
-// tracer (render_bank, one seed), the viewer's former default (L, no lobes, Hann window over the
-// bands), the lobes (zonal::kDefaultLobes) with --window (default none: the present default) and
-// the lobes with Hann; 4 x 4 rays per pixel, the environment behind the sphere, clamp tone map at
-// `exposure` stops.
+// --sheet: a comparison picture instead of the study: one row per material, columns the path
+// tracer (render_bank, one seed), then the shading with --lobes and each of --window's entries;
+// 4 x 4 rays per pixel, the environment behind the sphere, clamp tone map at `exposure` stops.
 //
 // --lobes: the sharp lobes fitted beside the expansion (zonal/lobes.h; default none, "default":
-// zonal::kDefaultLobes). --env all: every installed environment. --window: the band windows to shade with
-// (zonal/window.h; one row per window). --ref-cache: the reference renders are read from (or
+// zonal::kDefaultLobes). --env all: every installed environment. --window: the windows to shade
+// with, one row per entry: a band window (zonal/window.h), or ring:F, the coefficients weighted
+// per theta_o sample by zonal::RingLimiter with floor F (zonal/ring_limit.h) and shaded without
+// a window (the viewer's default, ring:0.1). --ref-cache: the reference renders are read from (or
 // written to) DIR as raw float32 files named by environment, size, spp, seed and material, so
 // that a second study of the same scene only shades.
 //
@@ -48,6 +48,7 @@
 #include "render/render.h"
 #include "zonal/compare.h"
 #include "zonal/projection.h"
+#include "zonal/ring_limit.h"
 #include "zonal/shade.h"
 
 namespace {
@@ -124,9 +125,36 @@ void write_cached(const std::string& path, const Image& img) {
   std::filesystem::rename(tmp, path);
 }
 
+/// A window to shade with: a band window (zonal/window.h), or "ring:F", the coefficients after
+/// zonal::RingLimiter with floor F and no window (the per-sample window of zonal/ring_limit.h).
+struct WindowChoice {
+  zonal::BandWindow window = zonal::BandWindow::none;
+  double ring_floor = -1.0;  ///< < 0: no ring limit
+  std::string name;
+};
+
+WindowChoice parse_window_choice(const std::string& w) {
+  if (w.rfind("ring:", 0) == 0) return {zonal::BandWindow::none, std::stod(w.substr(5)), w};
+  return {zonal::parse_band_window(w), -1.0, w};
+}
+
+/// The coefficients as shaded with `choice` (a copy, ring-limited if the choice says so).
+zonal::ZonalCoefficients shaded_coefficients(const zonal::ZonalBasis& basis, const zonal::ZonalCoefficients& c,
+                                             const WindowChoice& choice, std::vector<double>* ts = nullptr) {
+  zonal::ZonalCoefficients out = c;
+  if (choice.ring_floor >= 0.0) {
+    zonal::RingLimit limit;
+    limit.floor = choice.ring_floor;
+    const std::vector<double> t = zonal::RingLimiter(basis, out, limit).apply(out);
+    if (ts) *ts = t;
+  }
+  return out;
+}
+
 /// The before/after sheet (see the top of the file).
 void write_sheet(const std::string& out, const std::string& env_name, const std::vector<std::string>& files, int L,
-                 int theta_o, int size, int spp, double exposure, zonal::BandWindow after_window) {
+                 int theta_o, int size, int spp, double exposure, const std::vector<WindowChoice>& choices,
+                 const std::vector<double>& lobes) {
   render::SceneDescription desc;
   desc.environment = env_name;
   const render::Scene scene(desc);
@@ -137,7 +165,7 @@ void write_sheet(const std::string& out, const std::string& env_name, const std:
   for (const std::string& f : files) tables.push_back(read_merl(f));
   const TableBank bank(tables);
   const std::vector<Image> refs = render::render_bank(scene, bank, rs);
-  const int gap = 4, cols = 4, rows = static_cast<int>(files.size());
+  const int gap = 4, cols = 1 + static_cast<int>(choices.size()), rows = static_cast<int>(files.size());
   Image sheet(cols * size + (cols - 1) * gap, rows * size + (rows - 1) * gap);
   std::fill(sheet.rgb.begin(), sheet.rgb.end(), 1.0f);
   auto place = [&](const Image& img, int row, int col) {
@@ -151,18 +179,19 @@ void write_sheet(const std::string& out, const std::string& env_name, const std:
   zonal::ShadeSettings ss;
   ss.width = ss.height = size;
   ss.subsamples = 4;
-  for (int version = 0; version < 3; ++version) {
-    zonal::ProjectionSettings ps{L, theta_o, 128, 256, version ? zonal::kDefaultLobes : std::vector<double>{}};
-    const zonal::ZonalProjector projector(ps);
-    zonal::PrefilterSettings fs;
-    fs.bands = L;
-    fs.lobes = ps.lobes;
-    const zonal::PrefilteredEnvironment env(scene.environment(), fs);
-    ss.window = version == 1 ? after_window : zonal::BandWindow::hann;
-    for (std::size_t i = 0; i < tables.size(); ++i) {
-      if (version == 0) place(refs[i], static_cast<int>(i), 0);
-      place(zonal::shade_image(scene, projector.basis(), projector.project(tables[i]), env, ss), static_cast<int>(i),
-            1 + version);
+  const zonal::ProjectionSettings ps{L, theta_o, 128, 256, lobes};
+  const zonal::ZonalProjector projector(ps);
+  zonal::PrefilterSettings fs;
+  fs.bands = L;
+  fs.lobes = ps.lobes;
+  const zonal::PrefilteredEnvironment env(scene.environment(), fs);
+  for (std::size_t i = 0; i < tables.size(); ++i) {
+    place(refs[i], static_cast<int>(i), 0);
+    const zonal::ZonalCoefficients c = projector.project(tables[i]);
+    for (std::size_t v = 0; v < choices.size(); ++v) {
+      ss.window = choices[v].window;
+      place(zonal::shade_image(scene, projector.basis(), shaded_coefficients(projector.basis(), c, choices[v]), env, ss),
+            static_cast<int>(i), 1 + static_cast<int>(v));
     }
   }
   ToneMap tone;
@@ -215,14 +244,15 @@ int run(int argc, char** argv) {
   }
   if (files.empty()) throw Error("no .binary files given");
   if (!sheet.empty()) {
-    write_sheet(sheet, env_names, files, bands.front(), theta_o, sheet_size, sheet_spp, exposure,
-                zonal::parse_band_window(windows));
+    std::vector<WindowChoice> choices;
+    for (const std::string& w : split(windows)) choices.push_back(parse_window_choice(w));
+    write_sheet(sheet, env_names, files, bands.front(), theta_o, sheet_size, sheet_spp, exposure, choices, lobes);
     return 0;
   }
   std::vector<std::string> envs = split(env_names);
   if (env_names == "all") envs = installed_environments();
-  std::vector<zonal::BandWindow> window_list;
-  for (const std::string& w : split(windows)) window_list.push_back(zonal::parse_band_window(w));
+  std::vector<WindowChoice> window_list;
+  for (const std::string& w : split(windows)) window_list.push_back(parse_window_choice(w));
   render::RenderSettings rs;
   rs.width = rs.height = size;
   rs.spp = spp;
@@ -296,15 +326,22 @@ int run(int argc, char** argv) {
     }
     for (std::size_t i = 0; i < files.size(); ++i) {
       for (std::size_t b = 0; b < bands.size(); ++b)
-        for (zonal::BandWindow window : window_list) {
+        for (const WindowChoice& choice : window_list) {
           auto t = std::chrono::steady_clock::now();
           zonal::ShadeSettings ss;
           ss.width = ss.height = size;
           ss.subsamples = subsamples;
-          ss.window = window;
-          const Image img = zonal::shade_image(scene, projectors[b]->basis(), coefficients[b][i], *filtered[b], ss);
+          ss.window = choice.window;
+          std::vector<double> ts;
+          const zonal::ZonalCoefficients shaded = shaded_coefficients(projectors[b]->basis(), coefficients[b][i], choice, &ts);
+          if (!ts.empty() && envs.front() == env_name) {
+            std::fprintf(stderr, "%s L=%d %s t:", names[i].c_str(), bands[b], choice.name.c_str());
+            for (double v : ts) std::fprintf(stderr, " %.2f", v);
+            std::fprintf(stderr, "\n");
+          }
+          const Image img = zonal::shade_image(scene, projectors[b]->basis(), shaded, *filtered[b], ss);
           const zonal::ImageErrors e = zonal::compare_to_reference(img, refs[i], refs2[i], coverage);
-          const char* wname = zonal::band_window_name(window);
+          const char* wname = choice.name.c_str();
           if (!dump.empty()) {
             std::filesystem::create_directories(dump);
             const std::string stem = dump + "/" + env_name + "-" + names[i];

@@ -29,7 +29,11 @@ std::string zonal_cache_key(const Model& model, const zonal::ProjectionSettings&
       {"theta_rows", settings.theta_rows},
       {"phi_columns", settings.phi_columns},
   };
-  if (!settings.lobes.empty()) key["lobes"] = settings.lobes;  // keys of sets without lobes unchanged
+  if (!settings.lobes.empty()) {  // keys of sets without lobes unchanged
+    key["lobes"] = settings.lobes;
+    key["lobe_fit"] = "nonnegative";  // zonal/lobes.h: caches of the former unconstrained fit are stale
+  }
+  if (settings.ring_floor >= 0.0) key["ring_floor"] = settings.ring_floor;  // likewise
   return hex64(xxh3_64(key.dump()));
 }
 
@@ -37,7 +41,7 @@ namespace {
 
 bool same_settings(const zonal::ProjectionSettings& a, const zonal::ProjectionSettings& b) {
   return a.bands == b.bands && a.theta_o_count == b.theta_o_count && a.theta_rows == b.theta_rows &&
-         a.phi_columns == b.phi_columns && a.lobes == b.lobes;
+         a.phi_columns == b.phi_columns && a.lobes == b.lobes && a.ring_floor == b.ring_floor;
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,7 @@
 #include "cli/print.h"
 #include "cli/world.h"
 #include "core/error.h"
+
 #include "core/file_io.h"
 #include "core/parallel.h"
 #include "manifold/material_set.h"
@@ -24,7 +26,7 @@ namespace {
 
 struct ZonalArgs {
   std::vector<std::string> inputs;
-  std::string output, storage = "f32";
+  std::string output, storage = "f32", lobes = "none";
   zonal::ProjectionSettings settings{32, 32, 128, 256};
 };
 
@@ -32,7 +34,22 @@ bool is_model(const std::vector<std::string>& inputs) {
   return inputs.size() == 1 && std::filesystem::path(inputs[0]).extension() == ".matlas";
 }
 
-void run_zonal(const ZonalArgs& a, const Io& io) {
+void run_zonal(ZonalArgs a, const Io& io) {
+  if (a.lobes == "default") a.settings.lobes = zonal::kDefaultLobes;
+  else if (a.lobes != "none") {
+    a.settings.lobes.clear();
+    std::stringstream list(a.lobes);
+    for (std::string item; std::getline(list, item, ',');) {
+      try {
+        std::size_t used = 0;
+        a.settings.lobes.push_back(std::stod(item, &used));
+        if (used != item.size()) throw std::invalid_argument(item);
+      } catch (const std::exception&) {
+        throw Error("--lobes: '" + item + "' is not a number (give none, default or sharpnesses such as 64,256)");
+      }
+    }
+    zonal::validate_lobes(a.settings.lobes);
+  }
   // Under mpirun every rank projects its share of the tables; rank 0 gathers them and writes.
   Communicator& comm = world();
   const DType storage = a.storage == "f16" ? DType::F16 : DType::F32;
@@ -77,6 +94,14 @@ void add_zonal_command(CLI::App& app, const Io& io) {
   cmd->add_option("--bands", a->settings.bands, "Highest band L")->check(CLI::Range(0, 128))->capture_default_str();
   cmd->add_option("--theta-o", a->settings.theta_o_count, "View-angle samples")
       ->check(CLI::Range(1, 1024))->capture_default_str();
+  cmd->add_option("--lobes", a->lobes,
+                  "Sharp lobes fitted beside the expansion: none, default (64,256,1024,4096, as the viewer) or a "
+                  "comma-separated list of sharpnesses")
+      ->capture_default_str();
+  cmd->add_option("--ring-floor", a->settings.ring_floor,
+                  "Weight each view angle's bands so that the slice rings no lower than this times its median "
+                  "level (docs/REALTIME.md; the viewer: 0.05); negative: the plain truncation")
+      ->check(CLI::Range(-1.0, 1.0))->capture_default_str();
   cmd->add_option("--storage", a->storage, "f32 or f16")->check(CLI::IsMember({"f32", "f16"}))->capture_default_str();
   cmd->callback([io, a] { run_zonal(*a, io); });
 }

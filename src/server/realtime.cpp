@@ -47,7 +47,8 @@ Realtime::Realtime(const Model& model, std::vector<std::string> environments, st
 const zonal::CoefficientSet& Realtime::set() {
   std::lock_guard lock(coefficients_mutex_);
   if (!set_) {
-    const zonal::ProjectionSettings settings{kRealtimeBands, kRealtimeThetaO, 128, 256, zonal::kDefaultLobes};
+    const zonal::ProjectionSettings settings{kRealtimeBands, kRealtimeThetaO, 128, 256, zonal::kDefaultLobes,
+                                             kRealtimeRingFloor};
     atlas::CachedCoefficients c =
         atlas::cached_model_coefficients(model_, settings, atlas::zonal_cache_path(model_.path(), kRealtimeBands));
     auto set = std::make_unique<zonal::CoefficientSet>(std::move(c.set));

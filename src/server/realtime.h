@@ -30,13 +30,16 @@ namespace matlas::server {
 inline constexpr int kRealtimeBands = 16;
 inline constexpr int kRealtimeThetaO = 32;
 /// The windows over the bands shown (zonal/window.h, zonal::ShadeSettings), in the shader and the
-/// reference alike: Hann, with every band as with fewer (the bands slider, the reduced frames while
-/// moving). Without a window the study's error is lower (docs/REALTIME.md "Accuracy of the
-/// viewer": 4.9 % against 12.8 %) but glossy materials ring visibly at the rim under small bright
-/// lights (the before/after sheet); kRealtimeWindow = none trades the one for the other. The page
-/// holds the same two names (web/src/realtime-shader.ts: viewerWindow, viewerReducedWindow).
-inline constexpr zonal::BandWindow kRealtimeWindow = zonal::BandWindow::hann;
+/// reference alike. With every band: none, because the coefficients carry a window per theta_o
+/// sample chosen from themselves (zonal/ring_limit.h, floor kRealtimeRingFloor): the plain
+/// truncation where it does not ring, towards Hann where it would (the rim of glossy materials
+/// under small bright lights). docs/REALTIME.md "Accuracy of the viewer" measures it against
+/// Hann everywhere (the former default) and no window. With fewer bands (the bands slider, the
+/// reduced frames while moving): Hann. The page holds the same two names
+/// (web/src/realtime-shader.ts: viewerWindow, viewerReducedWindow).
+inline constexpr zonal::BandWindow kRealtimeWindow = zonal::BandWindow::none;
 inline constexpr zonal::BandWindow kRealtimeReducedWindow = zonal::BandWindow::hann;
+inline constexpr double kRealtimeRingFloor = 0.05;
 
 class Realtime {
 public:

@@ -90,6 +90,7 @@ double write_coefficients(const std::filesystem::path& path, const CoefficientSe
   w.add_metadata("theta_rows", std::to_string(s.theta_rows));
   w.add_metadata("phi_columns", std::to_string(s.phi_columns));
   w.add_metadata("lobes", nlohmann::json(s.lobes).dump());
+  if (s.ring_floor >= 0.0) w.add_metadata("ring_floor", nlohmann::json(s.ring_floor).dump());
   w.add_metadata("names", nlohmann::json(set.names).dump());
   w.add_metadata("storage", storage == DType::F16 ? "f16" : "f32");
   w.add_metadata("storage_error", std::to_string(relative));
@@ -149,6 +150,16 @@ CoefficientSet read_coefficients(const std::filesystem::path& path) {
       throw Error(path.string() + ": " + e.what());
     } catch (const std::exception&) {
       throw Error(path.string() + ": metadata 'lobes' is missing or not a JSON array of numbers");
+    }
+    if (const auto it = file.metadata().find("ring_floor"); it != file.metadata().end()) {
+      try {
+        set.settings.ring_floor = nlohmann::json::parse(it->second).get<double>();
+        set.settings.validate();
+      } catch (const Error& e) {
+        throw Error(path.string() + ": " + e.what());
+      } catch (const std::exception&) {
+        throw Error(path.string() + ": metadata 'ring_floor' is not a number");
+      }
     }
   }
   const std::int64_t T = set.settings.theta_o_count,

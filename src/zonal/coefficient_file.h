@@ -14,7 +14,7 @@
 //   theta_o       F32 [T]                  (t + 0.5) (pi/2) / T
 // metadata: format "matlas-zonal", version "2", bands, theta_o_count, theta_rows, phi_columns,
 // lobes (JSON array of the lobes' sharpnesses kappa_i, zonal/lobes.h; may be empty),
-// names (JSON array), storage ("f32"/"f16"), storage_error (the largest |stored - exact| over
+// ring_floor (only when the bands were weighted by zonal::RingLimiter: its floor), names (JSON array), storage ("f32"/"f16"), storage_error (the largest |stored - exact| over
 // the largest |coefficient|, measured when written), and source_key when the set has one.
 #include <filesystem>
 #include <optional>

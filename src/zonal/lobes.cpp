@@ -4,6 +4,9 @@
 #include <cmath>
 #include <string>
 
+#include <Eigen/Dense>
+
+#include "core/check.h"
 #include "core/error.h"
 
 namespace matlas::zonal {
@@ -58,6 +61,38 @@ double lobe_cosine_mass(double kappa, double rz) {
 
 double lobe_product(double a, double b) {
   return lobe_normalisation(a) * lobe_normalisation(b) * 2.0 * kPi * -std::expm1(-2.0 * (a + b)) / (a + b);
+}
+
+Eigen::VectorXd nonnegative_minimiser(const Eigen::MatrixXd& G, const Eigen::VectorXd& r) {
+  const Eigen::Index M = r.size();
+  MATLAS_CHECK(G.rows() == M && G.cols() == M && M <= 8, "a Gram matrix of the lobes' size, at most 8");
+  Eigen::VectorXd c = G.ldlt().solve(r);
+  if (M == 0 || c.minCoeff() >= 0.0) return c;
+  // At a support's stationary point the objective is -1/2 c_S . r_S; c = 0 gives 0.
+  c.setZero();
+  double best = 0.0;
+  std::vector<Eigen::Index> support;
+  for (unsigned mask = 1; mask < (1u << M); ++mask) {
+    support.clear();
+    for (Eigen::Index i = 0; i < M; ++i)
+      if (mask >> i & 1u) support.push_back(i);
+    const auto n = static_cast<Eigen::Index>(support.size());
+    Eigen::MatrixXd g(n, n);
+    Eigen::VectorXd rs(n);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      rs(i) = r(support[static_cast<std::size_t>(i)]);
+      for (Eigen::Index j = 0; j < n; ++j) g(i, j) = G(support[static_cast<std::size_t>(i)], support[static_cast<std::size_t>(j)]);
+    }
+    const Eigen::VectorXd cs = g.ldlt().solve(rs);
+    if (cs.minCoeff() < 0.0) continue;
+    const double objective = -0.5 * cs.dot(rs);
+    if (objective < best) {
+      best = objective;
+      c.setZero();
+      for (Eigen::Index i = 0; i < n; ++i) c(support[static_cast<std::size_t>(i)]) = cs(i);
+    }
+  }
+  return c;
 }
 
 void validate_lobes(const std::vector<double>& kappas) {

@@ -1,5 +1,6 @@
 #include "zonal/projection.h"
 
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -18,16 +19,21 @@ void ProjectionSettings::validate() const {
   if (theta_rows < 4 || theta_rows > 4096 || phi_columns < 4 || phi_columns > 8192)
     throw Error("projection grid must be between 4x4 and 4096x8192, got " + std::to_string(theta_rows) + "x" +
                 std::to_string(phi_columns));
+  if (ring_floor >= 0.0) RingLimit{ring_floor}.validate();
 }
 
 ZonalProjector::ZonalProjector(const ProjectionSettings& settings, MerlDims dims)
     : settings_(settings), dims_(dims), basis_((settings.validate(), settings.bands)) {
   tabulate_quadrature();
   tabulate_bins();
-  if (settings.lobes.empty()) return;
-  validate_lobes(settings.lobes);
-  lobe_fits_.resize(static_cast<std::size_t>(settings.theta_o_count));
-  parallel_for_each(0, lobe_fits_.size(), [&](std::size_t t) { lobe_fits_[t] = lobe_fit(t); });
+  if (!settings.lobes.empty()) {
+    validate_lobes(settings.lobes);
+    lobe_fits_.resize(static_cast<std::size_t>(settings.theta_o_count));
+    parallel_for_each(0, lobe_fits_.size(), [&](std::size_t t) { lobe_fits_[t] = lobe_fit(t); });
+  }
+  if (settings.ring_floor >= 0.0)
+    ring_limiter_ = std::make_shared<const RingLimiter>(
+        basis_, ZonalCoefficients{settings.bands, settings.theta_o_count, {}, settings.lobes}, RingLimit{settings.ring_floor});
 }
 
 void ZonalProjector::tabulate_quadrature() {
@@ -115,7 +121,7 @@ ZonalProjector::LobeFit ZonalProjector::lobe_fit(std::size_t t) const {
   // High-pass Gram matrix: <Kc_i, Kc_j> minus its bands 0..L; a small ridge (lobes far broader
   // than band L have almost no energy above it).
   gram -= f.spectra.transpose() * f.spectra;
-  f.fit = (gram + 1e-6 * gram.diagonal().maxCoeff() * Eigen::MatrixXd::Identity(M, M)).inverse();
+  f.gram = gram + 1e-6 * gram.diagonal().maxCoeff() * Eigen::MatrixXd::Identity(M, M);
   // Stored weight: c_i times Kc_i's mass, so that shading is c_i mass_i E_i(r) (the environment
   // taken as even over the lobe).
   f.mass.resize(M);
@@ -126,7 +132,7 @@ ZonalProjector::LobeFit ZonalProjector::lobe_fit(std::size_t t) const {
 void ZonalProjector::fit_lobes(std::size_t t, Eigen::VectorXd& a, const Eigen::VectorXd& b, double* c) const {
   MATLAS_DCHECK_LT(t, lobe_fits_.size());
   const LobeFit& f = lobe_fits_[t];
-  const Eigen::VectorXd weights = f.fit * (b - f.spectra.transpose() * a);
+  const Eigen::VectorXd weights = nonnegative_minimiser(f.gram, b - f.spectra.transpose() * a);
   a -= f.spectra * weights;
   for (Eigen::Index i = 0; i < weights.size(); ++i) c[i] = weights(i) * f.mass(i);
 }
@@ -176,6 +182,7 @@ ZonalCoefficients ZonalProjector::project(const BrdfTable& table) const {
       }
     }
   });
+  if (ring_limiter_) ring_limiter_->apply(out);
   return out;
 }
 
@@ -243,6 +250,7 @@ std::vector<ZonalCoefficients> ZonalProjector::project_many(const Gather& gather
       }
     }
   });
+  if (ring_limiter_) parallel_for_each(0, count, [&](std::size_t i) { ring_limiter_->apply(out[i]); });
   return out;
 }
 

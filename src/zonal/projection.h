@@ -10,6 +10,7 @@
 // (ZonalBasis::inverse). The bins read by every grid point are computed once per projector.
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
@@ -18,6 +19,7 @@
 #include "zonal/basis.h"
 #include "zonal/lobes.h"
 #include "zonal/coefficients.h"
+#include "zonal/ring_limit.h"
 
 namespace matlas::zonal {
 
@@ -28,6 +30,9 @@ struct ProjectionSettings {
   int phi_columns = 256;   ///< quadrature columns in phi_i over [0, pi)
   /// Sharp lobes fitted beside the expansion (zonal/lobes.h; empty: none, the plain projection).
   std::vector<double> lobes = {};
+  /// >= 0: after the projection every theta_o sample's bands are weighted by zonal::RingLimiter with
+  /// this floor (zonal/ring_limit.h; the viewer's kRealtimeRingFloor); < 0: the plain truncation.
+  double ring_floor = -1.0;
   /// Throws matlas::Error naming the setting out of range.
   void validate() const;
 };
@@ -56,15 +61,16 @@ private:
   std::vector<double> cos_theta_;    ///< per row
   Eigen::MatrixXd cosines_;          ///< [column][m]: cos(m phi) * column width * 2 (both halves)
   Eigen::MatrixXd legendre_;         ///< [row][lm]: sqrt(2)^(m>0) Pbar_l^m(cos theta) (cos theta0 - cos theta1)
-  /// Per theta_o sample, the lobe fit (zonal/lobes.h): c = fit (b - sum_lm a_lm spectra_lm), then
-  /// a_lm -= sum_i c_i spectra(lm, i); stored c_i mass_i.
+  /// Per theta_o sample, the lobe fit (zonal/lobes.h): c >= 0 minimising 1/2 c^T gram c - c^T (b -
+  /// sum_lm a_lm spectra_lm), then a_lm -= sum_i c_i spectra(lm, i); stored c_i mass_i.
   struct LobeFit {
     Eigen::MatrixXd weights;  ///< [row * cols + col][i]: Kc_i(w) times the cell's area (both phi halves)
     Eigen::MatrixXd spectra;  ///< [lm][i]: the SH coefficients of Kc_i
-    Eigen::MatrixXd fit;      ///< M x M: the inverse of the high-pass Gram matrix (ridge-regularised)
+    Eigen::MatrixXd gram;     ///< M x M: the high-pass Gram matrix (ridge-regularised)
     Eigen::VectorXd mass;     ///< integral of Kc_i over the sphere (lobe_cosine_mass)
   };
   std::vector<LobeFit> lobe_fits_;
+  std::shared_ptr<const RingLimiter> ring_limiter_;  ///< with settings.ring_floor >= 0
   /// The quadrature's tables: cos_theta_, cosines_ and legendre_.
   void tabulate_quadrature();
   /// bins_: the MERL bin of every quadrature direction at every theta_o sample.

@@ -86,6 +86,18 @@ TEST(ZonalCache, SecondRequestLoadsWhatTheFirstComputed) {
   const CachedCoefficients third = cached_model_coefficients(model, other, cache);
   EXPECT_FALSE(third.loaded);
   EXPECT_NE(third.note.find("stale"), std::string::npos) << third.note;
+  // Nor do the viewer's settings (lobes and a ring floor) with only the ring floor different: the
+  // cache holds the weighted coefficients, and it says which floor.
+  zonal::ProjectionSettings viewer = kSettings;
+  viewer.lobes = {64.0, 256.0};
+  viewer.ring_floor = 0.05;
+  EXPECT_FALSE(cached_model_coefficients(model, viewer, cache).loaded);
+  EXPECT_TRUE(cached_model_coefficients(model, viewer, cache).loaded);
+  zonal::ProjectionSettings floor = viewer;
+  floor.ring_floor = 0.1;
+  const CachedCoefficients other_floor = cached_model_coefficients(model, floor, cache);
+  EXPECT_FALSE(other_floor.loaded);
+  EXPECT_EQ(other_floor.set.settings.ring_floor, 0.1);
 }
 
 TEST(ZonalCache, RebuiltModelInvalidatesTheCache) {

@@ -4,8 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <cmath>
 #include <cstdio>
+
+#include <Eigen/Core>
 
 #include "brdf/analytic.h"
 #include "brdf/tabulate.h"
@@ -210,6 +213,48 @@ TEST(Lobes, ALobeShapedSliceIsCarriedByItsLobe) {
     EXPECT_GT(e0, 0.3);  // 9 bands cannot hold a 3.6-degree lobe
     EXPECT_LT(e1, 0.02);  // measured 0.002 .. 0.004
     EXPECT_NEAR(weight[0], 0.8, 0.03);
+  }
+}
+
+TEST(Lobes, NonnegativeMinimiserMeetsTheOptimalityConditions) {
+  // Random positive definite G and right-hand sides: c >= 0, the gradient G c - r is 0 where c > 0
+  // and >= 0 where c = 0 (KKT; the problem is strictly convex, so this is the minimiser).
+  std::srand(7);
+  int constrained = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const Eigen::Index M = 1 + trial % 8;
+    const Eigen::MatrixXd A = Eigen::MatrixXd::Random(M, M);
+    const Eigen::MatrixXd G = A * A.transpose() + 0.1 * Eigen::MatrixXd::Identity(M, M);
+    const Eigen::VectorXd r = Eigen::VectorXd::Random(M);
+    const Eigen::VectorXd c = nonnegative_minimiser(G, r);
+    const Eigen::VectorXd gradient = G * c - r;
+    for (Eigen::Index i = 0; i < M; ++i) {
+      ASSERT_GE(c(i), 0.0);
+      if (c(i) > 0) EXPECT_NEAR(gradient(i), 0.0, 1e-9) << "trial " << trial;
+      else EXPECT_GE(gradient(i), -1e-9) << "trial " << trial;
+    }
+    if (c.minCoeff() == 0.0) ++constrained;
+  }
+  EXPECT_GT(constrained, 50);  // the bounds were active in many trials
+}
+
+TEST(Lobes, WeightsAreNeverNegative) {
+  // A near-mirror conductor (alpha 0.02, sharper than the sharpest lobe) and a glossy plastic: an
+  // unconstrained fit gives such peaks lobes of negative weight (holes that only the finest bands
+  // cancel); the stored weights are >= 0 and the slice is still reproduced far better than by
+  // the expansion alone.
+  ProjectionSettings plain;
+  plain.bands = 8;
+  plain.theta_o_count = 8;
+  ProjectionSettings with = plain;
+  with.lobes = kDefaultLobes;
+  const ZonalProjector p0(plain), p1(with);
+  for (const BrdfTable& table : {tabulate(GgxConductor{Rgb(0.9, 0.9, 0.9), 0.02}),
+                                 tabulate(RoughPlastic{Rgb(0.5, 0.3, 0.2), 0.05, 1.5, 1.0})}) {
+    const ZonalCoefficients c = p1.project(table);
+    for (int t = 0; t < c.theta_o_count; ++t)
+      for (std::size_t i = 0; i < c.lobes.size(); ++i)
+        for (int ch = 0; ch < 3; ++ch) EXPECT_GE(c.at(t, c.zonal_size() + i)[ch], 0.0);
   }
 }
 

@@ -36,8 +36,19 @@ TEST(ZonalCommand, WritesTheCoefficientsOfAFolder) {
   const ZonalCoefficients expected = projector.project(b);
   for (std::size_t v = 0; v < expected.values.size(); ++v)
     EXPECT_NEAR(set.materials[1].values[v], expected.values[v], 1e-6 * (1 + std::abs(expected.values[v])));
+  // With the viewer's lobes and ring floor: the projector's coefficients with the same settings.
+  ASSERT_EQ(run_matlas("zonal " + (dir / "db").string() + " -o " + out.string() +
+                       " --bands 4 --theta-o 4 --lobes default --ring-floor 0.05"),
+            0);
+  const CoefficientSet viewer = read_coefficients(out);
+  EXPECT_EQ(viewer.settings.lobes, kDefaultLobes);
+  EXPECT_EQ(viewer.settings.ring_floor, 0.05);
+  const ZonalCoefficients limited = ZonalProjector(viewer.settings).project(b);
+  for (std::size_t v = 0; v < limited.values.size(); ++v)
+    EXPECT_NEAR(viewer.materials[1].values[v], limited.values[v], 1e-6 * (1 + std::abs(limited.values[v])));
   // A bad flag value is a usage error (2), a missing input a bad-input error (1).
   EXPECT_EQ(WEXITSTATUS(run_matlas("zonal " + (dir / "db").string() + " -o " + out.string() + " --bands 500")), 2);
+  EXPECT_EQ(WEXITSTATUS(run_matlas("zonal " + (dir / "db").string() + " -o " + out.string() + " --lobes 64,x")), 1);
   EXPECT_EQ(WEXITSTATUS(run_matlas("zonal " + (dir / "none").string() + " -o " + out.string())), 1);
 }
 

@@ -28,10 +28,11 @@ export type BandWindowName = "none" | "hann" | "lanczos" | "gauss" | "taper";
 
 /**
  * The viewer's windows (src/server/realtime.h: kRealtimeWindow, kRealtimeReducedWindow, which the
- * server's CPU reference uses): Hann whether every band is shown or fewer (the bands slider, the
- * reduced frames while moving).
+ * server's CPU reference uses): none with every band (the coefficients carry a window per view
+ * angle, src/zonal/ring_limit.h), Hann with fewer (the bands slider, the reduced frames while
+ * moving).
  */
-export const viewerWindow: BandWindowName = "hann";
+export const viewerWindow: BandWindowName = "none";
 export const viewerReducedWindow: BandWindowName = "hann";
 
 /**
