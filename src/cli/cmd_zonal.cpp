@@ -65,7 +65,7 @@ void run_zonal(ZonalArgs a, const Io& io) {
   } else {
     std::optional<MaterialSet> materials;
     run_collectively(comm, [&] {
-      materials.emplace(MaterialSet::open(paths, progress));
+      materials.emplace(MaterialSet::open(paths, progress, 1));  // each table is projected on its own
       std::vector<std::filesystem::path> files;  // the files of the folders given
       for (std::size_t i = 0; i < materials->size(); ++i) files.push_back(materials->file(i).path());
       refuse_output_among_inputs(a.output, files);
@@ -79,9 +79,9 @@ void run_zonal(ZonalArgs a, const Io& io) {
   if (!comm.is_root()) return;
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const std::size_t coefficients = static_cast<std::size_t>(a.settings.bands + 1) * static_cast<std::size_t>(a.settings.bands + 2) / 2;
-  print(io.out, "wrote %s: %zu materials, L = %d (%zu coefficients) x %d view angles, %s (storage error %.2e of the "
+  print(io.out, "wrote %s: %zu material%s, L = %d (%zu coefficients) x %d view angles, %s (storage error %.2e of the "
               "largest coefficient), %.2f s%s\n",
-              a.output.c_str(), set.materials.size(), a.settings.bands, coefficients, a.settings.theta_o_count,
+              a.output.c_str(), set.materials.size(), set.materials.size() == 1 ? "" : "s", a.settings.bands, coefficients, a.settings.theta_o_count,
               a.storage.c_str(), error, seconds,
               comm.size() > 1 ? (", " + std::to_string(comm.size()) + " MPI ranks").c_str() : "");
 }

@@ -15,7 +15,7 @@ std::size_t MaterialSet::resampled_count() const {
   return static_cast<std::size_t>(std::count(resampled_.begin(), resampled_.end(), true));
 }
 
-MaterialSet MaterialSet::open(const std::vector<fs::path>& inputs, ProgressSink& progress) {
+MaterialSet MaterialSet::open(const std::vector<fs::path>& inputs, ProgressSink& progress, std::size_t minimum) {
   MaterialSet set;
   std::vector<fs::path> files;
   for (const auto& input : inputs) {
@@ -66,9 +66,10 @@ MaterialSet MaterialSet::open(const std::vector<fs::path>& inputs, ProgressSink&
     set.resampled_.push_back(rgl);
     set.files_.push_back(std::move(file));
   }
-  if (set.files_.size() < 2)
-    throw Error("need at least 2 materials to build a manifold, found " +
-                std::to_string(set.files_.size()));
+  if (set.files_.size() < minimum)
+    throw Error(minimum == 2 ? "need at least 2 materials to build a manifold, found " + std::to_string(set.files_.size())
+                             : "need at least " + std::to_string(minimum) + " material" + (minimum == 1 ? "" : "s") +
+                                   ", found " + std::to_string(set.files_.size()));
   return set;
 }
 

@@ -16,10 +16,11 @@ namespace matlas {
 class MaterialSet {
 public:
   /// From folders and/or files. Throws matlas::Error naming the offending file for unreadable
-  /// files, anisotropic RGL files, mixed grids, duplicate names, or when fewer than 2 materials
-  /// are found. Resampling RGL files reports to `progress`.
+  /// files, anisotropic RGL files, mixed grids, duplicate names, or when fewer than `minimum`
+  /// materials are found (2 for a manifold; commands that treat each table on its own, such as
+  /// `matlas zonal`, take 1). Resampling RGL files reports to `progress`.
   static MaterialSet open(const std::vector<std::filesystem::path>& inputs,
-                          ProgressSink& progress = null_progress());
+                          ProgressSink& progress = null_progress(), std::size_t minimum = 2);
 
   std::size_t size() const { return files_.size(); }
   const MerlDims& dims() const { return dims_; }

@@ -49,6 +49,12 @@ TEST(ZonalCommand, WritesTheCoefficientsOfAFolder) {
   // A bad flag value is a usage error (2), a missing input a bad-input error (1).
   EXPECT_EQ(WEXITSTATUS(run_matlas("zonal " + (dir / "db").string() + " -o " + out.string() + " --bands 500")), 2);
   EXPECT_EQ(WEXITSTATUS(run_matlas("zonal " + (dir / "db").string() + " -o " + out.string() + " --lobes 64,x")), 1);
+  // One table is enough (no manifold is built): its coefficients as the projector's.
+  ASSERT_EQ(run_matlas("zonal " + (dir / "db/b-metal.binary").string() + " -o " + out.string() + " --bands 4 --theta-o 4"), 0);
+  const CoefficientSet one = read_coefficients(out);
+  ASSERT_EQ(one.names, std::vector<std::string>{"b-metal"});
+  for (std::size_t v = 0; v < expected.values.size(); ++v)
+    EXPECT_NEAR(one.materials[0].values[v], expected.values[v], 1e-6 * (1 + std::abs(expected.values[v])));
   EXPECT_EQ(WEXITSTATUS(run_matlas("zonal " + (dir / "none").string() + " -o " + out.string())), 1);
 }
 
