@@ -1,6 +1,5 @@
 #include "zonal/projection.h"
 
-
 #include <algorithm>
 #include <cmath>
 #include <string>
