@@ -1,6 +1,6 @@
 #pragma once
 // A window per theta_o sample, chosen from the coefficients themselves (docs/REALTIME.md,
-// "Windowing of the bands").
+// "Window per view angle").
 //
 // A fixed window over the bands (zonal/window.h) trades accuracy for the absence of rings
 // everywhere: Hann removes the rim's rings of a glossy material under small lights, but also
