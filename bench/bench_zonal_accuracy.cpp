@@ -7,7 +7,8 @@
 //                        [--lobes none|64,256,...] [--ref-cache DIR] [--dump DIR]
 //                        FILE.binary... > results.csv
 //   bench_zonal_accuracy --sheet OUT.png [--env studio] [--sheet-size 128] [--sheet-spp 1024]
-//                        [--bands 16] [--lobes ...] [--window ...] [--exposure 0] FILE.binary...
+//                        [--bands 16] [--lobes ...] [--window ...] [--texels 8] [--exposure 0]
+//                        FILE.binary...
 //
 // --sheet: a comparison picture instead of the study: one row per material, columns the path
 // tracer (render_bank, one seed), then the shading with --lobes and each of --window's entries;
@@ -154,7 +155,7 @@ zonal::ZonalCoefficients shaded_coefficients(const zonal::ZonalBasis& basis, con
 /// The before/after sheet (see the top of the file).
 void write_sheet(const std::string& out, const std::string& env_name, const std::vector<std::string>& files, int L,
                  int theta_o, int size, int spp, double exposure, const std::vector<WindowChoice>& choices,
-                 const std::vector<double>& lobes) {
+                 const std::vector<double>& lobes, double texels) {
   render::SceneDescription desc;
   desc.environment = env_name;
   const render::Scene scene(desc);
@@ -184,6 +185,7 @@ void write_sheet(const std::string& out, const std::string& env_name, const std:
   zonal::PrefilterSettings fs;
   fs.bands = L;
   fs.lobes = ps.lobes;
+  fs.texels_per_band = texels;
   const zonal::PrefilteredEnvironment env(scene.environment(), fs);
   for (std::size_t i = 0; i < tables.size(); ++i) {
     place(refs[i], static_cast<int>(i), 0);
@@ -246,7 +248,8 @@ int run(int argc, char** argv) {
   if (!sheet.empty()) {
     std::vector<WindowChoice> choices;
     for (const std::string& w : split(windows)) choices.push_back(parse_window_choice(w));
-    write_sheet(sheet, env_names, files, bands.front(), theta_o, sheet_size, sheet_spp, exposure, choices, lobes);
+    write_sheet(sheet, env_names, files, bands.front(), theta_o, sheet_size, sheet_spp, exposure, choices, lobes,
+                texels);
     return 0;
   }
   std::vector<std::string> envs = split(env_names);
