@@ -4,7 +4,6 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -13,7 +12,6 @@
 #include "cli/print.h"
 #include "cli/world.h"
 #include "core/error.h"
-
 #include "core/file_io.h"
 #include "core/parallel.h"
 #include "manifold/material_set.h"
@@ -26,7 +24,8 @@ namespace {
 
 struct ZonalArgs {
   std::vector<std::string> inputs;
-  std::string output, storage = "f32", lobes = "none";
+  std::string output, storage = "f32";
+  std::vector<std::string> lobes = {"none"};  ///< none, default, or sharpnesses (checked by CLI11)
   zonal::ProjectionSettings settings{32, 32, 128, 256};
 };
 
@@ -35,18 +34,11 @@ bool is_model(const std::vector<std::string>& inputs) {
 }
 
 void run_zonal(ZonalArgs a, const Io& io) {
-  if (a.lobes == "default") a.settings.lobes = zonal::kDefaultLobes;
-  else if (a.lobes != "none") {
-    a.settings.lobes.clear();
-    std::stringstream list(a.lobes);
-    for (std::string item; std::getline(list, item, ',');) {
-      try {
-        std::size_t used = 0;
-        a.settings.lobes.push_back(std::stod(item, &used));
-        if (used != item.size()) throw std::invalid_argument(item);
-      } catch (const std::exception&) {
-        throw Error("--lobes: '" + item + "' is not a number (give none, default or sharpnesses such as 64,256)");
-      }
+  if (a.lobes == std::vector<std::string>{"default"}) a.settings.lobes = zonal::kDefaultLobes;
+  else if (a.lobes != std::vector<std::string>{"none"}) {
+    for (const std::string& item : a.lobes) {
+      if (item == "none" || item == "default") throw Error("--lobes: 'none' and 'default' stand alone, not in a list");
+      a.settings.lobes.push_back(std::stod(item));  // a number: CLI::Number checked it
     }
     zonal::validate_lobes(a.settings.lobes);
   }
@@ -81,7 +73,8 @@ void run_zonal(ZonalArgs a, const Io& io) {
   const std::size_t coefficients = static_cast<std::size_t>(a.settings.bands + 1) * static_cast<std::size_t>(a.settings.bands + 2) / 2;
   print(io.out, "wrote %s: %zu material%s, L = %d (%zu coefficients) x %d view angles, %s (storage error %.2e of the "
               "largest coefficient), %.2f s%s\n",
-              a.output.c_str(), set.materials.size(), set.materials.size() == 1 ? "" : "s", a.settings.bands, coefficients, a.settings.theta_o_count,
+              a.output.c_str(), set.materials.size(), set.materials.size() == 1 ? "" : "s", a.settings.bands,
+              coefficients, a.settings.theta_o_count,
               a.storage.c_str(), error, seconds,
               comm.size() > 1 ? (", " + std::to_string(comm.size()) + " MPI ranks").c_str() : "");
 }
@@ -97,6 +90,8 @@ void add_zonal_command(CLI::App& app, const Io& io) {
   cmd->add_option("--lobes", a->lobes,
                   "Sharp lobes fitted beside the expansion: none, default (64,256,1024,4096, as the viewer) or a "
                   "comma-separated list of sharpnesses")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"none", "default"}) | CLI::Number)
       ->capture_default_str();
   cmd->add_option("--ring-floor", a->settings.ring_floor,
                   "Weight each view angle's bands so that the slice rings no lower than this times its median "

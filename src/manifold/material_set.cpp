@@ -67,9 +67,9 @@ MaterialSet MaterialSet::open(const std::vector<fs::path>& inputs, ProgressSink&
     set.files_.push_back(std::move(file));
   }
   if (set.files_.size() < minimum)
-    throw Error(minimum == 2 ? "need at least 2 materials to build a manifold, found " + std::to_string(set.files_.size())
-                             : "need at least " + std::to_string(minimum) + " material" + (minimum == 1 ? "" : "s") +
-                                   ", found " + std::to_string(set.files_.size()));
+    throw Error("need at least " + std::to_string(minimum) +
+                (minimum == 1 ? " material" : " materials to build a manifold") + ", found " +
+                std::to_string(set.files_.size()));
   return set;
 }
 

@@ -48,7 +48,9 @@ TEST(ZonalCommand, WritesTheCoefficientsOfAFolder) {
     EXPECT_NEAR(viewer.materials[1].values[v], limited.values[v], 1e-6 * (1 + std::abs(limited.values[v])));
   // A bad flag value is a usage error (2), a missing input a bad-input error (1).
   EXPECT_EQ(WEXITSTATUS(run_matlas("zonal " + (dir / "db").string() + " -o " + out.string() + " --bands 500")), 2);
-  EXPECT_EQ(WEXITSTATUS(run_matlas("zonal " + (dir / "db").string() + " -o " + out.string() + " --lobes 64,x")), 1);
+  EXPECT_EQ(WEXITSTATUS(run_matlas("zonal " + (dir / "db").string() + " -o " + out.string() + " --lobes 64,x")), 2);
+  EXPECT_EQ(WEXITSTATUS(run_matlas("zonal " + (dir / "db").string() + " -o " + out.string() + " --lobes 256,64")), 1);
+  EXPECT_EQ(WEXITSTATUS(run_matlas("zonal " + (dir / "db").string() + " -o " + out.string() + " --lobes none,64")), 1);
   // One table is enough (no manifold is built): its coefficients as the projector's.
   ASSERT_EQ(run_matlas("zonal " + (dir / "db/b-metal.binary").string() + " -o " + out.string() + " --bands 4 --theta-o 4"), 0);
   const CoefficientSet one = read_coefficients(out);
