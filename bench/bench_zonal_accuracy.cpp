@@ -18,7 +18,7 @@
 // zonal::kDefaultLobes). --env all: every installed environment. --window: the windows to shade
 // with, one row per entry: a band window (zonal/window.h), or ring:F, the coefficients weighted
 // per theta_o sample by zonal::RingLimiter with floor F (zonal/ring_limit.h) and shaded without
-// a window (the viewer's default, ring:0.1). --ref-cache: the reference renders are read from (or
+// a window (the viewer: ring:0.05). Each material's t per view angle is printed on stderr. --ref-cache: the reference renders are read from (or
 // written to) DIR as raw float32 files named by environment, size, spp, seed and material, so
 // that a second study of the same scene only shades.
 //
@@ -139,20 +139,27 @@ WindowChoice parse_window_choice(const std::string& w) {
   return {zonal::parse_band_window(w), -1.0, w};
 }
 
-/// The coefficients as shaded with `choice` (a copy, ring-limited if the choice says so).
-zonal::ZonalCoefficients shaded_coefficients(const zonal::ZonalBasis& basis, const zonal::ZonalCoefficients& c,
-                                             const WindowChoice& choice, std::vector<double>* ts = nullptr) {
-  zonal::ZonalCoefficients out = c;
-  if (choice.ring_floor >= 0.0) {
-    zonal::RingLimit limit;
-    limit.floor = choice.ring_floor;
-    const std::vector<double> t = zonal::RingLimiter(basis, out, limit).apply(out);
-    if (ts) *ts = t;
+/// Every material's coefficients as shaded with `choice`: as projected, or ring-limited by one
+/// limiter for all of them (each material's t per view angle on stderr, under `names`).
+std::vector<zonal::ZonalCoefficients> shaded_coefficients(const zonal::ZonalBasis& basis,
+                                                          const std::vector<zonal::ZonalCoefficients>& projected,
+                                                          const std::vector<std::string>& names,
+                                                          const WindowChoice& choice) {
+  std::vector<zonal::ZonalCoefficients> out = projected;
+  if (choice.ring_floor < 0.0 || out.empty()) return out;
+  zonal::RingLimit limit;
+  limit.floor = choice.ring_floor;
+  const zonal::RingLimiter limiter(basis, out.front(), limit);
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const std::vector<double> ts = limiter.apply(out[i]);
+    std::fprintf(stderr, "%s L=%d %s t:", names[i].c_str(), out[i].bands, choice.name.c_str());
+    for (double v : ts) std::fprintf(stderr, " %.2f", v);
+    std::fprintf(stderr, "\n");
   }
   return out;
 }
 
-/// The before/after sheet (see the top of the file).
+/// The comparison sheet (see the top of the file).
 void write_sheet(const std::string& out, const std::string& env_name, const std::vector<std::string>& files, int L,
                  int theta_o, int size, int spp, double exposure, const std::vector<WindowChoice>& choices,
                  const std::vector<double>& lobes, double texels) {
@@ -187,14 +194,18 @@ void write_sheet(const std::string& out, const std::string& env_name, const std:
   fs.lobes = ps.lobes;
   fs.texels_per_band = texels;
   const zonal::PrefilteredEnvironment env(scene.environment(), fs);
+  std::vector<zonal::ZonalCoefficients> projected;
+  std::vector<std::string> names;
   for (std::size_t i = 0; i < tables.size(); ++i) {
     place(refs[i], static_cast<int>(i), 0);
-    const zonal::ZonalCoefficients c = projector.project(tables[i]);
-    for (std::size_t v = 0; v < choices.size(); ++v) {
-      ss.window = choices[v].window;
-      place(zonal::shade_image(scene, projector.basis(), shaded_coefficients(projector.basis(), c, choices[v]), env, ss),
-            static_cast<int>(i), 1 + static_cast<int>(v));
-    }
+    projected.push_back(projector.project(tables[i]));
+    names.push_back(files[i]);
+  }
+  for (std::size_t v = 0; v < choices.size(); ++v) {
+    ss.window = choices[v].window;
+    const std::vector<zonal::ZonalCoefficients> shaded = shaded_coefficients(projector.basis(), projected, names, choices[v]);
+    for (std::size_t i = 0; i < tables.size(); ++i)
+      place(zonal::shade_image(scene, projector.basis(), shaded[i], env, ss), static_cast<int>(i), 1 + static_cast<int>(v));
   }
   ToneMap tone;
   tone.exposure = exposure;
@@ -279,6 +290,11 @@ int run(int argc, char** argv) {
     for (const BrdfTable& table : all_tables) coefficients.back().push_back(projectors.back()->project(table));
     std::fprintf(stderr, "L=%d projector and %zu projections %.2f s\n", L, files.size(), seconds_since(t));
   }
+  // Per L and window, the coefficients as shaded (ring limits applied once, not per environment).
+  std::vector<std::vector<std::vector<zonal::ZonalCoefficients>>> shaded(bands.size());  // [L][window][material]
+  for (std::size_t b = 0; b < bands.size(); ++b)
+    for (const WindowChoice& choice : window_list)
+      shaded[b].push_back(shaded_coefficients(projectors[b]->basis(), coefficients[b], names, choice));
   if (!ref_cache.empty()) std::filesystem::create_directories(ref_cache);
   std::printf("environment,material,gloss,L,lobes,window,l1,rms,noise\n");
   for (const std::string& env_name : envs) {
@@ -329,20 +345,14 @@ int run(int argc, char** argv) {
     }
     for (std::size_t i = 0; i < files.size(); ++i) {
       for (std::size_t b = 0; b < bands.size(); ++b)
-        for (const WindowChoice& choice : window_list) {
+        for (std::size_t c = 0; c < window_list.size(); ++c) {
+          const WindowChoice& choice = window_list[c];
           auto t = std::chrono::steady_clock::now();
           zonal::ShadeSettings ss;
           ss.width = ss.height = size;
           ss.subsamples = subsamples;
           ss.window = choice.window;
-          std::vector<double> ts;
-          const zonal::ZonalCoefficients shaded = shaded_coefficients(projectors[b]->basis(), coefficients[b][i], choice, &ts);
-          if (!ts.empty() && envs.front() == env_name) {
-            std::fprintf(stderr, "%s L=%d %s t:", names[i].c_str(), bands[b], choice.name.c_str());
-            for (double v : ts) std::fprintf(stderr, " %.2f", v);
-            std::fprintf(stderr, "\n");
-          }
-          const Image img = zonal::shade_image(scene, projectors[b]->basis(), shaded, *filtered[b], ss);
+          const Image img = zonal::shade_image(scene, projectors[b]->basis(), shaded[b][c][i], *filtered[b], ss);
           const zonal::ImageErrors e = zonal::compare_to_reference(img, refs[i], refs2[i], coverage);
           const char* wname = choice.name.c_str();
           if (!dump.empty()) {
