@@ -34,7 +34,7 @@ inline constexpr int kRealtimeThetaO = 32;
 /// sample chosen from themselves (zonal/ring_limit.h, floor kRealtimeRingFloor): the plain
 /// truncation where it does not ring, towards Hann where it would (the rim of glossy materials
 /// under small bright lights). docs/REALTIME.md "Accuracy of the viewer" measures it against
-/// Hann everywhere (the former default) and no window. With fewer bands (the bands slider, the
+/// Hann over every band and no window. With fewer bands (the bands slider, the
 /// reduced frames while moving): Hann. The page holds the same two names
 /// (web/src/realtime-shader.ts: viewerWindow, viewerReducedWindow).
 inline constexpr zonal::BandWindow kRealtimeWindow = zonal::BandWindow::none;
