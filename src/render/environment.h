@@ -37,6 +37,10 @@ public:
   double rotation() const { return rotation_; }
   int width() const { return map_.width; }
   int height() const { return map_.height; }
+  /// Whether the radiance is one constant (no map).
+  bool is_constant() const { return constant_; }
+  /// The map as lit (intensity applied, negatives clamped; empty for a constant environment).
+  const Image& map() const { return map_; }
   /// The world direction of map coordinates (u, v) in [0, 1]^2 (the file's header convention).
   Vec3 from_uv(double u, double v) const;
 

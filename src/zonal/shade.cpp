@@ -65,7 +65,7 @@ Rgb shade_point(const ZonalBasis& basis, const ZonalCoefficients& c, const Prefi
 }
 
 Image shade_image(const render::Scene& scene, const ZonalBasis& basis, const ZonalCoefficients& c,
-                  const PrefilteredEnvironment& env, const ShadeSettings& settings) {
+                  const PrefilteredEnvironment& env, const ShadeSettings& settings, const DirectLights* lights) {
   check_layout(basis, c, env);
   const render::SceneDescription& desc = scene.description();
   if (desc.ground || !desc.lights.empty())
@@ -92,6 +92,7 @@ Image shade_image(const render::Scene& scene, const ZonalBasis& basis, const Zon
             continue;
           }
           sum += shade_with(basis, c, env, hit->normal, -d, &window, lambda);
+          if (lights) sum += shade_lights(*lights->points, *lights->material, hit->normal, -d);
         }
       sum /= static_cast<double>(s * s);
       float* out = image.pixel(x, y);

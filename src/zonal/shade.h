@@ -12,6 +12,7 @@
 #include "render/scene.h"
 #include "zonal/basis.h"
 #include "zonal/coefficients.h"
+#include "zonal/light_split.h"
 #include "zonal/prefilter.h"
 #include "zonal/window.h"
 
@@ -40,7 +41,14 @@ struct ShadeSettings {
 /// the scene's camera (same rays as render::render); pixels missing the object show the
 /// environment (Environment::eval_smooth) or black, as the renderer does. Throws matlas::Error
 /// for scenes with a ground plane or directional lights, which this shading does not model.
+/// With `lights` (zonal/light_split.h: `env` prefiltered from the split's residual), each point
+/// adds the split's light points shaded with `lights->material`.
+struct DirectLights {
+  const std::vector<LightPoint>* points = nullptr;
+  const render::Material* material = nullptr;
+};
 Image shade_image(const render::Scene& scene, const ZonalBasis& basis, const ZonalCoefficients& c,
-                  const PrefilteredEnvironment& env, const ShadeSettings& settings);
+                  const PrefilteredEnvironment& env, const ShadeSettings& settings,
+                  const DirectLights* lights = nullptr);
 
 }  // namespace matlas::zonal
