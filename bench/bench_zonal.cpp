@@ -1,17 +1,24 @@
 // Rotated-ZH speed (docs/REALTIME.md): projection of one MERL-grid table to coefficients (L = 32,
 // 32 view angles, the `matlas zonal` default; the viewer's, with its lobes and window per view
 // angle), the per-band prefiltering of one environment, and
-// the CPU reference's cost per shaded point. The table is a tabulated rough plastic (the same
+// the CPU reference's cost per shaded point, and the direct lights' light tables of a model (built
+// once per model, then one per map point: MATLAS_BENCH_MODEL names a model file; skipped without).
+// The table is a tabulated rough plastic (the same
 // lookups as a measured BRDF); the environment is the installed studio map when present.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
 
+#include <cstdlib>
+#include <memory>
+
+#include "atlas/model_light_tables.h"
 #include "brdf/analytic.h"
 #include "brdf/tabulate.h"
 #include "core/error.h"
 #include "render/assets.h"
 #include "zonal/projection.h"
+#include "manifold/model.h"
 #include "zonal/shade.h"
 
 namespace {
@@ -87,5 +94,33 @@ void BM_ShadePoint(benchmark::State& state) {
 BENCHMARK(BM_ShadePoint)->Arg(16)->Arg(32)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
+
+/// The model of MATLAS_BENCH_MODEL, or null.
+const Model* bench_model() {
+  static const std::unique_ptr<Model> model = [] {
+    const char* path = std::getenv("MATLAS_BENCH_MODEL");
+    return path ? std::make_unique<Model>(Model::open(path)) : nullptr;
+  }();
+  return model.get();
+}
+
+// Arg 0: building the light tables of every material and the mean (once per model); 1: the light
+// table of a map point with every weight non-zero (each request of POST /api/realtime/lights).
+void BM_ModelLightTables(benchmark::State& state) {
+  const Model* model = bench_model();
+  if (!model) {
+    state.SkipWithError("MATLAS_BENCH_MODEL is not set");
+    return;
+  }
+  if (state.range(0) == 0) {
+    for (auto _ : state) benchmark::DoNotOptimize(atlas::ModelLightTables(*model).count());
+    return;
+  }
+  const atlas::ModelLightTables tables(*model);
+  const Eigen::VectorXd w = Eigen::VectorXd::Constant(model->count(), 1.0 / model->count());
+  for (auto _ : state) benchmark::DoNotOptimize(tables.at(w).values().data());
+  state.counters["MB"] = static_cast<double>(tables.dims().bins()) * 3 * 2 * (model->count() + 1) / 1e6;
+}
+BENCHMARK(BM_ModelLightTables)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK_MAIN();
