@@ -21,6 +21,7 @@ try {
   await page.waitForFunction((name) => {
     const v = window.matlasViewer, m = window.matlas;
     return v && m && v.env === name && v.shownX && JSON.stringify(v.shownX) === JSON.stringify(m.x) &&
+      JSON.stringify(v.lightsX) === JSON.stringify(m.x) &&
       v.gl.frameTimes.length > 0;
   }, env, { timeout: 600_000 });
   await page.evaluate(() => window.matlasViewer.gl.draw());

@@ -407,6 +407,14 @@ Reply Api::realtime_environment(const std::string& name) {
 
 Reply Api::realtime_mesh(const std::string& name) { return Reply::bytes(realtime_->mesh(name), "application/octet-stream"); }
 
+Reply Api::realtime_lights(const std::string& body) {
+  const auto j = parse_json_object(body);
+  const Eigen::VectorXd x = parse_latent(j, "x", domain_);
+  Reply r = Reply::bytes(realtime_->light_table(weights_at(x)), "application/octet-stream");
+  r.headers.emplace_back("Cache-Control", "no-store");
+  return r;
+}
+
 Reply Api::realtime_reference(const std::string& body) { return reference_reply(body, false); }
 
 Reply Api::realtime_reference_radiance(const std::string& body) { return reference_reply(body, true); }

@@ -96,6 +96,8 @@ public:
   Reply realtime_environment(const std::string& name);
   /// GET /api/realtime/mesh/NAME: an installed mesh, decoded and placed as the renderer does
   Reply realtime_mesh(const std::string& name);
+  /// POST /api/realtime/lights {"x"} -> float16 light table of the point (the direct lights')
+  Reply realtime_lights(const std::string& body);
   /// POST /api/realtime/reference {"x", "env", "rotation", "exposure", "size"} -> RGBA PNG
   Reply realtime_reference(const std::string& body);
   /// POST /api/realtime/reference/radiance (same body) -> float32 RGBA before tone mapping

@@ -294,6 +294,7 @@ struct AtlasServer::Impl {
     post("/api/export", &Api::export_file);
     post("/api/fit", &Api::fit);
     post("/api/fit/file", &Api::fit_file);
+    post("/api/realtime/lights", &Api::realtime_lights);
     post("/api/realtime/reference", &Api::realtime_reference);
     post("/api/realtime/reference/radiance", &Api::realtime_reference_radiance);
     http.Get("/api/realtime", [this](const httplib::Request&, httplib::Response& res) {

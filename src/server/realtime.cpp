@@ -7,6 +7,7 @@
 
 #include "atlas/zonal_cache.h"
 #include "core/combination.h"
+#include "formats/half_float.h"
 #include "formats/mesh_io.h"
 #include "manifold/model.h"
 #include "render/assets.h"
@@ -84,6 +85,11 @@ nlohmann::json Realtime::info() {
           {"seconds", seconds_},
           {"cache", cache_},
           {"cache_note", cache_note_},
+          {"light_table",
+           {{"theta_h", zonal::LightTable::reduced_dims(model_.dims()).theta_h},
+            {"theta_d", zonal::LightTable::reduced_dims(model_.dims()).theta_d},
+            {"phi_d", zonal::LightTable::reduced_dims(model_.dims()).phi_d},
+            {"layout", "float16 [theta_h][theta_d][phi_d][3] (POST /api/realtime/lights)"}}},
           {"environments", envs_},
           {"objects", objects_},
           {"camera",
@@ -106,10 +112,17 @@ const Realtime::Prefiltered& Realtime::prefiltered(const std::string& name) {
     Prefiltered p;
     const auto start = std::chrono::steady_clock::now();
     const render::Environment raw = load_environment(name, 0.0);
-    p.maps = std::make_shared<const zonal::PrefilteredEnvironment>(raw, prefilter_settings());
+    zonal::LightSplit split = zonal::split_lights(raw, kRealtimeLights);
+    p.maps = std::make_shared<const zonal::PrefilteredEnvironment>(split.residual, prefilter_settings());
     const zonal::EnvironmentAtlas atlas = zonal::pack_environment(*p.maps);
     const zonal::EnvironmentAtlas detail = zonal::pack_detail(*p.maps, raw, zonal::kDetailSide);
-    p.atlas = std::make_shared<const std::string>(float_bytes(atlas.values) + float_bytes(detail.values));
+    std::vector<float> lights;
+    for (const zonal::LightPoint& l : split.points)
+      for (double v : {l.direction.x(), l.direction.y(), l.direction.z(), l.power[0], l.power[1], l.power[2]})
+        lights.push_back(static_cast<float>(v));
+    p.lights = std::move(split.points);
+    p.atlas = std::make_shared<const std::string>(float_bytes(atlas.values) + float_bytes(detail.values) +
+                                                  float_bytes(lights));
     p.shape = {{"name", name},
                {"bands", atlas.bands},
                {"width", atlas.width},
@@ -120,6 +133,11 @@ const Realtime::Prefiltered& Realtime::prefiltered(const std::string& name) {
                  {"layers", detail.bands + 1},
                  {"width", detail.width},
                  {"height", detail.height}}},
+               {"lights",
+                {{"offset", atlas.values.size() + detail.values.size()},
+                 {"count", p.lights.size()},
+                 {"texels", split.texels},
+                 {"fraction", split.light_fraction}}},
                {"seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()}};
     it = envs_cache_.emplace(name, std::move(p)).first;
   }
@@ -150,6 +168,24 @@ std::string Realtime::mesh(const std::string& name) const {
   return out;
 }
 
+const atlas::ModelLightTables& Realtime::light_tables() {
+  std::lock_guard lock(lights_mutex_);
+  if (!light_tables_) light_tables_ = std::make_unique<atlas::ModelLightTables>(model_);
+  return *light_tables_;
+}
+
+std::string Realtime::light_table(const Eigen::VectorXd& w) {
+  const zonal::LightTable t = light_tables().at(w);
+  std::string out(t.values().size() * 2, '\0');
+  auto* p = reinterpret_cast<unsigned char*>(out.data());
+  for (float v : t.values()) {
+    const std::uint16_t h = float_to_half(v);
+    *p++ = static_cast<unsigned char>(h & 0xff);
+    *p++ = static_cast<unsigned char>(h >> 8);
+  }
+  return out;
+}
+
 Realtime::Reference Realtime::reference(const Eigen::VectorXd& w, const std::string& env, double rotation, int size) {
   const zonal::CoefficientSet& s = set();
   // m(w) = c_0 mean + sum w_i z_i (core/combination.h), and the coefficients are linear in the table.
@@ -160,9 +196,17 @@ Realtime::Reference Realtime::reference(const Eigen::VectorXd& w, const std::str
   const zonal::ZonalCoefficients c = zonal::combine(parts, weights);
   // The prefiltered maps of the unrotated environment, as the page has them; a rotation is
   // prefiltered anew (the page rotates its lookups instead, which is the same integral).
-  std::shared_ptr<const zonal::PrefilteredEnvironment> maps = prefiltered(env).maps;
-  if (rotation != 0.0)
-    maps = std::make_shared<const zonal::PrefilteredEnvironment>(load_environment(env, rotation), prefilter_settings());
+  const Prefiltered& unrotated = prefiltered(env);
+  std::shared_ptr<const zonal::PrefilteredEnvironment> maps = unrotated.maps;
+  std::vector<zonal::LightPoint> lights = unrotated.lights;
+  if (rotation != 0.0) {
+    zonal::LightSplit split = zonal::split_lights(load_environment(env, rotation), kRealtimeLights);
+    maps = std::make_shared<const zonal::PrefilteredEnvironment>(split.residual, prefilter_settings());
+    lights = std::move(split.points);
+  }
+  const zonal::LightTable table = light_tables().at(w);
+  const zonal::LightTableMaterial material(table);
+  const zonal::DirectLights direct{&lights, &material};
   render::SceneDescription description;
   description.environment = "constant";
   description.show_environment = false;
@@ -171,7 +215,7 @@ Realtime::Reference Realtime::reference(const Eigen::VectorXd& w, const std::str
   zonal::ShadeSettings shade{size, size, 2};
   shade.window = kRealtimeWindow;
   shade.reduced_window = kRealtimeReducedWindow;
-  Reference out{zonal::shade_image(scene, basis, c, *maps, shade), {}};
+  Reference out{zonal::shade_image(scene, basis, c, *maps, shade, &direct), {}};
   render::RenderSettings rs;
   rs.width = rs.height = size;
   out.coverage = render::object_coverage(scene, rs);

@@ -16,7 +16,9 @@
 #include <nlohmann/json.hpp>
 
 #include "formats/image_io.h"
+#include "atlas/model_light_tables.h"
 #include "zonal/coefficient_file.h"
+#include "zonal/light_split.h"
 #include "zonal/prefilter.h"
 #include "zonal/window.h"
 
@@ -40,6 +42,10 @@ inline constexpr int kRealtimeThetaO = 32;
 inline constexpr zonal::BandWindow kRealtimeWindow = zonal::BandWindow::none;
 inline constexpr zonal::BandWindow kRealtimeReducedWindow = zonal::BandWindow::hann;
 inline constexpr double kRealtimeRingFloor = 0.05;
+/// The direct lights (zonal/light_split.h): an environment's 512 brightest texels (at least 8 times
+/// its mean luminance), one point each, shaded with the map point's light table
+/// (zonal/light_table.h); the band and lobe maps hold the rest. docs/REALTIME.md "Direct lights".
+inline constexpr zonal::LightSplitSettings kRealtimeLights{512, 8.0, 1};
 
 class Realtime {
 public:
@@ -51,13 +57,18 @@ public:
   nlohmann::json info();
   /// float32 little-endian: the mean's [T, K, 3], then each material's (zonal/shader_layout.h).
   const std::string& coefficients();
-  /// {"bands", "width", "height", "detail"} and the float32 [L + 1, H, W, 3] atlas of `name`,
-  /// followed by the detail atlas (zonal::pack_detail: the lobe maps and the background)
-  /// at detail.offset floats, [detail.layers, detail.height, detail.width, 3].
+  /// {"bands", "width", "height", "detail", "lights"} and the float32 [L + 1, H, W, 3] atlas of
+  /// `name` (the band maps of the environment without its lights), followed by the detail atlas
+  /// (zonal::pack_detail: the lobe maps, then the whole environment as the background) at
+  /// detail.offset floats, [detail.layers, detail.height, detail.width, 3], then the lights at
+  /// lights.offset floats, [lights.count][6]: unit direction (unrotated map), radiance x solid angle.
   std::pair<nlohmann::json, std::shared_ptr<const std::string>> environment(const std::string& name);
   /// An offered mesh ("bunny", "suzi") as the renderer places it (render::place_object):
   /// uint32 vertex and triangle counts, float32 positions [v][3], normals [v][3], uint32 [t][3].
   std::string mesh(const std::string& name) const;
+  /// The light table of the point with weights w (atlas::ModelLightTables, built on first use):
+  /// float16 little-endian [theta_h][theta_d][phi_d][3] on light_table_dims().
+  std::string light_table(const Eigen::VectorXd& w);
   /// RGBA PNG: the sphere of the reference camera with weights w under `env` (rotated by
   /// `rotation` degrees about +y), shaded by zonal::shade_image, tone mapped (clamp, exposure in
   /// stops, sRGB); alpha 255 where the sphere covers the whole pixel, 0 elsewhere.
@@ -78,13 +89,16 @@ private:
     std::shared_ptr<const zonal::PrefilteredEnvironment> maps;
     std::shared_ptr<const std::string> atlas;
     nlohmann::json shape;
+    std::vector<zonal::LightPoint> lights;  ///< the unrotated map's
   };
   const zonal::CoefficientSet& set();
+  const atlas::ModelLightTables& light_tables();
   const Prefiltered& prefiltered(const std::string& name);
 
   const Model& model_;
   std::vector<std::string> envs_, objects_;
-  std::mutex coefficients_mutex_, env_mutex_;
+  std::mutex coefficients_mutex_, env_mutex_, lights_mutex_;
+  std::unique_ptr<atlas::ModelLightTables> light_tables_;
   std::unique_ptr<zonal::CoefficientSet> set_;
   std::string packed_;
   double seconds_ = 0;

@@ -17,7 +17,9 @@
 #include "gp/kernel.h"
 #include "manifold/build.h"
 #include "manifold/material_set.h"
+#include "formats/half_float.h"
 #include "manifold/model.h"
+#include "zonal/light_table.h"
 #include "render/render.h"
 #include "render/scene.h"
 #include "server/atlas_server.h"
@@ -270,6 +272,29 @@ TEST_F(ApiServerTest, WeightsAtAMaterialPointSelectThatMaterial) {
   double hi = 0;
   for (const Rgb& a : model_->albedo_curve(model_->material_weights(2))) hi = std::max(hi, a.maxCoeff());
   EXPECT_NEAR(p["max_albedo"].get<double>(), hi, 1e-12);
+}
+
+TEST_F(ApiServerTest, RealtimeLightTableIsTheLightTableOfThePointsTable) {
+  auto r = post("/api/realtime/lights", {{"x", point(2)}});
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200) << r->body;
+  const zonal::LightTable expected = zonal::LightTable::reduce(model_->table(model_->material_weights(2)));
+  ASSERT_EQ(r->body.size(), 2 * expected.values().size());
+  double largest = 0, worst = 0;
+  for (std::size_t v = 0; v < expected.values().size(); ++v) {
+    const auto lo = static_cast<unsigned char>(r->body[2 * v]), hi = static_cast<unsigned char>(r->body[2 * v + 1]);
+    const float got = half_to_float(static_cast<std::uint16_t>(lo | (hi << 8)));
+    largest = std::max(largest, static_cast<double>(std::abs(expected.values()[v])));
+    worst = std::max(worst, static_cast<double>(std::abs(got - expected.values()[v])));
+  }
+  EXPECT_GT(largest, 0.0);
+  EXPECT_LT(worst, 2e-3 * largest);  // float16 storage and answer
+  // /api/realtime names the grid; a point of the wrong dimension is refused.
+  const json info = json::parse(client().Get("/api/realtime")->body);
+  EXPECT_EQ(info["light_table"]["theta_h"].get<int>() * info["light_table"]["theta_d"].get<int>() *
+                info["light_table"]["phi_d"].get<int>() * 3,
+            static_cast<int>(expected.values().size()));
+  expect_error(post("/api/realtime/lights", {{"x", {0.1, 0.2, 0.3}}}), 400);
 }
 
 TEST_F(ApiServerTest, InterpolationDataRebuildTheModelsCovarianceAndMetric) {

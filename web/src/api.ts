@@ -326,6 +326,14 @@ export interface RealtimeCamera {
   fov_degrees: number;
 }
 
+/** A light table's grid: float16 [theta_h][theta_d][phi_d][3] (docs/REALTIME.md "Direct lights"). */
+export interface LightTableShape {
+  theta_h: number;
+  theta_d: number;
+  phi_d: number;
+  layout: string;
+}
+
 /** The real-time viewer's data shapes (GET /api/realtime, docs/REALTIME.md). */
 export interface RealtimeInfo {
   bands: number;
@@ -343,6 +351,8 @@ export interface RealtimeInfo {
   cache: "loaded" | "computed";
   /** What happened to the cache (loaded, or why it was recomputed, and whether it was written). */
   cache_note: string;
+  /** The grid of a point's light table (POST /api/realtime/lights). */
+  light_table: LightTableShape;
   environments: string[];
   objects: string[];
   camera: RealtimeCamera;
@@ -362,6 +372,8 @@ export interface EnvironmentAtlas {
   width: number;
   height: number;
   values: Float32Array;
+  /** The direct lights after the detail atlas: [count][6] floats at `offset` (direction, radiance x solid angle). */
+  lights?: { offset: number; count: number; texels: number; fraction: number };
 }
 
 export class ApiError extends Error {
@@ -456,6 +468,9 @@ export const api = {
     const shape = JSON.parse(r.headers.get("X-Matlas-Shape") ?? "{}") as Omit<EnvironmentAtlas, "values">;
     return { ...shape, values: new Float32Array(await r.arrayBuffer()) };
   },
+  /** The light table of point x (float16 bits, [theta_h][theta_d][phi_d][3]). */
+  realtimeLights: (x: Point): Promise<Uint16Array> =>
+    post("api/realtime/lights", { x }).then((r) => r.arrayBuffer()).then((b) => new Uint16Array(b)),
   realtimeMesh: (name: string): Promise<ArrayBuffer> =>
     fetch(`api/realtime/mesh/${encodeURIComponent(name)}`).then(check).then((r) => r.arrayBuffer()),
   realtimeReference: (body: ReferenceRequest): Promise<Blob> => post("api/realtime/reference", body).then((r) => r.blob()),

@@ -41,6 +41,13 @@ export class RealtimeGl {
   private readonly coefData: Float32Array<ArrayBuffer>;
   private object: THREE.Object3D | null = null;
   private envTexture: THREE.DataArrayTexture | null = null;
+  /** The current point's light table (3D, half float) and the environment's lights (2 x count). */
+  private lightTable: THREE.Data3DTexture | null = null;
+  private lightTableData = new Uint16Array(0);
+  private lightsTexture: THREE.DataTexture | null = null;
+  private lightCount = 0;
+  /** Per channel, the power of lights 0..k-1 (k = 0..count): the reduced frames' scale. */
+  private lightPower: number[][] = [[0, 0, 0]];
   private detailTexture: THREE.DataArrayTexture | null = null;
   /** The environment behind the object in the forward frames (hidden in the G-buffer pass). */
   private readonly backgroundMesh: THREE.Mesh;
@@ -66,6 +73,11 @@ export class RealtimeGl {
   static readonly fastScale = 0.25;
   /** Highest band of the reduced frames (at most the bands shown); adapted to the budget. */
   fastBands = 6;
+  /**
+   * Lights of the reduced frames (the brightest, their power scaled to all the lights'): adapted
+   * to the budget before the bands, between 16 and all of them.
+   */
+  fastLights = 64;
   /** Target time of a reduced frame. */
   fastBudgetMs = 40;
   /** Whether the reduced frames adapt their bands to the budget (the benchmark fixes them). */
@@ -128,6 +140,10 @@ export class RealtimeGl {
         uRotation: { value: new THREE.Vector2(1, 0) },
         uExposure: { value: 0 },
         uLinear: { value: false },
+        uLightTable: { value: null },
+        uLights: { value: null },
+        uLightCount: { value: 0 },
+        uLightScale: { value: new THREE.Vector3(1, 1, 1) },
       },
     });
     this.material.userData.floatLinear = floatLinear;
@@ -255,7 +271,86 @@ export class RealtimeGl {
     this.envTexture = tex;
     this.material.uniforms.uEnv.value = tex;
     this.material.uniforms.uEnvSide.value = atlas.width - 2;
+    const lights = atlas.lights;
+    this.lightsTexture?.dispose();
+    this.lightsTexture = null;
+    this.lightCount = 0;
+    this.lightPower = [[0, 0, 0]];
+    if (lights && lights.count > 0) {
+      const data = new Float32Array(8 * lights.count);
+      for (let i = 0; i < lights.count; ++i)
+        for (let k = 0; k < 2; ++k) {
+          for (let c = 0; c < 3; ++c) data[8 * i + 4 * k + c] = atlas.values[lights.offset + 6 * i + 3 * k + c];
+          data[8 * i + 4 * k + 3] = 1;
+        }
+      for (let i = 0; i < lights.count; ++i)
+        this.lightPower.push([0, 1, 2].map((c) => this.lightPower[i][c] + data[8 * i + 4 + c]));
+      const l = new THREE.DataTexture(data, 2, lights.count, THREE.RGBAFormat, THREE.FloatType);
+      l.magFilter = l.minFilter = THREE.NearestFilter;
+      l.needsUpdate = true;
+      this.lightsTexture = l;
+      this.lightCount = lights.count;
+    }
+    this.material.uniforms.uLights.value = this.lightsTexture;
+    this.syncLights();
     this.invalidate();
+  }
+
+  /**
+   * Lights 0..k-1 in the next draw (k at most the environment's), scaled to the power of all; none
+   * until both the environment's lights and a light table are there.
+   */
+  private useLights(k: number): void {
+    const n = this.lightTable && this.lightsTexture ? Math.min(k, this.lightCount) : 0;
+    this.material.uniforms.uLightCount.value = n;
+    const all = this.lightPower[this.lightCount], part = this.lightPower[n];
+    (this.material.uniforms.uLightScale.value as THREE.Vector3).set(
+      ...([0, 1, 2].map((c) => (part[c] > 0 ? all[c] / part[c] : 1)) as [number, number, number]));
+  }
+
+  private syncLights(): void {
+    this.useLights(this.lightCount);
+  }
+
+  /** Whether the frames include the direct lights (an environment with lights and a light table). */
+  get lightsShown(): boolean {
+    return !!this.lightTable && !!this.lightsTexture && this.lightCount > 0;
+  }
+
+  /**
+   * The current point's light table: float16 bits [theta_h][theta_d][phi_d][3] (POST
+   * /api/realtime/lights), as a 3D texture of width phi_d (repeating: period pi), height theta_d
+   * and depth theta_h, filtered linearly.
+   */
+  setLightTable(bits: Uint16Array, interactive = false): void {
+    const { theta_h: nh, theta_d: nd, phi_d: np } = this.info.light_table;
+    const count = nh * nd * np;
+    if (bits.length !== 3 * count) throw new Error(`a light table of ${bits.length} values, not ${3 * count}`);
+    let t = this.lightTable;
+    if (!t) {
+      this.lightTableData = new Uint16Array(4 * count);
+      t = new THREE.Data3DTexture(this.lightTableData, np, nd, nh);
+      t.format = THREE.RGBAFormat;
+      t.type = THREE.HalfFloatType;
+      t.magFilter = t.minFilter = THREE.LinearFilter;
+      t.wrapS = THREE.RepeatWrapping;
+      t.wrapT = t.wrapR = THREE.ClampToEdgeWrapping;
+      t.generateMipmaps = false;
+      t.unpackAlignment = 1;
+      this.lightTable = t;
+      this.material.uniforms.uLightTable.value = t;
+    }
+    const data = this.lightTableData;
+    for (let i = 0; i < count; ++i) {
+      data[4 * i] = bits[3 * i];
+      data[4 * i + 1] = bits[3 * i + 1];
+      data[4 * i + 2] = bits[3 * i + 2];
+      data[4 * i + 3] = 0x3c00;  // 1.0
+    }
+    t.needsUpdate = true;
+    this.syncLights();
+    if (interactive) this.drawReducedNow();
+    else this.invalidate();
   }
 
   setRotation(degrees: number, interactive = false): void {
@@ -447,6 +542,7 @@ export class RealtimeGl {
     if (!this.envTexture) return;
     const t = RealtimeGl.tileSize;
     this.useBands(this.bands);
+    this.useLights(this.lightCount);
     this.syncCamera();
     this.renderer.setScissorTest(true);
     this.renderer.setScissor(tile.x, tile.y, t, t);
@@ -464,6 +560,7 @@ export class RealtimeGl {
     this.camera.aspect = 1;
     this.camera.updateProjectionMatrix();
     this.useBands(this.bands);
+    this.useLights(this.lightCount);
     this.syncCamera();
     this.material.uniforms.uLinear.value = true;
     const pixels = new Float32Array(size * size * 4);
@@ -499,6 +596,7 @@ export class RealtimeGl {
     if (!fast) this.tiles = null;  // a full frame supersedes the tiles
     const start = performance.now();
     this.useBands(fast ? Math.min(this.bands, this.fastBands) : this.bands);
+    this.useLights(fast ? this.fastLights : this.lightCount);
     this.syncCamera();
     if (fast) {
       this.renderer.setRenderTarget(this.low);
@@ -512,7 +610,11 @@ export class RealtimeGl {
     gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));  // waits for the frame
     const end = performance.now();
     const ms = end - start;
-    if (fast && this.adaptive) {
+    if (fast && this.adaptive && this.lightCount > 0 &&
+      (ms > this.fastBudgetMs ? this.fastLights > 16 : ms < 0.7 * this.fastBudgetMs && this.fastLights < this.lightCount)) {
+      // The lights first: halved over the budget (down to 16), doubled well under it.
+      this.fastLights = ms > this.fastBudgetMs ? Math.max(16, this.fastLights >> 1) : Math.min(this.lightCount, 2 * this.fastLights);
+    } else if (fast && this.adaptive) {
       // Over the budget: the most bands whose terms, (L' + 1)(L' + 2) / 2, fit it at this frame's
       // rate per term (the cost is about proportional to them, plus the rasterisation). Well
       // under it: one band more.

@@ -16,8 +16,14 @@
 // weight is column K + i of the coefficient texture, its map layer i of the detail texture
 // (octahedral, finer), read at the mirror direction r = 2 (n . wo) n - wo. The detail texture's
 // last layer is the environment itself (Environment::eval_smooth): the background where no
-// object covers the pixel. Output: 2^exposure, clamped, sRGB-encoded (or, with uLinear, the
-// radiance times 2^exposure as is, for float targets).
+// object covers the pixel. Then the direct lights (src/zonal/light_split.h): the environment's
+// brightest texels, which the band and lobe maps leave out, each a point (uLights: direction and
+// radiance x solid angle, in the unrotated map's frame) shaded with the point's light table
+// (uLightTable, src/zonal/light_table.h: a 3D texture over phi_d, theta_d and theta_h in MERL's
+// square-root coordinate, read trilinearly: phi_d repeats with period pi, the thetas clamp), at
+// the Rusinkiewicz angles of (wi, wo) as src/brdf/merl_grid.cpp computes them. Output:
+// 2^exposure, clamped, sRGB-encoded (or, with uLinear, the radiance times 2^exposure as is, for
+// float targets).
 
 /** Highest band the shader's step table holds. */
 export const maxShaderBands = 32;
@@ -70,6 +76,7 @@ void main() {
 const shading = /* glsl */ `
 precision highp float;
 precision highp sampler2DArray;
+precision highp sampler3D;
 uniform sampler2D uCoef;       // K x T, RGB (+ unused A), read with texelFetch
 uniform sampler2DArray uEnv;   // (N + 2) x (N + 2) x (L + 1), octahedral with a border
 uniform int uBands;            // L': bands 0..L' are summed
@@ -83,9 +90,34 @@ uniform int uZonalTerms;       // K of the coefficient texture: lobe i is column
 uniform vec2 uRotation;        // cos, sin of the environment's rotation
 uniform float uExposure;       // stops
 uniform bool uLinear;          // output 2^exposure radiance as is (float targets: the tests' comparison)
+uniform sampler3D uLightTable; // phi_d x theta_d x theta_h, RGB (+ unused A)
+uniform sampler2D uLights;     // 2 x count: direction, then radiance x solid angle
+uniform int uLightCount;       // lights 0..count-1 (the brightest first); 0: none, or no light table yet
+uniform vec3 uLightScale;      // all the lights' power over that of the first uLightCount (reduced frames)
 out vec4 outColor;
 
 const float PI = 3.14159265358979;
+
+// The direct lights at a point of normal n seen from wo (unrotated frame, unit vectors).
+vec3 directLights(vec3 n, vec3 wo) {
+  vec3 sum = vec3(0.0);
+  for (int i = 0; i < uLightCount; ++i) {
+    vec3 wi = texelFetch(uLights, ivec2(0, i), 0).xyz;
+    float ci = dot(n, wi);
+    if (ci <= 0.0) continue;
+    vec3 h = normalize(wi + wo);
+    vec3 b = cross(n, h);  // the axis of theta_h's turn (MERL: z rotated by phi_h)
+    float bl = length(b);
+    b = bl > 1e-7 ? b / bl : normalize(abs(n.y) < 0.9 ? cross(n, vec3(0.0, 1.0, 0.0)) : cross(n, vec3(1.0, 0.0, 0.0)));
+    vec3 t = cross(b, h);
+    float thetaH = acos(clamp(dot(h, n), -1.0, 1.0));
+    float thetaD = acos(clamp(dot(wi, h), -1.0, 1.0));
+    float phiD = atan(dot(wi, b), dot(wi, t));
+    vec3 f = texture(uLightTable, vec3(phiD / PI, thetaD / (0.5 * PI), sqrt(thetaH / (0.5 * PI)))).rgb;
+    sum += f * texelFetch(uLights, ivec2(1, i), 0).rgb * ci;
+  }
+  return uLightScale * sum;
+}
 
 vec3 srgb(vec3 c) {
   c = clamp(c, 0.0, 1.0);
@@ -143,6 +175,7 @@ vec4 shade(vec3 n, vec3 wo) {
     vec3 w = mix(texelFetch(uCoef, ivec2(col, t0), 0).rgb, texelFetch(uCoef, ivec2(col, t1), 0).rgb, f);
     sum += w * texture(uDetail, vec3(ro, float(i))).rgb;
   }
+  sum += directLights(n, c * n + sqrt(max(0.0, 1.0 - c * c)) * x);  // wo, unrotated
   sum *= exp2(uExposure);
   return vec4(uLinear ? sum : srgb(sum), 1.0);
 }

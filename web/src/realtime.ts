@@ -21,6 +21,8 @@ export interface ViewerState {
   gl: RealtimeGl;
   /** The point whose coefficients are shown, and the event time of the move that led to it. */
   shownX: number[] | null;
+  /** The point whose light table the direct lights use (it follows shownX a request behind). */
+  lightsX: number[] | null;
   /** Milliseconds from a map move to the frame showing it, newest last. */
   moveToFrame: number[];
   /** Whether that frame was a reduced one (drawn while dragging), per entry of moveToFrame. */
@@ -188,7 +190,7 @@ async function startRealtimeView(store: PageStore, card: CardStatus): Promise<Vi
   const block = info.theta_o_count * info.coefficients * 3;
   const point = new Float32Array(block);
   const state: ViewerState = {
-    info, gl, shownX: null, moveToFrame: [], moveToFrameReduced: [], env: "", object: "sphere", ownScene: false, localWeights: !!local,
+    info, gl, shownX: null, lightsX: null, moveToFrame: [], moveToFrameReduced: [], env: "", object: "sphere", ownScene: false, localWeights: !!local,
     loads: { coefficientsMs, environmentMs: {} },
   };
   window.matlasViewer = state;
@@ -197,6 +199,18 @@ async function startRealtimeView(store: PageStore, card: CardStatus): Promise<Vi
     `L = ${info.bands} · ${info.coefficients} lookups/pixel · ready in ${(info.seconds + coefficientsMs / 1000).toFixed(1)} s${gl.floatLinear ? "" : " · half-float textures"}`;
   rtInfo.title = `${info.materials} materials' coefficients: ${info.seconds.toFixed(1)} s on the server, ` +
     `${Math.round(coefficientsMs)} ms to load${local ? "; weights computed in the page" : "; weights asked of the server"}`;
+
+  // The direct lights' light table of the latest point shown, asked of the server (one request in
+  // flight, the newest point): until it comes, the frames keep the previous point's.
+  const lightTables = new LatestOnly<number[], Uint16Array>(
+    (x) => api.realtimeLights(x),
+    (bits, x) => {
+      gl.setLightTable(bits, store.state.dragging);
+      state.lightsX = x;
+      card.clear("lights");
+    },
+    (e) => fail(e, "lights"),
+  );
 
   // Map moves: the weights of the latest point, then the coefficients and a frame (drawn at once
   // while dragging).
@@ -207,6 +221,7 @@ async function startRealtimeView(store: PageStore, card: CardStatus): Promise<Vi
     gl.setCoefficients(point, store.state.dragging);
     state.shownX = x;
     card.clear("move");  // an earlier move's failure is stale
+    lightTables.request(x.slice(), at);
   };
   const weights = new LatestOnly<number[], number[]>(
     (x) => api.weights(x, 0).then((r) => r.weights), show, (e) => fail(e, "move"),

@@ -161,8 +161,12 @@ test("a live server answers every endpoint as the schema says", async () => {
   assert.equal(shape.detail.offset, bandFloats);
   assert.equal(shape.detail.lobes.length, lobes);
   assert.equal(shape.detail.layers, lobes + 1);
-  assert.equal((await envRes.arrayBuffer()).byteLength,
-    4 * (bandFloats + shape.detail.layers * shape.detail.width * shape.detail.height * 3));
+  // Then the direct lights: direction and power per light.
+  assert.equal(shape.lights.offset, bandFloats + shape.detail.layers * shape.detail.width * shape.detail.height * 3);
+  assert.equal((await envRes.arrayBuffer()).byteLength, 4 * (shape.lights.offset + 6 * shape.lights.count));
+  const lightTable = await expectAnswer("POST", "api/realtime/lights", { x });
+  const { theta_h, theta_d, phi_d } = rt.light_table;
+  assert.equal(lightTable.length, 2 * 3 * theta_h * theta_d * phi_d);
   const mesh = rt.objects.find((o) => o !== "sphere");
   if (mesh) {
     const bytes = await expectAnswer("GET", `api/realtime/mesh/${mesh}`);

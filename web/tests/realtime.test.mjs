@@ -46,7 +46,8 @@ after(async () => {
 async function shown() {
   await page.waitForFunction(() => {
     const v = window.matlasViewer, m = window.matlas;
-    return v && m && v.env && v.shownX && JSON.stringify(v.shownX) === JSON.stringify(m.x) && v.gl.frameTimes.length > 0;
+    return v && m && v.env && v.shownX && JSON.stringify(v.shownX) === JSON.stringify(m.x) &&
+      JSON.stringify(v.lightsX) === JSON.stringify(m.x) && v.gl.frameTimes.length > 0;
   }, null, { timeout: 120_000 });
   await page.evaluate(() => window.matlasViewer.gl.draw());
 }
@@ -115,6 +116,9 @@ test("the viewer's full frame equals the server's CPU reference within 1 %", asy
   console.log(`real-time view against the CPU reference (radiance): ${count} sphere pixels, ` +
     `mean |difference| ${(100 * relative).toFixed(3)} % of the mean value, largest ${(100 * worst / (sum / count / 3)).toFixed(1)} % of it`);
   assert.ok(count > 0.5 * Math.PI * (size * 0.2) ** 2, `the sphere covers ${count} reference pixels`);
+  // The environment's brightest texels are shaded as direct lights with the point's light table,
+  // on both sides (the comparison above covers them).
+  assert.ok(await page.evaluate(() => window.matlasViewer.gl.lightsShown), "the direct lights are shown");
   // Stated error: 1 % (float rounding, texture filtering, the canvas's tessellated sphere).
   assert.ok(relative < 0.01, `relative difference ${relative}`);
 });
