@@ -4,8 +4,8 @@
 //   bench_zonal_accuracy [--env studio[,forest,...|all]] [--bands 4,8,16,24,32] [--size 64]
 //                        [--spp 4096] [--theta-o 32] [--rows 128] [--cols 256] [--texels 8]
 //                        [--subsamples 2] [--chunk 12] [--window none[,hann,...]]
-//                        [--lobes none|64,256,...] [--ref-cache DIR] [--dump DIR]
-//                        FILE.binary... > results.csv
+//                        [--lobes none|64,256,...] [--lights K[:RATIO[:SUB[:MERGE]]]]
+//                        [--ref-cache DIR] [--dump DIR] FILE.binary... > results.csv
 //   bench_zonal_accuracy --sheet OUT.png [--env studio] [--sheet-size 128] [--sheet-spp 1024]
 //                        [--bands 16] [--lobes ...] [--window ...] [--texels 8] [--exposure 0]
 //                        FILE.binary...
@@ -18,7 +18,12 @@
 // zonal::kDefaultLobes). --env all: every installed environment. --window: the windows to shade
 // with, one row per entry: a band window (zonal/window.h), or ring:F, the coefficients weighted
 // per theta_o sample by zonal::RingLimiter with floor F (zonal/ring_limit.h) and shaded without
-// a window (the viewer: ring:0.05). Each material's t per view angle is printed on stderr. --ref-cache: the reference renders are read from (or
+// a window (the viewer: ring:0.05); any entry with the suffix "+lights" (the viewer:
+// ring:0.05+lights) also moves the environment's brightest texels out of its maps and shades them
+// as direct lights with each material's light table (zonal/light_split.h, zonal/light_table.h;
+// --lights: at most K texels or blocks, RATIO times the mean luminance, SUB points per texel and
+// axis, MERGE texels per block side; default the viewer's 512:8:1:1); the CSV's lights column
+// says K or 0. Each material's t per view angle is printed on stderr. --ref-cache: the reference renders are read from (or
 // written to) DIR as raw float32 files named by environment, size, spp, seed and material, so
 // that a second study of the same scene only shades.
 //
@@ -37,6 +42,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -48,6 +54,8 @@
 #include "render/material.h"
 #include "render/render.h"
 #include "zonal/compare.h"
+#include "zonal/light_split.h"
+#include "zonal/light_table.h"
 #include "zonal/projection.h"
 #include "zonal/ring_limit.h"
 #include "zonal/shade.h"
@@ -84,6 +92,14 @@ double gloss(const BrdfTable& t) {
   const double peak = luminance(t.bin_rgb(t.dims().flat(0, 10, t.dims().phi_d / 2)));
   const double albedo = luminance(directional_albedo(t, 0.0));
   return std::log(std::max(kPi * peak, 1e-12) / std::max(albedo, 1e-12));
+}
+
+std::vector<std::string> split_list(const std::string& s, char sep = ':') {
+  std::vector<std::string> out;
+  std::stringstream in(s);
+  std::string item;
+  while (std::getline(in, item, sep)) out.push_back(item);
+  return out;
 }
 
 std::vector<std::string> split(const std::string& s) {
@@ -131,12 +147,16 @@ void write_cached(const std::string& path, const Image& img) {
 struct WindowChoice {
   zonal::BandWindow window = zonal::BandWindow::none;
   double ring_floor = -1.0;  ///< < 0: no ring limit
-  std::string name;
+  std::string name;          ///< without the "+lights" suffix
+  bool lights = false;       ///< the environment's brightest texels as direct lights (--lights)
 };
 
-WindowChoice parse_window_choice(const std::string& w) {
-  if (w.rfind("ring:", 0) == 0) return {zonal::BandWindow::none, std::stod(w.substr(5)), w};
-  return {zonal::parse_band_window(w), -1.0, w};
+WindowChoice parse_window_choice(std::string w) {
+  const std::string suffix = "+lights";
+  const bool lights = w.size() > suffix.size() && w.compare(w.size() - suffix.size(), suffix.size(), suffix) == 0;
+  if (lights) w.resize(w.size() - suffix.size());
+  if (w.rfind("ring:", 0) == 0) return {zonal::BandWindow::none, std::stod(w.substr(5)), w, lights};
+  return {zonal::parse_band_window(w), -1.0, w, lights};
 }
 
 /// Every material's coefficients as shaded with `choice`: as projected, or ring-limited by one
@@ -162,7 +182,7 @@ std::vector<zonal::ZonalCoefficients> shaded_coefficients(const zonal::ZonalBasi
 /// The comparison sheet (see the top of the file).
 void write_sheet(const std::string& out, const std::string& env_name, const std::vector<std::string>& files, int L,
                  int theta_o, int size, int spp, double exposure, const std::vector<WindowChoice>& choices,
-                 const std::vector<double>& lobes, double texels) {
+                 const std::vector<double>& lobes, double texels, const zonal::LightSplitSettings& light_settings) {
   render::SceneDescription desc;
   desc.environment = env_name;
   const render::Scene scene(desc);
@@ -194,18 +214,27 @@ void write_sheet(const std::string& out, const std::string& env_name, const std:
   fs.lobes = ps.lobes;
   fs.texels_per_band = texels;
   const zonal::PrefilteredEnvironment env(scene.environment(), fs);
+  const zonal::LightSplit split = zonal::split_lights(scene.environment(), light_settings);
+  const zonal::PrefilteredEnvironment residual(split.residual, fs);
   std::vector<zonal::ZonalCoefficients> projected;
+  std::vector<zonal::LightTable> light_tables;
   std::vector<std::string> names;
   for (std::size_t i = 0; i < tables.size(); ++i) {
     place(refs[i], static_cast<int>(i), 0);
     projected.push_back(projector.project(tables[i]));
+    light_tables.push_back(zonal::LightTable::reduce(tables[i]));
     names.push_back(files[i]);
   }
   for (std::size_t v = 0; v < choices.size(); ++v) {
     ss.window = choices[v].window;
     const std::vector<zonal::ZonalCoefficients> shaded = shaded_coefficients(projector.basis(), projected, names, choices[v]);
-    for (std::size_t i = 0; i < tables.size(); ++i)
-      place(zonal::shade_image(scene, projector.basis(), shaded[i], env, ss), static_cast<int>(i), 1 + static_cast<int>(v));
+    for (std::size_t i = 0; i < tables.size(); ++i) {
+      const zonal::LightTableMaterial material(light_tables[i]);
+      const zonal::DirectLights direct{&split.points, &material};
+      place(choices[v].lights ? zonal::shade_image(scene, projector.basis(), shaded[i], residual, ss, &direct)
+                              : zonal::shade_image(scene, projector.basis(), shaded[i], env, ss),
+            static_cast<int>(i), 1 + static_cast<int>(v));
+    }
   }
   ToneMap tone;
   tone.exposure = exposure;
@@ -223,6 +252,7 @@ int run(int argc, char** argv) {
   std::string sheet;
   int sheet_size = 128, sheet_spp = 1024;
   double exposure = 0.0;
+  zonal::LightSplitSettings light_settings{512, 8.0, 1};  // the viewer's (server/realtime.h)
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string {
@@ -238,6 +268,13 @@ int run(int argc, char** argv) {
       if (v == "default") lobes = zonal::kDefaultLobes;
       else if (v != "none")
         for (const std::string& item : split(v)) lobes.push_back(std::stod(item));
+    }
+    else if (a == "--lights") {  // K[:ratio[:subdivisions[:merge]]]
+      const std::vector<std::string> v = split_list(next());
+      light_settings.max_texels = std::stoi(v.at(0));
+      if (v.size() > 1) light_settings.ratio = std::stod(v[1]);
+      if (v.size() > 2) light_settings.subdivisions = std::stoi(v[2]);
+      if (v.size() > 3) light_settings.merge = std::stoi(v[3]);
     }
     else if (a == "--bands") bands = parse_list(next());
     else if (a == "--size") size = std::stoi(next());
@@ -260,7 +297,7 @@ int run(int argc, char** argv) {
     std::vector<WindowChoice> choices;
     for (const std::string& w : split(windows)) choices.push_back(parse_window_choice(w));
     write_sheet(sheet, env_names, files, bands.front(), theta_o, sheet_size, sheet_spp, exposure, choices, lobes,
-                texels);
+                texels, light_settings);
     return 0;
   }
   std::vector<std::string> envs = split(env_names);
@@ -280,6 +317,11 @@ int run(int argc, char** argv) {
     names.push_back(stem_of(f));
     glosses.push_back(gloss(all_tables.back()));
   }
+  bool with_lights = false;
+  for (const WindowChoice& choice : window_list) with_lights = with_lights || choice.lights;
+  std::vector<zonal::LightTable> light_tables;  // what the direct lights read (zonal/light_table.h)
+  if (with_lights)
+    for (const BrdfTable& table : all_tables) light_tables.push_back(zonal::LightTable::reduce(table));
   std::vector<std::unique_ptr<zonal::ZonalProjector>> projectors;
   std::vector<std::vector<zonal::ZonalCoefficients>> coefficients;  // [L][material]
   for (int L : bands) {
@@ -296,13 +338,19 @@ int run(int argc, char** argv) {
     for (const WindowChoice& choice : window_list)
       shaded[b].push_back(shaded_coefficients(projectors[b]->basis(), coefficients[b], names, choice));
   if (!ref_cache.empty()) std::filesystem::create_directories(ref_cache);
-  std::printf("environment,material,gloss,L,lobes,window,l1,rms,noise\n");
+  std::printf("environment,material,gloss,L,lobes,window,lights,l1,rms,noise\n");
   for (const std::string& env_name : envs) {
     render::SceneDescription desc;  // the `matlas render` defaults: sphere, default camera
     desc.environment = env_name;
     const render::Scene scene(desc);
     const std::vector<float> coverage = render::object_coverage(scene, rs);
-    std::vector<std::unique_ptr<zonal::PrefilteredEnvironment>> filtered;
+    std::vector<std::unique_ptr<zonal::PrefilteredEnvironment>> filtered, filtered_residual;
+    zonal::LightSplit lights{scene.environment(), {}, 0, 0.0};
+    if (with_lights) {
+      lights = zonal::split_lights(scene.environment(), light_settings);
+      std::fprintf(stderr, "%s: %d light texels (%zu points), %.1f %% of the map's luminance\n", env_name.c_str(),
+                   lights.texels, lights.points.size(), 100.0 * lights.light_fraction);
+    }
     for (int L : bands) {
       auto t = std::chrono::steady_clock::now();
       zonal::PrefilterSettings fs;
@@ -310,6 +358,7 @@ int run(int argc, char** argv) {
       fs.texels_per_band = texels;
       fs.lobes = lobes;
       filtered.push_back(std::make_unique<zonal::PrefilteredEnvironment>(scene.environment(), fs));
+      if (with_lights) filtered_residual.push_back(std::make_unique<zonal::PrefilteredEnvironment>(lights.residual, fs));
       std::fprintf(stderr, "%s L=%d prefilter %.2f s\n", env_name.c_str(), L, seconds_since(t));
     }
     // References: from the cache, else rendered a chunk at a time (render_bank shares samples).
@@ -352,7 +401,12 @@ int run(int argc, char** argv) {
           ss.width = ss.height = size;
           ss.subsamples = subsamples;
           ss.window = choice.window;
-          const Image img = zonal::shade_image(scene, projectors[b]->basis(), shaded[b][c][i], *filtered[b], ss);
+          std::optional<zonal::LightTableMaterial> material;
+          if (choice.lights) material.emplace(light_tables[i]);
+          const zonal::DirectLights direct{&lights.points, material ? &*material : nullptr};
+          const Image img = choice.lights ? zonal::shade_image(scene, projectors[b]->basis(), shaded[b][c][i],
+                                                               *filtered_residual[b], ss, &direct)
+                                          : zonal::shade_image(scene, projectors[b]->basis(), shaded[b][c][i], *filtered[b], ss);
           const zonal::ImageErrors e = zonal::compare_to_reference(img, refs[i], refs2[i], coverage);
           const char* wname = choice.name.c_str();
           if (!dump.empty()) {
@@ -366,8 +420,8 @@ int run(int argc, char** argv) {
               diff.rgb[v] = std::abs(img.rgb[v] - 0.5f * (refs[i].rgb[v] + refs2[i].rgb[v])) * 4.0f;
             write_image(stem + tag + "-diff4.png", diff);
           }
-          std::printf("%s,%s,%.3f,%d,%zu,%s,%.5f,%.5f,%.5f\n", env_name.c_str(), names[i].c_str(), glosses[i],
-                      bands[b], lobes.size(), wname, e.l1, e.rms, e.noise);
+          std::printf("%s,%s,%.3f,%d,%zu,%s,%d,%.5f,%.5f,%.5f\n", env_name.c_str(), names[i].c_str(), glosses[i],
+                      bands[b], lobes.size(), wname, choice.lights ? light_settings.max_texels : 0, e.l1, e.rms, e.noise);
           std::fprintf(stderr, "%s %s L=%d %s shade %.2f s\n", env_name.c_str(), names[i].c_str(), bands[b], wname,
                        seconds_since(t));
         }

@@ -3,8 +3,9 @@
 
     bench/realtime_accuracy_table.py before.csv after.csv > tables.md
 
-Each CSV: environment,material,gloss,L,lobes,window,l1,rms,noise. A configuration is
-(lobes, window); the tables give the mean over materials of the noise-free relative RMS error
+Each CSV: environment,material,gloss,L,lobes,window,lights,l1,rms,noise (lights: the direct
+lights' texel count, 0 without; absent in older files: 0). A configuration is (lobes, window,
+lights); the tables give the mean over materials of the noise-free relative RMS error
 (rms) per environment and configuration, then per material the mean and largest over the
 environments. Classes by gloss as in the study: diffuse < 1 <= glossy < 6 <= mirror-like.
 """
@@ -21,8 +22,9 @@ def load(paths):
 
 
 def label(cfg):
-    lobes, window = cfg
-    return ("no lobes" if lobes == "0" else f"{lobes} lobes") + f", {window}"
+    lobes, window, lights = cfg
+    return (("no lobes" if lobes == "0" else f"{lobes} lobes") + f", {window}" +
+            ("" if lights == "0" else f", {lights} lights"))
 
 
 def klass(g):
@@ -31,12 +33,16 @@ def klass(g):
 
 def main():
     rows = load(sys.argv[1:])
-    cfgs = sorted({(r["lobes"], r["window"]) for r in rows}, key=lambda c: (c[0], c[1] != "hann"))
+    for r in rows:
+        r.setdefault("lights", "0")
+        r["lights"] = r["lights"] or "0"
+    cfgs = sorted({(r["lobes"], r["window"], r["lights"]) for r in rows},
+                  key=lambda c: (int(c[2]), c[0], c[1] != "hann"))
     envs = sorted({r["environment"] for r in rows})
     err = defaultdict(dict)  # cfg -> (env, material) -> rms
     gloss = {}
     for r in rows:
-        err[(r["lobes"], r["window"])][(r["environment"], r["material"])] = float(r["rms"])
+        err[(r["lobes"], r["window"], r["lights"])][(r["environment"], r["material"])] = float(r["rms"])
         gloss[r["material"]] = float(r["gloss"])
     mats = sorted(gloss, key=gloss.get)
     print("| environment | " + " | ".join(label(c) for c in cfgs) + " |")
