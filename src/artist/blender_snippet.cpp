@@ -42,6 +42,16 @@ std::string blender_snippet(const GltfPbr& m, const std::string& name, const std
   s += "    bsdf.inputs['Specular IOR Level'].default_value = " + number(0.5 * m.specular) + "\n";
   s += "else:  # Blender 2.8-3.x: 0.5 is F0 = 0.04\n";
   s += "    bsdf.inputs['Specular'].default_value = " + number(0.5 * m.specular) + "\n";
+  if (m.sheen_color.maxCoeff() > 0) {
+    char tint[96];
+    std::snprintf(tint, sizeof tint, "(%.6g, %.6g, %.6g, 1.0)", m.sheen_color[0], m.sheen_color[1], m.sheen_color[2]);
+    s += "if 'Sheen Weight' in bsdf.inputs:  # Blender 4.x: a microfibre sheen layer, as KHR_materials_sheen\n";
+    s += "    bsdf.inputs['Sheen Weight'].default_value = 1.0\n";
+    s += "    bsdf.inputs['Sheen Tint'].default_value = " + std::string(tint) + "\n";
+    s += "    bsdf.inputs['Sheen Roughness'].default_value = " + number(m.sheen_roughness) + "\n";
+    s += "else:  # Blender 2.8-3.x: Disney's sheen, another lobe; its weight only\n";
+    s += "    bsdf.inputs['Sheen'].default_value = " + number(m.sheen_color.maxCoeff()) + "\n";
+  }
   s += "if 'Coat Weight' in bsdf.inputs:  # Blender 4.x\n";
   s += "    bsdf.inputs['Coat Weight'].default_value = " + number(m.clearcoat) + "\n";
   s += "    bsdf.inputs['Coat Roughness'].default_value = " + number(m.clearcoat_roughness) + "\n";

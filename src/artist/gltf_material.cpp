@@ -34,6 +34,12 @@ std::string gltf_material_document(const GltfPbr& m, const std::string& name, co
                                                          {"clearcoatRoughnessFactor", rounded(m.clearcoat_roughness)}};
     used.push_back("KHR_materials_clearcoat");
   }
+  if (m.sheen_color.maxCoeff() > 0) {
+    material["extensions"]["KHR_materials_sheen"] = {
+        {"sheenColorFactor", {rounded(m.sheen_color[0]), rounded(m.sheen_color[1]), rounded(m.sheen_color[2])}},
+        {"sheenRoughnessFactor", rounded(m.sheen_roughness)}};
+    used.push_back("KHR_materials_sheen");
+  }
   if (m.ior != 1.5) {
     material["extensions"]["KHR_materials_ior"] = {{"ior", rounded(m.ior)}};
     used.push_back("KHR_materials_ior");

@@ -93,6 +93,11 @@ std::string materialx_document(const GltfPbr& m, const std::string& name, const 
   add_float(shader, "coat_roughness", m.clearcoat_roughness);
   add_float(shader, "coat_ior", 1.5);
   add_float(shader, "coat_darkening", 0.0);
+  // The sheen as OpenPBR's fuzz (a layer of fibres over the base, its colour and roughness).
+  const double fuzz = m.sheen_color.maxCoeff();
+  add_float(shader, "fuzz_weight", fuzz > 0 ? 1.0 : 0.0);
+  add_color(shader, "fuzz_color", fuzz > 0 ? Rgb(m.sheen_color) : Rgb::Ones());
+  add_float(shader, "fuzz_roughness", m.sheen_roughness);
 
   pugi::xml_node material = root.append_child("surfacematerial");
   material.append_attribute("name") = id.c_str();

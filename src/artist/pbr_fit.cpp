@@ -61,6 +61,8 @@ constexpr double kOutside = 1.0;
 
 double roughness_of(double u) { return std::exp(4.0 * std::clamp(u, kLogMinRoughness / 4.0, 0.0)); }
 
+const double kLogMinSheenRoughness = std::log(GltfPbr::kMinSheenRoughness);
+
 GltfPbr model_at(const Eigen::VectorXd& x, double ior) {
   GltfPbr m;
   for (int c = 0; c < 3; ++c) m.base_color[c] = std::clamp(x[c], 0.0, 1.0);
@@ -70,14 +72,19 @@ GltfPbr model_at(const Eigen::VectorXd& x, double ior) {
   m.clearcoat = std::clamp(x[6], 0.0, 1.0);
   m.clearcoat_roughness = roughness_of(x[7]);
   m.ior = ior;
+  if (x.size() > 8) {  // the sheen stage: a neutral sheen colour and its roughness
+    m.sheen_color = Rgb::Constant(std::clamp(x[8], 0.0, 1.0));
+    m.sheen_roughness = std::exp(4.0 * std::clamp(x[9], kLogMinSheenRoughness / 4.0, 0.0));
+  }
   return m;
 }
 
 double outside_squared(const Eigen::VectorXd& x) {
   double sum = 0;
   for (Eigen::Index k = 0; k < x.size(); ++k) {
-    const bool log_roughness = k == 4 || k == 7;
-    const double lo = log_roughness ? kLogMinRoughness / 4.0 : 0.0, hi = log_roughness ? 0.0 : 1.0;
+    const bool log_roughness = k == 4 || k == 7 || k == 9;
+    const double lo = k == 9 ? kLogMinSheenRoughness / 4.0 : log_roughness ? kLogMinRoughness / 4.0 : 0.0;
+    const double hi = log_roughness ? 0.0 : 1.0;
     const double d = x[k] - std::clamp(x[k], lo, hi);
     sum += d * d;
   }
@@ -232,7 +239,40 @@ PbrFitResult fit_gltf_pbr(const BrdfTable& table, const PbrFitOptions& o) {
     best = restarted;
     best_value = restarted_value;
   }
+  // The sheen stage (KHR_materials_sheen: fabrics' grazing brightening): from the result with a
+  // neutral sheen of two strengths and two roughnesses, all ten parameters free; kept only if it
+  // lowers the distance by more than `sheen_gain`, so materials without a sheen keep the
+  // eight-parameter fit as it was.
+  if (o.sheen) {
+    Eigen::VectorXd sheen_best;
+    double sheen_value = 0;
+    for (const double strength : {0.3, 0.8})
+      for (const double roughness : {0.3, 0.7}) {
+        Eigen::VectorXd start(10);
+        start << best, strength, std::log(roughness) / 4.0;
+        const Eigen::VectorXd x =
+            gp::minimize_nelder_mead(f_coarse, start, gp::MinimizeOptions::nelder_mead(0.1, o.evaluations_per_start));
+        const double v = f_coarse(x);
+        ++result.starts;
+        if (sheen_best.size() == 0 || v < sheen_value) {
+          sheen_best = x;
+          sheen_value = v;
+        }
+      }
+    sheen_best = gp::minimize_nelder_mead(f, sheen_best, gp::MinimizeOptions::nelder_mead(0.05, o.polish_evaluations));
+    sheen_value = f(sheen_best);
+    if (std::sqrt(sheen_value) < (1.0 - o.sheen_gain) * std::sqrt(best_value)) {
+      const Eigen::VectorXd restarted_sheen =
+          gp::minimize_nelder_mead(f, sheen_best, gp::MinimizeOptions::nelder_mead(0.02, o.restart_evaluations));
+      const double v = f(restarted_sheen);
+      result.restart_gain = v < sheen_value ? std::sqrt(sheen_value) - std::sqrt(v) : 0.0;
+      if (v < sheen_value) sheen_best = restarted_sheen, sheen_value = v;
+      best = sheen_best;
+      best_value = sheen_value;
+    }
+  }
   result.model = model_at(best, o.ior);
+  if (result.model.sheen_color.maxCoeff() == 0.0) result.model.sheen_roughness = 0.0;  // no sheen: no roughness
   result.distance = std::sqrt(best_value);
   return result;
 }

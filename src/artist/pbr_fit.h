@@ -15,7 +15,9 @@
 // matched to the table's back-scattering peak (its width gives a roughness, its height the specular
 // factor or the metal's F0; metal and dielectric at three roughnesses, and under a coat) on a coarser
 // subsample, then polished from the best on the full subsample and restarted once to check
-// convergence. Deterministic.
+// convergence. Then a sheen stage (fabrics: a neutral KHR_materials_sheen layer, its strength and
+// roughness, with the eight others free again) from four starts, kept only if it lowers the
+// distance by more than 2 %. Deterministic.
 #include <cstddef>
 
 #include "brdf/brdf_table.h"
@@ -30,6 +32,10 @@ struct PbrFitOptions {
   int polish_evaluations = 1200;     ///< budget of the final polish from the best start
   int restart_evaluations = 200;     ///< budget of the restart that checks convergence
   double ior = 1.5;                  ///< fixed (KHR_materials_ior); the specular factor is fitted
+  /// The sheen stage (KHR_materials_sheen, a neutral sheen colour and its roughness), kept when it
+  /// lowers the distance by more than `sheen_gain` (relative).
+  bool sheen = true;
+  double sheen_gain = 0.02;
 };
 
 struct PbrFitResult {

@@ -93,9 +93,10 @@ void run_fit(const ArtistFitArgs& a, const Io& io) {
   const GltfPbr& m = fit.model;
   print(io.out, "fit of %s: glTF metallic-roughness\n", what.c_str());
   print(io.out, "  base colour     %.4f %.4f %.4f\n  metallic        %.4f\n  roughness       %.4f (alpha %.4g)\n"
-        "  specular        %.4f (KHR_materials_specular, IOR %.2f)\n  clearcoat       %.4f, roughness %.4f\n",
+        "  specular        %.4f (KHR_materials_specular, IOR %.2f)\n  clearcoat       %.4f, roughness %.4f\n"
+        "  sheen           %.4f %.4f %.4f, roughness %.4f (KHR_materials_sheen)\n",
         m.base_color[0], m.base_color[1], m.base_color[2], m.metallic, m.roughness, m.alpha(), m.specular, m.ior,
-        m.clearcoat, m.clearcoat_roughness);
+        m.clearcoat, m.clearcoat_roughness, m.sheen_color[0], m.sheen_color[1], m.sheen_color[2], m.sheen_roughness);
   print(io.out, "  relative RMS    %.2f %% (cosine-weighted, against the table)\n", 100 * error.relative_rms);
   print(io.out, "  cube-root dist. %.4g\n  albedo          largest difference %.2f %% (0-75 deg, per channel)\n",
         error.cbrt_distance, 100 * error.albedo_error);

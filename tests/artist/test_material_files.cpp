@@ -1,5 +1,6 @@
 // The fitted material's files: a glTF 2.0 document read back by tinygltf (as glTF tools read it)
 // and a Blender script that Python parses, both written atomically.
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -65,6 +66,30 @@ TEST(GltfMaterial, AnotherIorIsWrittenWithItsExtension) {
   EXPECT_EQ(doc["materials"][0]["extras"]["matlas_fit_of"], "y");
 }
 
+TEST(GltfMaterial, ASheenIsWrittenWithItsExtensionAndReadByTinyGltf) {
+  GltfPbr m = kMaterial;
+  m.sheen_color = Rgb::Constant(0.625);
+  m.sheen_roughness = 0.375;
+  const test::TempDir dir("matlas-gltf-sheen");
+  const fs::path path = dir / "velvet.gltf";
+  artist::write_gltf_material(path, m, "velvet", "v.binary");
+  tinygltf::Model model;
+  tinygltf::TinyGLTF loader;
+  std::string err, warn;
+  ASSERT_TRUE(loader.LoadASCIIFromFile(&model, &err, &warn, path.string())) << err;
+  ASSERT_EQ(model.materials.size(), 1u);
+  const auto& ext = model.materials[0].extensions;
+  ASSERT_EQ(ext.count("KHR_materials_sheen"), 1u);
+  const tinygltf::Value& sheen = ext.at("KHR_materials_sheen");
+  for (int c = 0; c < 3; ++c) EXPECT_DOUBLE_EQ(sheen.Get("sheenColorFactor").Get(c).GetNumberAsDouble(), 0.625);
+  EXPECT_DOUBLE_EQ(sheen.Get("sheenRoughnessFactor").GetNumberAsDouble(), 0.375);
+  EXPECT_NE(std::find(model.extensionsUsed.begin(), model.extensionsUsed.end(), "KHR_materials_sheen"),
+            model.extensionsUsed.end());
+  // Without a sheen, no extension.
+  const nlohmann::json plain = nlohmann::json::parse(artist::gltf_material_document(kMaterial, "x", "y"));
+  EXPECT_FALSE(plain["materials"][0]["extensions"].contains("KHR_materials_sheen"));
+}
+
 TEST(GltfMaterial, AnUnwritableTargetIsNamedInTheError) {
   const test::TempDir dir("matlas-gltf-material");
   const fs::path path = dir / "missing-folder" / "a.gltf";
@@ -97,6 +122,18 @@ TEST(BlenderSnippet, ACoatIsPrincipledCoatIn4xAndAGgxLayerBefore) {
   EXPECT_EQ(s.find("'Clearcoat'"), std::string::npos) << s;  // Disney's lobe is not used
   // Without a coat, no layer.
   EXPECT_EQ(artist::blender_snippet(kMaterial, "plain", "p.binary").find("ShaderNodeBsdfGlossy"), std::string::npos);
+}
+
+TEST(BlenderSnippet, ASheenIsPrincipledSheenIn4xAndItsWeightBefore) {
+  GltfPbr m = kMaterial;
+  m.sheen_color = Rgb(0.5, 0.25, 0.125);
+  m.sheen_roughness = 0.375;
+  const std::string s = artist::blender_snippet(m, "velvet", "v.binary");
+  EXPECT_NE(s.find("    bsdf.inputs['Sheen Weight'].default_value = 1.0\n"), std::string::npos) << s;
+  EXPECT_NE(s.find("    bsdf.inputs['Sheen Tint'].default_value = (0.5, 0.25, 0.125, 1.0)\n"), std::string::npos) << s;
+  EXPECT_NE(s.find("    bsdf.inputs['Sheen Roughness'].default_value = 0.375\n"), std::string::npos) << s;
+  EXPECT_NE(s.find("    bsdf.inputs['Sheen'].default_value = 0.5\n"), std::string::npos) << s;
+  EXPECT_EQ(artist::blender_snippet(kMaterial, "plain", "p.binary").find("Sheen"), std::string::npos);
 }
 
 TEST(BlenderSnippet, IsValidPythonWhateverTheName) {

@@ -42,7 +42,9 @@ Rgb as_color(const Input& in) {
 }
 
 TEST(MaterialxDocument, PugixmlReadsAnOpenPbrSurfaceAndItsMaterial) {
-  const GltfPbr m{Rgb(0.8, 0.25, 0.125), 0.3, 0.45, 0.6, 1.7, 0.5, 0.1};
+  GltfPbr m{Rgb(0.8, 0.25, 0.125), 0.3, 0.45, 0.6, 1.7, 0.5, 0.1};
+  m.sheen_color = Rgb(0.4, 0.3, 0.2);
+  m.sheen_roughness = 0.35;
   const test::TempDir dir("matlas-materialx");
   const fs::path path = dir / "red.mtlx";
   artist::write_materialx_document(path, m, "red \"paint\" é", "red <1>.binary");
@@ -65,7 +67,8 @@ TEST(MaterialxDocument, PugixmlReadsAnOpenPbrSurfaceAndItsMaterial) {
       {"base_weight", "float"},      {"base_color", "color3"},         {"base_metalness", "float"},
       {"base_diffuse_roughness", "float"}, {"specular_weight", "float"}, {"specular_color", "color3"},
       {"specular_roughness", "float"}, {"specular_ior", "float"},      {"coat_weight", "float"},
-      {"coat_roughness", "float"},   {"coat_ior", "float"},            {"coat_darkening", "float"}};
+      {"coat_roughness", "float"},   {"coat_ior", "float"},            {"coat_darkening", "float"},
+      {"fuzz_weight", "float"},      {"fuzz_color", "color3"},         {"fuzz_roughness", "float"}};
   EXPECT_EQ(in.size(), types.size());
   for (const auto& [name, type] : types) {
     ASSERT_EQ(in.count(name), 1u) << name;
@@ -83,6 +86,11 @@ TEST(MaterialxDocument, PugixmlReadsAnOpenPbrSurfaceAndItsMaterial) {
   EXPECT_DOUBLE_EQ(as_float(in.at("coat_ior")), 1.5);
   EXPECT_DOUBLE_EQ(as_float(in.at("coat_darkening")), 0.0);
   EXPECT_TRUE((as_color(in.at("specular_color")) == 1.0).all());
+  // The sheen as OpenPBR's fuzz.
+  EXPECT_DOUBLE_EQ(as_float(in.at("fuzz_weight")), 1.0);
+  const Rgb fuzz = as_color(in.at("fuzz_color"));
+  for (int c = 0; c < 3; ++c) EXPECT_DOUBLE_EQ(fuzz[c], m.sheen_color[c]);
+  EXPECT_DOUBLE_EQ(as_float(in.at("fuzz_roughness")), m.sheen_roughness);
 
   const pugi::xml_node material = root.child("surfacematerial");
   ASSERT_TRUE(material);

@@ -46,6 +46,26 @@ TEST(PbrFit, RecoversASharpWeakCoatingOverADarkBase) {
   expect_recovered(truth, artist::fit_gltf_pbr(tabulate(truth)));
 }
 
+TEST(PbrFit, RecoversTheSheenOfAVelvetAndAddsNoneWithoutOne) {
+  // A rough red dielectric under a neutral sheen (KHR_materials_sheen): the sheen stage finds it,
+  // which the eight parameters alone cannot imitate; the materials above keep no sheen.
+  GltfPbr truth{Rgb(0.5, 0.08, 0.06), 0.0, 0.8, 0.5, 1.5};
+  truth.sheen_color = Rgb::Constant(0.7);
+  truth.sheen_roughness = 0.35;
+  const BrdfTable table = tabulate(truth);
+  const artist::PbrFitResult fit = artist::fit_gltf_pbr(table);
+  EXPECT_NEAR(fit.model.sheen_color[0], 0.7, 0.05);
+  EXPECT_NEAR(fit.model.sheen_roughness, 0.35, 0.05);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(fit.model.base_color[c], truth.base_color[c], 0.03) << c;
+  EXPECT_LT(fit.model.metallic, 0.05);
+  EXPECT_LT(fit.distance, 2e-3);
+  artist::PbrFitOptions without;
+  without.sheen = false;
+  EXPECT_GT(artist::fit_gltf_pbr(table, without).distance, 3.0 * fit.distance);
+  const GltfPbr plain{Rgb(0.6, 0.12, 0.05), 0.0, 0.35, 1.0, 1.5};
+  EXPECT_EQ(artist::fit_gltf_pbr(tabulate(plain)).model.sheen_color.maxCoeff(), 0.0);
+}
+
 TEST(PbrFit, APlasticOfAnotherModelFitsAsADielectricOfItsRoughness) {
   // brdf/analytic.h's plastic: exact dielectric Fresnel and a base seen through the coating twice,
   // not glTF's Schlick mix; the fit finds a dielectric with about the same lobe width and base

@@ -67,6 +67,51 @@ TEST(GltfPbr, WhiteMaterialsReflectAtMostWhatTheyReceiveButNearGrazing) {
       }
 }
 
+TEST(GltfPbr, TheSheenAlbedoTableIsTheLobesDirectionalAlbedo) {
+  // E(mu, a) against a finer direct integration of D_s V_s cos over the hemisphere, between the
+  // table's nodes too; in (0, 1) (the Charlie lobe loses energy, it never creates any).
+  for (const double a : {GltfPbr::kMinSheenRoughness, 0.2, 0.5, 0.83, 1.0})
+    for (const double mu : {0.05, 0.3, 0.55, 0.9, 1.0}) {
+      const Vec3 wo(std::sqrt(1 - mu * mu), 0, mu);
+      double sum = 0;
+      constexpr int rows = 400, columns = 400;
+      for (int r = 0; r < rows; ++r) {
+        const double t = (r + 0.5) * (kPi / 2) / rows;
+        for (int c = 0; c < columns; ++c) {
+          const double p = (c + 0.5) * 2 * kPi / columns;
+          const Vec3 wi(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
+          sum += sheen_lobe(pbr_cosines(wi, wo), a) * std::cos(t) * std::sin(t);
+        }
+      }
+      const double direct = sum * (kPi / 2 / rows) * (2 * kPi / columns);
+      EXPECT_NEAR(sheen_albedo(mu, a), direct, 0.02 * direct + 2e-3) << "a " << a << " mu " << mu;
+      EXPECT_GT(direct, 0.0);
+      EXPECT_LT(direct, 1.0);
+    }
+}
+
+TEST(GltfPbr, TheSheenBrightensGrazingViewsAndScalesTheBaseDown) {
+  // The sheen layer over a Lambertian base: reciprocal; at grazing the fibres' back-scattering
+  // adds to the base, at normal incidence the base is scaled by 1 - E and the sheen adds little;
+  // a white base under a white sheen reflects at most what it receives (the albedo scaling).
+  GltfPbr m{Rgb(0.3, 0.2, 0.1), 0.0, 0.8, 0.0, 1.5};
+  const GltfPbr plain = m;
+  m.sheen_color = Rgb::Constant(1.0);
+  m.sheen_roughness = 0.4;
+  for (const auto& p : kPairs) EXPECT_LT((m(p[0], p[1]) - m(p[1], p[0])).abs().maxCoeff(), 1e-12);
+  const Vec3 grazing = direction(80, 0), back = direction(78, 5), n(0, 0, 1);
+  EXPECT_GT(m(grazing, back)[0], 2.0 * plain(grazing, back)[0]);
+  EXPECT_LT(m(n, n)[0], plain(n, n)[0]);
+  EXPECT_NEAR(m(n, n)[0], (1.0 - sheen_albedo(1.0, 0.4)) * plain(n, n)[0] + sheen_lobe(pbr_cosines(n, n), 0.4), 1e-12);
+  GltfPbr white{Rgb::Constant(1.0), 0.0, 0.8, 0.0, 1.5};
+  white.sheen_color = Rgb::Constant(1.0);
+  for (const double r : {0.1, 0.4, 1.0}) {
+    white.sheen_roughness = r;
+    for (const double theta : {0.0, 45.0, 75.0})
+      EXPECT_LE(half_vector_albedo(white, direction_at_theta(theta * kPi / 180)).maxCoeff(), 1.01) << r << " " << theta;
+  }
+}
+
 TEST(GltfPbr, ParametersOutsideTheirRangeAreRefusedByName) {
   GltfPbr m;
   m.roughness = 1.5;
@@ -78,6 +123,9 @@ TEST(GltfPbr, ParametersOutsideTheirRangeAreRefusedByName) {
   }
   m.roughness = 0.5;
   m.base_color[1] = -0.1;
+  EXPECT_THROW(m.validate(), Error);
+  m.base_color[1] = 0.5;
+  m.sheen_roughness = 1.2;
   EXPECT_THROW(m.validate(), Error);
 }
 

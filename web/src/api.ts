@@ -79,6 +79,9 @@ export interface FitParameters {
   ior: number;
   clearcoat: number;
   clearcoat_roughness: number;
+  /** KHR_materials_sheen (0 0 0: none). */
+  sheen_color: Rgb;
+  sheen_roughness: number;
 }
 
 /** The same parameters under OpenPBR Surface's names (the MaterialX document's inputs). */
@@ -91,6 +94,9 @@ export interface OpenPbrParameters {
   coat_weight: number;
   coat_roughness: number;
   coat_ior: number;
+  fuzz_weight: number;
+  fuzz_color: Rgb;
+  fuzz_roughness: number;
 }
 
 export interface FitAlbedo {

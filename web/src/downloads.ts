@@ -70,7 +70,10 @@ export function createDownloadMenu(store: PageStore): void {
       const far = v !== undefined && fade !== undefined && v >= fade;
       error.textContent = fitErrorText(reply) + (far ? `; far from the data (variance ${v.toPrecision(2)}): an extrapolation` : "");
       error.title = `glTF metallic-roughness fit: base colour ${reply.parameters.base_color.map((v) => v.toFixed(3)).join(" ")}, ` +
-        `metallic ${reply.parameters.metallic.toFixed(2)}, roughness ${reply.parameters.roughness.toFixed(3)}; ` +
+        `metallic ${reply.parameters.metallic.toFixed(2)}, roughness ${reply.parameters.roughness.toFixed(3)}` +
+        (Math.max(...reply.parameters.sheen_color) > 0
+          ? `, sheen ${reply.parameters.sheen_color[0].toFixed(2)} (roughness ${reply.parameters.sheen_roughness.toFixed(2)})`
+          : "") + "; " +
         "relative RMS: cosine-weighted, against the table; albedo: largest difference at 0-75°";
       fitButtons.forEach((b) => (b.disabled = false));
       menu.dataset.fit = "ready";
