@@ -2,8 +2,8 @@
 # The fit table of docs/EXPORT.md ("Analytic fits"): every MERL-grid table of the given folders
 # fitted with the glTF metallic-roughness model by `matlas fit`, one markdown row per material:
 #   material | base colour | metallic | roughness | specular | clearcoat/roughness |
-#   cosine-weighted relative RMS % | largest albedo difference % (0-75 deg) | cube-root distance |
-#   converged | seconds
+#   sheen/roughness | cosine-weighted relative RMS % | largest albedo difference % (0-75 deg) |
+#   cube-root distance | converged | seconds
 # and a summary (median, quartiles) on stderr. The reports (.json) stay in $FIT_OUT if set.
 # Usage: bench/fit_accuracy.sh [DIR...] (default /tmp/db83; MATLAS=build/matlas)
 set -euo pipefail
@@ -24,13 +24,14 @@ rows = []
 for p in sorted(pathlib.Path(sys.argv[1]).glob("*.json")):
     r = json.loads(p.read_text())
     rows.append((p.stem, r))
-print("| material | base colour | metallic | roughness | specular | coat / roughness | RMS % | albedo % | cbrt | conv. | s |")
-print("|---|---|---|---|---|---|---|---|---|---|---|")
+print("| material | base colour | metallic | roughness | specular | coat / roughness | sheen / roughness | RMS % | albedo % | cbrt | conv. | s |")
+print("|---|---|---|---|---|---|---|---|---|---|---|---|")
 for name, r in rows:
     m, e, f = r["parameters"], r["error"], r["fit"]
     base = " ".join(f"{c:.3f}" for c in m["base_color"])
     print(f"| {name} | {base} | {m['metallic']:.2f} | {m['roughness']:.3f} | {m['specular']:.2f} | "
-          f"{m['clearcoat']:.2f} / {m['clearcoat_roughness']:.2f} | {100 * e['relative_rms']:.1f} | "
+          f"{m['clearcoat']:.2f} / {m['clearcoat_roughness']:.2f} | "
+          f"{max(m['sheen_color']):.2f} / {m['sheen_roughness']:.2f} | {100 * e['relative_rms']:.1f} | "
           f"{100 * e['albedo_error']:.1f} | {e['cbrt_distance']:.4f} | {'yes' if f['converged'] else 'no'} | "
           f"{f['seconds']:.1f} |")
 def q(values, f):

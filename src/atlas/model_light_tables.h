@@ -6,8 +6,8 @@
 // (POST /api/realtime/lights, docs/API.md).
 //
 // Built in one pass over the model's column-interleaved data (each column's n values read once);
-// 2 bytes per value: (n + 1) x 364,500 values (0.73 MB per material). A point reads the tables of
-// its non-zero weights only (render/basis_kernels.h).
+// 2 bytes per value: (n + 1) x 364,500 values on MERL's grid (0.73 MB per material). A point
+// reads the tables of its non-zero weights only (render/basis_kernels.h).
 #include <cstdint>
 #include <vector>
 
@@ -20,7 +20,7 @@ namespace matlas::atlas {
 
 class ModelLightTables {
 public:
-  /// matlas::Error when the model's grid does not reduce (zonal::LightTable::reduce).
+  /// On the reduced grid of the model's (zonal::LightTable::reduced_dims).
   explicit ModelLightTables(const Model& model);
 
   int count() const { return n_; }
