@@ -73,6 +73,7 @@ nlohmann::json Realtime::info() {
   for (int t = 0; t < s.settings.theta_o_count; ++t)
     theta.push_back(zonal::ZonalCoefficients::theta_o(t, s.settings.theta_o_count));
   const render::Camera camera;
+  const MerlDims lights = zonal::LightTable::reduced_dims(model_.dims());
   return {{"bands", s.settings.bands},
           {"theta_o_count", s.settings.theta_o_count},
           {"coefficients", basis.size() + s.settings.lobes.size()},
@@ -86,9 +87,9 @@ nlohmann::json Realtime::info() {
           {"cache", cache_},
           {"cache_note", cache_note_},
           {"light_table",
-           {{"theta_h", zonal::LightTable::reduced_dims(model_.dims()).theta_h},
-            {"theta_d", zonal::LightTable::reduced_dims(model_.dims()).theta_d},
-            {"phi_d", zonal::LightTable::reduced_dims(model_.dims()).phi_d},
+           {{"theta_h", lights.theta_h},
+            {"theta_d", lights.theta_d},
+            {"phi_d", lights.phi_d},
             {"layout", "float16 [theta_h][theta_d][phi_d][3] (POST /api/realtime/lights)"}}},
           {"environments", envs_},
           {"objects", objects_},

@@ -349,8 +349,7 @@ export class RealtimeGl {
     }
     t.needsUpdate = true;
     this.syncLights();
-    if (interactive) this.drawReducedNow();
-    else this.invalidate();
+    this.invalidate(interactive);  // while dragging: in the next reduced frame, not one more now
   }
 
   setRotation(degrees: number, interactive = false): void {
