@@ -195,8 +195,10 @@ async function startRealtimeView(store: PageStore, card: CardStatus): Promise<Vi
   };
   window.matlasViewer = state;
   const rtInfo = $("rt-info");
-  rtInfo.textContent =
-    `L = ${info.bands} · ${info.coefficients} lookups/pixel · ready in ${(info.seconds + coefficientsMs / 1000).toFixed(1)} s${gl.floatLinear ? "" : " · half-float textures"}`;
+  const infoText = (lights: number) =>
+    `L = ${info.bands} · ${info.coefficients} lookups/pixel${lights ? ` + ${lights} lights` : ""} · ready in ` +
+    `${(info.seconds + coefficientsMs / 1000).toFixed(1)} s${gl.floatLinear ? "" : " · half-float textures"}`;
+  rtInfo.textContent = infoText(0);
   rtInfo.title = `${info.materials} materials' coefficients: ${info.seconds.toFixed(1)} s on the server, ` +
     `${Math.round(coefficientsMs)} ms to load${local ? "; weights computed in the page" : "; weights asked of the server"}`;
 
@@ -272,6 +274,7 @@ async function startRealtimeView(store: PageStore, card: CardStatus): Promise<Vi
     }
     if (envSelect.value !== name) return;  // another one was chosen meanwhile
     gl.setEnvironment(atlas);
+    rtInfo.textContent = infoText(atlas.lights?.count ?? 0);
     state.env = name;
     card.clear();
     clearError("realtime");
