@@ -125,4 +125,25 @@ std::size_t bin_of(const MerlDims& dims, const Vec3& wi, const Vec3& wo) {
                    phi_d_index(a.phi_d, dims.phi_d));
 }
 
+TrilinearBins trilinear_bins(const MerlDims& dims, const Vec3& wi, const Vec3& wo) {
+  const HalfDiffAngles a = to_half_diff(wi, wo);
+  // Coordinates relative to bin centres: bin i's centre sits at u = i.
+  const double u = std::clamp(theta_h_coordinate(a.theta_h, dims.theta_h) - 0.5, 0.0, dims.theta_h - 1.0);
+  const double v = std::clamp(theta_d_coordinate(a.theta_d, dims.theta_d) - 0.5, 0.0, dims.theta_d - 1.0);
+  double w = phi_d_coordinate(a.phi_d, dims.phi_d) - 0.5;
+  if (w < 0.0) w += dims.phi_d;
+  const int i0 = std::min(static_cast<int>(u), dims.theta_h - 1), i1 = std::min(i0 + 1, dims.theta_h - 1);
+  const int j0 = std::min(static_cast<int>(v), dims.theta_d - 1), j1 = std::min(j0 + 1, dims.theta_d - 1);
+  const int k0 = std::min(static_cast<int>(w), dims.phi_d - 1), k1 = (k0 + 1) % dims.phi_d;
+  const double fu = u - i0, fv = v - j0, fw = w - k0;
+  TrilinearBins t;
+  for (int corner = 0; corner < 8; ++corner) {
+    t.weights[static_cast<std::size_t>(corner)] =
+        ((corner & 1) ? fu : 1 - fu) * ((corner & 2) ? fv : 1 - fv) * ((corner & 4) ? fw : 1 - fw);
+    t.bins[static_cast<std::size_t>(corner)] =
+        dims.flat((corner & 1) ? i1 : i0, (corner & 2) ? j1 : j0, (corner & 4) ? k1 : k0);
+  }
+  return t;
+}
+
 }  // namespace matlas

@@ -6,6 +6,7 @@
 // theta_d and phi_d are uniform over [0, pi/2) and [0, pi). phi_d is folded into [0, pi) by
 // reciprocity (f is unchanged under phi_d -> phi_d + pi). The flat index is
 // (i * N_d + j) * N_phi + k, as in MERL's reference reader.
+#include <array>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -73,5 +74,14 @@ std::vector<double> bin_cosine_factors(const MerlDims& dims);
 
 /// The bin holding (wi, wo), as the flat index of MerlDims::flat.
 std::size_t bin_of(const MerlDims& dims, const Vec3& wi, const Vec3& wo);
+
+/// The eight bins around (wi, wo) and their trilinear weights between bin centres (theta_h in its
+/// square-root coordinate, phi_d periodic with period pi, clamped at the theta edges): what
+/// BrdfTable::lookup_smooth and a shader's 3D texture read.
+struct TrilinearBins {
+  std::array<std::size_t, 8> bins{};
+  std::array<double, 8> weights{};
+};
+TrilinearBins trilinear_bins(const MerlDims& dims, const Vec3& wi, const Vec3& wo);
 
 }  // namespace matlas

@@ -8,7 +8,7 @@
 // measured region's edge does not mix in zeros.
 //
 // Linear in the table: the light table of a weighted sum of tables is the same weighted sum of
-// their light tables, so a map point's is combined from the materials' (LightTableSet).
+// their light tables, so a map point's is combined from the materials' (atlas/model_light_tables.h).
 // docs/REALTIME.md "Direct lights" measures the resolution (phi_d 15 bins: as accurate as 180
 // under `studio`; theta_d halved costs 0.6 points).
 #include <cstdint>
@@ -41,9 +41,6 @@ public:
   /// RGB per bin, [theta_h][theta_d][phi_d][channel]: a shader's 3D texture (phi_d fastest).
   const std::vector<float>& values() const { return values_; }
   std::vector<float>& values() { return values_; }
-
-  /// sum_k weights[k] parts[k] (same dims; matlas::Error otherwise).
-  static LightTable combine(const std::vector<const LightTable*>& parts, const std::vector<double>& weights);
 
   /// f(wi, wo) in the local frame (z = normal), trilinear as the shader reads it.
   Rgb eval(const Vec3& wi, const Vec3& wo) const;
