@@ -4,7 +4,7 @@
 //   bench_zonal_accuracy [--env studio[,forest,...|all]] [--bands 4,8,16,24,32] [--size 64]
 //                        [--spp 4096] [--theta-o 32] [--rows 128] [--cols 256] [--texels 8]
 //                        [--subsamples 2] [--chunk 12] [--window none[,hann,...]]
-//                        [--lobes none|64,256,...] [--lights K[:RATIO[:SUB[:MERGE]]]]
+//                        [--lobes none|64,256,...] [--lights K[:RATIO[:MERGE]]]
 //                        [--ref-cache DIR] [--dump DIR] FILE.binary... > results.csv
 //   bench_zonal_accuracy --sheet OUT.png [--env studio] [--sheet-size 128] [--sheet-spp 1024]
 //                        [--bands 16] [--lobes ...] [--window ...] [--texels 8] [--exposure 0]
@@ -21,8 +21,8 @@
 // a window (the viewer: ring:0.05); any entry with the suffix "+lights" (the viewer:
 // ring:0.05+lights) also moves the environment's brightest texels out of its maps and shades them
 // as direct lights with each material's light table (zonal/light_split.h, zonal/light_table.h;
-// --lights: at most K texels or blocks, RATIO times the mean luminance, SUB points per texel and
-// axis, MERGE texels per block side; default the viewer's 512:8:1:1); the CSV's lights column
+// --lights: at most K texels or blocks, RATIO times the mean luminance, MERGE texels per block
+// side; default the viewer's 512:8:1); the CSV's lights column
 // says K or 0. Each material's t per view angle is printed on stderr. --ref-cache: the reference renders are read from (or
 // written to) DIR as raw float32 files named by environment, size, spp, seed and material, so
 // that a second study of the same scene only shades.
@@ -269,12 +269,11 @@ int run(int argc, char** argv) {
       else if (v != "none")
         for (const std::string& item : split(v)) lobes.push_back(std::stod(item));
     }
-    else if (a == "--lights") {  // K[:ratio[:subdivisions[:merge]]]
+    else if (a == "--lights") {  // K[:ratio[:merge]]
       const std::vector<std::string> v = split_list(next());
       light_settings.max_texels = std::stoi(v.at(0));
       if (v.size() > 1) light_settings.ratio = std::stod(v[1]);
-      if (v.size() > 2) light_settings.subdivisions = std::stoi(v[2]);
-      if (v.size() > 3) light_settings.merge = std::stoi(v[3]);
+      if (v.size() > 2) light_settings.merge = std::stoi(v[2]);
     }
     else if (a == "--bands") bands = parse_list(next());
     else if (a == "--size") size = std::stoi(next());
@@ -317,8 +316,8 @@ int run(int argc, char** argv) {
     names.push_back(stem_of(f));
     glosses.push_back(gloss(all_tables.back()));
   }
-  bool with_lights = false;
-  for (const WindowChoice& choice : window_list) with_lights = with_lights || choice.lights;
+  bool with_lights = false, without_lights = false;  // some windows shade the lights, some do not
+  for (const WindowChoice& choice : window_list) (choice.lights ? with_lights : without_lights) = true;
   std::vector<zonal::LightTable> light_tables;  // what the direct lights read (zonal/light_table.h)
   if (with_lights)
     for (const BrdfTable& table : all_tables) light_tables.push_back(zonal::LightTable::reduce(table));
@@ -357,7 +356,7 @@ int run(int argc, char** argv) {
       fs.bands = L;
       fs.texels_per_band = texels;
       fs.lobes = lobes;
-      filtered.push_back(std::make_unique<zonal::PrefilteredEnvironment>(scene.environment(), fs));
+      if (without_lights) filtered.push_back(std::make_unique<zonal::PrefilteredEnvironment>(scene.environment(), fs));
       if (with_lights) filtered_residual.push_back(std::make_unique<zonal::PrefilteredEnvironment>(lights.residual, fs));
       std::fprintf(stderr, "%s L=%d prefilter %.2f s\n", env_name.c_str(), L, seconds_since(t));
     }

@@ -18,18 +18,16 @@ double luminance(const float* p) { return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722
 
 LightSplit split_lights(const render::Environment& env, const LightSplitSettings& settings) {
   if (settings.max_texels < 0 || settings.max_texels > (1 << 20) || !(settings.ratio > 0) ||
-      settings.subdivisions < 1 || settings.subdivisions > 16 || settings.merge < 1 || settings.merge > 64)
+      settings.merge < 1 || settings.merge > 64)
     throw Error("light split: settings out of range");
   if (env.is_constant()) return {env, {}, 0, 0.0};
   Image map = env.map();
   const int w = map.width, h = map.height, m = settings.merge;
-  // Exact solid angle of a row band [y0, y1) of one texel's width: (cos theta0 - cos theta1) 2 pi / w.
-  auto solid_angle = [&](double y0, double y1) {
-    return (std::cos(kPi * y0 / h) - std::cos(kPi * y1 / h)) * 2.0 * kPi / w;
-  };
+  // Exact solid angle of a texel of row y: (cos theta0 - cos theta1) 2 pi / w.
+  auto solid_angle = [&](int y) { return (std::cos(kPi * y / h) - std::cos(kPi * (y + 1) / h)) * 2.0 * kPi / w; };
   double total = 0.0;
   for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) total += luminance(map.pixel(x, y)) * solid_angle(y, y + 1);
+    for (int x = 0; x < w; ++x) total += luminance(map.pixel(x, y)) * solid_angle(y);
   const double threshold = settings.ratio * total / (4.0 * kPi);
   // Blocks of m x m texels (the last row and column of blocks may be smaller), by mean luminance.
   const int bw = (w + m - 1) / m, bh = (h + m - 1) / m;
@@ -48,7 +46,6 @@ LightSplit split_lights(const render::Environment& env, const LightSplitSettings
   std::partial_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(keep), order.end(),
                     [&](std::size_t a, std::size_t b) { return lum[a] > lum[b]; });
   LightSplit out{env, {}, 0, 0.0};
-  const int s = m == 1 ? settings.subdivisions : 1;
   double moved = 0.0;
   for (std::size_t k = 0; k < keep && lum[order[k]] >= threshold && lum[order[k]] > 0; ++k) {
     const int bx = static_cast<int>(order[k] % static_cast<std::size_t>(bw)), by = static_cast<int>(order[k] / static_cast<std::size_t>(bw));
@@ -58,17 +55,12 @@ LightSplit split_lights(const render::Environment& env, const LightSplitSettings
       for (int x = bx * m; x < std::min(w, (bx + 1) * m); ++x) {
         float* p = map.pixel(x, y);
         const Rgb radiance(p[0], p[1], p[2]);
-        for (int sy = 0; sy < s; ++sy) {
-          const double y0 = y + static_cast<double>(sy) / s, y1 = y + static_cast<double>(sy + 1) / s;
-          const double part = solid_angle(y0, y1) / s;
-          for (int sx = 0; sx < s; ++sx) {
-            const Vec3 d = env.from_uv((x + (sx + 0.5) / s) / w, 0.5 * (y0 + y1) / h);
-            if (m == 1) out.points.push_back({d, radiance * part});
-            centre += d * (luminance(p) * part);
-            block_power += radiance * part;
-          }
-        }
-        moved += luminance(p) * solid_angle(y, y + 1);
+        const double omega = solid_angle(y);
+        const Vec3 d = env.from_uv((x + 0.5) / w, (y + 0.5) / h);
+        if (m == 1) out.points.push_back({d, radiance * omega});
+        centre += d * (luminance(p) * omega);
+        block_power += radiance * omega;
+        moved += luminance(p) * omega;
         p[0] = p[1] = p[2] = 0.0f;
         ++out.texels;
       }

@@ -7,8 +7,8 @@
 // texel, and what is left is dim and smooth, where the expansion is accurate.
 //
 // The split is exact: residual + lights = the map, texel for texel (the residual's texels that
-// became lights are 0). Each light texel is shaded as sub x sub points at the centres of equal
-// parts of its (u, v) rectangle, each carrying the part's exact solid angle.
+// became lights are 0). Each light texel is one point at its centre, carrying its radiance times
+// its exact solid angle.
 
 #include <vector>
 
@@ -23,11 +23,9 @@ struct LightSplitSettings {
   int max_texels = 1024;
   /// Only texels at least `ratio` times the map's mean luminance radiance (over the sphere).
   double ratio = 8.0;
-  /// Points per texel and axis in the direct shading.
-  int subdivisions = 1;
   /// Texels per block side: the map is split by blocks of merge x merge texels, each block
   /// chosen as a whole and shaded as one point (its power-weighted mean direction, its total
-  /// power); 1: texel by texel (then `subdivisions` applies).
+  /// power); 1: texel by texel.
   int merge = 1;
 };
 
