@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -219,54 +221,51 @@ PbrFitResult fit_gltf_pbr(const BrdfTable& table, const PbrFitOptions& o) {
   const double coat = std::clamp(fresnel_weight(r_peak) / 0.04, 0.002, 1.0);
   starts.push_back(coordinates_of(albedo, 0.0, 0.5, 1.0, coat, r_peak));
   starts.push_back(coordinates_of(albedo, 1.0, 0.5, 1.0, coat, r_peak));
-  for (const Eigen::VectorXd& start : starts) {
-    const Eigen::VectorXd x =
-        gp::minimize_nelder_mead(f_coarse, start, gp::MinimizeOptions::nelder_mead(0.2, o.evaluations_per_start));
-    const double v = f_coarse(x);
-    ++result.starts;
-    if (best.size() == 0 || v < best_value) {
-      best = x;
-      best_value = v;
+  // Nelder-Mead from each start on the coarse subsample, the best polished on the full one.
+  const auto search = [&](const std::vector<Eigen::VectorXd>& from, double step) {
+    Eigen::VectorXd x_best;
+    double v_best = 0;
+    for (const Eigen::VectorXd& start : from) {
+      const Eigen::VectorXd x =
+          gp::minimize_nelder_mead(f_coarse, start, gp::MinimizeOptions::nelder_mead(step, o.evaluations_per_start));
+      const double v = f_coarse(x);
+      ++result.starts;
+      if (x_best.size() == 0 || v < v_best) {
+        x_best = x;
+        v_best = v;
+      }
     }
-  }
-  best = gp::minimize_nelder_mead(f, best, gp::MinimizeOptions::nelder_mead(0.05, o.polish_evaluations));
-  best_value = f(best);
-  const Eigen::VectorXd restarted =
-      gp::minimize_nelder_mead(f, best, gp::MinimizeOptions::nelder_mead(0.02, o.restart_evaluations));
-  const double restarted_value = f(restarted);
-  if (restarted_value < best_value) {
-    result.restart_gain = std::sqrt(best_value) - std::sqrt(restarted_value);
-    best = restarted;
-    best_value = restarted_value;
-  }
+    x_best = gp::minimize_nelder_mead(f, x_best, gp::MinimizeOptions::nelder_mead(0.05, o.polish_evaluations));
+    return std::pair<Eigen::VectorXd, double>(x_best, f(x_best));
+  };
+  // A restart from the result (the convergence check): kept if lower, and its gain recorded.
+  const auto restart = [&](Eigen::VectorXd& x, double& value) {
+    const Eigen::VectorXd again = gp::minimize_nelder_mead(f, x, gp::MinimizeOptions::nelder_mead(0.02, o.restart_evaluations));
+    const double v = f(again);
+    result.restart_gain = 0.0;
+    if (v < value) {
+      result.restart_gain = std::sqrt(value) - std::sqrt(v);
+      x = again;
+      value = v;
+    }
+  };
+  std::tie(best, best_value) = search(starts, 0.2);
+  restart(best, best_value);
   // The sheen stage (KHR_materials_sheen: fabrics' grazing brightening): from the result with a
   // neutral sheen of two strengths and two roughnesses, all ten parameters free; kept only if it
   // lowers the distance by more than `sheen_gain`, so materials without a sheen keep the
   // eight-parameter fit as it was.
   if (o.sheen) {
-    Eigen::VectorXd sheen_best;
-    double sheen_value = 0;
+    std::vector<Eigen::VectorXd> sheen_starts;
     for (const double strength : {0.3, 0.8})
       for (const double roughness : {0.3, 0.7}) {
         Eigen::VectorXd start(10);
         start << best, strength, std::log(roughness) / 4.0;
-        const Eigen::VectorXd x =
-            gp::minimize_nelder_mead(f_coarse, start, gp::MinimizeOptions::nelder_mead(0.1, o.evaluations_per_start));
-        const double v = f_coarse(x);
-        ++result.starts;
-        if (sheen_best.size() == 0 || v < sheen_value) {
-          sheen_best = x;
-          sheen_value = v;
-        }
+        sheen_starts.push_back(start);
       }
-    sheen_best = gp::minimize_nelder_mead(f, sheen_best, gp::MinimizeOptions::nelder_mead(0.05, o.polish_evaluations));
-    sheen_value = f(sheen_best);
+    auto [sheen_best, sheen_value] = search(sheen_starts, 0.1);
     if (std::sqrt(sheen_value) < (1.0 - o.sheen_gain) * std::sqrt(best_value)) {
-      const Eigen::VectorXd restarted_sheen =
-          gp::minimize_nelder_mead(f, sheen_best, gp::MinimizeOptions::nelder_mead(0.02, o.restart_evaluations));
-      const double v = f(restarted_sheen);
-      result.restart_gain = v < sheen_value ? std::sqrt(sheen_value) - std::sqrt(v) : 0.0;
-      if (v < sheen_value) sheen_best = restarted_sheen, sheen_value = v;
+      restart(sheen_best, sheen_value);
       best = sheen_best;
       best_value = sheen_value;
     }
