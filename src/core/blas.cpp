@@ -41,6 +41,7 @@ Library load() {
   bind(handle, "dtrtri_", lib.dtrtri);
   bind(handle, "dlauum_", lib.dlauum);
   bind(handle, "dpotrf_", lib.dpotrf);
+  bind(handle, "dsyevd_", lib.dsyevd);
   bind(handle, "openblas_get_corename", lib.corename);
   bind(handle, "openblas_get_config", lib.config);
   decltype(&openblas_set_num_threads) set_num_threads = nullptr;

@@ -40,6 +40,11 @@ struct Library {
   /// turn (inverse_from_cholesky below).
   void (*dtrtri)(const char* uplo, const char* diag, const int* n, double* a, const int* lda, int* info);
   void (*dlauum)(const char* uplo, const int* n, double* a, const int* lda, int* info);
+  /// LAPACK's symmetric eigen-decomposition by divide and conquer (Fortran interface): jobz "V"
+  /// (vectors too) or "N", uplo, n, a, lda, w (eigenvalues, ascending), work, lwork, iwork,
+  /// liwork, info; lwork = liwork = -1 asks for the workspace sizes (core/symmetric_eigen.h).
+  void (*dsyevd)(const char* jobz, const char* uplo, const int* n, double* a, const int* lda, double* w,
+                 double* work, const int* lwork, int* iwork, const int* liwork, int* info);
   decltype(&openblas_get_corename) corename;
   decltype(&openblas_get_config) config;
 };

@@ -1,6 +1,5 @@
 #include "gp/likelihood.h"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -11,6 +10,7 @@
 #include "core/tiled_products.h"
 #include "core/error.h"
 #include "core/parallel.h"
+#include "core/symmetric_eigen.h"
 #include "core/vector_math.h"
 
 namespace matlas::gp {
@@ -48,9 +48,8 @@ LikelihoodEvaluator::LikelihoodEvaluator(const LikelihoodProblem& p)
                 " (all data rows equal, or not a Gram matrix)");
   // S~ = S / sigma has trace n; its eigen-decomposition gives R with S~ = R R^T. The solver reads
   // the lower triangle only, so a slightly asymmetric input is taken as symmetric.
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(S / sigma_);
-  if (eig.info() != Eigen::Success) throw Error("likelihood: eigen-decomposition of the Gram matrix failed");
-  const Eigen::VectorXd& lambda = eig.eigenvalues();  // ascending
+  const SymmetricEigen eig = symmetric_eigen(S / sigma_);
+  const Eigen::VectorXd& lambda = eig.values;  // ascending
   const double top = lambda[lambda.size() - 1];
   if (lambda[0] < -1e-6 * top)
     throw Error("likelihood: the Gram matrix is not positive semidefinite (eigenvalue " + std::to_string(lambda[0]) +
@@ -59,7 +58,7 @@ LikelihoodEvaluator::LikelihoodEvaluator(const LikelihoodProblem& p)
   while (first < lambda.size() && lambda[first] <= 1e-13 * top) ++first;
   const Eigen::Index r = lambda.size() - first;
   MATLAS_CHECK_GT(r, Eigen::Index{0});  // lambda sums to n > 0, so the largest is kept
-  R_ = eig.eigenvectors().rightCols(r) * lambda.tail(r).cwiseSqrt().asDiagonal();
+  R_ = eig.vectors.rightCols(r) * lambda.tail(r).cwiseSqrt().asDiagonal();
 }
 
 double LikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, Eigen::MatrixXd* gradient) {
