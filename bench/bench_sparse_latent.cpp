@@ -355,6 +355,20 @@ int run_gram(const char* path, int m, int r, double ridge) {
 /// iterations, from PCA: all at once (coarse 0) or coarse-to-fine (`OptimizeOptions::coarse`, as
 /// `matlas build --coarse`); time (the start included), l / n, trustworthiness (k = 5) and
 /// leave-one-out error of each.
+/// Progress messages with the seconds since the sink was made, on stderr (MATLAS_BENCH_VERBOSE=1 in
+/// `stages`: where a placement's time goes).
+class StampedProgress final : public ProgressSink {
+public:
+  void update(const std::string&, std::uint64_t, std::uint64_t) override {}
+  void message(const std::string& line) override {
+    if (line.rfind("lbfgs iter", 0) != 0) std::fprintf(stderr, "  [%7.2f s] %s\n", seconds_since(begin_), line.c_str());
+  }
+  void finish(const std::string&) override {}
+
+private:
+  std::chrono::steady_clock::time_point begin_ = std::chrono::steady_clock::now();
+};
+
 int run_stages(const char* path, int q, int coarse, const std::vector<int>& limits) {
   const Model a = Model::open(path);
   gp::LikelihoodProblem e;
@@ -371,11 +385,27 @@ int run_stages(const char* path, int q, int coarse, const std::vector<int>& limi
     o.max_iterations = k;
     o.coarse = coarse;
     const auto t0 = std::chrono::steady_clock::now();
-    const gp::OptimizeResult r = gp::optimize_latent(e, gp::pca_initialization(e, q), o, null_progress());
+    const char* verbose = std::getenv("MATLAS_BENCH_VERBOSE");
+    StampedProgress stamped;
+    ProgressSink& sink = verbose != nullptr && std::string(verbose) == "1" ? stamped : null_progress();
+    gp::OptimizeResult r;
+    if (const char* m = std::getenv("MATLAS_BENCH_SPARSE")) {  // the sparse placement, as build --sparse-inducing M
+      gp::SparseOptions so = sopt(std::atoi(m));
+      const gp::SparseProblem sp = gp::sparse_problem(e, so.rank);
+      const Eigen::MatrixXd X0 = gp::sparse_pca_initialization(sp, q, so.inducing, so.block);
+      sink.message("PCA start");
+      r = gp::optimize_sparse_latent(sp, X0, so, o, sink);
+    } else {
+      const gp::OptimizeOptions resolved = o.resolved(e.gram.rows());  // as the build: K = 0, C = -1 automatic
+      const Eigen::MatrixXd X0 =
+          gp::pca_initialization(e, q, !(resolved.coarse > 0 && resolved.coarse < e.gram.rows()));
+      sink.message("PCA start");
+      r = gp::optimize_latent(e, X0, resolved, sink);
+    }
     const double secs = seconds_since(t0);
     const Eigen::MatrixXd Xc = r.latent.rowwise() - r.latent.colwise().mean();
     std::printf("%-14s K=%5d %7.1f s  l/n %10.5f  trust5 %.4f  LOO %.5f  rms %.3f (%s)\n",
-                coarse > 0 ? "coarse-to-fine" : "one stage", k, secs, ev.normalized(r.latent) / n,
+                o.resolved(e.gram.rows()).coarse > 0 ? "coarse-to-fine" : "one stage", o.resolved(e.gram.rows()).max_iterations, secs, ev.normalized(r.latent) / n,
                 eval::trustworthiness(D, r.latent, 5), loo_error(e.gram, r.latent, e.kernel),
                 std::sqrt(Xc.squaredNorm() / n), r.stop_reason.c_str());
     std::fflush(stdout);

@@ -375,8 +375,8 @@ truncated, corrupted or not a model.)doc")
         "Builds a map from a folder (every MERL .binary and RGL .bsdf file in it) or a list of files and/or\n"
         "folders, writes it atomically to `output` (or, when None, to a temporary file removed once the model\n"
         "is open) and returns the opened Model. The options are `matlas build`'s (coarse: --coarse,\n"
-        "sparse_inducing: --sparse-inducing; for a thousand materials or more, max_iterations=150 with\n"
-        "coarse=300 is the fast exact placement). progress(label, done, total)\n"
+        "sparse_inducing: --sparse-inducing; max_iterations=-1 and coarse=-1, the defaults, are automatic:\n"
+        "from 500 materials on, coarse-to-fine and a refinement whose length falls as n^3). progress(label, done, total)\n"
         "is called as the work advances (any thread, with the GIL held); an exception it raises stops the\n"
         "reporting and is raised again when the build returns.");
   m.def("blas_kernels", [] { return std::string(blas::openblas().corename()); },

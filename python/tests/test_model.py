@@ -139,4 +139,4 @@ def test_coarse_and_sparse_builds_are_the_commands(database, tmp_path):
         for key, value in expect.items():
             assert placement[key] == value, (flags, placement)
     with pytest.raises(matlas.Error, match="coarse"):
-        matlas.build(folder, tmp_path / "bad.matlas", coarse=-1)
+        matlas.build(folder, tmp_path / "bad.matlas", coarse=-2)

@@ -58,6 +58,8 @@ void apply_preset(BuildArgs& a, const CLI::App& cmd) {
   unless_given("--layout", a.layout, paper.layout.to_string());
   unless_given("--interpolation", a.interpolation, std::string(to_string(paper.interpolation)));
   unless_given("--starts", a.starts, paper.optimize.starts);
+  unless_given("--max-iterations", a.max_iterations, paper.optimize.max_iterations);
+  unless_given("--coarse", a.coarse, paper.optimize.coarse);
   unless_given("--repulsion", a.prior.repulsion, paper.prior.repulsion);
   unless_given("--repulsion-radius", a.prior.radius, paper.prior.radius);
   unless_given("--latent-precision", a.prior.precision, paper.prior.precision);
@@ -116,10 +118,7 @@ void run_build(const BuildArgs& a, const Io& io) {
               r.kept_columns, r.dropped_columns);
   print(io.out, "  log-likelihood   %.10g (%d iterations, %d evaluations; %s)\n", r.log_likelihood,
               r.optimization.iterations, r.optimization.evaluations, r.optimization.stop_reason.c_str());
-  if (!r.optimization.converged())
-    print(io.err, "warning: the latent placement did not converge (%s); the model is usable but its layout "
-                 "is not a maximum of the likelihood: raise --max-iterations or --starts\n",
-                 r.optimization.stop_reason.c_str());
+  print(io.err, "%s", convergence_message(set.size(), a.max_iterations, r.optimization).c_str());
   if (const std::string hint = placement_hint(set.size(), o.sparse, r.pass_seconds, r.optimize_seconds); !hint.empty())
     print(io.err, "%s", hint.c_str());
   print(io.out, "  storage          %s, relative L2 rounding error %.3g\n",
@@ -151,7 +150,10 @@ void add_build_command(CLI::App& app, const Io& io) {
                   "prefixed cosine- (the interpolation stays linear in the data)")
       ->capture_default_str();
   cmd->add_option("--storage", args->storage, "Precision of the stored data: f32 or f16")->capture_default_str();
-  cmd->add_option("--max-iterations", args->max_iterations, "Optimiser iteration limit")
+  cmd->add_option("--max-iterations", args->max_iterations,
+                  "Optimiser iteration limit (of the refinement of all after a coarse stage). -1, the "
+                  "default: 5000, and from 500 materials on 10^11/n^3, at least 100 (an iteration costs "
+                  "O(n^3); docs/GP.md)")
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
   cmd->add_option("--starts", args->starts,
@@ -159,10 +161,11 @@ void add_build_command(CLI::App& app, const Io& io) {
                   "for q <= 2, where the likelihood has several maxima, else 1")
       ->check(CLI::Range(1, 100));
   cmd->add_option("--coarse", args->coarse,
-                  "Coarse-to-fine exact placement: place C materials chosen at random first, the others from "
-                  "their nearest ones in the data, then refine all (0: all at once). With a small "
-                  "--max-iterations on 1000 materials or more, --coarse 300 gets much further (docs/GP.md)")
-      ->check(CLI::Range(0, 100000000))
+                  "Coarse-to-fine exact placement: place C materials chosen at random first (themselves "
+                  "coarse-to-fine from C/5 when that is 50 or more), the others from their nearest ones in the "
+                  "data, then refine all. 0: all at once; -1, the default: 0.3 n from 500 materials on, else 0 "
+                  "(docs/GP.md)")
+      ->check(CLI::Range(-1, 100000000))
       ->capture_default_str();
   add_sparse_placement_options(*cmd, args->sparse);
   cmd->add_option("--tolerance", args->tolerance, "Optimiser relative tolerance")

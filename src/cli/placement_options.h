@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "gp/optimize.h"
 #include "gp/sparse_optimize.h"
 
 namespace matlas::cli {
@@ -19,5 +20,10 @@ void add_sparse_placement_options(CLI::App& cmd, gp::SparseOptions& sparse);
 /// already, fewer materials, or a placement no longer than the pass.
 std::string placement_hint(std::size_t materials, const gp::SparseOptions& sparse, double pass_seconds,
                            double placement_seconds);
+
+/// What `matlas build` says of a placement that did not converge ("" when it did): a note when the
+/// automatic iteration limit (max_iterations -1 from gp::OptimizeOptions::kLargePlacement
+/// materials on) ended it, where a short refinement is the choice, else a warning.
+std::string convergence_message(std::size_t materials, int max_iterations, const gp::OptimizeResult& result);
 
 }  // namespace matlas::cli

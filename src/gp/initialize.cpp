@@ -1,11 +1,11 @@
 #include "gp/initialize.h"
 
-#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <limits>
 #include <string>
 
 #include "core/error.h"
+#include "core/symmetric_eigen.h"
 
 namespace matlas::gp {
 
@@ -23,16 +23,19 @@ double scaled_value(const std::function<double(const Eigen::MatrixXd&)>& value, 
 
 }  // namespace
 
-double best_scale_factor(LikelihoodEvaluator& evaluator, const Eigen::MatrixXd& X, double a_min, double a_max) {
-  return best_scale_factor([&evaluator](const Eigen::MatrixXd& Y) { return evaluator.normalized(Y); }, X, a_min, a_max);
+double best_scale_factor(LikelihoodEvaluator& evaluator, const Eigen::MatrixXd& X, double a_min, double a_max,
+                         int scan, double tolerance) {
+  return best_scale_factor([&evaluator](const Eigen::MatrixXd& Y) { return evaluator.normalized(Y); }, X, a_min, a_max,
+                           scan, tolerance);
 }
 
 double best_scale_factor(const std::function<double(const Eigen::MatrixXd&)>& evaluator, const Eigen::MatrixXd& X,
-                         double a_min, double a_max) {
+                         double a_min, double a_max, int scan, double tolerance) {
   if (!(a_min > 0) || !(a_max > a_min)) throw Error("best_scale_factor: need 0 < a_min < a_max");
+  if (scan < 2 || !(tolerance > 0)) throw Error("best_scale_factor: need a scan of at least 2 values and a tolerance > 0");
   // Coarse scan: the likelihood of a scaled point set is smooth in log a but need not be
   // unimodal over many decades, so bracket the best grid point first.
-  constexpr int kScan = 25;
+  const int kScan = scan;
   const double lo = std::log(a_min), hi = std::log(a_max);
   const double step = (hi - lo) / (kScan - 1);
   int best = 0;
@@ -47,7 +50,7 @@ double best_scale_factor(const std::function<double(const Eigen::MatrixXd&)>& ev
   const double g = 0.5 * (std::sqrt(5.0) - 1.0);
   double c = b - g * (b - a), d = a + g * (b - a);
   double fc = scaled_value(evaluator, X, c), fd = scaled_value(evaluator, X, d);
-  for (int it = 0; it < 40 && b - a > 1e-6; ++it) {
+  for (int it = 0; it < 40 && b - a > tolerance; ++it) {
     if (fc >= fd) {
       b = d, d = c, fd = fc;
       c = b - g * (b - a), fc = scaled_value(evaluator, X, c);
@@ -62,26 +65,26 @@ double best_scale_factor(const std::function<double(const Eigen::MatrixXd&)>& ev
   return std::exp(result);
 }
 
-Eigen::MatrixXd pca_initialization(const LikelihoodProblem& p, int q) {
+Eigen::MatrixXd pca_initialization(const LikelihoodProblem& p, int q, bool search_scale) {
   LikelihoodEvaluator evaluator(p);  // validates the problem
   const Eigen::Index n = p.gram.rows();
   if (q < 1) throw Error("pca_initialization: latent dimension must be >= 1 (got " + std::to_string(q) + ")");
   // Work on S / sigma so that the eigenvectors do not depend on the data scale.
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(p.gram / evaluator.scale());
-  if (eig.info() != Eigen::Success) throw Error("pca_initialization: eigen-decomposition of the Gram matrix failed");
+  const SymmetricEigen eig = symmetric_eigen(p.gram / evaluator.scale());
   Eigen::MatrixXd X = Eigen::MatrixXd::Zero(n, q);
   const Eigen::Index available = std::min<Eigen::Index>(q, n);
   for (Eigen::Index k = 0; k < available; ++k) {
     const Eigen::Index col = n - 1 - k;  // eigenvalues ascend
-    Eigen::VectorXd u = eig.eigenvectors().col(col);
+    Eigen::VectorXd u = eig.vectors.col(col);
     Eigen::Index imax = 0;
     u.cwiseAbs().maxCoeff(&imax);
     if (u[imax] < 0) u = -u;
-    X.col(k) = u * std::sqrt(std::max(0.0, eig.eigenvalues()[col]));
+    X.col(k) = u * std::sqrt(std::max(0.0, eig.values[col]));
   }
   const double rms = std::sqrt(X.squaredNorm() / static_cast<double>(n));
   if (!(rms > 0)) return X;  // no variation at all: nothing to scale
   const double unit = p.kernel.lengthscale / rms;  // scale with RMS radius = lengthscale
+  if (!search_scale) return unit * X;
   const double a = best_scale_factor(evaluator, X, unit * 1e-3, unit * 1e3);
   return a * X;
 }

@@ -122,15 +122,18 @@ OptimizeResult optimize_all_at_once(const LikelihoodProblem& p, const Eigen::Mat
   return starts.finish();
 }
 
-/// optimize_latent with a coarse stage (o.coarse in (0, n)): the starts on the subset, the
-/// interpolation of the others, one refinement of all.
+OptimizeResult coarse_to_fine(const LikelihoodProblem& p, const Eigen::MatrixXd& X0, const OptimizeOptions& o,
+                              ProgressSink& sink);
+
+/// optimize_latent with a coarse stage (o.coarse in (0, n)): the starts on the subset (itself
+/// placed coarse-to-fine when it is large enough), the interpolation of the others, one refinement
+/// of all.
 OptimizeResult coarse_to_fine(const LikelihoodProblem& p, const Eigen::MatrixXd& X0, const OptimizeOptions& o,
                               ProgressSink& sink) {
   const auto begin = std::chrono::steady_clock::now();
   const std::vector<Eigen::Index> rows = coarse_subset(X0.rows(), o.coarse);
   sink.message("coarse placement: " + std::to_string(rows.size()) + " of " + std::to_string(X0.rows()) + " items");
   OptimizeOptions first = o;  // the target is the whole problem's: not for the subset's objective
-  first.coarse = 0;
   first.target_value = std::numeric_limits<double>::infinity();
   first.max_iterations = std::max(o.max_iterations, OptimizeOptions::kCoarseIterations);
   // The subset's start: its rows of X0, about their centroid, scaled to the subset's best.
@@ -141,14 +144,19 @@ OptimizeResult coarse_to_fine(const LikelihoodProblem& p, const Eigen::MatrixXd&
     LikelihoodEvaluator evaluator(subset);
     S0 *= best_scale_factor(evaluator, S0, 0.1, 10.0);
   }
-  const OptimizeResult coarse = optimize_all_at_once(subset, S0, first, sink);
+  // Itself coarse-to-fine while a level of coarse / kLevelRatio items keeps kSmallestLevel or more.
+  first.coarse = o.coarse / OptimizeOptions::kLevelRatio >= OptimizeOptions::kSmallestLevel
+                     ? o.coarse / OptimizeOptions::kLevelRatio
+                     : 0;
+  const OptimizeResult coarse =
+      first.coarse > 0 ? coarse_to_fine(subset, S0, first, sink) : optimize_all_at_once(subset, S0, first, sink);
   // The interpolated layout about its centroid, scaled to the whole problem's best (n items
   // spread wider than the subset's: their repulsion and covariance want room).
   Eigen::MatrixXd X1 = interpolate_layout(p.gram, rows, coarse.latent);
   X1 = X1.rowwise() - X1.colwise().mean();
   if (X1.norm() > 0) {  // else a degenerate subset layout: nothing to scale
     LikelihoodEvaluator evaluator(p);
-    const double a = best_scale_factor(evaluator, X1, 0.25, 4.0);
+    const double a = best_scale_factor(evaluator, X1, 0.25, 4.0, 9, 1e-2);  // to 1 %: the refinement follows
     sink.message("coarse placement: the others interpolated, the layout scaled by " + std::to_string(a));
     X1 *= a;
   }
@@ -163,9 +171,22 @@ OptimizeResult optimize_latent(const LikelihoodProblem& p, Eigen::MatrixXd X0, c
                                ProgressSink& sink) {
   if (!X0.allFinite()) throw Error("optimize_latent: the initial latent points contain NaN or infinity");
   if (o.starts < 1) throw Error("optimize_latent: starts must be >= 1 (got " + std::to_string(o.starts) + ")");
-  if (o.coarse < 0) throw Error("optimize_latent: the coarse subset's size must be >= 0 (0: all at once)");
-  if (o.coarse > 0 && o.coarse < X0.rows()) return coarse_to_fine(p, X0, o, sink);
-  return optimize_all_at_once(p, X0, o, sink);
+  if (o.coarse < -1) throw Error("optimize_latent: the coarse subset's size must be >= 0 (0: all at once; -1: automatic)");
+  if (o.max_iterations < -1) throw Error("optimize_latent: the iteration limit must be >= 0 (-1: automatic)");
+  const OptimizeOptions r = o.resolved(X0.rows());
+  if (r.coarse > 0 && r.coarse < X0.rows()) return coarse_to_fine(p, X0, r, sink);
+  return optimize_all_at_once(p, X0, r, sink);
+}
+
+OptimizeOptions OptimizeOptions::resolved(Eigen::Index n) const {
+  OptimizeOptions r = *this;
+  const bool large = n >= kLargePlacement;
+  if (r.coarse == -1) r.coarse = large ? static_cast<int>(std::lround(0.3 * static_cast<double>(n))) : 0;
+  if (r.max_iterations == -1) {
+    const double cube = static_cast<double>(n) * static_cast<double>(n) * static_cast<double>(n);
+    r.max_iterations = large ? static_cast<int>(std::clamp(std::lround(1e11 / cube), 100L, 5000L)) : 5000;
+  }
+  return r;
 }
 
 const char* to_string(Optimizer method) {

@@ -18,7 +18,11 @@ enum class Optimizer { lbfgs, hooke_jeeves };
 struct OptimizeOptions {
   Optimizer method = Optimizer::lbfgs;
   /// L-BFGS: iterations (one line search each); Hooke-Jeeves: exploratory sweeps over all n*q
-  /// coordinates.
+  /// coordinates. -1: automatic (`matlas build`'s default, resolved()): 5000, and from
+  /// kLargePlacement items on 10^11 / n^3, at least 100 (800 at n = 500, 100 at n = 1000): one
+  /// iteration costs O(n^3), so the refinement takes about the same time from 500 to 1000 items
+  /// (6 s here) instead of growing with n^3 past the pass over the data (docs/BENCHMARKS.md,
+  /// "n = 1000 on one machine").
   int max_iterations = 5000;
   /// L-BFGS: stops when l improved by at most tolerance * max(1, |l|) over the last 3 iterations,
   /// or when |grad l| <= tolerance * max(1, |l(X0)|), or when the line search cannot improve l
@@ -39,12 +43,21 @@ struct OptimizeOptions {
   /// chosen at random are placed first (from their rows of X0; every start runs on them, with at
   /// least kCoarseIterations iterations: one costs about (coarse / n)^3 of one over all items),
   /// the others go where their nearest placed items in the data lie, the layout is scaled to the
-  /// whole problem's best, and all are refined from there within max_iterations. 0 (the default):
-  /// all at once. A short placement of many items gets much further this way; at 5000 iterations
-  /// of 1000 materials it ends near the one-stage value with neighbourhoods kept less well
-  /// (docs/BENCHMARKS.md). (The sparse placement's is SparseOptions::coarse.)
+  /// whole problem's best, and all are refined from there within max_iterations. The coarse stage
+  /// is itself coarse-to-fine while coarse / kLevelRatio >= kSmallestLevel (1000 items: 300, of
+  /// them 60 first). 0: all at once. -1: automatic (`matlas build`'s default, resolved()): 0.3 n
+  /// from kLargePlacement items on, else 0. With a short refinement of 1000 materials it
+  /// reconstructs the data far better than the same time spent on all at once (docs/BENCHMARKS.md).
+  /// (The sparse placement's is SparseOptions::coarse.)
   int coarse = 0;
-  static constexpr int kCoarseIterations = 1000;
+  static constexpr int kCoarseIterations = 600;
+  static constexpr int kLevelRatio = 5, kSmallestLevel = 50;
+  /// From this many items on, the automatic choices cut the refinement and place coarse-to-fine.
+  static constexpr Eigen::Index kLargePlacement = 500;
+
+  /// These options with coarse -1 and max_iterations -1 replaced by their automatic values for n
+  /// items (optimize_latent does this itself).
+  OptimizeOptions resolved(Eigen::Index n) const;
 };
 
 struct OptimizeResult {

@@ -54,7 +54,10 @@ void validate(const MaterialSet& set, const BuildOptions& o) {
     throw Error("--nugget must be in (0, 1], got " + std::to_string(o.nugget));
   if (!(o.convex_ridge > 0.0) || !std::isfinite(o.convex_ridge))
     throw Error("--convex-ridge must be finite and > 0, got " + std::to_string(o.convex_ridge));
-  if (o.optimize.coarse < 0) throw Error("--coarse must be >= 0, got " + std::to_string(o.optimize.coarse));
+  if (o.optimize.coarse < -1)
+    throw Error("--coarse must be >= 0 (or -1: automatic), got " + std::to_string(o.optimize.coarse));
+  if (o.optimize.max_iterations < -1)
+    throw Error("--max-iterations must be >= 0 (or -1: automatic), got " + std::to_string(o.optimize.max_iterations));
   if (o.optimize.coarse > 0 && o.sparse.enabled())
     throw Error("--coarse is the exact placement's; with --sparse-inducing, --sparse-coarse sets the sparse one's");
   if (o.sparse.inducing < 0 || o.sparse.coarse < -1 || (o.sparse.enabled() && (o.sparse.rank < 1 || o.sparse.block < 1)))
@@ -111,6 +114,12 @@ void reject_duplicates(const MaterialSet& set, const Eigen::MatrixXd& s, const E
 }
 
 /// The model metadata with everything known before the pass; the rest is filled in at the end.
+/// The exact placement's coarse subset for n items as the model records it (0: all at once).
+int exact_coarse(const gp::OptimizeOptions& o, Eigen::Index n) {
+  const int coarse = o.resolved(n).coarse;
+  return coarse < n ? coarse : 0;
+}
+
 json model_metadata_skeleton(const MaterialSet& set, const BuildOptions& options, DType storage) {
   json sources = json::array();
   for (std::size_t i = 0; i < set.size(); ++i)
@@ -148,7 +157,7 @@ json model_metadata_skeleton(const MaterialSet& set, const BuildOptions& options
                   {"coarse", options.sparse.coarse >= 0 ? options.sparse.coarse
                                                         : gp::automatic_coarse(static_cast<Eigen::Index>(set.size()))}}
            : json{{"method", "exact"},
-                  {"coarse", options.optimize.coarse < static_cast<int>(set.size()) ? options.optimize.coarse : 0}}},
+                  {"coarse", exact_coarse(options.optimize, static_cast<Eigen::Index>(set.size()))}}},
       {"albedo", albedo_rule_description()},
       {"sources", sources},
   };
@@ -228,9 +237,15 @@ gp::OptimizeResult place_latent_points(const gp::LikelihoodProblem& problem, int
   if (sparse.enabled()) {
     const gp::SparseProblem p = gp::sparse_problem(problem, sparse.rank);
     const Eigen::MatrixXd x0 = gp::sparse_pca_initialization(p, q, sparse.inducing, sparse.block);
-    return gp::optimize_sparse_latent(p, x0, sparse, optimize, progress);
+    gp::OptimizeOptions o = optimize;
+    if (o.max_iterations == -1) o.max_iterations = gp::OptimizeOptions{}.max_iterations;  // automatic: the exact one's rule is for O(n^3)
+    return gp::optimize_sparse_latent(p, x0, sparse, o, progress);
   }
-  return gp::optimize_latent(problem, gp::pca_initialization(problem, q), optimize, progress);
+  // A coarse-to-fine placement scales its subset itself: the PCA start's own search is skipped.
+  const Eigen::Index n = problem.gram.rows();
+  const gp::OptimizeOptions resolved = optimize.resolved(n);
+  const bool coarse = resolved.coarse > 0 && resolved.coarse < n;
+  return gp::optimize_latent(problem, gp::pca_initialization(problem, q, !coarse), resolved, progress);
 }
 
 namespace {
@@ -354,6 +369,8 @@ BuildOptions BuildOptions::paper_preset() {
   o.prior = gp::LatentPrior{};
   o.optimize.method = gp::Optimizer::hooke_jeeves;
   o.optimize.starts = 1;
+  o.optimize.max_iterations = gp::OptimizeOptions{}.max_iterations;  // all at once, 5000 sweeps at any size
+  o.optimize.coarse = 0;
   o.interpolation = Interpolation::gp;
   return o;
 }

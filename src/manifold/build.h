@@ -52,10 +52,13 @@ struct BuildOptions {
   /// Optimiser starts when none are named (optimize.starts 0): 3 for q <= 2, where the
   /// likelihood has several maxima, else 1.
   static int default_starts(int dim) { return dim <= 2 ? 3 : 1; }
-  /// gp::OptimizeOptions' defaults with starts 0 (default_starts of the dimension).
+  /// gp::OptimizeOptions' defaults with starts 0 (default_starts of the dimension), the iteration
+  /// limit and the coarse stage automatic (by the number of materials).
   static gp::OptimizeOptions default_optimize() {
     gp::OptimizeOptions o;
     o.starts = 0;
+    o.max_iterations = -1;  // automatic (gp::OptimizeOptions::resolved): shorter from 500 materials on
+    o.coarse = -1;         // automatic: coarse-to-fine from 500 materials on
     return o;
   }
   /// `o` with starts 0 resolved for latent dimension `dim`.

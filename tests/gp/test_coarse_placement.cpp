@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <set>
+#include <string>
+#include <vector>
 
 #include "core/error.h"
+#include "core/progress.h"
 #include "gp/coarse_placement.h"
 #include "gp/initialize.h"
 #include "gp/likelihood.h"
@@ -144,6 +147,61 @@ TEST(CoarsePlacement, ExactSubsetProblemKeepsItsRowsAndColumnsOfTheGram) {
   EXPECT_THROW(subset_problem(p, {3, 10}), Error);
 }
 
+TEST(CoarsePlacement, AutomaticChoicesCutTheRefinementFromFiveHundredItems) {
+  OptimizeOptions automatic;
+  automatic.coarse = -1;
+  automatic.max_iterations = -1;
+  const auto at = [&](Eigen::Index n) {
+    const OptimizeOptions r = automatic.resolved(n);
+    return std::pair{r.coarse, r.max_iterations};
+  };
+  EXPECT_EQ(at(100), (std::pair{0, 5000}));
+  EXPECT_EQ(at(499), (std::pair{0, 5000}));
+  EXPECT_EQ(at(500), (std::pair{150, 800}));  // 10^11 / 500^3
+  EXPECT_EQ(at(1000), (std::pair{300, 100}));
+  EXPECT_EQ(at(10000), (std::pair{3000, 100}));  // at least 100
+  OptimizeOptions given;
+  given.coarse = 7;
+  given.max_iterations = 30;
+  EXPECT_EQ(given.resolved(1000).coarse, 7);
+  EXPECT_EQ(given.resolved(1000).max_iterations, 30);
+}
+
+/// Progress lines, kept.
+class Lines final : public ProgressSink {
+public:
+  void update(const std::string&, std::uint64_t, std::uint64_t) override {}
+  void message(const std::string& line) override { lines.push_back(line); }
+  void finish(const std::string&) override {}
+  std::vector<std::string> lines;
+};
+
+TEST(CoarsePlacement, ALargeCoarseStageIsItselfCoarseToFine) {
+  // 250 of 300 first: 250 / 5 = 50 items before them (OptimizeOptions::kSmallestLevel); 200 of
+  // 300 would be placed all at once (40 < 50).
+  const LikelihoodProblem p = test::two_parameter_curves(300);
+  const Eigen::MatrixXd X0 = pca_initialization(p, 2, false);
+  OptimizeOptions o;
+  o.max_iterations = 5;
+  o.coarse = 250;
+  Lines nested;
+  const OptimizeResult r = optimize_latent(p, X0, o, nested);
+  const auto said = [](const Lines& l, const std::string& line) {
+    return std::find(l.lines.begin(), l.lines.end(), line) != l.lines.end();
+  };
+  EXPECT_TRUE(said(nested, "coarse placement: 250 of 300 items"));
+  EXPECT_TRUE(said(nested, "coarse placement: 50 of 250 items"));
+  EXPECT_TRUE(said(nested, "refinement of all 250 items"));
+  EXPECT_TRUE(said(nested, "refinement of all 300 items"));
+  EXPECT_EQ(r.value, log_likelihood(p, r.latent));
+  EXPECT_GE(r.iterations, 2 * OptimizeOptions::kCoarseIterations / 2);  // the levels' iterations are counted
+  o.coarse = 200;
+  Lines flat;
+  optimize_latent(p, X0, o, flat);
+  EXPECT_TRUE(said(flat, "coarse placement: 200 of 300 items"));
+  EXPECT_FALSE(said(flat, "coarse placement: 40 of 200 items"));
+}
+
 TEST(CoarsePlacement, ExactCoarseToFineReachesTheOneStageObjective) {
   // The exact placement of the same kind of data, n = 200: 60 items first, then all.
   const int n = 200;
@@ -166,7 +224,9 @@ TEST(CoarsePlacement, ExactCoarseToFineReachesTheOneStageObjective) {
   OptimizeOptions all = o;
   all.coarse = n;
   EXPECT_EQ(optimize_latent(p, X0, all, null_progress()).latent, direct.latent);
-  all.coarse = -1;
+  all.coarse = -1;  // automatic: all at once below OptimizeOptions::kLargePlacement items
+  EXPECT_EQ(optimize_latent(p, X0, all, null_progress()).latent, direct.latent);
+  all.coarse = -2;
   EXPECT_THROW(optimize_latent(p, X0, all, null_progress()), Error);
 }
 

@@ -251,7 +251,7 @@ TEST(BuildModel, SparseLatentOptimisationWithAllPointsInducingIsTheExactOne) {
   exact_coarse.sparse = sparse.sparse;
   EXPECT_THROW(build_model(set, exact_coarse, dir / "both.matlas"), Error);
   exact_coarse = exact;
-  exact_coarse.optimize.coarse = -1;
+  exact_coarse.optimize.coarse = -2;
   EXPECT_THROW(build_model(set, exact_coarse, dir / "negative-exact.matlas"), Error);
   sparse.optimize.method = gp::Optimizer::hooke_jeeves;
   EXPECT_THROW(build_model(set, sparse, dir / "hj.matlas"), Error);
