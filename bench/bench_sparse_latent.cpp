@@ -14,7 +14,10 @@
 //                                           (their layout Gram from the convex metric)
 //   bench_sparse_latent stages MODEL Q C K...  exact placements of a model's layout Gram
 //                                           stopped after K iterations: all at once (C = 0) or
-//                                           coarse-to-fine (C items first, as build --coarse C)
+//                                           coarse-to-fine (C items first, as build --coarse C);
+//                                           C = -1, K = -1: the build's automatic choices.
+//                                           MATLAS_BENCH_SUBSET=N: N of its items at random;
+//                                           MATLAS_BENCH_VERBOSE=1: the stages' times on stderr
 // q = 2, nugget 1e-4, l = 1, the build's priors (LatentPrior::spread), one start each.
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -30,6 +33,7 @@
 #include <vector>
 
 #include "eval/manifold_quality.h"
+#include "gp/coarse_placement.h"
 #include "gp/initialize.h"
 #include "gp/likelihood.h"
 #include "gp/optimize.h"
@@ -377,6 +381,8 @@ int run_stages(const char* path, int q, int coarse, const std::vector<int>& limi
   e.columns = static_cast<double>(a.kept_columns());
   e.kernel = gp::Kernel{1.0, 1e-4};
   e.prior = gp::LatentPrior::spread();
+  if (const char* subset = std::getenv("MATLAS_BENCH_SUBSET"))  // N of the model's items (coarse_subset's sample)
+    e = gp::subset_problem(e, gp::coarse_subset(e.gram.rows(), std::atoi(subset), 7));
   const Eigen::MatrixXd D = gram_distances(e.gram);
   gp::LikelihoodEvaluator ev(e);
   const double n = static_cast<double>(e.gram.rows());

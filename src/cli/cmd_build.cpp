@@ -162,7 +162,7 @@ void add_build_command(CLI::App& app, const Io& io) {
       ->check(CLI::Range(1, 100));
   cmd->add_option("--coarse", args->coarse,
                   "Coarse-to-fine exact placement: place C materials chosen at random first (themselves "
-                  "coarse-to-fine from C/5 when that is 50 or more), the others from their nearest ones in the "
+                  "coarse-to-fine from C/5 when that is 30 or more), the others from their nearest ones in the "
                   "data, then refine all. 0: all at once; -1, the default: 0.3 n from 500 materials on, else 0 "
                   "(docs/GP.md)")
       ->check(CLI::Range(-1, 100000000))

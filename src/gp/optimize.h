@@ -45,13 +45,13 @@ struct OptimizeOptions {
   /// the others go where their nearest placed items in the data lie, the layout is scaled to the
   /// whole problem's best, and all are refined from there within max_iterations. The coarse stage
   /// is itself coarse-to-fine while coarse / kLevelRatio >= kSmallestLevel (1000 items: 300, of
-  /// them 60 first). 0: all at once. -1: automatic (`matlas build`'s default, resolved()): 0.3 n
-  /// from kLargePlacement items on, else 0. With a short refinement of 1000 materials it
+  /// them 60 first; 700 items: 210, of them 42 first). 0: all at once. -1: automatic (`matlas
+  /// build`'s default, resolved()): 0.3 n from kLargePlacement items on, else 0. With a short refinement of 1000 materials it
   /// reconstructs the data far better than the same time spent on all at once (docs/BENCHMARKS.md).
   /// (The sparse placement's is SparseOptions::coarse.)
   int coarse = 0;
   static constexpr int kCoarseIterations = 600;
-  static constexpr int kLevelRatio = 5, kSmallestLevel = 50;
+  static constexpr int kLevelRatio = 5, kSmallestLevel = 30;
   /// From this many items on, the automatic choices cut the refinement and place coarse-to-fine.
   static constexpr Eigen::Index kLargePlacement = 500;
 

@@ -177,8 +177,8 @@ public:
 };
 
 TEST(CoarsePlacement, ALargeCoarseStageIsItselfCoarseToFine) {
-  // 250 of 300 first: 250 / 5 = 50 items before them (OptimizeOptions::kSmallestLevel); 200 of
-  // 300 would be placed all at once (40 < 50).
+  // 250 of 300 first: 250 / 5 = 50 items before them (at least OptimizeOptions::kSmallestLevel,
+  // 30); 140 of 300 are placed all at once (28 < 30).
   const LikelihoodProblem p = test::two_parameter_curves(300);
   const Eigen::MatrixXd X0 = pca_initialization(p, 2, false);
   OptimizeOptions o;
@@ -195,11 +195,11 @@ TEST(CoarsePlacement, ALargeCoarseStageIsItselfCoarseToFine) {
   EXPECT_TRUE(said(nested, "refinement of all 300 items"));
   EXPECT_EQ(r.value, log_likelihood(p, r.latent));
   EXPECT_GE(r.iterations, 2 * OptimizeOptions::kCoarseIterations / 2);  // the levels' iterations are counted
-  o.coarse = 200;
+  o.coarse = 140;
   Lines flat;
   optimize_latent(p, X0, o, flat);
-  EXPECT_TRUE(said(flat, "coarse placement: 200 of 300 items"));
-  EXPECT_FALSE(said(flat, "coarse placement: 40 of 200 items"));
+  EXPECT_TRUE(said(flat, "coarse placement: 140 of 300 items"));
+  EXPECT_FALSE(said(flat, "coarse placement: 28 of 140 items"));
 }
 
 TEST(CoarsePlacement, ExactCoarseToFineReachesTheOneStageObjective) {
