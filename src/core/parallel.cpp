@@ -69,6 +69,14 @@ void parallel_for_each(std::size_t begin, std::size_t end, const std::function<v
       tbb::simple_partitioner());
 }
 
+void parallel_for_blocks(std::size_t count, std::size_t block,
+                         const std::function<void(std::size_t, std::size_t)>& body) {
+  if (count == 0) return;
+  if (block == 0) block = count;
+  const std::size_t blocks = (count + block - 1) / block;
+  parallel_for_each(0, blocks, [&](std::size_t b) { body(b * block, std::min(block, count - b * block)); });
+}
+
 constexpr int kBackgroundNice = 4;
 
 void run_in_background(const std::function<void()>& f) {

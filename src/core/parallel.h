@@ -23,6 +23,12 @@ void parallel_for(std::size_t begin, std::size_t end,
 /// another request) compete for the cores and a fixed split would leave one core waiting.
 void parallel_for_each(std::size_t begin, std::size_t end, const std::function<void(std::size_t)>& body);
 
+/// Calls body(first, size) for consecutive blocks of `block` items (the last one shorter) covering
+/// [0, count), on the worker threads (parallel_for_each). The blocks depend on count and block
+/// only, never on the number of workers: for elementwise work over the columns of a matrix.
+void parallel_for_blocks(std::size_t count, std::size_t block,
+                         const std::function<void(std::size_t, std::size_t)>& body);
+
 /// Runs f on the calling thread as background work: the thread's scheduling priority is lowered
 /// (Linux nice raised by 4, at most to 19; it stays lowered after f returns, so call this from a thread that does only
 /// background work) and the parallel loops in f run in a low-priority oneTBB arena. The cores and

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <string>
 
 #include "core/check.h"
@@ -18,6 +19,24 @@ namespace matlas::gp {
 namespace {
 
 std::string dims(Eigen::Index r, Eigen::Index c) { return std::to_string(r) + " x " + std::to_string(c); }
+
+/// Columns per block of the elementwise n x n work below, on the workers (the blocks, and so
+/// every value, do not depend on their number).
+constexpr std::size_t kElementwiseColumns = 128;
+
+/// body(j) for every column j of an n x n matrix, in blocks of columns on the workers.
+void for_each_column(Eigen::Index n, const std::function<void(Eigen::Index)>& body) {
+  parallel_for_blocks(static_cast<std::size_t>(n), kElementwiseColumns, [&](std::size_t first, std::size_t size) {
+    for (auto j = static_cast<Eigen::Index>(first); j < static_cast<Eigen::Index>(first + size); ++j) body(j);
+  });
+}
+
+/// The strict upper triangle of A made the transpose of its lower one.
+void mirror_lower(Eigen::MatrixXd& A) {
+  for_each_column(A.cols(), [&](Eigen::Index j) {
+    for (Eigen::Index i = 0; i < j; ++i) A(i, j) = A(j, i);
+  });
+}
 
 }  // namespace
 
@@ -79,7 +98,8 @@ double LikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, Eigen::MatrixXd
   // B = K^-1 R in one dsymm (docs/GP.md, "Evaluation"; two triangular solves took twice as long).
   const blas::Library& blas = blas::openblas();
   const int nn = static_cast<int>(n), r = static_cast<int>(R_.cols());
-  L_ = K_;
+  L_.resize(n, n);
+  for_each_column(n, [&](Eigen::Index j) { L_.col(j) = K_.col(j); });
   int info = blas::tiled_cholesky(nn, L_.data(), nn);
   if (info != 0 || !acceptable_cholesky_pivots(L_.diagonal()))
     throw Error("likelihood: the covariance matrix of the latent points is not positive definite (duplicate "
@@ -93,7 +113,7 @@ double LikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, Eigen::MatrixXd
 
   // t = tr(K^-1 S~) = sum(R o B) with B = K^-1 R: K^-1 made whole, then one product in column
   // blocks over the workers (with OpenBLAS single-threaded, one dsymm left the other cores idle).
-  Kinv_.triangularView<Eigen::StrictlyUpper>() = Kinv_.transpose();
+  mirror_lower(Kinv_);
   B_.resize(n, r);
   blas::tiled_product(nn, r, nn, 1.0, Kinv_.data(), nn, R_.data(), nn, B_.data(), nn);
   const double t = (R_.array() * B_.array()).sum();
@@ -147,14 +167,16 @@ double LikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, Eigen::MatrixXd
   // dl/dK = G = -beta K^-1 + (n/t) K^-1 S~ K^-1, and K^-1 S~ K^-1 = B B^T.
   G_.resize(n, n);
   blas::tiled_lower_gram(nn, r, nd / t, B_.data(), nn, 0.0, G_.data(), nn);
-  G_.triangularView<Eigen::Lower>() -= beta_ * Kinv_;
-  G_.triangularView<Eigen::StrictlyUpper>() = G_.transpose();
+  for_each_column(n, [&](Eigen::Index j) { G_.col(j).tail(n - j) -= beta_ * Kinv_.col(j).tail(n - j); });
+  mirror_lower(G_);
   // dl/dx_i = sum_j (G_ij + G_ji) dK_ij/dx_i with dK_ij/dx_i = -2 (x_i - x_j) K_ij / l^2 (i != j),
   // i.e. dl/dx_i = sum_j M_ij (x_j - x_i) with M = (4/l^2) G o K; the prior's forces add -F to M
   // (d/dx_i = sum_j F_ij (x_i - x_j)). So dl/dX = M X - diag(M 1) X - gamma X, one product (the
   // diagonal of M cancels in the difference, so it need not be removed).
-  G_.array() *= K_.array() * (4.0 * inv_l2);
-  if (repulsion_ > 0) G_ -= F_;
+  for_each_column(n, [&](Eigen::Index j) {
+    G_.col(j).array() *= K_.col(j).array() * (4.0 * inv_l2);
+    if (repulsion_ > 0) G_.col(j) -= F_.col(j);
+  });
   gradient->resize(n, q);
   blas.dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, nn, static_cast<int>(q), nn, 1.0, G_.data(), nn, X.data(), nn,
              0.0, gradient->data(), nn);
