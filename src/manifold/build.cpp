@@ -113,13 +113,13 @@ void reject_duplicates(const MaterialSet& set, const Eigen::MatrixXd& s, const E
     }
 }
 
-/// The model metadata with everything known before the pass; the rest is filled in at the end.
 /// The exact placement's coarse subset for n items as the model records it (0: all at once).
 int exact_coarse(const gp::OptimizeOptions& o, Eigen::Index n) {
   const int coarse = o.resolved(n).coarse;
   return coarse < n ? coarse : 0;
 }
 
+/// The model metadata with everything known before the pass; the rest is filled in at the end.
 json model_metadata_skeleton(const MaterialSet& set, const BuildOptions& options, DType storage) {
   json sources = json::array();
   for (std::size_t i = 0; i < set.size(); ++i)
