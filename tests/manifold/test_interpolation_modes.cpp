@@ -231,6 +231,10 @@ TEST(PaperPreset, IsThePlainGpLikelihoodWithGpWeights) {
   EXPECT_EQ(o.nugget, 1e-4);
   EXPECT_EQ(o.optimize.method, gp::Optimizer::hooke_jeeves);
   EXPECT_EQ(o.layout.to_string(), "linear");
+  // All at once with up to 5000 sweeps at any size: the build's automatic choices are not the paper's.
+  EXPECT_EQ(o.optimize.resolved(1000).max_iterations, 5000);
+  EXPECT_EQ(o.optimize.resolved(1000).coarse, 0);
+  EXPECT_EQ(BuildOptions{}.optimize.resolved(1000).coarse, 300);
   build_model(MaterialSet::open({dir / "db"}), o, dir / "m.matlas");
   const Model m = Model::open(dir / "m.matlas");
   EXPECT_EQ(m.interpolation(), Interpolation::gp);
