@@ -35,18 +35,17 @@ double best_scale_factor(const std::function<double(const Eigen::MatrixXd&)>& ev
   if (scan < 2 || !(tolerance > 0)) throw Error("best_scale_factor: need a scan of at least 2 values and a tolerance > 0");
   // Coarse scan: the likelihood of a scaled point set is smooth in log a but need not be
   // unimodal over many decades, so bracket the best grid point first.
-  const int kScan = scan;
   const double lo = std::log(a_min), hi = std::log(a_max);
-  const double step = (hi - lo) / (kScan - 1);
+  const double step = (hi - lo) / (scan - 1);
   int best = 0;
   double best_value = -std::numeric_limits<double>::infinity();
-  for (int i = 0; i < kScan; ++i) {
+  for (int i = 0; i < scan; ++i) {
     const double v = scaled_value(evaluator, X, lo + step * i);
     if (v > best_value) best_value = v, best = i;
   }
   if (!std::isfinite(best_value)) throw Error("best_scale_factor: the likelihood is not finite at any scale");
   // Golden-section search on [best - 1, best + 1] grid steps.
-  double a = lo + step * std::max(0, best - 1), b = lo + step * std::min(kScan - 1, best + 1);
+  double a = lo + step * std::max(0, best - 1), b = lo + step * std::min(scan - 1, best + 1);
   const double g = 0.5 * (std::sqrt(5.0) - 1.0);
   double c = b - g * (b - a), d = a + g * (b - a);
   double fc = scaled_value(evaluator, X, c), fd = scaled_value(evaluator, X, d);
