@@ -639,10 +639,18 @@ test("a newer scene supersedes one still being prepared", async () => {
   const first = envs[envs.length - 1], object = await page.evaluate(() => window.matlas.object);
   const second = objects.find((o) => o !== object);
   const shownBefore = await page.evaluate(() => window.matlas.shownScenes.length);
+  // The page must still be waiting for first/object when the object changes: its status polls are
+  // answered "not ready" here however fast the server prepares it (a fast machine had it ready, and
+  // rightly shown, between the two selections).
+  const held = (u) => u.pathname.endsWith("/api/preview/status") && u.searchParams.get("env") === first &&
+    u.searchParams.get("object") === object;
+  const notReady = (route) => route.fulfill({ status: 200, contentType: "application/json",
+    body: JSON.stringify({ env: first, object, ready: false, progress: 0, stage: "rendering the basis", seconds: 0 }) });
+  await page.route(held, notReady);
   await page.selectOption("#env", first);
-  // The server is preparing first/object: the page is retrying it when the object changes.
   await page.waitForFunction((e) => window.matlas.preparing?.env === e, first, { timeout: 10_000 });
   await page.selectOption("#object", second);
+  await page.unroute(held, notReady);
   await settledIn(first, second);
   // Long enough for the superseded scene to be ready on the server: its image must not show up.
   await page.waitForTimeout(1500);
