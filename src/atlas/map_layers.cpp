@@ -37,16 +37,24 @@ Eigen::MatrixXd normal_albedo(const Model& model, const Eigen::MatrixXd& W) {
   return a;
 }
 
-/// probe.batch(W) in blocks of columns, in parallel: each block's products stay small (the whole
-/// grid's sampled values and albedo curves would be 70 MB of fresh memory).
-std::vector<Plausibility> plausibility_of(const PlausibilityProbe& probe, const Eigen::MatrixXd& W) {
-  constexpr Eigen::Index kBlock = 512;
-  const Eigen::Index m = W.cols(), blocks = (m + kBlock - 1) / kBlock;
-  std::vector<Plausibility> out(static_cast<std::size_t>(m));
-  parallel_for_each(0, static_cast<std::size_t>(blocks), [&](std::size_t block) {
-    const Eigen::Index first = static_cast<Eigen::Index>(block) * kBlock, count = std::min(kBlock, m - first);
-    const std::vector<Plausibility> part = probe.batch(W.middleCols(first, count));
-    std::copy(part.begin(), part.end(), out.begin() + first);
+/// The violation (Plausibility::violation) of the columns of W that `needed` marks, 0 for the
+/// others: probe.batch of the marked columns, in blocks, in parallel (each block's products stay
+/// small: the whole grid's sampled values and albedo curves would be 70 MB of fresh memory).
+std::vector<double> violations_of(const PlausibilityProbe& probe, const Eigen::MatrixXd& W,
+                                  const std::vector<char>& needed) {
+  MATLAS_CHECK_EQ(needed.size(), static_cast<std::size_t>(W.cols()));
+  std::vector<Eigen::Index> columns;
+  for (std::size_t j = 0; j < needed.size(); ++j)
+    if (needed[j]) columns.push_back(static_cast<Eigen::Index>(j));
+  constexpr std::size_t kBlock = 512;
+  const std::size_t blocks = (columns.size() + kBlock - 1) / kBlock;
+  std::vector<double> out(needed.size(), 0.0);
+  parallel_for_each(0, blocks, [&](std::size_t block) {
+    const std::size_t first = block * kBlock, count = std::min(kBlock, columns.size() - first);
+    const std::vector<Eigen::Index> part(columns.begin() + static_cast<std::ptrdiff_t>(first),
+                                         columns.begin() + static_cast<std::ptrdiff_t>(first + count));
+    const std::vector<Plausibility> p = probe.batch(W(Eigen::all, part));
+    for (std::size_t k = 0; k < count; ++k) out[static_cast<std::size_t>(part[k])] = p[k].violation();
   });
   return out;
 }
@@ -130,11 +138,23 @@ LayerCells layer_cells(const Model& model, const LatentGrid& grid, MapLayer laye
   // The albedo and plausibility by matrix products over all cells at once.
   const bool by_construction = layer == MapLayer::plausibility && plausible_by_construction(model, probe);
   const bool fades = layer_fades(model, layer);
+  if (fades)
+    for (std::size_t k = 0; k < cells; ++k)
+      out.fade[k] = uncertainty_fade(grid.variance[static_cast<Eigen::Index>(k)], style.fade_from, style.fade_to);
   Eigen::MatrixXd albedo;
-  std::vector<Plausibility> plausibility;
+  std::vector<double> violation(cells, 0.0);
   if (layer != MapLayer::variance) {
     albedo = normal_albedo(model, grid.weights);
-    if (layer == MapLayer::plausibility && !by_construction) plausibility = plausibility_of(*probe, grid.weights);
+    if (layer == MapLayer::plausibility && !by_construction) {
+      // The probe only where it can change what is seen: not under a full fade, and not where
+      // the weights combine plausible inputs convexly (plausible as they are).
+      std::vector<char> needed(cells);
+      parallel_for(0, cells, [&](std::size_t lo, std::size_t hi) {
+        for (std::size_t k = lo; k < hi; ++k)
+          needed[k] = out.fade[k] < 1.0 && !probe->plausible_by_construction(grid.weights.col(static_cast<Eigen::Index>(k)));
+      });
+      violation = violations_of(*probe, grid.weights, needed);
+    }
     MATLAS_CHECK(albedo.rows() >= 3 && albedo.cols() == grid.weights.cols(), "an albedo column per cell");
   }
   for (std::size_t k = 0; k < cells; ++k) {
@@ -144,14 +164,13 @@ LayerCells layer_cells(const Model& model, const LatentGrid& grid, MapLayer laye
       continue;
     }
     const Eigen::Array3d a = (albedo.block<3, 1>(0, j).array() * style.albedo_gain).max(0.0).min(1.0);
-    if (fades) out.fade[k] = uncertainty_fade(grid.variance[j], style.fade_from, style.fade_to);
     if (layer == MapLayer::albedo) {
       out.colour[k] = a;
     } else {
       // Plausible: the albedo, dimmed. Not plausible: red, brighter the larger the violation
       // (mixed in sRGB).
-      const double violation = by_construction ? 0.0 : plausibility[k].violation();
-      const double t = violation > 0 ? 0.45 + 0.55 * std::clamp(violation / 0.3, 0.0, 1.0) : 0.0;
+      const double v = violation[k];
+      const double t = v > 0 ? 0.45 + 0.55 * std::clamp(v / 0.3, 0.0, 1.0) : 0.0;
       Eigen::Array3d srgb;
       for (int c = 0; c < 3; ++c) srgb[c] = srgb_encode(static_cast<float>(a[c]));
       out.colour[k] = linear_of((1.0 - t) * 0.45 * srgb + t * kImplausibleSrgb);

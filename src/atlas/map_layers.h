@@ -82,7 +82,9 @@ struct LayerCells {
   std::vector<Eigen::Array3d> colour;
   std::vector<double> fade;
 };
-/// The plausibility layer needs `probe`; the image layer is drawn by render_latent_map.
+/// The plausibility layer needs `probe`, which it asks only about the cells that are seen (not
+/// fully faded) and not plausible by construction (PlausibilityProbe::plausible_by_construction);
+/// the image layer is drawn by render_latent_map.
 LayerCells layer_cells(const Model& model, const LatentGrid& grid, MapLayer layer, const LayerStyle& style = {},
                        const PlausibilityProbe* probe = nullptr);
 

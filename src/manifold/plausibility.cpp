@@ -1,6 +1,7 @@
 #include "manifold/plausibility.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "core/check.h"
 #include "manifold/dense_product.h"
@@ -30,9 +31,28 @@ PlausibilityProbe::PlausibilityProbe(const Model& model, std::size_t samples) : 
   // Input i: its sampled values are the stored ones, its albedo curve a row of material_albedo.
   const Eigen::MatrixXd& albedo = model.material_albedo();
   MATLAS_CHECK_EQ(albedo.rows(), n);
-  inputs_plausible_ = albedo.size() == 0 || (albedo.minCoeff() >= 0.0 && albedo.maxCoeff() <= 1.0);
-  for (Eigen::Index s = 0; s < count && inputs_plausible_; ++s)
-    inputs_plausible_ = (centred_.row(s).array() + means_[s]).minCoeff() >= 0.0;
+  input_plausible_.assign(static_cast<std::size_t>(n), 1);
+  for (int i = 0; i < n; ++i) {
+    bool ok = albedo.cols() == 0 || (albedo.row(i).minCoeff() >= 0.0 && albedo.row(i).maxCoeff() <= 1.0);
+    for (Eigen::Index s = 0; s < count && ok; ++s) ok = centred_(s, i) + means_[s] >= 0.0;
+    input_plausible_[static_cast<std::size_t>(i)] = ok;
+  }
+  inputs_plausible_ = std::all_of(input_plausible_.begin(), input_plausible_.end(), [](char ok) { return ok != 0; });
+}
+
+bool PlausibilityProbe::input_plausible(int i) const {
+  MATLAS_CHECK(i >= 0 && static_cast<std::size_t>(i) < input_plausible_.size(), "an input of the model");
+  return input_plausible_[static_cast<std::size_t>(i)] != 0;
+}
+
+bool PlausibilityProbe::plausible_by_construction(const Eigen::Ref<const Eigen::VectorXd>& w) const {
+  MATLAS_CHECK_EQ(static_cast<std::size_t>(w.size()), input_plausible_.size());
+  double sum = 0;
+  for (Eigen::Index i = 0; i < w.size(); ++i) {
+    if (w[i] < 0.0 || (w[i] > 0.0 && !input_plausible_[static_cast<std::size_t>(i)])) return false;
+    sum += w[i];
+  }
+  return std::abs(sum - 1.0) <= 1e-9;
 }
 
 namespace {

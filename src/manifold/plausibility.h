@@ -38,11 +38,19 @@ public:
   /// every convex combination of them, to rounding: non-negative values and albedo within [0, 1]
   /// are convex constraints.
   bool inputs_plausible() const { return inputs_plausible_; }
+  /// Whether input i is plausible on the probe's samples (values non-negative, albedo in [0, 1]).
+  bool input_plausible(int i) const;
+  /// Whether w is a convex combination (w >= 0, summing to 1 within 1e-9) of plausible inputs
+  /// only: then its material is plausible on the samples as they are, with no product over the
+  /// samples. Convex weights are sparse, so most of a convex map's cells are known this way even
+  /// when some inputs are not plausible.
+  bool plausible_by_construction(const Eigen::Ref<const Eigen::VectorXd>& w) const;
 
 private:
   const Model& model_;
   Eigen::VectorXd means_;    ///< the sampled columns' means
   Eigen::MatrixXd centred_;  ///< samples x n: the stored inputs minus their column's mean
+  std::vector<char> input_plausible_;  ///< per input
   bool inputs_plausible_ = false;
 };
 

@@ -129,6 +129,43 @@ TEST_F(PlausibilityLayerTest, ConvexMixesOfImplausibleInputsAreProbedWhereShown)
   EXPECT_GT(dimmed, 0);
 }
 
+TEST_F(PlausibilityLayerTest, CellsMixingOnlyPlausibleInputsNeedNoProbe) {
+  // What lets the layer skip most cells of a convex map with a few implausible inputs: a convex
+  // combination of plausible inputs is plausible, so the probe is asked only about the others.
+  const PlausibilityProbe probe(*bright_, 256);
+  const int n = bright_->count();
+  int plausible_inputs = 0;
+  for (int i = 0; i < n; ++i) {
+    const bool ok = probe(bright_->material_weights(i)).violation() == 0.0;
+    EXPECT_EQ(probe.input_plausible(i), ok) << "input " << i;
+    EXPECT_EQ(probe.plausible_by_construction(bright_->material_weights(i)), ok) << "input " << i;
+    plausible_inputs += ok;
+  }
+  ASSERT_GT(plausible_inputs, 1) << "the test needs plausible inputs";
+  ASSERT_LT(plausible_inputs, n) << "and implausible ones";
+  const LatentGrid all = latent_grid(*bright_, wide_plane(*bright_), 24, 24, Interpolation::convex);
+  const std::vector<Plausibility> probed = probe.batch(all.weights);
+  int skipped = 0;
+  for (Eigen::Index k = 0; k < all.weights.cols(); ++k)
+    if (probe.plausible_by_construction(all.weights.col(k))) {
+      ++skipped;
+      EXPECT_EQ(probed[static_cast<std::size_t>(k)].violation(), 0.0) << "cell " << k;
+    }
+  EXPECT_GT(skipped, 0);
+  EXPECT_LT(skipped, all.weights.cols());
+  // Not convex: a negative weight, or a sum away from 1, is probed whatever the inputs.
+  Eigen::VectorXd w = Eigen::VectorXd::Zero(n);
+  int a = -1, b = -1;
+  for (int i = 0; i < n; ++i)
+    if (probe.input_plausible(i)) (a < 0 ? a : b) = i;
+  w[a] = 1.25, w[b] = -0.25;
+  EXPECT_FALSE(probe.plausible_by_construction(w));
+  w[a] = 0.5, w[b] = 0.49;
+  EXPECT_FALSE(probe.plausible_by_construction(w));
+  w[b] = 0.5;
+  EXPECT_TRUE(probe.plausible_by_construction(w));
+}
+
 TEST_F(PlausibilityLayerTest, TheGpsWeightsAreProbedInEveryCell) {
   // The paper's weights leave the simplex: the same inputs, no guarantee, an opaque layer.
   const Model gp = model_->with_interpolation(Interpolation::gp);
