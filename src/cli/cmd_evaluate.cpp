@@ -44,6 +44,7 @@ struct EvaluateArgs {
   int segments = 8;
   int stride = 0;
   int map_resolution = 32;
+  int interpolation_materials = eval::ModelCheckOptions::kInterpolationMaterials;
   int model_dim = 2;
   bool skip_study = false;
   bool sparse = false;
@@ -94,7 +95,9 @@ void print_summary(const eval::StudyResult* study, const eval::ModelChecks* chec
     const auto& ic = checks->interpolation;
     double worst = 0;
     for (double v : ic.max_relative_error) worst = std::max(worst, v);
-    if (ic.available) print(io.out, "  exact interpolation   max error / peak %.3g (weights %.3g)\n", worst, ic.max_weight_error);
+    if (ic.available)
+      print(io.out, "  exact interpolation   max error / peak %.3g (weights %.3g; %zu of %d materials)\n", worst,
+            ic.max_weight_error, ic.materials.size(), checks->count);
     print(io.out, "  reciprocity           %zu of %d direction pairs differ (max rel. %.3g)\n", checks->reciprocity.unequal,
                 checks->reciprocity.pairs, checks->reciprocity.max_relative_difference);
     print(io.out, "  albedo linearity      max rel. error %.3g (after the export clamp %.3g)\n",
@@ -174,6 +177,7 @@ void run_evaluate(const EvaluateArgs& a, const Io& io) {
   so.fit.sparse = a.placement;
   eval::ModelCheckOptions co;
   co.map_resolution = a.map_resolution;
+  co.interpolation_materials = a.interpolation_materials;
 
   std::unique_ptr<MaterialSet> set;
   std::unique_ptr<Model> model;
@@ -269,6 +273,11 @@ void add_evaluate_command(CLI::App& app, const Io& io) {
                   "Use every STRIDE-th value for perceptual distances; 0 (default): chosen so that the pass "
                   "compares at most 1e9 values (a minute or two on 2 cores); 1: every value (the full study)")
       ->check(CLI::Range(0, 1000))->capture_default_str();
+  cmd->add_option("--interpolation-materials", args->interpolation_materials,
+                  "Materials whose exact interpolation is checked (item 1), spread evenly over the list; 0 = all "
+                  "(its cost grows as n times this)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   cmd->add_option("--map-resolution", args->map_resolution, "Grid cells per axis of the plausibility map")
       ->check(CLI::Range(2, 256))->capture_default_str();
   cmd->add_option("--model-dim", args->model_dim, "q of the model built for the model checks when DIR is given")

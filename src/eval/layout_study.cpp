@@ -31,18 +31,6 @@ double seconds_since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
 
-/// Evenly spread indices: count of 0..n-1 (all when count <= 0 or >= n).
-std::vector<int> spread_indices(int n, int count) {
-  std::vector<int> idx;
-  if (count <= 0 || count >= n) {
-    idx.resize(static_cast<std::size_t>(n));
-    std::iota(idx.begin(), idx.end(), 0);
-    return idx;
-  }
-  for (int k = 0; k < count; ++k) idx.push_back(static_cast<int>((static_cast<long>(k) * n) / count));
-  return idx;
-}
-
 double mean_of(const std::vector<double>& v) {
   return v.empty() ? std::numeric_limits<double>::quiet_NaN()
                    : std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());

@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/parallel.h"
 #include "eval/model_checks.h"
+#include "eval/statistics.h"
 #include "gp/kernel.h"
 #include "manifold/dense_product.h"
 
@@ -62,16 +63,29 @@ Eigen::MatrixXd perceptual_squared_distances(const Model& model, int stride) {
 }
 
 ModePlausibility summarise(const Model& model, const Eigen::MatrixXd& W, double inputs_max_albedo,
-                           std::string mode, std::string where) {
+                           const std::vector<std::size_t>& input_negatives, double budget, std::string mode,
+                           std::string where) {
   ModePlausibility p;
   p.mode = std::move(mode);
   p.where = std::move(where);
   p.points = static_cast<int>(W.cols());
   if (W.cols() == 0) return p;
-  const std::vector<std::size_t> negatives = count_negative_values(model, W);
-  MATLAS_CHECK_EQ(negatives.size(), static_cast<std::size_t>(W.cols()));
+  // Counted only where a negative value can be; past the budget on every s-th value.
+  std::vector<Eigen::Index> counted;
+  for (Eigen::Index j = 0; j < W.cols(); ++j)
+    if (!non_negative_by_construction(W.col(j), input_negatives)) counted.push_back(j);
+  const double values = 3.0 * static_cast<double>(model.dims().bins());
+  const double work = static_cast<double>(counted.size()) * model.count() * values;
+  p.value_stride = static_cast<int>(std::max(1.0, std::ceil(work / budget)));
+  std::size_t visited = model.kept_columns();
+  std::vector<std::size_t> negatives(static_cast<std::size_t>(W.cols()), 0);
+  if (!counted.empty()) {
+    const std::vector<std::size_t> found =
+        count_negative_values(model, W(Eigen::all, counted), static_cast<std::size_t>(p.value_stride), &visited);
+    for (std::size_t k = 0; k < counted.size(); ++k) negatives[static_cast<std::size_t>(counted[k])] = found[k];
+  }
   const Eigen::MatrixXd albedo = model.albedo_batch(W);
-  const double kept = static_cast<double>(model.kept_columns());
+  const double kept = static_cast<double>(std::max<std::size_t>(visited, 1));
   double sum = 0;
   for (std::size_t j = 0; j < negatives.size(); ++j) {
     const double share = static_cast<double>(negatives[j]) / kept;
@@ -138,16 +152,15 @@ ManifoldQuality assess_manifold(const Model& model, const ManifoldQualityOptions
         trustworthiness(perceptual_squared_distances(model, std::max(1, options.value_stride)), X, out.layout.neighbours);
   }
   out.inputs_max_albedo = model.material_albedo().maxCoeff();
-  {
-    std::size_t negatives = 0;
-    for (std::size_t c : count_negative_values(model, Eigen::MatrixXd::Identity(n, n))) negatives += c;
-    out.input_negative_values = static_cast<int>(negatives);
-  }
+  const std::vector<std::size_t> input_negatives = count_negative_inputs(model);
+  out.input_negative_values =
+      static_cast<int>(std::accumulate(input_negatives.begin(), input_negatives.end(), std::size_t{0}));
 
-  // Midpoints of nearest-neighbour pairs, and random points of the hull.
+  // Midpoints of nearest-neighbour pairs (of an even spread of the materials), and random points
+  // of the hull.
   const Eigen::MatrixXd D = latent_squared_distances(X);
   std::vector<Eigen::VectorXd> midpoints, hull;
-  for (int i = 0; i < n; ++i) {
+  for (const int i : spread_indices(n, options.midpoints)) {
     const int j = neighbours_by(D, i).front();
     midpoints.push_back(0.5 * (X.row(i) + X.row(j)).transpose());
   }
@@ -170,7 +183,8 @@ ManifoldQuality assess_manifold(const Model& model, const ManifoldQualityOptions
                                         {"hull", &hull}}) {
       progress.message(std::string("manifold quality: ") + to_string(mode) + " weights at " + where);
       const Eigen::MatrixXd W = model.predict_batch(as_matrix(*points), mode).weights;
-      out.plausibility.push_back(summarise(model, W, out.inputs_max_albedo, to_string(mode), where));
+      out.plausibility.push_back(
+          summarise(model, W, out.inputs_max_albedo, input_negatives, options.negative_budget, to_string(mode), where));
     }
   }
   return out;

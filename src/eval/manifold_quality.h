@@ -34,7 +34,8 @@ struct ModePlausibility {
   std::string mode;               ///< "gp" or "convex"
   std::string where;              ///< "midpoints" or "hull"
   int points = 0;
-  int with_negative = 0;          ///< points whose table has at least one negative value
+  int with_negative = 0;          ///< points whose table has at least one negative value (of those counted)
+  int value_stride = 1;           ///< every s-th value counted (1: all; ManifoldQualityOptions::negative_budget)
   double mean_negative_share = 0; ///< mean over points of the share of negative values
   double worst_negative_share = 0;
   double worst_albedo_ratio = 0;  ///< largest albedo over the inputs' largest albedo (<= 1: no gain)
@@ -50,7 +51,14 @@ struct ManifoldQuality {
 
 struct ManifoldQualityOptions {
   int hull_points = 400;  ///< random points in the convex hull of the latent points
+  /// Midpoints of at most this many materials' nearest-neighbour pairs, the materials spread
+  /// evenly over the list (0: every material).
+  int midpoints = 200;
   int value_stride = 7;   ///< every s-th value for the perceptual distances of the trustworthiness
+  /// Multiply-adds one negative-value count of a set of points may take (points x n x values);
+  /// beyond it the count looks at every s-th value (ModePlausibility::value_stride). 100
+  /// materials count every value; 1000 every 6th.
+  double negative_budget = 5e11;
   unsigned seed = 1;
 };
 

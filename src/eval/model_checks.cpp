@@ -2,14 +2,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <mutex>
 #include <random>
 
 #include "brdf/albedo.h"
+#include "core/blas.h"
 #include "core/check.h"
 #include "core/combination.h"
 #include "core/error.h"
 #include "core/parallel.h"
+#include "eval/statistics.h"
 #include "manifold/column_blocks.h"
 #include "manifold/export.h"
 #include "manifold/model_metadata.h"
@@ -62,15 +65,68 @@ Rgb signed_albedo(const Model& model, const Eigen::VectorXd& w, double theta_o, 
   return sum;
 }
 
+/// signed_albedo of every input at once (n x 3): the same rule, reading each term's stored
+/// values once (z_i exactly, as model.value(v, e_i)) instead of a length-n sum per input and term.
+Eigen::MatrixXd inputs_signed_albedo(const Model& model, double theta_o, const AlbedoQuadrature& q) {
+  const std::size_t bins = model.dims().bins();
+  const int n = model.count();
+  Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(n, 3);
+  std::vector<float> z(static_cast<std::size_t>(n));
+  for (const AlbedoTerm& t : albedo_rule(model.dims(), theta_o, q))
+    for (int c = 0; c < 3; ++c) {
+      const int column = model.column_of(static_cast<std::size_t>(c) * bins + t.bin);
+      if (column < 0) continue;
+      model.data(static_cast<std::size_t>(column), z.data());
+      for (int i = 0; i < n; ++i) sum(i, c) += t.weight * static_cast<double>(z[static_cast<std::size_t>(i)]);
+    }
+  return sum;
+}
+
 double relative(double a, double ref) { return std::abs(a - ref) / std::max(std::abs(ref), 1e-6); }
 
 }  // namespace
 
-std::vector<std::size_t> count_negative_values(const Model& model, const Eigen::MatrixXd& weights) {
+std::vector<std::size_t> count_negative_inputs(const Model& model) {
+  const int n = model.count();
+  const std::size_t columns = model.kept_columns();
+  std::vector<std::size_t> total(static_cast<std::size_t>(n), 0);
+  std::mutex mutex;
+  parallel_for(0, columns, [&](std::size_t lo, std::size_t hi) {
+    std::vector<std::size_t> local(static_cast<std::size_t>(n), 0);
+    std::vector<float> z(static_cast<std::size_t>(n));
+    for (std::size_t c = lo; c < hi; ++c) {
+      model.data(c, z.data());
+      for (std::size_t i = 0; i < z.size(); ++i) local[i] += z[i] < 0.0f ? 1 : 0;
+    }
+    std::lock_guard lock(mutex);
+    for (std::size_t i = 0; i < local.size(); ++i) total[i] += local[i];
+  }, 4096);
+  return total;
+}
+
+bool non_negative_by_construction(const Eigen::Ref<const Eigen::VectorXd>& w,
+                                  const std::vector<std::size_t>& input_negatives) {
+  MATLAS_CHECK_EQ(static_cast<std::size_t>(w.size()), input_negatives.size());
+  double sum = 0;
+  for (Eigen::Index i = 0; i < w.size(); ++i) {
+    if (w[i] < 0.0 || (w[i] > 0.0 && input_negatives[static_cast<std::size_t>(i)] > 0)) return false;
+    sum += w[i];
+  }
+  return std::abs(sum - 1.0) <= 1e-9;
+}
+
+std::vector<std::size_t> count_negative_values(const Model& model, const Eigen::MatrixXd& weights, std::size_t stride,
+                                               std::size_t* visited) {
   const int n = model.count();
   if (weights.rows() != n) throw Error("count_negative_values: weights must have one row per material");
+  MATLAS_CHECK_GE(stride, std::size_t{1});
   const Eigen::Index m = weights.cols();
-  const std::size_t values = 3 * model.dims().bins();
+  // Value u of the pass is value u * stride of the table.
+  const std::size_t values = (3 * model.dims().bins() + stride - 1) / stride;
+  if (visited) {
+    *visited = 0;
+    for (std::size_t u = 0; u < values; ++u) *visited += model.kept(u * stride) ? 1 : 0;
+  }
   const Eigen::MatrixXd wt = weights.transpose();  // m x n
   Eigen::VectorXd weight_of_mean(m);
   for (Eigen::Index j = 0; j < m; ++j) weight_of_mean[j] = Combination::mean_weight(weights.col(j));
@@ -88,7 +144,8 @@ std::vector<std::size_t> count_negative_values(const Model& model, const Eigen::
     for (std::size_t chunk = lo; chunk < hi; ++chunk) {
       const std::size_t v0 = chunk * kChunk, v1 = std::min(values, v0 + kChunk);
       Eigen::Index cols = 0;
-      for (std::size_t v = v0; v < v1; ++v) {
+      for (std::size_t u = v0; u < v1; ++u) {
+        const std::size_t v = u * stride;
         const int c = model.column_of(v);
         if (c < 0) continue;
         if (f32) {
@@ -124,61 +181,106 @@ std::vector<std::size_t> count_negative_values(const Model& model, const Eigen::
 
 namespace {
 
-InterpolationCheck check_interpolation(const Model& model, const MaterialSet& set, ProgressSink& progress) {
+InterpolationCheck check_interpolation(const Model& model, const MaterialSet& set, int most, ProgressSink& progress) {
   InterpolationCheck r;
   const int n = model.count();
   if (static_cast<int>(set.size()) != n || !(set.dims() == model.dims())) {
     r.note = "the source folder does not match the model (count or grid)";
     return r;
   }
-  Eigen::MatrixXd W(n, n);  // column i: w(x_i)
-  for (int i = 0; i < n; ++i) {
-    W.col(i) = model.weights(model.latent().row(i).transpose());
-    r.max_weight_error = std::max(r.max_weight_error, (W.col(i) - Eigen::VectorXd::Unit(n, i)).cwiseAbs().maxCoeff());
+  r.materials = spread_indices(n, most);
+  const auto s = static_cast<Eigen::Index>(r.materials.size());
+  const bool every = s == n;
+  // m(x_i) = (1 - sum w) mean + sum_j w_j z_j with w = w(x_i), for the checked i at once: one
+  // product (s x n by n x columns) per block of values, the blocks on the workers. Only the
+  // checked materials' files are read; the model's stored values of all n are.
+  Eigen::MatrixXd Wt(s, n);  // row k: w(x_i) of checked material i
+  Eigen::VectorXd weight_of_mean(s);
+  for (Eigen::Index k = 0; k < s; ++k) {
+    const int i = r.materials[static_cast<std::size_t>(k)];
+    const Eigen::VectorXd w = model.weights(model.latent().row(i).transpose());
+    r.max_weight_error = std::max(r.max_weight_error, (w - Eigen::VectorXd::Unit(n, i)).cwiseAbs().maxCoeff());
+    Wt.row(k) = w.transpose();
+    weight_of_mean[k] = Combination::mean_weight(w);
   }
-  const Eigen::MatrixXd Wt = W.transpose();
-  Eigen::VectorXd weight_of_mean(n);
-  for (int i = 0; i < n; ++i) weight_of_mean[i] = Combination::mean_weight(W.col(i));
-  std::vector<double> max_abs(static_cast<std::size_t>(n), 0.0), sum_abs(static_cast<std::size_t>(n), 0.0),
-      max_val(static_cast<std::size_t>(n), 0.0);
-  std::size_t counted = 0;
-  BlockOptions options;
-  options.label = "checking exact interpolation";
-  for_each_column_block(
-      set,
-      [&](const ColumnBlock& block) {
-        Eigen::VectorXd centred(n), rec(n);
-        for (std::size_t j = 0; j < block.count; ++j) {
-          const std::size_t v = block.first + j;
-          const int c = model.column_of(v);
-          if ((c >= 0) != static_cast<bool>(block.kept[j])) ++r.column_mismatches;
-          if (c < 0 || !block.kept[j]) continue;
-          const auto col = static_cast<std::size_t>(c);
-          if (const float* p = model.data_f32(col)) {
-            // m = (1 - sum w) mean + sum_i w_i z_i, as Model::value computes it.
-            for (int i = 0; i < n; ++i) centred(i) = p[i];
-            rec = Wt * centred + weight_of_mean * static_cast<double>(model.mean(col));
-          } else {
-            for (int i = 0; i < n; ++i) rec(i) = model.value(v, W.col(i));
-          }
-          for (int i = 0; i < n; ++i) {
-            const double z = block.values(i, static_cast<Eigen::Index>(j));
-            const double e = std::abs(rec(i) - z);
-            const auto k = static_cast<std::size_t>(i);
-            max_abs[k] = std::max(max_abs[k], e);
-            sum_abs[k] += e;
-            max_val[k] = std::max(max_val[k], std::abs(z));
-          }
-          ++counted;
+  const std::size_t values = set.value_count(), bins = set.dims().bins();
+  constexpr std::size_t kBlock = 4096;
+  const std::size_t blocks = (values + kBlock - 1) / kBlock;
+  // Per block and checked material: its largest error, sum of errors and largest |value|, summed
+  // in block order afterwards (the same bits whatever the workers' timing).
+  Eigen::MatrixXd block_max(s, static_cast<Eigen::Index>(blocks)), block_sum(s, static_cast<Eigen::Index>(blocks)),
+      block_peak(s, static_cast<Eigen::Index>(blocks));
+  std::vector<std::size_t> block_counted(blocks, 0), block_mismatches(blocks, 0);
+  ProgressTask task(progress, "checking exact interpolation", blocks);
+  std::mutex progress_mutex;
+  parallel_for(0, blocks, [&](std::size_t lo, std::size_t hi) {
+    Eigen::MatrixXd z(n, static_cast<Eigen::Index>(kBlock)), rec(s, static_cast<Eigen::Index>(kBlock));
+    Eigen::MatrixXd source(s, static_cast<Eigen::Index>(kBlock));  // the checked files, physical units
+    Eigen::RowVectorXd mean(static_cast<Eigen::Index>(kBlock));
+    std::vector<double> row(kBlock);
+    std::vector<std::size_t> columns;  // the block's values checked (kept by the model and the files)
+    for (std::size_t b = lo; b < hi; ++b) {
+      const std::size_t v0 = b * kBlock, count = std::min(kBlock, values - v0);
+      std::vector<std::uint8_t> measured(count, 1);  // by every checked file
+      for (Eigen::Index k = 0; k < s; ++k) {
+        set.file(static_cast<std::size_t>(r.materials[static_cast<std::size_t>(k)])).read_values(v0, count, row.data());
+        for (std::size_t j = 0; j < count; ++j) {
+          const std::size_t v = v0 + j;
+          measured[j] &= static_cast<std::uint8_t>(row[j] >= 0.0);
+          source(k, static_cast<Eigen::Index>(j)) = row[j] * BrdfTable::kChannelScale[v / bins];
         }
-      },
-      options, progress);
+      }
+      columns.clear();
+      for (std::size_t j = 0; j < count; ++j) {
+        const int c = model.column_of(v0 + j);
+        // A value the model keeps must be measured by every file; with every material checked,
+        // a value they all measure must be kept.
+        if ((c >= 0 && !measured[j]) || (every && c < 0 && measured[j])) ++block_mismatches[b];
+        if (c < 0 || !measured[j]) continue;
+        const auto col = static_cast<std::size_t>(c);
+        const auto at = static_cast<Eigen::Index>(columns.size());
+        if (const float* p = model.data_f32(col)) {
+          for (int i = 0; i < n; ++i) z(i, at) = p[i];
+        } else {
+          for (int i = 0; i < n; ++i) z(i, at) = model.value(v0 + j, Eigen::VectorXd::Unit(n, i));
+        }
+        mean(at) = model.mean(col);
+        columns.push_back(j);
+      }
+      const auto cols = static_cast<int>(columns.size());
+      if (cols > 0) {
+        blas::openblas().dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, static_cast<int>(s), cols, n, 1.0, Wt.data(),
+                               static_cast<int>(s), z.data(), n, 0.0, rec.data(), static_cast<int>(s));
+        rec.leftCols(cols).noalias() += weight_of_mean * mean.head(cols);
+      }
+      for (Eigen::Index k = 0; k < s; ++k) {
+        double most_error = 0, sum = 0, peak = 0;
+        for (int a = 0; a < cols; ++a) {
+          const double zv = source(k, static_cast<Eigen::Index>(columns[static_cast<std::size_t>(a)]));
+          const double e = std::abs(rec(k, a) - zv);
+          most_error = std::max(most_error, e);
+          sum += e;
+          peak = std::max(peak, std::abs(zv));
+        }
+        block_max(k, static_cast<Eigen::Index>(b)) = most_error;
+        block_sum(k, static_cast<Eigen::Index>(b)) = sum;
+        block_peak(k, static_cast<Eigen::Index>(b)) = peak;
+      }
+      block_counted[b] = columns.size();
+      std::lock_guard lock(progress_mutex);
+      task.advance();
+    }
+  });
   r.available = true;
-  for (int i = 0; i < n; ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    r.max_abs_error.push_back(max_abs[k]);
-    r.mean_abs_error.push_back(counted ? sum_abs[k] / static_cast<double>(counted) : 0.0);
-    r.max_relative_error.push_back(max_val[k] > 0 ? max_abs[k] / max_val[k] : 0.0);
+  std::size_t counted = 0;
+  for (std::size_t b = 0; b < blocks; ++b) counted += block_counted[b], r.column_mismatches += block_mismatches[b];
+  for (Eigen::Index k = 0; k < s; ++k) {
+    double sum = 0;
+    for (std::size_t b = 0; b < blocks; ++b) sum += block_sum(k, static_cast<Eigen::Index>(b));
+    const double most_error = blocks ? block_max.row(k).maxCoeff() : 0.0, peak = blocks ? block_peak.row(k).maxCoeff() : 0.0;
+    r.max_abs_error.push_back(most_error);
+    r.mean_abs_error.push_back(counted ? sum / static_cast<double>(counted) : 0.0);
+    r.max_relative_error.push_back(peak > 0 ? most_error / peak : 0.0);
   }
   return r;
 }
@@ -215,11 +317,9 @@ AlbedoCheck check_albedo(const Model& model, const std::vector<Eigen::VectorXd>&
   const std::vector<int> angle_index = {0, 30, 60, 80};
   for (int a : angle_index) check.angles_degrees.push_back(a + 0.5);
   ProgressTask task(progress, "checking albedo linearity", static_cast<std::uint64_t>(n) + points.size());
-  std::vector<std::vector<Rgb>> input_albedo(static_cast<std::size_t>(n));  // [material][angle]
-  for (int i = 0; i < n; ++i)
-    for (double deg : check.angles_degrees)
-      input_albedo[static_cast<std::size_t>(i)].push_back(
-          signed_albedo(model, model.material_weights(i), deg * kPi / 180.0, options.albedo_quadrature));
+  std::vector<Eigen::MatrixXd> input_albedo;  // [angle]: n x 3
+  for (double deg : check.angles_degrees)
+    input_albedo.push_back(inputs_signed_albedo(model, deg * kPi / 180.0, options.albedo_quadrature));
   task.advance(static_cast<std::uint64_t>(n));
   for (std::size_t p = 0; p < points.size(); ++p) {
     const Eigen::VectorXd w = model.weights(points[p]);
@@ -229,7 +329,7 @@ AlbedoCheck check_albedo(const Model& model, const std::vector<Eigen::VectorXd>&
     for (std::size_t k = 0; k < angle_index.size(); ++k) {
       const double theta = check.angles_degrees[k] * kPi / 180.0;
       Rgb expected = Rgb::Zero();
-      for (int i = 0; i < n; ++i) expected += c(i) * input_albedo[static_cast<std::size_t>(i)][k];
+      for (int i = 0; i < n; ++i) expected += c(i) * input_albedo[k].row(i).transpose().array();
       const Rgb got = signed_albedo(model, w, theta, options.albedo_quadrature);
       const Rgb got_clamped = directional_albedo(clamped, theta, options.albedo_quadrature);
       const Rgb fast = curve[static_cast<std::size_t>(angle_index[k])];
@@ -265,27 +365,47 @@ PlausibilityMap plausibility_map(const Model& model, const ModelCheckOptions& op
   range(map.axis_x, map.x_min, map.x_max);
   range(map.axis_y, map.y_min, map.y_max);
   const int rows = model.dim() > 1 ? res : 1;
-  Eigen::MatrixXd W(n, res * rows);
-  std::vector<Eigen::VectorXd> xs;
+  // The grid in serpentine order (odd rows right to left), so that the batch's convex solves
+  // start from a neighbour's (Model::predict_batch); the same weights as point by point.
+  Eigen::MatrixXd path(static_cast<Eigen::Index>(res) * rows, model.dim());
+  std::vector<Eigen::Index> cell_of_step;
   for (int yi = 0; yi < rows; ++yi)
-    for (int xi = 0; xi < res; ++xi) {
+    for (int k = 0; k < res; ++k) {
+      const int xi = yi % 2 ? res - 1 - k : k;
       Eigen::VectorXd x = centre;
       x(map.axis_x) = map.x_min + (xi + 0.5) / res * (map.x_max - map.x_min);
       if (model.dim() > 1) x(map.axis_y) = map.y_min + (yi + 0.5) / rows * (map.y_max - map.y_min);
-      W.col(static_cast<Eigen::Index>(xs.size())) = model.weights(x);
-      xs.push_back(x);
+      path.row(static_cast<Eigen::Index>(cell_of_step.size())) = x.transpose();
+      cell_of_step.push_back(static_cast<Eigen::Index>(yi) * res + xi);
     }
-  progress.message("plausibility map: " + std::to_string(xs.size()) + " grid points");
-  const std::vector<std::size_t> negatives = count_negative_values(model, W);
+  progress.message("plausibility map: " + std::to_string(path.rows()) + " grid points");
+  const Model::Prediction predicted = model.predict_batch(path, model.interpolation());
+  Eigen::MatrixXd W(n, path.rows());
+  Eigen::VectorXd variance(path.rows());
+  for (std::size_t step = 0; step < cell_of_step.size(); ++step) {
+    W.col(cell_of_step[step]) = predicted.weights.col(static_cast<Eigen::Index>(step));
+    variance[cell_of_step[step]] = predicted.variance[static_cast<Eigen::Index>(step)];
+  }
+  const std::size_t cells = cell_of_step.size();
+  // Counted where a negative value can be (not convex mixes of non-negative inputs).
+  const std::vector<std::size_t> input_negatives = count_negative_inputs(model);
+  std::vector<Eigen::Index> counted;
+  for (Eigen::Index k = 0; k < W.cols(); ++k)
+    if (!non_negative_by_construction(W.col(k), input_negatives)) counted.push_back(k);
+  std::vector<std::size_t> negatives(cells, 0);
+  if (!counted.empty()) {
+    const std::vector<std::size_t> found = count_negative_values(model, W(Eigen::all, counted));
+    for (std::size_t k = 0; k < counted.size(); ++k) negatives[static_cast<std::size_t>(counted[k])] = found[k];
+  }
   map.values = model.kept_columns();
   std::size_t worst = 0;
-  for (std::size_t k = 0; k < xs.size(); ++k) {
+  for (std::size_t k = 0; k < cells; ++k) {
     const double frac = map.values ? static_cast<double>(negatives[k]) / static_cast<double>(map.values) : 0.0;
     map.negative_fraction.push_back(frac);
     double most = 0;
     for (const Rgb& a : model.albedo_curve(W.col(static_cast<Eigen::Index>(k)))) most = std::max(most, a.maxCoeff());
     map.max_albedo.push_back(most);
-    map.variance.push_back(model.variance(xs[k]));
+    map.variance.push_back(variance[static_cast<Eigen::Index>(k)]);
     if (frac > map.worst_negative_fraction) map.worst_negative_fraction = frac, worst = k;
     map.worst_max_albedo = std::max(map.worst_max_albedo, most);
   }
@@ -308,7 +428,7 @@ ModelChecks run_model_checks(const Model& model, const MaterialSet* sources, con
   out.latent = model.latent();
 
   // 1. Exact interpolation.
-  if (sources) out.interpolation = check_interpolation(model, *sources, progress);
+  if (sources) out.interpolation = check_interpolation(model, *sources, options.interpolation_materials, progress);
   else out.interpolation.note = "source tables not available (pass the input folder or keep the files listed in the model)";
 
   const std::vector<Eigen::VectorXd> points = sample_points(model, options.sample_points, options.seed);

@@ -21,19 +21,28 @@ struct ModelCheckOptions {
   int reciprocity_pairs = 2000;  ///< random direction pairs per sample point
   int sample_points = 8;         ///< latent points for reciprocity and albedo checks
   int map_resolution = 32;       ///< grid cells per axis for the plausibility map
+  /// Item 1 checks at most this many materials, spread evenly over the list (0: all). Its cost
+  /// is (checked materials) x n x values multiply-adds: all 1000 of a 1000-material model would
+  /// be 4.4e12, half an hour here; 200 of them take about a minute.
+  int interpolation_materials = kInterpolationMaterials;
+  static constexpr int kInterpolationMaterials = 200;
   AlbedoQuadrature albedo_quadrature{};  ///< quadrature of the albedo check (the model's)
   unsigned seed = 1;
 };
 
-/// Item 1, per material.
+/// Item 1, per checked material (`materials`: their indices in the model, all of them or an even
+/// spread, ModelCheckOptions::interpolation_materials).
 struct InterpolationCheck {
   bool available = false;               ///< false when the source tables could not be read
   std::string note;
+  std::vector<int> materials;           ///< the checked materials, in the order of the vectors below
   std::vector<double> max_abs_error;    ///< max |m(x_i) - z_i| over kept values (physical units)
   std::vector<double> mean_abs_error;
   std::vector<double> max_relative_error;  ///< max abs error / max |z_i|
   double max_weight_error = 0;          ///< max_i |w(x_i) - e_i|_inf
-  std::size_t column_mismatches = 0;    ///< values kept by the model but missing in a source (or vice versa)
+  /// Values kept by the model but missing in a checked source; with every material checked, also
+  /// values every source measures that the model drops.
+  std::size_t column_mismatches = 0;
 };
 
 /// Item 2.
@@ -84,7 +93,20 @@ ModelChecks run_model_checks(const Model& model, const MaterialSet* sources,
                              const ModelCheckOptions& options, ProgressSink& progress = null_progress());
 
 /// Negative values per weight vector (columns of `weights`, n x m), counted over the model's kept
-/// values by one pass over its storage.
-std::vector<std::size_t> count_negative_values(const Model& model, const Eigen::MatrixXd& weights);
+/// values by one pass over its storage: m x n x values multiply-adds. With `stride` > 1 only
+/// every stride-th value of the table is looked at; `visited`, when given, receives the number of
+/// kept values looked at (the denominator of a share).
+std::vector<std::size_t> count_negative_values(const Model& model, const Eigen::MatrixXd& weights,
+                                               std::size_t stride = 1, std::size_t* visited = nullptr);
+
+/// The same for the inputs themselves (the columns of the identity), read from the stored values
+/// in n x values steps instead of a product.
+std::vector<std::size_t> count_negative_inputs(const Model& model);
+
+/// Whether w is a convex combination (w >= 0, summing to 1 within 1e-9) of inputs without a
+/// negative value (input_negatives: count_negative_inputs): then its table has none either, with
+/// no product to count them.
+bool non_negative_by_construction(const Eigen::Ref<const Eigen::VectorXd>& w,
+                                  const std::vector<std::size_t>& input_negatives);
 
 }  // namespace matlas::eval

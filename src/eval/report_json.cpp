@@ -93,7 +93,7 @@ json checks_json(const ModelChecks& m) {
           {"count", m.count},
           {"dim", m.dim},
           {"layout", m.layout},
-          {"interpolation", {{"available", ic.available}, {"note", ic.note},
+          {"interpolation", {{"available", ic.available}, {"note", ic.note}, {"materials", ic.materials},
                              {"max_abs_error", vector_json(ic.max_abs_error)},
                              {"mean_abs_error", vector_json(ic.mean_abs_error)},
                              {"max_relative_error", vector_json(ic.max_relative_error)},

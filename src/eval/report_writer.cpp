@@ -123,9 +123,11 @@ void write_checks_files(const std::filesystem::path& dir, const ModelChecks& m, 
   if (m.interpolation.available) {
     std::ostringstream ic;
     ic << "material,max_abs_error,mean_abs_error,max_relative_error\n";
-    for (std::size_t i = 0; i < m.interpolation.max_abs_error.size(); ++i)
-      ic << field(i < names.size() ? names[i] : std::to_string(i)) << ',' << number(m.interpolation.max_abs_error[i]) << ','
-         << number(m.interpolation.mean_abs_error[i]) << ',' << number(m.interpolation.max_relative_error[i]) << '\n';
+    for (std::size_t k = 0; k < m.interpolation.max_abs_error.size(); ++k) {
+      const auto i = static_cast<std::size_t>(m.interpolation.materials[k]);
+      ic << field(i < names.size() ? names[i] : std::to_string(i)) << ',' << number(m.interpolation.max_abs_error[k]) << ','
+         << number(m.interpolation.mean_abs_error[k]) << ',' << number(m.interpolation.max_relative_error[k]) << '\n';
+    }
     write_file_atomic(dir / "interpolation.csv", ic.str());
   }
 }

@@ -9,6 +9,17 @@
 
 namespace matlas::eval {
 
+std::vector<int> spread_indices(int n, int count) {
+  std::vector<int> idx;
+  if (count <= 0 || count >= n) {
+    idx.resize(static_cast<std::size_t>(std::max(n, 0)));
+    std::iota(idx.begin(), idx.end(), 0);
+    return idx;
+  }
+  for (int k = 0; k < count; ++k) idx.push_back(static_cast<int>((static_cast<long>(k) * n) / count));
+  return idx;
+}
+
 std::vector<double> average_ranks(std::span<const double> values) {
   std::vector<std::size_t> order(values.size());
   std::iota(order.begin(), order.end(), std::size_t{0});

@@ -5,6 +5,9 @@
 
 namespace matlas::eval {
 
+/// `count` of the indices 0..n-1, evenly spread (k n / count); all of them when count <= 0 or >= n.
+std::vector<int> spread_indices(int n, int count);
+
 /// Ranks 1..n with ties given their average rank.
 std::vector<double> average_ranks(std::span<const double> values);
 
