@@ -6,6 +6,7 @@
 #include <string>
 #include <tuple>
 
+#include "core/blas.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "manifold/column_blocks.h"
@@ -34,6 +35,15 @@ CombinationResult evaluate_combinations(const MaterialSet& set, const Combinatio
   std::vector<DistanceSums> sums(query.pairs.size());
   std::vector<std::size_t> negatives(static_cast<std::size_t>(m), 0);
   std::size_t values = 0;
+  // The pairs summed through the first k items' Grams (lower triangles, column-major), the others
+  // by differences.
+  const int k = static_cast<int>(std::clamp<Eigen::Index>(query.gram_items, 0, m));
+  std::vector<std::size_t> by_difference;
+  for (std::size_t p = 0; p < query.pairs.size(); ++p) {
+    const auto [a, b] = query.pairs[p];
+    if (!(a < k && b < k && a != b)) by_difference.push_back(p);
+  }
+  Eigen::MatrixXd gram_cbrt = Eigen::MatrixXd::Zero(k, k), gram_linear = Eigen::MatrixXd::Zero(k, k);
 
   BlockOptions options;
   options.label = "evaluating " + std::to_string(m) + " combinations";
@@ -82,8 +92,17 @@ CombinationResult evaluate_combinations(const MaterialSet& set, const Combinatio
             negatives[static_cast<std::size_t>(r)] += neg;
           }
         });
-        parallel_for(0, query.pairs.size(), [&](std::size_t lo, std::size_t hi) {
-          for (std::size_t p = lo; p < hi; ++p) {
+        if (k > 0) {
+          // Row-major k x J rows are a column-major J x k matrix: G += A^T A with A = that.
+          const auto& blas = blas::openblas();
+          blas.dsyrk(CblasColMajor, CblasLower, CblasTrans, k, static_cast<int>(J), 1.0, cube_root.data(),
+                     static_cast<int>(J), 1.0, gram_cbrt.data(), k);
+          blas.dsyrk(CblasColMajor, CblasLower, CblasTrans, k, static_cast<int>(J), 1.0, linear.data(),
+                     static_cast<int>(J), 1.0, gram_linear.data(), k);
+        }
+        parallel_for(0, by_difference.size(), [&](std::size_t lo, std::size_t hi) {
+          for (std::size_t d = lo; d < hi; ++d) {
+            const std::size_t p = by_difference[d];
             const auto [a, b] = query.pairs[p];
             sums[p].cbrt_squared += (cube_root.row(a) - cube_root.row(b)).squaredNorm();
             sums[p].cosine_squared += (linear.row(a) - linear.row(b)).squaredNorm();
@@ -92,6 +111,17 @@ CombinationResult evaluate_combinations(const MaterialSet& set, const Combinatio
         }, 16);
       },
       options, progress);
+
+  if (k > 0)
+    for (std::size_t p = 0; p < query.pairs.size(); ++p) {
+      const auto [a, b] = query.pairs[p];
+      if (!(a < k && b < k && a != b)) continue;
+      const Eigen::Index hi = std::max(a, b), lo = std::min(a, b);
+      // Rounding can leave a tiny negative sum for near-identical items: 0 then.
+      sums[p].cbrt_squared = std::max(0.0, gram_cbrt(a, a) + gram_cbrt(b, b) - 2.0 * gram_cbrt(hi, lo));
+      sums[p].cosine_squared = std::max(0.0, gram_linear(a, a) + gram_linear(b, b) - 2.0 * gram_linear(hi, lo));
+      sums[p].values = values;
+    }
 
   CombinationResult result;
   result.values = values;

@@ -318,6 +318,7 @@ private:
     for (std::size_t i = 0; i < plan.items.size(); ++i)
       query.coefficients.row(static_cast<Eigen::Index>(i)) = plan.items[i].transpose();
     query.pairs = plan.pairs;
+    query.gram_items = n;  // the materials, items 0..n-1: all their pairs through their Gram
     query.value_stride = options_.value_stride > 0 ? options_.value_stride
                                                    : automatic_stride(plan.items.size(), 3 * set_.dims().bins(),
                                                                       options_.compared_values_budget);

@@ -143,6 +143,7 @@ nlohmann::json report_json(const ReportInput& input) {
                        {"where", p.where},
                        {"points", p.points},
                        {"with_negative", p.with_negative},
+                       {"value_stride", p.value_stride},
                        {"mean_negative_share", p.mean_negative_share},
                        {"worst_negative_share", p.worst_negative_share},
                        {"worst_albedo_ratio", p.worst_albedo_ratio},

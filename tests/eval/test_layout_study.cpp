@@ -96,6 +96,46 @@ TEST_F(TinyDatabase, ThreeSharesOfTheCombinationPassAddUpToTheWholePass) {
   }
 }
 
+TEST_F(TinyDatabase, PairsThroughTheMaterialsGramMatchTheDifferences) {
+  // gram_items: every pair of two different materials from their Gram matrices, the same
+  // distances as by differences to 1e-9; a pair with a combination or of an item with itself
+  // still by differences; the ranks' shares add up as before.
+  CombinationQuery q;
+  const auto n = static_cast<Eigen::Index>(set_->size());
+  q.coefficients = Eigen::MatrixXd::Identity(n, n);
+  q.coefficients.conservativeResize(n + 1, n);
+  q.coefficients.row(n).setZero();
+  q.coefficients(n, 0) = 0.5, q.coefficients(n, 1) = 0.5;
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b) q.pairs.emplace_back(a, b);
+  q.pairs.emplace_back(static_cast<int>(n), 0);
+  q.memory_budget = 4096;
+  const CombinationResult by_difference = evaluate_combinations(*set_, q);
+  q.gram_items = static_cast<int>(n);
+  const CombinationResult by_gram = evaluate_combinations(*set_, q);
+  for (std::size_t p = 0; p < q.pairs.size(); ++p) {
+    const BrdfDistance &d = by_difference.distances[p], &g = by_gram.distances[p];
+    EXPECT_NEAR(g.cbrt_cosine, d.cbrt_cosine, 1e-9 * d.cbrt_cosine) << "pair " << p;
+    EXPECT_NEAR(g.cosine_rmse, d.cosine_rmse, 1e-9 * d.cosine_rmse) << "pair " << p;
+    EXPECT_EQ(g.values, d.values) << "pair " << p;
+  }
+  EXPECT_EQ(by_gram.distances[0].cbrt_cosine, 0.0);  // (0, 0)
+  EXPECT_GT(by_gram.distances[1].cbrt_cosine, 0.0);  // (0, 1)
+  std::vector<DistanceSums> sums(q.pairs.size());
+  for (int part = 0; part < 2; ++part) {
+    q.share = {part, 2};
+    const CombinationResult r = evaluate_combinations(*set_, q);
+    for (std::size_t p = 0; p < sums.size(); ++p) {
+      sums[p].cbrt_squared += r.sums[p].cbrt_squared;
+      sums[p].cosine_squared += r.sums[p].cosine_squared;
+      sums[p].values += r.sums[p].values;
+    }
+  }
+  for (std::size_t p = 0; p < sums.size(); ++p)
+    EXPECT_NEAR(sums[p].finish().cbrt_cosine, by_gram.distances[p].cbrt_cosine,
+                1e-9 * by_gram.distances[p].cbrt_cosine) << "pair " << p;
+}
+
 TEST_F(TinyDatabase, TheStudysFitsCanUseTheSparsePlacement) {
   // FitOptions::sparse (evaluate --sparse-inducing): every fit through the sparse likelihood,
   // whose value (a bound of the exact one) differs from the exact study's; the study still finds
