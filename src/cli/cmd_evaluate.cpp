@@ -89,7 +89,7 @@ void print_summary(const eval::StudyResult* study, const eval::ModelChecks* chec
     for (const auto& p : quality->plausibility)
       print(io.out, "  plausibility %-6s %-9s %d of %d points with negative values (worst %.3f%%%s), albedo / inputs' max %.3f\n",
                   p.mode.c_str(), p.where.c_str(), p.with_negative, p.points, 100 * p.worst_negative_share,
-                  p.value_stride > 1 ? (", every " + std::to_string(p.value_stride) + "th value").c_str() : "",
+                  p.value_stride > 1 ? (", value stride " + std::to_string(p.value_stride)).c_str() : "",
                   p.worst_albedo_ratio);
   }
   if (checks) {
