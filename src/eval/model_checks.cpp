@@ -218,6 +218,7 @@ InterpolationCheck check_interpolation(const Model& model, const MaterialSet& se
     Eigen::MatrixXd source(s, static_cast<Eigen::Index>(kBlock));  // the checked files, physical units
     Eigen::RowVectorXd mean(static_cast<Eigen::Index>(kBlock));
     std::vector<double> row(kBlock);
+    std::vector<float> stored(static_cast<std::size_t>(n));
     std::vector<std::size_t> columns;  // the block's values checked (kept by the model and the files)
     for (std::size_t b = lo; b < hi; ++b) {
       const std::size_t v0 = b * kBlock, count = std::min(kBlock, values - v0);
@@ -239,11 +240,8 @@ InterpolationCheck check_interpolation(const Model& model, const MaterialSet& se
         if (c < 0 || !measured[j]) continue;
         const auto col = static_cast<std::size_t>(c);
         const auto at = static_cast<Eigen::Index>(columns.size());
-        if (const float* p = model.data_f32(col)) {
-          for (int i = 0; i < n; ++i) z(i, at) = p[i];
-        } else {
-          for (int i = 0; i < n; ++i) z(i, at) = model.value(v0 + j, Eigen::VectorXd::Unit(n, i));
-        }
+        model.data(col, stored.data());  // float32 or float16 storage alike
+        for (int i = 0; i < n; ++i) z(i, at) = stored[static_cast<std::size_t>(i)];
         mean(at) = model.mean(col);
         columns.push_back(j);
       }

@@ -105,6 +105,29 @@ TEST_F(TinyModel, ASpreadOfMaterialsIsCheckedAndAChangedTableIsFound) {
                 1e-12 * change) << "material " << 2 * k;
 }
 
+TEST_F(TinyModel, AFloat16ModelIsCheckedAtItsOwnRounding) {
+  // Item 1 reads float16 storage too: each value within half-precision rounding (2^-11 of
+  // itself) of the file's, so the error relative to each material's peak is between float32's
+  // and 2^-11.
+  BuildOptions o;
+  o.dim = 2;
+  o.storage = Storage::f16;
+  build_model(*set_, o, dir_ / "h.matlas");
+  const Model half = Model::open(dir_ / "h.matlas");
+  ModelCheckOptions co;
+  co.reciprocity_pairs = 10;
+  co.sample_points = 2;
+  co.map_resolution = 4;
+  const InterpolationCheck c = run_model_checks(half, set_.get(), co).interpolation;
+  ASSERT_TRUE(c.available);
+  ASSERT_EQ(c.max_relative_error.size(), 6u);
+  for (double e : c.max_relative_error) {
+    EXPECT_LE(e, std::ldexp(1.0, -11) * 1.01);
+    EXPECT_GT(e, 1e-6);
+  }
+  EXPECT_EQ(c.column_mismatches, 0u);
+}
+
 TEST_F(TinyModel, NegativeCountsMatchTheExportClamp) {
   // Far outside the data the GP extrapolates to the mean; between far-apart points it can
   // overshoot. Whatever the count, it must be what export_table clamps.
