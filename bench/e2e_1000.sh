@@ -169,14 +169,16 @@ try:
     r = json.load(open(sys.argv[1]))
 except Exception as e:
     print(f"  (no report: {e})"); sys.exit(0)
-def walk(o, path=""):
-    if isinstance(o, dict):
-        for k, v in o.items():
-            if any(w in k for w in ("leave", "loo", "held")):
-                print(f"  {path}{k}: {json.dumps(v)[:300]}")
-            else:
-                walk(v, f"{path}{k}.")
-walk(r)
+s = r.get("study") or {}
+secs = s.get("seconds", {})
+print("  study: " + ", ".join(f"{k} {v:.1f} s" for k, v in secs.items()))
+for c in s.get("configs", []):
+    loo = c["loo_mean"]
+    print(f"  {c['layout']} q={c['dim']}: leave-one-out cube-root matlas {loo['gp']['cbrt']:.4f}, "
+          f"PCA {loo['pca']['cbrt']:.4f}, nearest {loo['nearest']['cbrt']:.4f}; Spearman {c['spearman_pairs']:.3f}")
+ic = (r.get("model_checks") or {}).get("interpolation") or {}
+if ic.get("available"):
+    print(f"  exact interpolation of {len(ic['materials'])} materials: max error / peak {max(ic['max_relative_error']):.3g}")
 EOF
 
 say "load average at the end: $(cut -d' ' -f1-3 /proc/loadavg)"
