@@ -112,14 +112,20 @@ CombinationResult evaluate_combinations(const MaterialSet& set, const Combinatio
       },
       options, progress);
 
+  // |a|^2 + |b|^2 - 2 a.b, 0 below the Gram's resolution: the products' rounding (about 1e-16
+  // times the norms times the square root of the values summed) makes smaller sums noise, of
+  // either sign, and two identical tables must be at distance 0 whatever the BLAS kernel.
+  constexpr double kGramResolution = 1e-12;
+  const auto by_gram = [&](const Eigen::MatrixXd& g, Eigen::Index a, Eigen::Index b) {
+    const double norms = g(a, a) + g(b, b), d2 = norms - 2.0 * g(std::max(a, b), std::min(a, b));
+    return d2 <= kGramResolution * norms ? 0.0 : d2;
+  };
   if (k > 0)
     for (std::size_t p = 0; p < query.pairs.size(); ++p) {
       const auto [a, b] = query.pairs[p];
       if (!(a < k && b < k && a != b)) continue;
-      const Eigen::Index hi = std::max(a, b), lo = std::min(a, b);
-      // Rounding can leave a tiny negative sum for near-identical items: 0 then.
-      sums[p].cbrt_squared = std::max(0.0, gram_cbrt(a, a) + gram_cbrt(b, b) - 2.0 * gram_cbrt(hi, lo));
-      sums[p].cosine_squared = std::max(0.0, gram_linear(a, a) + gram_linear(b, b) - 2.0 * gram_linear(hi, lo));
+      sums[p].cbrt_squared = by_gram(gram_cbrt, a, b);
+      sums[p].cosine_squared = by_gram(gram_linear, a, b);
       sums[p].values = values;
     }
 

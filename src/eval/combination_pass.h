@@ -29,7 +29,8 @@ struct CombinationQuery {
   /// Gram matrices, |a|^2 + |b|^2 - 2 a.b by BLAS (k^2 J / 2 multiply-adds per block at the
   /// cores' full rate), instead of one difference per pair and value: for all pairs of n
   /// materials, n^2 / 2 of them. Meant for items whose distances are not tiny against their norms
-  /// (distinct materials: the rounding is ~1e-16 of the norms, below 1e-9 of such distances);
+  /// (distinct materials: the rounding is ~1e-16 of the norms, below 1e-9 of such distances); a
+  /// squared distance below 1e-12 of the squared norms is 0 (two copies of a table are at 0).
   /// 0: every pair by differences.
   int gram_items = 0;
   /// Upper bound on the memory of the per-block item values (bytes); sets the block size.

@@ -38,13 +38,18 @@ protected:
   std::vector<BrdfTable> tables_;
 };
 
+/// The coefficients of the n materials and, as item n, the midpoint of materials 0 and 1.
+Eigen::MatrixXd materials_and_midpoint(Eigen::Index n) {
+  Eigen::MatrixXd c = Eigen::MatrixXd::Zero(n + 1, n);
+  c.topRows(n).setIdentity();
+  c(n, 0) = 0.5, c(n, 1) = 0.5;
+  return c;
+}
+
 TEST_F(TinyDatabase, CombinationPassMatchesDirectDistances) {
   CombinationQuery q;
   const auto n = static_cast<Eigen::Index>(set_->size());
-  q.coefficients = Eigen::MatrixXd::Identity(n, n);
-  q.coefficients.conservativeResize(n + 1, n);
-  q.coefficients.row(n).setZero();
-  q.coefficients(n, 0) = 0.5, q.coefficients(n, 1) = 0.5;  // midpoint of materials 0 and 1
+  q.coefficients = materials_and_midpoint(n);
   q.pairs = {{0, 1}, {1, 0}, {3, 3}, {static_cast<int>(n), 0}};
   q.memory_budget = 4096;  // many small blocks
   const CombinationResult r = evaluate_combinations(*set_, q);
@@ -102,10 +107,7 @@ TEST_F(TinyDatabase, PairsThroughTheMaterialsGramMatchTheDifferences) {
   // still by differences; the ranks' shares add up as before.
   CombinationQuery q;
   const auto n = static_cast<Eigen::Index>(set_->size());
-  q.coefficients = Eigen::MatrixXd::Identity(n, n);
-  q.coefficients.conservativeResize(n + 1, n);
-  q.coefficients.row(n).setZero();
-  q.coefficients(n, 0) = 0.5, q.coefficients(n, 1) = 0.5;
+  q.coefficients = materials_and_midpoint(n);
   for (int a = 0; a < n; ++a)
     for (int b = 0; b < n; ++b) q.pairs.emplace_back(a, b);
   q.pairs.emplace_back(static_cast<int>(n), 0);
@@ -121,6 +123,10 @@ TEST_F(TinyDatabase, PairsThroughTheMaterialsGramMatchTheDifferences) {
   }
   EXPECT_EQ(by_gram.distances[0].cbrt_cosine, 0.0);  // (0, 0)
   EXPECT_GT(by_gram.distances[1].cbrt_cosine, 0.0);  // (0, 1)
+  // Material 2 and its copy (the last one): 0 through the Gram too, whatever its rounding.
+  const std::size_t copy_pair = static_cast<std::size_t>(2 * n + n - 1);
+  EXPECT_EQ(by_gram.distances[copy_pair].cbrt_cosine, 0.0);
+  EXPECT_EQ(by_gram.distances[copy_pair].cosine_rmse, 0.0);
   std::vector<DistanceSums> sums(q.pairs.size());
   for (int part = 0; part < 2; ++part) {
     q.share = {part, 2};
