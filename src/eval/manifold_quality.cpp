@@ -71,21 +71,11 @@ ModePlausibility summarise(const Model& model, const Eigen::MatrixXd& W, double 
   p.points = static_cast<int>(W.cols());
   if (W.cols() == 0) return p;
   // Counted only where a negative value can be; past the budget on every s-th value.
-  std::vector<Eigen::Index> counted;
-  for (Eigen::Index j = 0; j < W.cols(); ++j)
-    if (!non_negative_by_construction(W.col(j), input_negatives)) counted.push_back(j);
-  const double values = 3.0 * static_cast<double>(model.dims().bins());
-  const double work = static_cast<double>(counted.size()) * model.count() * values;
-  p.value_stride = static_cast<int>(std::max(1.0, std::ceil(work / budget)));
-  std::size_t visited = model.kept_columns();
-  std::vector<std::size_t> negatives(static_cast<std::size_t>(W.cols()), 0);
-  if (!counted.empty()) {
-    const std::vector<std::size_t> found =
-        count_negative_values(model, W(Eigen::all, counted), static_cast<std::size_t>(p.value_stride), &visited);
-    for (std::size_t k = 0; k < counted.size(); ++k) negatives[static_cast<std::size_t>(counted[k])] = found[k];
-  }
+  const NegativeCounts counts = count_possible_negatives(model, W, input_negatives, budget);
+  const std::vector<std::size_t>& negatives = counts.negatives;
+  p.value_stride = static_cast<int>(counts.stride);
   const Eigen::MatrixXd albedo = model.albedo_batch(W);
-  const double kept = static_cast<double>(std::max<std::size_t>(visited, 1));
+  const double kept = static_cast<double>(std::max<std::size_t>(counts.visited, 1));
   double sum = 0;
   for (std::size_t j = 0; j < negatives.size(); ++j) {
     const double share = static_cast<double>(negatives[j]) / kept;

@@ -115,6 +115,22 @@ bool non_negative_by_construction(const Eigen::Ref<const Eigen::VectorXd>& w,
   return std::abs(sum - 1.0) <= 1e-9;
 }
 
+NegativeCounts count_possible_negatives(const Model& model, const Eigen::MatrixXd& weights,
+                                        const std::vector<std::size_t>& input_negatives, double budget) {
+  NegativeCounts out;
+  out.negatives.assign(static_cast<std::size_t>(weights.cols()), 0);
+  out.visited = model.kept_columns();
+  std::vector<Eigen::Index> counted;
+  for (Eigen::Index j = 0; j < weights.cols(); ++j)
+    if (!non_negative_by_construction(weights.col(j), input_negatives)) counted.push_back(j);
+  if (counted.empty()) return out;
+  const double work = static_cast<double>(counted.size()) * model.count() * 3.0 * static_cast<double>(model.dims().bins());
+  out.stride = static_cast<std::size_t>(std::max(1.0, std::ceil(work / budget)));
+  const std::vector<std::size_t> found = count_negative_values(model, weights(Eigen::all, counted), out.stride, &out.visited);
+  for (std::size_t k = 0; k < counted.size(); ++k) out.negatives[static_cast<std::size_t>(counted[k])] = found[k];
+  return out;
+}
+
 std::vector<std::size_t> count_negative_values(const Model& model, const Eigen::MatrixXd& weights, std::size_t stride,
                                                std::size_t* visited) {
   const int n = model.count();
@@ -385,16 +401,7 @@ PlausibilityMap plausibility_map(const Model& model, const ModelCheckOptions& op
     variance[cell_of_step[step]] = predicted.variance[static_cast<Eigen::Index>(step)];
   }
   const std::size_t cells = cell_of_step.size();
-  // Counted where a negative value can be (not convex mixes of non-negative inputs).
-  const std::vector<std::size_t> input_negatives = count_negative_inputs(model);
-  std::vector<Eigen::Index> counted;
-  for (Eigen::Index k = 0; k < W.cols(); ++k)
-    if (!non_negative_by_construction(W.col(k), input_negatives)) counted.push_back(k);
-  std::vector<std::size_t> negatives(cells, 0);
-  if (!counted.empty()) {
-    const std::vector<std::size_t> found = count_negative_values(model, W(Eigen::all, counted));
-    for (std::size_t k = 0; k < counted.size(); ++k) negatives[static_cast<std::size_t>(counted[k])] = found[k];
-  }
+  const std::vector<std::size_t> negatives = count_possible_negatives(model, W, count_negative_inputs(model)).negatives;
   map.values = model.kept_columns();
   std::size_t worst = 0;
   for (std::size_t k = 0; k < cells; ++k) {

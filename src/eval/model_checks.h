@@ -5,6 +5,7 @@
 //   3. albedo linearity: the albedo of m(x) against the weighted sum of the inputs' albedos;
 //   4. physical plausibility over the map: fraction of negative values (what the export clamps)
 //      and the largest directional albedo on a dense grid over the region the data covers.
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -108,5 +109,17 @@ std::vector<std::size_t> count_negative_inputs(const Model& model);
 /// no product to count them.
 bool non_negative_by_construction(const Eigen::Ref<const Eigen::VectorXd>& w,
                                   const std::vector<std::size_t>& input_negatives);
+
+/// count_negative_values where a negative value can be: 0 without a product for the columns that
+/// are non_negative_by_construction, the others counted on every `stride`-th value, the stride
+/// the least that keeps their count within `budget` multiply-adds (columns x n x values).
+struct NegativeCounts {
+  std::vector<std::size_t> negatives;  ///< per column of the weights
+  std::size_t stride = 1;
+  std::size_t visited = 0;  ///< kept values looked at per counted column (all kept ones if none)
+};
+NegativeCounts count_possible_negatives(const Model& model, const Eigen::MatrixXd& weights,
+                                        const std::vector<std::size_t>& input_negatives,
+                                        double budget = std::numeric_limits<double>::infinity());
 
 }  // namespace matlas::eval
