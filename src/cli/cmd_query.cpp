@@ -36,6 +36,7 @@ struct ExportArgs {
   std::string source, output, format;
   int theta_i = RglExportOptions{}.theta_i, rgb = RglExportOptions{}.rgb_resolution;
   int wavelengths = kSpectralExportWavelengths;  ///< bsdf-spectral
+  int fit_iterations = RglSampleFitOptions{}.iterations;
   std::optional<std::string> at, material;
   bool check = true;
 };
@@ -62,6 +63,7 @@ void write_bsdf_export(const ExportArgs& a, ExportFormat format, const BrdfTable
   RglExportOptions options;
   options.theta_i = a.theta_i;
   options.rgb_resolution = a.rgb;
+  options.fit.iterations = a.fit_iterations;
   options.description = "matlas export of " + what;
   if (format == ExportFormat::bsdf_spectral) options.wavelengths = a.wavelengths;
   RglExportReport report;
@@ -76,11 +78,15 @@ void write_bsdf_export(const ExportArgs& a, ExportFormat format, const BrdfTable
           100 * report.spectral_error_rms, 100 * report.spectral_error_max);
   print(io.out, "  NDF             power iterations on the back-scattering: %d iterations, last change %.2g\n",
         report.ndf.iterations, report.ndf.last_change);
+  if (report.fit.iterations > 0)
+    print(io.out, "  samples         fitted to the table's %zu bin centres in least squares (%d iterations): relative "
+          "RMS %.2f %% -> %.2f %%, %zu samples clipped at 0\n", report.fit.observations, report.fit.iterations,
+          100 * report.fit.relative_rms_before, 100 * report.fit.relative_rms_after, report.fit.clipped);
   if (!a.check) return;
   const RglBsdf file = RglBsdf::read(a.output);
   const RglFidelity f = check_rgl_fidelity(file, table);
   print(io.out, "  fidelity        the file read back reproduces the table: cosine-weighted relative RMS %.2f %% over the "
-        "bin centres\n", 100 * f.relative_rms);
+        "bin centres, %.2f %% between them\n", 100 * f.relative_rms, 100 * f.relative_rms_between);
   for (std::size_t k = 0; k < f.angles_deg.size(); ++k) {
     const Rgb& t = f.table_albedo[k];
     const Rgb& b = f.file_albedo[k];
@@ -233,6 +239,11 @@ void add_query_commands(CLI::App& app, const Io& io) {
     cmd->add_option("--theta-i", a->theta_i, "bsdf: incident elevations")->check(CLI::Range(2, 90))->capture_default_str();
     cmd->add_option("--rgb-resolution", a->rgb, "bsdf: reflectance samples per axis per elevation")
         ->check(CLI::Range(2, 256))
+        ->capture_default_str();
+    cmd->add_option("--fit-iterations", a->fit_iterations,
+                    "bsdf: least-squares iterations fitting the samples to the table's bin centres (0: the table's "
+                    "values at the sample points)")
+        ->check(CLI::Range(0, 1000))
         ->capture_default_str();
     cmd->add_flag("!--no-check", a->check, "bsdf: skip reading the file back and measuring its fidelity (faster)");
     cmd->callback([io, a] { run_export(*a, io); });

@@ -232,25 +232,34 @@ HalfVectorFrame half_vector_frame(const Vec3& wi_in, const Vec3& wo_in, int redu
 
 }  // namespace
 
-Rgb RglBsdf::eval_cosine(const Vec3& wi_in, const Vec3& wo_in) const {
-  if (!(wi_in.z() > 0.0) || !(wo_in.z() > 0.0) || !wi_in.allFinite() || !wo_in.allFinite()) return Rgb::Zero();
+RglBsdf::ReflectanceLookup RglBsdf::reflectance_lookup(const Vec3& wi_in, const Vec3& wo_in) const {
+  ReflectanceLookup r;
+  if (!(wi_in.z() > 0.0) || !(wo_in.z() > 0.0) || !wi_in.allFinite() || !wo_in.allFinite()) return r;
   const HalfVectorFrame f = half_vector_frame(wi_in, wo_in, reduction_, isotropic_);
   const double(&u_m)[2] = f.u_m;
   const double u_wi[2] = {theta_to_unit(f.theta_i), phi_to_unit(f.phi_i)};
-  const ParamBlend blend = blend_params(phi_i_, f.phi_i, theta_i_, f.theta_i);
-  const auto sample = vndf_.invert(u_m[0], u_m[1], blend);
-  Rgb value;
-  for (int c = 0; c < 3; ++c) {
-    ParamBlend channel = blend;
-    for (int b = 0; b < blend.count; ++b) channel.slice[static_cast<std::size_t>(b)] = 3 * blend.slice[static_cast<std::size_t>(b)] + static_cast<std::size_t>(c);
-    value[c] = std::max(rgb_.eval(sample[0], sample[1], channel), 0.0);  // clipped, as RGL's loader
-  }
+  r.valid = true;
+  r.blend = blend_params(phi_i_, f.phi_i, theta_i_, f.theta_i);
+  r.at = vndf_.invert(u_m[0], u_m[1], r.blend);
+  r.scale = 1.0;
   if (jacobian_) {
     const ParamBlend none;
     const double s = sigma_.eval(u_wi[0], u_wi[1], none);
-    value *= s > 0 ? ndf_.eval(u_m[0], u_m[1], none) / (4.0 * s) : 0.0;
+    r.scale = s > 0 ? ndf_.eval(u_m[0], u_m[1], none) / (4.0 * s) : 0.0;
   }
-  return value;
+  return r;
+}
+
+Rgb RglBsdf::eval_cosine(const Vec3& wi, const Vec3& wo) const {
+  const ReflectanceLookup r = reflectance_lookup(wi, wo);
+  if (!r.valid) return Rgb::Zero();
+  Rgb value;
+  for (int c = 0; c < 3; ++c) {
+    ParamBlend channel = r.blend;
+    for (int b = 0; b < r.blend.count; ++b) channel.slice[static_cast<std::size_t>(b)] = 3 * r.blend.slice[static_cast<std::size_t>(b)] + static_cast<std::size_t>(c);
+    value[c] = std::max(rgb_.eval(r.at[0], r.at[1], channel), 0.0);  // clipped, as RGL's loader
+  }
+  return value * r.scale;
 }
 
 namespace {

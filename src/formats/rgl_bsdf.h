@@ -35,6 +35,7 @@
 // the analytic fit of Wyman, Sloan and Shirley 2013, balanced so that a flat spectrum of
 // reflectance 1 is RGB (1, 1, 1)); interpolation is linear in the data, so this commutes with
 // the model's interpolation.
+#include <array>
 #include <cstddef>
 #include <filesystem>
 #include <string>
@@ -73,6 +74,23 @@ public:
   /// below the horizon, or not finite). Directions are in the local frame (normal +z; normalised
   /// here); wi is the direction of the light, wo the view.
   Rgb eval_cosine(const Vec3& wi, const Vec3& wo) const;
+  /// Where eval_cosine looks the reflectance up: the point `at` of the reflectance's unit square,
+  /// the blend of incident slices (channel c of blended slice s is the reflectance table's slice
+  /// 3 s + c), and the factor that multiplies the interpolated value after its clip at 0 (D(m) /
+  /// (4 sigma(wi)), 1 without the Jacobian). eval_cosine(wi, wo)[c] = scale * max(0, the
+  /// reflectance interpolated at `at` and blended): linear in the samples before the clip.
+  /// `valid` is false where eval_cosine is 0 whatever the samples (a direction below the horizon).
+  struct ReflectanceLookup {
+    bool valid = false;
+    std::array<double, 2> at{0.0, 0.0};
+    ParamBlend blend;
+    double scale = 0;
+  };
+  ReflectanceLookup reflectance_lookup(const Vec3& wi, const Vec3& wo) const;
+  /// The reflectance table's grid (nx, ny per slice).
+  std::size_t reflectance_nx() const { return rgb_.nx(); }
+  std::size_t reflectance_ny() const { return rgb_.ny(); }
+
   /// The BRDF f(wi, wo) (1/sr): eval_cosine / cos(theta_o).
   Rgb eval(const Vec3& wi, const Vec3& wo) const;
   /// The reciprocal BRDF closest to the model's two measurements of this pair: with E1 =

@@ -7,6 +7,8 @@
 
 #include "core/check.h"
 #include "core/parallel.h"
+#include "formats/rgl_bsdf.h"
+#include "formats/rgl_sample_fit.h"
 #include "formats/rgl_warp.h"
 #include "formats/spectral_rgb.h"
 
@@ -122,14 +124,15 @@ struct FieldSource {
   }
 
   /// Reflectance samples at the nodes of the unit square, through the VNDF's sample warp: rgb,
-  /// the luminance that samples them, and whether each is above the horizon.
-  void reflectance_fields(const RglWarp2D& vndf_w, std::vector<float>& rgb, std::vector<float>& lum,
+  /// the ratio of the VNDF to the warp's density there (what turns the samples' luminance into
+  /// the integrand on the square), and whether each is above the horizon.
+  void reflectance_fields(const RglWarp2D& vndf_w, std::vector<float>& rgb, std::vector<double>& ratio,
                           std::vector<std::uint8_t>& valid) const {
     const std::size_t nt = theta.size();
     const auto nr = static_cast<std::size_t>(o.rgb_resolution);
     const std::size_t grid = nr * nr;
     rgb.assign(nt * 3 * grid, 0.0f);
-    lum.assign(nt * grid, 0.0f);
+    ratio.assign(nt * grid, 0.0);
     valid.assign(nt * grid, 0);
     parallel_for_each(0, nt, [&](std::size_t t) {
       const Vec3 wi = incident(t);
@@ -150,26 +153,36 @@ struct FieldSource {
             value = table.lookup_smooth(wi, wo.normalized()).max(0.0) * (wo.z() * 4.0 * sigma / d);
             valid[t * grid + at] = 1;
           }
-          double l = 0;
-          for (std::size_t ch = 0; ch < 3; ++ch) {
+          for (std::size_t ch = 0; ch < 3; ++ch)
             rgb[(t * 3 + ch) * grid + at] = static_cast<float>(value[static_cast<Eigen::Index>(ch)]);
-            l += kWriterLuminance[ch] * value[static_cast<Eigen::Index>(ch)];
-          }
-          // The integrand on the reflectance's square: luminance times the VNDF over the warp's density.
           const double warp = vndf_w.eval(u_m[0], u_m[1], slice);
-          const double ratio = warp > 0 ? vndf_density(wi, sigma, u_m[0], u_m[1]) / warp : 0.0;
-          lum[t * grid + at] = static_cast<float>(std::max(l * ratio, 0.0));
+          ratio[t * grid + at] = warp > 0 ? vndf_density(wi, sigma, u_m[0], u_m[1]) / warp : 0.0;
         }
-      // The luminance is a sampling density: a slice that is black everywhere is sampled
-      // uniformly, and a small floor (1e-4 of the slice's mean) keeps every region reachable.
-      double mean = 0;
-      for (std::size_t k = 0; k < grid; ++k) mean += lum[t * grid + k];
-      mean /= static_cast<double>(grid);
-      for (std::size_t k = 0; k < grid; ++k)
-        lum[t * grid + k] = mean > 0 ? static_cast<float>(lum[t * grid + k] + 1e-4 * mean) : 1.0f;
     });
   }
 };
+
+/// The luminance field: the integrand of the albedo on the reflectance's square (the samples'
+/// luminance times the VNDF over the warp's density), the density of the file's importance
+/// sampling. A slice that is black everywhere is sampled uniformly, and a small floor (1e-4 of the
+/// slice's mean) keeps every region reachable.
+std::vector<float> luminance_field(const std::vector<float>& rgb, const std::vector<double>& ratio, std::size_t nt,
+                                   std::size_t grid) {
+  std::vector<float> lum(nt * grid, 0.0f);
+  parallel_for_each(0, nt, [&](std::size_t t) {
+    double mean = 0;
+    for (std::size_t k = 0; k < grid; ++k) {
+      double l = 0;
+      for (std::size_t ch = 0; ch < 3; ++ch) l += kWriterLuminance[ch] * rgb[(t * 3 + ch) * grid + k];
+      lum[t * grid + k] = static_cast<float>(std::max(l * ratio[t * grid + k], 0.0));
+      mean += lum[t * grid + k];
+    }
+    mean /= static_cast<double>(grid);
+    for (std::size_t k = 0; k < grid; ++k)
+      lum[t * grid + k] = mean > 0 ? static_cast<float>(lum[t * grid + k] + 1e-4 * mean) : 1.0f;
+  });
+  return lum;
+}
 
 /// The spectral file's samples: each RGB sample raised to a sigmoid spectrum at the upsampler's
 /// wavelengths, [Nt][W][grid]; within a slice each fit starts from the previous sample's.
@@ -218,21 +231,12 @@ std::vector<TensorField> rgl_fields_from_table(const BrdfTable& table, const Rgl
   const std::vector<float> vndf_f = source.vndf_field();
   const RglWarp2D vndf_w(vndf_f, nv, nv, nt, true);
   for (std::size_t t = 0; t < nt; ++t) MATLAS_CHECK_GT(vndf_w.slice_integral(t), 0.0);
-  std::vector<float> rgb_f, lum_f;
+  std::vector<float> rgb_f;
+  std::vector<double> ratio;
   std::vector<std::uint8_t> valid;
-  source.reflectance_fields(vndf_w, rgb_f, lum_f, valid);
+  source.reflectance_fields(vndf_w, rgb_f, ratio, valid);
 
   const auto nr = static_cast<std::size_t>(o.rgb_resolution);
-  r.samples = nt * nr * nr;
-  for (std::size_t k = 0; k < valid.size(); ++k) r.below_horizon += valid[k] ? 0 : 1;
-  for (float v : rgb_f) {
-    MATLAS_CHECK(std::isfinite(v), "a reflectance sample is not finite");
-    r.largest_value = std::max(r.largest_value, static_cast<double>(v));
-  }
-  std::vector<std::uint8_t> valid_bits((valid.size() + 7) / 8, 0);
-  for (std::size_t k = 0; k < valid.size(); ++k)
-    if (valid[k]) valid_bits[k / 8] = static_cast<std::uint8_t>(valid_bits[k / 8] | (0x80u >> (k % 8)));
-
   const std::string description = o.description.empty() ? std::string("matlas export") : o.description;
   const std::uint8_t version[2] = {1, 0}, jacobian[1] = {1};
   const float phi_i[1] = {0.0f};
@@ -246,6 +250,28 @@ std::vector<TensorField> rgl_fields_from_table(const BrdfTable& table, const Rgl
   fields.push_back(float32_field("sigma", {2, ns}, ndf.sigma));
   fields.push_back(float32_field("ndf", {2, nd}, ndf.ndf));
   fields.push_back(float32_field("vndf", {1, nt, nv, nv}, vndf_f));
+
+  if (o.fit.iterations > 0) {
+    // The file as a reader sees it (without the sampling fields), for the fit's lookups.
+    TensorFile probe;
+    for (const TensorField& f : fields) probe.add(f);
+    probe.add(float32_field("rgb", {1, nt, 3, nr, nr}, rgb_f));
+    probe.add(uint8_field("jacobian", {1}, jacobian));
+    const RglBsdf file(std::move(probe));
+    r.fit = fit_rgl_samples(file, table, rgb_f, o.fit);
+  }
+  const std::vector<float> lum_f = luminance_field(rgb_f, ratio, nt, nr * nr);
+
+  r.samples = nt * nr * nr;
+  for (std::size_t k = 0; k < valid.size(); ++k) r.below_horizon += valid[k] ? 0 : 1;
+  for (float v : rgb_f) {
+    MATLAS_CHECK(std::isfinite(v), "a reflectance sample is not finite");
+    r.largest_value = std::max(r.largest_value, static_cast<double>(v));
+  }
+  std::vector<std::uint8_t> valid_bits((valid.size() + 7) / 8, 0);
+  for (std::size_t k = 0; k < valid.size(); ++k)
+    if (valid[k]) valid_bits[k / 8] = static_cast<std::uint8_t>(valid_bits[k / 8] | (0x80u >> (k % 8)));
+
   fields.push_back(float32_field("luminance", {1, nt, nr, nr}, lum_f));
   if (o.wavelengths == 0) {
     fields.push_back(float32_field("rgb", {1, nt, 3, nr, nr}, rgb_f));

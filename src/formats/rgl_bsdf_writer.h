@@ -36,6 +36,7 @@
 
 #include "brdf/brdf_table.h"
 #include "brdf/ndf_extraction.h"
+#include "formats/rgl_sample_fit.h"
 #include "formats/tensor_file.h"
 
 namespace matlas {
@@ -61,11 +62,15 @@ struct RglExportOptions {
   /// 360-830 nm, each sample's RGB raised to a smooth spectrum (formats/spectral_rgb.h).
   int wavelengths = 0;
   NdfExtractionOptions ndf;   ///< D's nodes and iterations
+  /// The reflectance samples fitted to the table's bin centres in least squares
+  /// (formats/rgl_sample_fit.h); iterations 0 keeps the samples taken at the nodes.
+  RglSampleFitOptions fit;
   std::string description;    ///< written into the file
 };
 
 struct RglExportReport {
   NdfExtractionReport ndf;
+  RglSampleFitReport fit;           ///< the samples' least-squares fit (iterations 0: none)
   std::size_t samples = 0;          ///< reflectance samples (per channel)
   std::size_t below_horizon = 0;    ///< samples whose wo is below the horizon (written as 0, invalid)
   double largest_value = 0;         ///< largest reflectance sample

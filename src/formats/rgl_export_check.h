@@ -22,6 +22,12 @@ struct RglFidelity {
   /// table's own: sqrt(sum (c (f_file - f_table))^2 / sum (c f_table)^2) over the table's measured
   /// bins (their centres), channels summed, c = cos(theta_i) cos(theta_o).
   double relative_rms = 0;
+  /// The same between the bin centres, against the table's smooth lookup (trilinear between the
+  /// centres): at one point per bin, uniform over the bin's coordinates (a fixed sequence from
+  /// `seed`), where the eight bins of the lookup are measured. What a renderer sees besides the
+  /// centres: a file fitted at given points (formats/rgl_sample_fit.h) that oscillated between
+  /// them would show here.
+  double relative_rms_between = 0;
   std::vector<double> angles_deg;
   /// Directional albedo at each angle: of the table (its smooth lookup, the function written)
   /// and of the file (as a renderer integrates it: the view is the file's first direction).

@@ -80,13 +80,20 @@ RglWarp2D::RglWarp2D(std::span<const float> data, std::size_t nx, std::size_t ny
   }
 }
 
-RglWarp2D::Patch RglWarp2D::patch(double x, double y, const ParamBlend& b) const {
+RglWarp2D::Cell RglWarp2D::cell(double x, double y) const {
   const double fx = std::clamp(x, 0.0, 1.0) * static_cast<double>(nx_ - 1);
   const double fy = std::clamp(y, 0.0, 1.0) * static_cast<double>(ny_ - 1);
+  Cell c;
+  c.px = std::min(static_cast<std::size_t>(fx), nx_ - 2);
+  c.py = std::min(static_cast<std::size_t>(fy), ny_ - 2);
+  c.s = fx - static_cast<double>(c.px), c.t = fy - static_cast<double>(c.py);
+  return c;
+}
+
+RglWarp2D::Patch RglWarp2D::patch(double x, double y, const ParamBlend& b) const {
+  const Cell c = cell(x, y);
   Patch p;
-  p.px = std::min(static_cast<std::size_t>(fx), nx_ - 2);
-  p.py = std::min(static_cast<std::size_t>(fy), ny_ - 2);
-  p.s = fx - static_cast<double>(p.px), p.t = fy - static_cast<double>(p.py);
+  p.px = c.px, p.py = c.py, p.s = c.s, p.t = c.t;
   const std::size_t i = p.py * nx_ + p.px;
   p.index = i;
   p.v00 = value(i, b), p.v10 = value(i + 1, b);

@@ -53,6 +53,16 @@ public:
   /// Integral of slice s over [0,1]^2 before normalisation (0 if not built with CDFs).
   double slice_integral(std::size_t s) const { return integral_.empty() ? 0.0 : integral_[s]; }
 
+  /// The grid cell holding (x, y) (clamped to [0,1]^2): its lower corner (px, py) and the
+  /// position inside it (s, t). Every lookup interpolates the cell's corners (px, py), (px+1, py),
+  /// (px, py+1), (px+1, py+1) with weights (1-s)(1-t), s(1-t), (1-s)t, st: a raw table's eval()
+  /// is linear in its values with these weights (what fitting a table's values needs).
+  struct Cell {
+    std::size_t px, py;
+    double s, t;
+  };
+  Cell cell(double x, double y) const;
+
   /// Bilinear interpolation at (x, y) in [0,1]^2 (clamped): the raw values, or the normalised
   /// density when built with CDFs.
   double eval(double x, double y, const ParamBlend& blend) const;
