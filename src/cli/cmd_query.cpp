@@ -79,8 +79,8 @@ void write_bsdf_export(const ExportArgs& a, ExportFormat format, const BrdfTable
   print(io.out, "  NDF             power iterations on the back-scattering: %d iterations, last change %.2g\n",
         report.ndf.iterations, report.ndf.last_change);
   if (report.fit.iterations > 0)
-    print(io.out, "  samples         fitted to the table's %zu bin centres in least squares (%d iterations): relative "
-          "RMS %.2f %% -> %.2f %%, %zu samples clipped at 0\n", report.fit.observations, report.fit.iterations,
+    print(io.out, "  samples         fitted to the table in least squares at %zu points (bin centres and the corners "
+          "between them; %d iterations): relative RMS there %.2f %% -> %.2f %%, %zu samples held at 0\n", report.fit.observations, report.fit.iterations,
           100 * report.fit.relative_rms_before, 100 * report.fit.relative_rms_after, report.fit.clipped);
   if (!a.check) return;
   const RglBsdf file = RglBsdf::read(a.output);

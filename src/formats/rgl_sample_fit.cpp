@@ -89,16 +89,25 @@ public:
   std::size_t grid() const { return grid_; }
   std::size_t unknowns() const { return slices_ * 3 * grid_; }
 
-  /// The targets, [observation][channel].
-  std::vector<double> targets() const {
-    std::vector<double> b(3 * observations_.size());
-    for (std::size_t o = 0; o < observations_.size(); ++o)
-      for (std::size_t c = 0; c < 3; ++c) b[3 * o + c] = observations_[o].target[c];
-    return b;
+  /// r = b - M x (b the targets), [observation][channel], single precision (the residuals are
+  /// needed to a few digits, and they are the largest vectors).
+  void residual(const std::vector<double>& x, std::vector<float>& r) const {
+    forward(x, r);
+    parallel_for_blocks(observations_.size(), kBlock, [&](std::size_t first, std::size_t size) {
+      for (std::size_t o = first; o < first + size; ++o)
+        for (std::size_t c = 0; c < 3; ++c) r[3 * o + c] = observations_[o].target[c] - r[3 * o + c];
+    });
+  }
+  /// Per channel sum of squares of the targets.
+  std::array<double, 3> target_norms() const {
+    std::array<double, 3> sum{0.0, 0.0, 0.0};
+    for (const Observation& o : observations_)
+      for (std::size_t c = 0; c < 3; ++c) sum[c] += static_cast<double>(o.target[c]) * o.target[c];
+    return sum;
   }
 
   /// q = M x, [observation][channel].
-  void forward(const std::vector<double>& x, std::vector<double>& q) const {
+  void forward(const std::vector<double>& x, std::vector<float>& q) const {
     q.resize(3 * observations_.size());
     parallel_for_blocks(observations_.size(), kBlock, [&](std::size_t first, std::size_t size) {
       for (std::size_t g = group_of(first), o = first; o < first + size; ++o) {
@@ -112,14 +121,14 @@ public:
             const double wb = b ? ob.w1 : 1.0 - static_cast<double>(ob.w1);
             sum += wb * (w[0] * slice[0] + w[1] * slice[1] + w[2] * slice[nx_] + w[3] * slice[nx_ + 1]);
           }
-          q[3 * o + c] = ob.a * sum;
+          q[3 * o + c] = static_cast<float>(ob.a * sum);
         }
       }
     });
   }
 
   /// s = M^T r: the groups of one parity at a time, in parallel (a group writes its two slices).
-  void transpose(const std::vector<double>& r, std::vector<double>& s) const {
+  void transpose(const std::vector<float>& r, std::vector<double>& s) const {
     s.assign(unknowns(), 0.0);
     for (std::size_t parity = 0; parity < 2; ++parity) {
       const std::size_t groups = (slices_ + 1 - parity) / 2;
@@ -180,13 +189,13 @@ private:
 };
 
 /// Per channel sum of squares of a [item][channel] vector (observations) in fixed blocks.
-std::array<double, 3> observation_norms(const std::vector<double>& v) {
+std::array<double, 3> observation_norms(const std::vector<float>& v) {
   const std::size_t n = v.size() / 3, blocks = (n + kBlock - 1) / kBlock;
   std::vector<std::array<double, 3>> partial(blocks, {0.0, 0.0, 0.0});
   parallel_for_blocks(n, kBlock, [&](std::size_t first, std::size_t size) {
     std::array<double, 3>& p = partial[first / kBlock];
     for (std::size_t o = first; o < first + size; ++o)
-      for (std::size_t c = 0; c < 3; ++c) p[c] += v[3 * o + c] * v[3 * o + c];
+      for (std::size_t c = 0; c < 3; ++c) p[c] += static_cast<double>(v[3 * o + c]) * v[3 * o + c];
   });
   std::array<double, 3> sum{0.0, 0.0, 0.0};
   for (const auto& p : partial)
@@ -194,32 +203,39 @@ std::array<double, 3> observation_norms(const std::vector<double>& v) {
   return sum;
 }
 
+/// Calls f(channel, first, end) for each [slice][channel] run of `grid` unknowns.
+template <class F>
+void for_each_channel(std::size_t size, std::size_t grid, F&& f) {
+  for (std::size_t first = 0, c = 0; first < size; first += grid, c = (c + 1) % 3) f(c, first, first + grid);
+}
+
 /// Per channel sum of squares of an unknowns vector laid out [slice][channel][grid].
 std::array<double, 3> unknown_norms(const std::vector<double>& v, std::size_t grid) {
   std::array<double, 3> sum{0.0, 0.0, 0.0};
-  for (std::size_t k = 0; k < v.size(); ++k) sum[(k / grid) % 3] += v[k] * v[k];
+  for_each_channel(v.size(), grid, [&](std::size_t c, std::size_t first, std::size_t end) {
+    for (std::size_t k = first; k < end; ++k) sum[c] += v[k] * v[k];
+  });
   return sum;
 }
 
-double relative(const std::vector<double>& r, const std::vector<double>& b) {
-  const auto rn = observation_norms(r), bn = observation_norms(b);
-  const double total = bn[0] + bn[1] + bn[2];
-  return total > 0 ? std::sqrt((rn[0] + rn[1] + rn[2]) / total) : 0.0;
+double relative(const std::array<double, 3>& residual, const std::array<double, 3>& target) {
+  const double total = target[0] + target[1] + target[2];
+  return total > 0 ? std::sqrt((residual[0] + residual[1] + residual[2]) / total) : 0.0;
 }
 
 /// Conjugate gradients on the damped normal equations, min |b - M x|^2 + lambda |x - x0|^2 over
 /// the samples not `fixed`, each channel its own problem (the same matrix), from x. Returns the
 /// iterations run.
-int damped_cg(const SampleProblem& problem, const std::vector<double>& b, const std::vector<double>& x0,
-              double lambda, const std::vector<std::uint8_t>& fixed, int iterations, std::vector<double>& x) {
-  const std::size_t grid = problem.grid();
-  std::vector<double> q, r(b.size()), g, p;
-  problem.forward(x, q);
-  for (std::size_t i = 0; i < b.size(); ++i) r[i] = b[i] - q[i];
+int damped_cg(const SampleProblem& problem, const std::vector<double>& x0, double lambda,
+              const std::vector<std::uint8_t>& fixed, int iterations, std::vector<double>& x) {
+  const std::size_t grid = problem.grid(), size = x.size();
+  std::vector<float> q, r;
+  std::vector<double> g, p;
+  problem.residual(x, r);
   // The gradient's half: M^T r - lambda (x - x0), 0 where fixed.
   const auto gradient = [&](std::vector<double>& out) {
     problem.transpose(r, out);
-    for (std::size_t k = 0; k < x.size(); ++k) out[k] = fixed[k] ? 0.0 : out[k] - lambda * (x[k] - x0[k]);
+    for (std::size_t k = 0; k < size; ++k) out[k] = fixed[k] ? 0.0 : out[k] - lambda * (x[k] - x0[k]);
   };
   gradient(g);
   p = g;
@@ -233,14 +249,19 @@ int damped_cg(const SampleProblem& problem, const std::vector<double>& b, const 
       const double d = delta[c] + lambda * pp[c];
       alpha[c] = d > 0 ? gamma[c] / d : 0.0;
     }
-    for (std::size_t k = 0; k < x.size(); ++k) x[k] += alpha[(k / grid) % 3] * p[k];
-    for (std::size_t i = 0; i < r.size(); ++i) r[i] -= alpha[i % 3] * q[i];
+    for_each_channel(size, grid, [&](std::size_t c, std::size_t first, std::size_t end) {
+      for (std::size_t k = first; k < end; ++k) x[k] += alpha[c] * p[k];
+    });
+    const auto alpha_f = std::array<float, 3>{static_cast<float>(alpha[0]), static_cast<float>(alpha[1]),
+                                              static_cast<float>(alpha[2])};
+    for (std::size_t i = 0; i < r.size(); i += 3)
+      for (std::size_t c = 0; c < 3; ++c) r[i + c] -= alpha_f[c] * q[i + c];
     gradient(g);
     const std::array<double, 3> next = unknown_norms(g, grid);
-    for (std::size_t k = 0; k < x.size(); ++k) {
-      const std::size_t c = (k / grid) % 3;
-      p[k] = g[k] + (gamma[c] > 0 ? next[c] / gamma[c] : 0.0) * p[k];
-    }
+    for_each_channel(size, grid, [&](std::size_t c, std::size_t first, std::size_t end) {
+      const double beta = gamma[c] > 0 ? next[c] / gamma[c] : 0.0;
+      for (std::size_t k = first; k < end; ++k) p[k] = g[k] + beta * p[k];
+    });
     gamma = next;
   }
   return it;
@@ -258,27 +279,26 @@ RglSampleFitReport fit_rgl_samples(const RglBsdf& file, const BrdfTable& table, 
   const SampleProblem problem(file, table, nt, options.corners);
   report.observations = problem.observations();
   std::vector<double> x(rgb.begin(), rgb.end());
-  const std::vector<double> b = problem.targets();
+  const std::array<double, 3> targets = problem.target_norms();
 
   const double lambda = options.damping * problem.mean_diagonal();
   const std::vector<double> x0 = x;
-  std::vector<double> q, r(b.size());
-  problem.forward(x, q);
-  for (std::size_t i = 0; i < b.size(); ++i) r[i] = b[i] - q[i];
-  report.relative_rms_before = relative(r, b);
+  std::vector<float> r;
+  problem.residual(x, r);
+  report.relative_rms_before = relative(observation_norms(r), targets);
   // The normal-incidence slice keeps its point samples: a renderer sees it alone at theta_i = 0
   // (where the albedo at 0 deg comes from), while no bin centre lies there, so the fit would reach
   // it only through the interval above and bend it towards that interval's errors (the albedo at
   // 0 deg moved by up to 4 % on RGL's materials).
   std::vector<std::uint8_t> fixed(x.size(), 0);
   std::fill(fixed.begin(), fixed.begin() + static_cast<std::ptrdiff_t>(3 * grid), 1);
-  report.iterations = damped_cg(problem, b, x0, lambda, fixed, options.iterations, x);
+  report.iterations = damped_cg(problem, x0, lambda, fixed, options.iterations, x);
   // Samples the fit took below 0 are held at 0 and the others fitted again: clipping alone left
   // saturated colours (a channel near 0 over a highlight) farther from the table.
   std::size_t clipped = 0;
   for (std::size_t k = 0; k < x.size(); ++k)
     if (x[k] < 0) x[k] = 0, fixed[k] = 1, ++clipped;
-  if (clipped > 0) report.iterations += damped_cg(problem, b, x0, lambda, fixed, options.iterations / 2, x);
+  if (clipped > 0) report.iterations += damped_cg(problem, x0, lambda, fixed, options.iterations / 2, x);
   for (double& v : x) {
     if (v < 0) {
       v = 0;
@@ -286,9 +306,8 @@ RglSampleFitReport fit_rgl_samples(const RglBsdf& file, const BrdfTable& table, 
     }
   }
   report.clipped += clipped;
-  problem.forward(x, q);
-  for (std::size_t i = 0; i < b.size(); ++i) r[i] = b[i] - q[i];
-  report.relative_rms_after = relative(r, b);
+  problem.residual(x, r);
+  report.relative_rms_after = relative(observation_norms(r), targets);
   for (std::size_t k = 0; k < x.size(); ++k) rgb[k] = static_cast<float>(x[k]);
   return report;
 }
