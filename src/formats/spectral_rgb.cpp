@@ -115,35 +115,46 @@ SpectralUpsampler::Fit SpectralUpsampler::fit(const std::array<double, 3>& rgb_i
       }
     }
   };
-  // Start: the neighbour's fit, or the grey of the same mean (a constant spectrum reduces to it).
-  Eigen::Vector3d c;
-  if (start != nullptr && start->scale > 0) c = Eigen::Vector3d(start->coefficients[0], start->coefficients[1], start->coefficients[2]);
-  else {
-    const double g = std::clamp(target.mean(), 1e-6, 1.0 - 1e-6);
-    c = Eigen::Vector3d(0, 0, (g - 0.5) / std::sqrt(g * (1.0 - g)));  // sigma^-1(g)
-  }
-  Eigen::Vector3d r;
-  Eigen::Matrix3d J;
-  evaluate(c, r, &J);
-  double cost = r.squaredNorm(), mu = 1e-3;
-  for (int it = 0; it < 100 && cost > 1e-16; ++it) {
-    const Eigen::Matrix3d A = J.transpose() * J;
-    const Eigen::Vector3d g = J.transpose() * r;
-    Eigen::Matrix3d D = A;
-    D.diagonal() += mu * (A.diagonal().array() + 1e-12).matrix();
-    const Eigen::Vector3d step = D.ldlt().solve(-g);
-    const Eigen::Vector3d trial = c + step;
-    Eigen::Vector3d rt;
-    evaluate(trial, rt, nullptr);
-    if (rt.allFinite() && rt.squaredNorm() < cost) {
-      c = trial;
-      evaluate(c, r, &J);
-      cost = r.squaredNorm();
-      mu = std::max(1e-9, mu * 0.3);
-    } else {
-      mu *= 10.0;
-      if (mu > 1e12) break;
+  // Levenberg-Marquardt from c; returns the cost reached.
+  const auto solve = [&](Eigen::Vector3d& c) {
+    Eigen::Vector3d r;
+    Eigen::Matrix3d J;
+    evaluate(c, r, &J);
+    double cost = r.squaredNorm(), mu = 1e-3;
+    for (int it = 0; it < 100 && cost > 1e-16; ++it) {
+      const Eigen::Matrix3d A = J.transpose() * J;
+      const Eigen::Vector3d g = J.transpose() * r;
+      Eigen::Matrix3d D = A;
+      D.diagonal() += mu * (A.diagonal().array() + 1e-12).matrix();
+      const Eigen::Vector3d step = D.ldlt().solve(-g);
+      const Eigen::Vector3d trial = c + step;
+      Eigen::Vector3d rt;
+      evaluate(trial, rt, nullptr);
+      if (rt.allFinite() && rt.squaredNorm() < cost) {
+        c = trial;
+        evaluate(c, r, &J);
+        cost = r.squaredNorm();
+        mu = std::max(1e-9, mu * 0.3);
+      } else {
+        mu *= 10.0;
+        if (mu > 1e12) break;
+      }
     }
+    return cost;
+  };
+  // Start: the grey of the same mean (a constant spectrum reduces to it), or the neighbour's fit;
+  // from a neighbour whose colour is far (a saturated sample beside a grey one: its sigmoid flat,
+  // the Jacobian near 0) the steps can stall, and then the fit starts again from grey.
+  const double g = std::clamp(target.mean(), 1e-6, 1.0 - 1e-6);
+  const Eigen::Vector3d grey(0, 0, (g - 0.5) / std::sqrt(g * (1.0 - g)));  // sigma^-1(g)
+  Eigen::Vector3d c = start != nullptr && start->scale > 0
+                          ? Eigen::Vector3d(start->coefficients[0], start->coefficients[1], start->coefficients[2])
+                          : grey;
+  double cost = solve(c);
+  if (start != nullptr && start->scale > 0 && cost > 1e-12) {
+    Eigen::Vector3d again = grey;
+    const double cost_again = solve(again);
+    if (cost_again < cost) c = again, cost = cost_again;
   }
   f.coefficients = {c[0], c[1], c[2]};
   f.error = std::sqrt(cost) * f.scale / top;

@@ -38,7 +38,8 @@ public:
   };
 
   /// The fit for rgb (negative channels are taken as 0), by Levenberg-Marquardt from `start`'s
-  /// coefficients (a neighbour's fit converges in a few steps) or from grey.
+  /// coefficients (a neighbour's fit converges in a few steps) or from grey; when the start's fit
+  /// does not reach the colour (a far neighbour's can stall), again from grey, the better kept.
   Fit fit(const std::array<double, 3>& rgb, const Fit* start = nullptr) const;
 
   /// The fitted spectrum at the wavelengths (wavelengths().size() values).

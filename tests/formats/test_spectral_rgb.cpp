@@ -96,6 +96,25 @@ TEST(SpectralRgb, ThePrimariesAndSecondariesAreReachedAndTheErrorIsTheResidual) 
   }
 }
 
+TEST(SpectralRgb, AFarNeighboursStartDoesNotStallTheFit) {
+  // The writer starts each sample's fit from its neighbour's. Fitted reflectance samples can sit
+  // beside very different ones (a channel held at 0 over a highlight, next to grey): from a
+  // saturated neighbour's coefficients the sigmoid is flat and the steps stall, which left 20 % of
+  // a spectral file's samples off (up to 100 %). Every colour is reached from any start.
+  const SpectralUpsampler up(even_wavelengths(12));
+  std::vector<SpectralUpsampler::Fit> starts;
+  for (const std::array<double, 3>& rgb : std::vector<std::array<double, 3>>{{1, 0, 0}, {0, 0, 1}, {0, 1, 0}, {5, 0.01, 0}})
+    starts.push_back(up.fit(rgb));
+  SpectralUpsampler::Fit extreme;
+  extreme.scale = 1, extreme.coefficients = {4e3, -4e3, 300};
+  starts.push_back(extreme);
+  for (const SpectralUpsampler::Fit& start : starts)
+    for (const std::array<double, 3>& rgb : std::vector<std::array<double, 3>>{{0.3, 0.3, 0.3}, {0.02, 0.5, 0.9}, {0.8, 0.1, 0.05}}) {
+      SCOPED_TRACE(::testing::PrintToString(rgb));
+      EXPECT_LT(up.fit(rgb, &start).error, 1e-5);
+    }
+}
+
 TEST(SpectralRgb, ARendererInterpolatingTheSamplesSeesTheSameColour) {
   // Spectral renderers (pbrt-v4, Mitsuba 3) sample wavelengths continuously and interpolate a
   // file's spectra linearly: the fitted samples, interpolated onto a 1 nm grid and reduced there,
