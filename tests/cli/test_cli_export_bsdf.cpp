@@ -53,6 +53,8 @@ TEST_F(CliExportBsdf, ATableFileBecomesABsdfFileByItsExtensionThatReproducesIt) 
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_HAS(r.out, "wrote " + bsdf.string() + " (RGL .bsdf, isotropic RGB");
   EXPECT_HAS(r.out, "relative RMS");
+  EXPECT_HAS(r.out, "samples         fitted to the table in least squares");
+  EXPECT_EQ(r.out.find("hint"), std::string::npos) << r.out;  // within 2 % and 1 %: no hint
   EXPECT_EQ(bsdf_export_leftovers(out.path(), {"lambert.bsdf"}), std::vector<std::string>{});
   // The file, read back by matlas' own reader, is the Lambertian (0.7, 0.5, 0.3) / pi.
   const RglBsdf b = RglBsdf::read(bsdf);
@@ -66,6 +68,20 @@ TEST_F(CliExportBsdf, ATableFileBecomesABsdfFileByItsExtensionThatReproducesIt) 
   const test::CliOutput m = test::call_matlas({"export", table().string(), "-o", (out / "copy.binary").string()});
   ASSERT_EQ(m.code, 0) << m.err;
   EXPECT_EQ(read_merl(out / "copy.binary").stored()[1000], read_merl(table()).stored()[1000]);
+}
+
+TEST_F(CliExportBsdf, AFileFarFromItsTableSaysThatMoreElevationsHelp) {
+  // Four elevations cannot follow a glossy lobe: the check is above 2 % and the command says
+  // which option brings the file closer; the file is written all the same.
+  const test::TempDir out("matlas-cli-export-bsdf-coarse");
+  RoughPlastic plastic;
+  plastic.alpha = 0.1;
+  write_merl(out / "glossy.binary", tabulate(plastic));
+  const test::CliOutput r = test::call_matlas({"export", (out / "glossy.binary").string(), "-o",
+                                               (out / "glossy.bsdf").string(), "--theta-i", "4", "--rgb-resolution", "16"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_HAS(r.out, "hint            above 1 % in albedo or 2 % RMS: more incident elevations (--theta-i 48");
+  EXPECT_TRUE(fs::exists(out / "glossy.bsdf"));
 }
 
 TEST_F(CliExportBsdf, ASpectralFileReproducesTheTableThroughItsSpectra) {
