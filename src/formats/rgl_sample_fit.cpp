@@ -13,9 +13,10 @@ namespace matlas {
 
 namespace {
 
-/// One bin centre as a row of the least-squares problem: the file's value there is
-/// a * sum over the two elevations (weights 1 - w1, w1) of the bilinear interpolation of the
-/// cell at `corner` (position s, t), weighted by cos(theta_i) cos(theta_o) as the target is.
+/// One point (a bin centre or a corner between bins) as a row of the least-squares problem: the
+/// file's value there is a * sum over the two elevations (weights 1 - w1, w1) of the bilinear
+/// interpolation of the cell at `corner` (position s, t), weighted by cos(theta_i) cos(theta_o) as
+/// the target is. The sample grid's `corner` index (y * nx + x) is the same in every slice.
 struct Observation {
   std::uint32_t corner = 0;
   float s = 0, t = 0, w1 = 0;
