@@ -66,6 +66,8 @@ public:
   std::size_t wavelength_count() const { return wavelength_count_; }
   bool jacobian() const { return jacobian_; }
   std::size_t theta_i_count() const { return theta_i_.size(); }
+  /// The incident elevations (radians), ascending.
+  const std::vector<float>& theta_i() const { return theta_i_; }
   std::size_t phi_i_count() const { return phi_i_.size(); }
   /// One line: "isotropic, RGB, 8 x 1 incident directions, VNDF 128x128, reflectance 32x32".
   std::string summary() const;

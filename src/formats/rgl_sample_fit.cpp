@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "brdf/albedo.h"
 #include "core/check.h"
 #include "core/parallel.h"
 
@@ -98,6 +99,63 @@ public:
       for (std::size_t o = first; o < first + size; ++o)
         for (std::size_t c = 0; c < 3; ++c) r[3 * o + c] = observations_[o].target[c] - r[3 * o + c];
     });
+    const std::size_t n = observations_.size();
+    for (std::size_t j = 0; j < albedo_rows_.size(); ++j)
+      for (std::size_t c = 0; c < 3; ++c)
+        r[3 * (n + j) + c] = static_cast<float>(albedo_rows_[j].target[c] - r[3 * (n + j) + c]);
+  }
+
+  /// Rows for the file's directional albedo at the elevations `views` (the view as the file's
+  /// first direction, as a renderer integrates it: a half-vector quadrature of eval_cosine),
+  /// against the table's by the same quadrature. Each channel's row is weighted so that a relative
+  /// albedo error e costs weight e^2 / rows of that channel's targets' sum of squares: a renderer
+  /// integrates the file, and the points alone leave its albedo a little off between elevations
+  /// where the table's reflection changes fast with the angle (a pearlescent's colour shift).
+  void add_albedo_rows(const RglBsdf& file, const BrdfTable& table, const std::vector<double>& views, double weight,
+                       int resolution) {
+    const std::array<double, 3> norms = target_norms();
+    albedo_rows_.resize(views.size());
+    parallel_for_each(0, views.size(), [&](std::size_t j) {
+      const Vec3 view(std::sin(views[j]), 0.0, std::cos(views[j]));
+      AlbedoRow& row = albedo_rows_[j];
+      row.weight.assign(2 * grid_, 0.0);
+      const RglWarp2D cells(std::vector<float>(grid_, 0.0f), nx_, grid_ / nx_, 1);
+      bool first = true;
+      // half_vector_albedo's quadrature (brdf/albedo.h), its terms kept apart.
+      const int n_u = resolution, n_phi = 2 * resolution;
+      const double du = 1.0 / n_u, dphi = 2.0 * kPi / n_phi;
+      for (int a = 0; a < n_u; ++a) {
+        const double u = (a + 0.5) * du, theta_h = 0.5 * kPi * u * u;
+        const double jacobian = std::sin(theta_h) * kPi * u * du * dphi;
+        for (int b = 0; b < n_phi; ++b) {
+          const double phi_h = (b + 0.5) * dphi;
+          const Vec3 h(std::sin(theta_h) * std::cos(phi_h), std::sin(theta_h) * std::sin(phi_h), std::cos(theta_h));
+          const double c = view.dot(h);
+          if (c <= 0) continue;
+          const Vec3 w = 2.0 * c * h - view;
+          if (w.z() <= 0) continue;
+          const RglBsdf::ReflectanceLookup l = file.reflectance_lookup(view, w);
+          if (!l.valid) continue;
+          if (first) row.slice0 = l.blend.slice[0], first = false;
+          const RglWarp2D::Cell cell = cells.cell(l.at[0], l.at[1]);
+          const std::size_t corner = cell.py * nx_ + cell.px;
+          const double k = l.scale * 4.0 * c * jacobian;
+          const double cw[4] = {(1 - cell.s) * (1 - cell.t), cell.s * (1 - cell.t), (1 - cell.s) * cell.t, cell.s * cell.t};
+          const std::size_t offset[4] = {0, 1, nx_, nx_ + 1};
+          for (int s = 0; s < 2; ++s) {
+            const double ws = k * l.blend.weight[static_cast<std::size_t>(s)];
+            for (int q = 0; q < 4; ++q) row.weight[static_cast<std::size_t>(s) * grid_ + corner + offset[q]] += ws * cw[q];
+          }
+        }
+      }
+      const Rgb albedo = half_vector_albedo([&](const Vec3& wi, const Vec3& wo) { return table.lookup_smooth(wi, wo); },
+                                            view, resolution);
+      for (std::size_t ch = 0; ch < 3; ++ch) {
+        const double a = albedo[static_cast<Eigen::Index>(ch)];
+        row.scale[ch] = std::sqrt(weight * norms[ch] / static_cast<double>(views.size())) / std::max(a, 0.01);
+        row.target[ch] = row.scale[ch] * std::max(a, 0.0);
+      }
+    });
   }
   /// Per channel sum of squares of the targets.
   std::array<double, 3> target_norms() const {
@@ -109,7 +167,7 @@ public:
 
   /// q = M x, [observation][channel].
   void forward(const std::vector<double>& x, std::vector<float>& q) const {
-    q.resize(3 * observations_.size());
+    q.resize(3 * (observations_.size() + albedo_rows_.size()));
     parallel_for_blocks(observations_.size(), kBlock, [&](std::size_t first, std::size_t size) {
       for (std::size_t g = group_of(first), o = first; o < first + size; ++o) {
         while (o >= start_[g + 1]) ++g;
@@ -126,6 +184,20 @@ public:
         }
       }
     });
+    const std::size_t n = observations_.size();
+    q.resize(3 * (n + albedo_rows_.size()));
+    for (std::size_t j = 0; j < albedo_rows_.size(); ++j) {
+      const AlbedoRow& row = albedo_rows_[j];
+      for (std::size_t c = 0; c < 3; ++c) {
+        double sum = 0;
+        for (std::size_t b = 0; b < 2; ++b) {
+          const double* slice = x.data() + ((row.slice0 + b) * 3 + c) * grid_;
+          const double* w = row.weight.data() + b * grid_;
+          for (std::size_t k = 0; k < grid_; ++k) sum += w[k] * slice[k];
+        }
+        q[3 * (n + j) + c] = static_cast<float>(row.scale[c] * sum);
+      }
+    }
   }
 
   /// s = M^T r: the groups of one parity at a time, in parallel (a group writes its two slices).
@@ -150,6 +222,18 @@ public:
           }
         }
       });
+    }
+    const std::size_t n = observations_.size();
+    for (std::size_t j = 0; j < albedo_rows_.size(); ++j) {
+      const AlbedoRow& row = albedo_rows_[j];
+      for (std::size_t c = 0; c < 3; ++c) {
+        const double v = row.scale[c] * r[3 * (n + j) + c];
+        for (std::size_t b = 0; b < 2; ++b) {
+          double* slice = s.data() + ((row.slice0 + b) * 3 + c) * grid_;
+          const double* w = row.weight.data() + b * grid_;
+          for (std::size_t k = 0; k < grid_; ++k) slice[k] += w[k] * v;
+        }
+      }
     }
   }
 
@@ -184,14 +268,23 @@ private:
     return static_cast<std::size_t>(std::upper_bound(start_.begin(), start_.end(), o) - start_.begin()) - 1;
   }
 
+  /// A row of the albedo at one view elevation: weights over the samples of its two slices (the
+  /// same for every channel), and per channel the row's weight and its weighted target.
+  struct AlbedoRow {
+    std::size_t slice0 = 0;
+    std::vector<double> weight;
+    std::array<double, 3> scale{}, target{};
+  };
+
   std::size_t nx_, grid_, slices_;
+  std::vector<AlbedoRow> albedo_rows_;
   std::vector<Observation> observations_;
   std::vector<std::size_t> start_;  ///< observations of group g: [start_[g], start_[g + 1])
 };
 
 /// Per channel sum of squares of a [item][channel] vector (observations) in fixed blocks.
-std::array<double, 3> observation_norms(const std::vector<float>& v) {
-  const std::size_t n = v.size() / 3, blocks = (n + kBlock - 1) / kBlock;
+std::array<double, 3> observation_norms(const std::vector<float>& v, std::size_t count = 0) {
+  const std::size_t n = count ? count : v.size() / 3, blocks = (n + kBlock - 1) / kBlock;
   std::vector<std::array<double, 3>> partial(blocks, {0.0, 0.0, 0.0});
   parallel_for_blocks(n, kBlock, [&](std::size_t first, std::size_t size) {
     std::array<double, 3>& p = partial[first / kBlock];
@@ -277,16 +370,27 @@ RglSampleFitReport fit_rgl_samples(const RglBsdf& file, const BrdfTable& table, 
   const std::size_t nt = file.theta_i_count(), grid = file.reflectance_nx() * file.reflectance_ny();
   MATLAS_CHECK_EQ(rgb.size(), nt * 3 * grid);
   RglSampleFitReport report;
-  const SampleProblem problem(file, table, nt, options.corners);
+  SampleProblem problem(file, table, nt, options.corners);
   report.observations = problem.observations();
   std::vector<double> x(rgb.begin(), rgb.end());
   const std::array<double, 3> targets = problem.target_norms();
+  if (options.albedo_weight > 0) {
+    // At every elevation and midway between, to 85 deg.
+    const std::vector<float>& nodes = file.theta_i();
+    std::vector<double> views;
+    for (std::size_t t = 0; t < nodes.size(); ++t) {
+      if (nodes[t] <= 85.0 * kPi / 180.0) views.push_back(nodes[t]);
+      const double mid = t + 1 < nodes.size() ? 0.5 * (static_cast<double>(nodes[t]) + nodes[t + 1]) : 10.0;
+      if (mid <= 85.0 * kPi / 180.0) views.push_back(mid);
+    }
+    problem.add_albedo_rows(file, table, views, options.albedo_weight, options.albedo_resolution);
+  }
 
   const double lambda = options.damping * problem.mean_diagonal();
   const std::vector<double> x0 = x;
   std::vector<float> r;
   problem.residual(x, r);
-  report.relative_rms_before = relative(observation_norms(r), targets);
+  report.relative_rms_before = relative(observation_norms(r, problem.observations()), targets);
   // The normal-incidence slice keeps its point samples: a renderer sees it alone at theta_i = 0
   // (where the albedo at 0 deg comes from), while no bin centre lies there, so the fit would reach
   // it only through the interval above and bend it towards that interval's errors (the albedo at
@@ -308,7 +412,7 @@ RglSampleFitReport fit_rgl_samples(const RglBsdf& file, const BrdfTable& table, 
   }
   report.clipped += clipped;
   problem.residual(x, r);
-  report.relative_rms_after = relative(observation_norms(r), targets);
+  report.relative_rms_after = relative(observation_norms(r, problem.observations()), targets);
   for (std::size_t k = 0; k < x.size(); ++k) rgb[k] = static_cast<float>(x[k]);
   return report;
 }

@@ -24,7 +24,10 @@
 // alone at theta_i = 0, where no bin centre lies, and fitted only through the interval above it,
 // it bent the albedo at 0 deg by up to 4 %. Samples the fit takes below 0 (the reader clips the
 // interpolated value at 0) are then held at 0 and the others fitted again, half as many
-// iterations. The normal equations' transpose products scatter into the two elevations around each
+// iterations. Besides the points, rows ask for the file's directional albedo (as a renderer
+// integrates it) to be the table's at every elevation and midway between: the points alone left a
+// pearlescent whose albedo changes fast with the angle 1.55 % off between elevations. The normal
+// equations' transpose products scatter into the two elevations around each
 // point: points are grouped by their lower elevation, and the even groups, then the odd ones, run
 // in parallel without sharing a sample, so the result does not depend on the number of threads
 // (the forward products and sums run in fixed blocks).
@@ -43,6 +46,10 @@ struct RglSampleFitOptions {
   bool corners = true;
   /// Weight of |samples - point samples|^2 in the objective, relative to the mean diagonal of the
   /// normal matrix: samples few observations reach stay near the table's values at their points.
+  /// Weight of rows for the file's directional albedo at every elevation and midway between, to
+  /// 85 deg (0: none), relative to the points' sum of squares; their quadrature's resolution.
+  double albedo_weight = 1.0;
+  int albedo_resolution = 180;
   double damping = 0.05;  // docs/EXPORT.md: at 0.01-0.2 the 83 materials' figures move a little
 };
 
