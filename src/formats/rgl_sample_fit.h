@@ -48,7 +48,7 @@ struct RglSampleFitOptions {
   /// normal matrix: samples few observations reach stay near the table's values at their points.
   /// Weight of rows for the file's directional albedo at every elevation and midway between, to
   /// 85 deg (0: none), relative to the points' sum of squares; their quadrature's resolution.
-  double albedo_weight = 1.0;
+  double albedo_weight = 0.3;
   int albedo_resolution = 180;
   double damping = 0.05;  // docs/EXPORT.md: at 0.01-0.2 the 83 materials' figures move a little
 };
