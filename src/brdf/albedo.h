@@ -69,9 +69,11 @@ Rgb directional_albedo(const BrdfTable& table, double theta_o, const AlbedoQuadr
 /// a table, make resolution a multiple of its theta_h bins (the default 540 = 6 x 90): each bin then
 /// gets the same number of points in u (512 gives 5 or 6, a weight error of up to 17 % per bin,
 /// which shows as 0.8 % in the albedo of a material whose peak lies in a few bins).
-template <class Brdf>
-Rgb half_vector_albedo(const Brdf& f, const Vec3& wo, int resolution = 540) {
-  Rgb sum = Rgb::Zero();
+/// visit_half_vector_quadrature calls visit(wi, weight) for each point of the rule (weight =
+/// cos(theta_i) times the solid angle's share: the albedo is sum f(wi, wo) weight), for sums that
+/// keep the terms apart (an albedo linear in a table's samples).
+template <class Visit>
+void visit_half_vector_quadrature(const Vec3& wo, int resolution, Visit&& visit) {
   const int n_u = resolution, n_phi = 2 * resolution;
   const double du = 1.0 / n_u, dphi = 2.0 * kPi / n_phi;
   for (int a = 0; a < n_u; ++a) {
@@ -84,12 +86,18 @@ Rgb half_vector_albedo(const Brdf& f, const Vec3& wo, int resolution = 540) {
       if (c <= 0) continue;
       const Vec3 wi = 2.0 * c * h - wo;
       if (wi.z() <= 0) continue;
-      sum += f(wi, wo) * (wi.z() * 4.0 * c * jacobian);
+      visit(wi, wi.z() * 4.0 * c * jacobian);
     }
   }
-  return sum;
 }
 
+/// half_vector_albedo's rule: sum of f(wi, wo) * weight over visit_half_vector_quadrature's points.
+template <class Brdf>
+Rgb half_vector_albedo(const Brdf& f, const Vec3& wo, int resolution = 540) {
+  Rgb sum = Rgb::Zero();
+  visit_half_vector_quadrature(wo, resolution, [&](const Vec3& wi, double weight) { sum += f(wi, wo) * weight; });
+  return sum;
+}
 
 /// The normal albedo as a rendered view sees it: the directional albedo averaged over view
 /// directions within `cone_deg` of the normal (solid-angle weights, `rings` rings at the midpoints

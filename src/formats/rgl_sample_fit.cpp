@@ -126,33 +126,22 @@ public:
       row.weight.assign(2 * grid_, 0.0);
       const RglWarp2D cells(std::vector<float>(grid_, 0.0f), nx_, grid_ / nx_, 1);
       bool first = true;
-      // half_vector_albedo's quadrature (brdf/albedo.h), its terms kept apart.
-      const int n_u = resolution, n_phi = 2 * resolution;
-      const double du = 1.0 / n_u, dphi = 2.0 * kPi / n_phi;
-      for (int a = 0; a < n_u; ++a) {
-        const double u = (a + 0.5) * du, theta_h = 0.5 * kPi * u * u;
-        const double jacobian = std::sin(theta_h) * kPi * u * du * dphi;
-        for (int b = 0; b < n_phi; ++b) {
-          const double phi_h = (b + 0.5) * dphi;
-          const Vec3 h(std::sin(theta_h) * std::cos(phi_h), std::sin(theta_h) * std::sin(phi_h), std::cos(theta_h));
-          const double c = view.dot(h);
-          if (c <= 0) continue;
-          const Vec3 w = 2.0 * c * h - view;
-          if (w.z() <= 0) continue;
-          const RglBsdf::ReflectanceLookup l = file.reflectance_lookup(view, w);
-          if (!l.valid) continue;
-          if (first) row.slice0 = l.blend.slice[0], first = false;
-          const RglWarp2D::Cell cell = cells.cell(l.at[0], l.at[1]);
-          const std::size_t corner = cell.py * nx_ + cell.px;
-          const double k = l.scale * 4.0 * c * jacobian;
-          const double cw[4] = {(1 - cell.s) * (1 - cell.t), cell.s * (1 - cell.t), (1 - cell.s) * cell.t, cell.s * cell.t};
-          const std::size_t offset[4] = {0, 1, nx_, nx_ + 1};
-          for (int s = 0; s < 2; ++s) {
-            const double ws = k * l.blend.weight[static_cast<std::size_t>(s)];
-            for (int q = 0; q < 4; ++q) row.weight[static_cast<std::size_t>(s) * grid_ + corner + offset[q]] += ws * cw[q];
-          }
+      // half_vector_albedo's quadrature (brdf/albedo.h), its terms kept apart: the albedo is the
+      // sum of eval_cosine(view, w) share / cos(theta_w).
+      visit_half_vector_quadrature(view, resolution, [&](const Vec3& w, double share) {
+        const RglBsdf::ReflectanceLookup l = file.reflectance_lookup(view, w);
+        if (!l.valid) return;
+        if (first) row.slice0 = l.blend.slice[0], first = false;
+        const RglWarp2D::Cell cell = cells.cell(l.at[0], l.at[1]);
+        const std::size_t corner = cell.py * nx_ + cell.px;
+        const double k = l.scale * share / w.z();
+        const double cw[4] = {(1 - cell.s) * (1 - cell.t), cell.s * (1 - cell.t), (1 - cell.s) * cell.t, cell.s * cell.t};
+        const std::size_t offset[4] = {0, 1, nx_, nx_ + 1};
+        for (int s = 0; s < 2; ++s) {
+          const double ws = k * l.blend.weight[static_cast<std::size_t>(s)];
+          for (int q = 0; q < 4; ++q) row.weight[static_cast<std::size_t>(s) * grid_ + corner + offset[q]] += ws * cw[q];
         }
-      }
+      });
       const Rgb albedo = half_vector_albedo([&](const Vec3& wi, const Vec3& wo) { return table.lookup_smooth(wi, wo); },
                                             view, resolution);
       for (std::size_t ch = 0; ch < 3; ++ch) {
