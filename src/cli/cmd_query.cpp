@@ -80,7 +80,8 @@ void write_bsdf_export(const ExportArgs& a, ExportFormat format, const BrdfTable
         report.ndf.iterations, report.ndf.last_change);
   if (report.fit.iterations > 0)
     print(io.out, "  samples         fitted to the table in least squares at %zu points (bin centres and the corners "
-          "between them; %d iterations): relative RMS there %.2f %% -> %.2f %%, %zu samples held at 0\n", report.fit.observations, report.fit.iterations,
+          "between them) and its albedo at %zu view angles; %d iterations: relative RMS at the points %.2f %% -> "
+          "%.2f %%, %zu samples held at 0\n", report.fit.observations, report.fit.albedo_rows, report.fit.iterations,
           100 * report.fit.relative_rms_before, 100 * report.fit.relative_rms_after, report.fit.clipped);
   if (!a.check) return;
   const RglBsdf file = RglBsdf::read(a.output);
@@ -246,8 +247,8 @@ void add_query_commands(CLI::App& app, const Io& io) {
         ->check(CLI::Range(2, 256))
         ->capture_default_str();
     cmd->add_option("--fit-iterations", a->fit_iterations,
-                    "bsdf: least-squares iterations fitting the samples to the table's bin centres (0: the table's "
-                    "values at the sample points)")
+                    "bsdf: least-squares iterations fitting the samples to the table (its bin centres, the corners "
+                    "between them, its albedo; 0: the table's values at the sample points)")
         ->check(CLI::Range(0, 1000))
         ->capture_default_str();
     cmd->add_flag("!--no-check", a->check, "bsdf: skip reading the file back and measuring its fidelity (faster)");

@@ -89,6 +89,9 @@ public:
     double scale = 0;
   };
   ReflectanceLookup reflectance_lookup(const Vec3& wi, const Vec3& wo) const;
+  /// The cell of the reflectance table's grid that a lookup interpolates (its corners' index in
+  /// every slice: py * reflectance_nx() + px).
+  RglWarp2D::Cell reflectance_cell(const ReflectanceLookup& l) const { return rgb_.cell(l.at[0], l.at[1]); }
   /// The reflectance table's grid (nx, ny per slice).
   std::size_t reflectance_nx() const { return rgb_.nx(); }
   std::size_t reflectance_ny() const { return rgb_.ny(); }

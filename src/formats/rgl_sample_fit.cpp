@@ -37,7 +37,6 @@ public:
   SampleProblem(const RglBsdf& file, const BrdfTable& table, std::size_t slices, bool corners)
       : nx_(file.reflectance_nx()), grid_(file.reflectance_nx() * file.reflectance_ny()), slices_(slices) {
     const MerlDims& dims = table.dims();
-    const RglWarp2D cells(std::vector<float>(grid_, 0.0f), nx_, file.reflectance_ny(), 1);
     // Rows per theta_h bin in parallel, then grouped by the lower elevation in bin order.
     std::vector<std::vector<std::pair<std::size_t, Observation>>> rows(static_cast<std::size_t>(dims.theta_h));
     const auto observe = [&](std::size_t row, const DirectionPair& d, const Rgb& value) {
@@ -45,7 +44,7 @@ public:
       if (!l.valid) return;
       MATLAS_CHECK(l.blend.count == 2 && l.blend.slice[1] == l.blend.slice[0] + 1,
                    "the sample fit needs an isotropic file with two or more elevations");
-      const RglWarp2D::Cell c = cells.cell(l.at[0], l.at[1]);
+      const RglWarp2D::Cell c = file.reflectance_cell(l);
       const double weight = d.wi.z() * d.wo.z();
       Observation o;
       o.corner = static_cast<std::uint32_t>(c.py * nx_ + c.px);
@@ -124,7 +123,6 @@ public:
       const Vec3 view(std::sin(views[j]), 0.0, std::cos(views[j]));
       AlbedoRow& row = albedo_rows_[j];
       row.weight.assign(2 * grid_, 0.0);
-      const RglWarp2D cells(std::vector<float>(grid_, 0.0f), nx_, grid_ / nx_, 1);
       bool first = true;
       // half_vector_albedo's quadrature (brdf/albedo.h), its terms kept apart: the albedo is the
       // sum of eval_cosine(view, w) share / cos(theta_w).
@@ -132,14 +130,14 @@ public:
         const RglBsdf::ReflectanceLookup l = file.reflectance_lookup(view, w);
         if (!l.valid) return;
         if (first) row.slice0 = l.blend.slice[0], first = false;
-        const RglWarp2D::Cell cell = cells.cell(l.at[0], l.at[1]);
+        const RglWarp2D::Cell cell = file.reflectance_cell(l);
         const std::size_t corner = cell.py * nx_ + cell.px;
         const double k = l.scale * share / w.z();
-        const double cw[4] = {(1 - cell.s) * (1 - cell.t), cell.s * (1 - cell.t), (1 - cell.s) * cell.t, cell.s * cell.t};
+        const std::array<double, 4> cw = cell.weights();
         const std::size_t offset[4] = {0, 1, nx_, nx_ + 1};
         for (int s = 0; s < 2; ++s) {
           const double ws = k * l.blend.weight[static_cast<std::size_t>(s)];
-          for (int q = 0; q < 4; ++q) row.weight[static_cast<std::size_t>(s) * grid_ + corner + offset[q]] += ws * cw[q];
+          for (std::size_t q = 0; q < 4; ++q) row.weight[static_cast<std::size_t>(s) * grid_ + corner + offset[q]] += ws * cw[q];
         }
       });
       const Rgb albedo = half_vector_albedo([&](const Vec3& wi, const Vec3& wo) { return table.lookup_smooth(wi, wo); },
@@ -254,10 +252,7 @@ public:
   }
 
 private:
-  static std::array<double, 4> corner_weights(const Observation& o) {
-    const double s = o.s, t = o.t;
-    return {(1 - s) * (1 - t), s * (1 - t), (1 - s) * t, s * t};
-  }
+  static std::array<double, 4> corner_weights(const Observation& o) { return RglWarp2D::Cell{0, 0, o.s, o.t}.weights(); }
   std::size_t group_of(std::size_t o) const {
     return static_cast<std::size_t>(std::upper_bound(start_.begin(), start_.end(), o) - start_.begin()) - 1;
   }
@@ -378,6 +373,7 @@ RglSampleFitReport fit_rgl_samples(const RglBsdf& file, const BrdfTable& table, 
       if (mid <= 85.0 * kPi / 180.0) views.push_back(mid);
     }
     problem.add_albedo_rows(file, table, views, options.albedo_weight, options.albedo_resolution);
+    report.albedo_rows = views.size();
   }
 
   const double lambda = options.damping * problem.mean_diagonal();

@@ -54,7 +54,9 @@ struct RglSampleFitOptions {
 };
 
 struct RglSampleFitReport {
-  std::size_t observations = 0;  ///< bin centres fitted (measured in every channel, both directions up)
+  /// Points fitted: bin centres and corners (measured in every channel, both directions up).
+  std::size_t observations = 0;
+  std::size_t albedo_rows = 0;   ///< view elevations whose directional albedo is fitted
   int iterations = 0;
   /// The fitted objective relative to the table's, sqrt(sum (c (f_file - f_table))^2 / sum (c
   /// f_table)^2) at the bin centres, channels summed, before clipping: with the point samples

@@ -60,6 +60,8 @@ public:
   struct Cell {
     std::size_t px, py;
     double s, t;
+    /// The corners' weights in that order.
+    std::array<double, 4> weights() const { return {(1 - s) * (1 - t), s * (1 - t), (1 - s) * t, s * t}; }
   };
   Cell cell(double x, double y) const;
 

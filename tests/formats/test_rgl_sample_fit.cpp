@@ -67,7 +67,6 @@ TEST(RglSampleFit, TheReaderIsTheLinearFunctionOfTheSamplesTheFitAssumes) {
   const RglBsdf file = read_fields(fields);
   const std::vector<float> rgb = field_floats(fields, "rgb");
   const std::size_t nx = file.reflectance_nx(), grid = nx * file.reflectance_ny();
-  const RglWarp2D cells(std::vector<float>(grid, 0.0f), nx, file.reflectance_ny(), 1);
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   int checked = 0;
@@ -77,10 +76,11 @@ TEST(RglSampleFit, TheReaderIsTheLinearFunctionOfTheSamplesTheFitAssumes) {
     const Vec3 wo(std::sin(to) * std::cos(phi), std::sin(to) * std::sin(phi), std::cos(to));
     const RglBsdf::ReflectanceLookup l = file.reflectance_lookup(wi, wo);
     ASSERT_TRUE(l.valid);
-    const RglWarp2D::Cell c = cells.cell(l.at[0], l.at[1]);
+    const RglWarp2D::Cell c = file.reflectance_cell(l);
     const std::size_t corner = c.py * nx + c.px;
     const double w[4] = {(1 - c.s) * (1 - c.t), c.s * (1 - c.t), (1 - c.s) * c.t, c.s * c.t};
     const std::size_t offset[4] = {0, 1, nx, nx + 1};
+    for (std::size_t k = 0; k < 4; ++k) EXPECT_DOUBLE_EQ(c.weights()[k], w[k]);  // what the fit uses
     const Rgb expected = file.eval_cosine(wi, wo);
     for (int ch = 0; ch < 3; ++ch) {
       double sum = 0;
