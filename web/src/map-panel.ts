@@ -49,6 +49,21 @@ export async function waitForLayer(timing: LayerTiming, signal: AbortSignal): Pr
   while (timing.loading && !signal.aborted) await new Promise((resolve) => setTimeout(resolve, 50));
 }
 
+/**
+ * Resolves once no map layer has been on its way for `quietMs`: work that the page can start
+ * later (the real-time card's coefficients: 60 MB at n = 1000, decoded and uploaded by the
+ * browser on the same cores as a local server) waits here, so that the first layers arrive first.
+ */
+export async function waitForQuietMap(timing: LayerTiming, quietMs: number): Promise<void> {
+  let quietSince = performance.now();
+  for (;;) {
+    const now = performance.now();
+    if (timing.loading) quietSince = now;
+    else if (now - quietSince >= quietMs) return;
+    await new Promise((resolve) => setTimeout(resolve, 50));
+  }
+}
+
 /** From this many materials the first layer is coarse first (128^2 cells: seconds at n = 1000). */
 const COARSE_FIRST_COUNT = 300;
 /** Cells per row of a full layer; the coarse one's at most and at least, and its time. */

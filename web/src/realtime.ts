@@ -11,6 +11,7 @@ import { api, type EnvironmentAtlas, type RealtimeInfo } from "./api";
 import { $, fillSelect } from "./dom";
 import { LatestOnly } from "./latest";
 import { LocalWeights } from "./local-weights";
+import { waitForQuietMap } from "./map-panel";
 import { RealtimeGl } from "./realtime-gl";
 import type { PageStore } from "./state";
 import { clearError } from "./status";
@@ -160,12 +161,17 @@ export async function createRealtimeView(store: PageStore): Promise<ViewerState 
   }
 }
 
+/** How long the map must have had no layer on its way before the card starts loading. */
+const MAP_QUIET_MS = 300;
+
 /** The most materials for which the page computes the weights itself (local-weights.ts). */
 const LOCAL_WEIGHTS_MAX = 300;
 
 async function startRealtimeView(store: PageStore, card: CardStatus): Promise<ViewerState> {
   const canvas = $<HTMLCanvasElement>("rt-canvas");
   $("rt-info").textContent = "";
+  card.waiting((t) => `waiting for the map's layer: ${t.toFixed(0)} s`);
+  await waitForQuietMap(store.state.layerTiming, MAP_QUIET_MS);
   card.waiting((t) => `the server computes the real-time coefficients of every material (once per model): ${t.toFixed(0)} s`);
   const t0 = performance.now();
   // Weights in the page only where they are cheap: the state is 2 n^2 numbers (33 MB of JSON at

@@ -4,7 +4,8 @@
 // /api/realtime/reference/radiance) and the displayed canvas within a stated error in 8-bit sRGB
 // (POST /api/realtime/reference); the background shows the environment along each pixel's camera
 // ray; dragging on the map changes the material shown; rotating the environment and orbiting
-// the camera change the view. Screenshots: test-results/realtime-*.png.
+// the camera change the view; the card starts loading only once the map's first layer has arrived.
+// Screenshots: test-results/realtime-*.png.
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
 import { mkdtempSync, mkdirSync, rmSync } from "node:fs";
@@ -284,4 +285,35 @@ test("rotating the environment and orbiting the camera change the view", async (
   assert.ok(dOrbit > 0.5, `orbiting changed the canvas by ${dOrbit}`);
   await setSlider("#rt-rotation", 0);
   await page.evaluate(() => window.matlasViewer.gl.resetCamera());
+});
+
+test("the card starts loading once the map's first layer has arrived", async () => {
+  // The map layer held on its way: the card asks for nothing (the coefficients are 60 MB at
+  // n = 1000, decoded on the same cores as a local server); released, the card loads and shows.
+  const second = await context.newPage();
+  let release;
+  const held = new Promise((r) => (release = r));
+  const asked = [];
+  second.on("request", (r) => {
+    const path = new URL(r.url()).pathname;
+    if (path.startsWith("/api/realtime")) asked.push(path);
+  });
+  await second.route("**/api/map", async (route) => {
+    await held;
+    await route.continue().catch(() => {});
+  });
+  try {
+    await second.goto(url);
+    await second.waitForSelector("#map-wrap.layer-loading", { timeout: 30_000 });
+    await second.waitForTimeout(2000);
+    assert.deepEqual(asked, [], "nothing of the real-time card asked while the layer is on its way");
+    assert.match(await second.textContent(".realtime-card"), /waiting for the map's layer/);
+    release();
+    await second.waitForFunction(() => window.matlasViewer && window.matlasViewer.gl.frameTimes.length > 0, null,
+      { timeout: 120_000 });
+    assert.ok(asked.includes("/api/realtime/coefficients"), `asked: ${asked.join(", ")}`);
+  } finally {
+    release();
+    await second.close();
+  }
 });
