@@ -60,7 +60,7 @@ async function main(): Promise<void> {
   moveTo(store, start, false);
   if (restored.view) map.setViewState(restored.view);
   if (restored.list?.length) store.update({ shortlist: restored.list });
-  panel.refreshLayer(0);
+  panel.askLayer();
   keepUrl(store, map, () => $<HTMLSelectElement>("layer").value);
   void createRealtimeView(store);
 }

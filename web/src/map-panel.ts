@@ -15,6 +15,9 @@ export interface MapPanel {
   map: LatentMap;
   /** Asks for the background layer of the current view, after `delayMs` (default 120: debounced). */
   refreshLayer(delayMs?: number): void;
+  /** Asks for the layer now, without a timer (the page's first: a timer waited 0.3 s for the
+   *  browser to lay out a 1000-tile library). */
+  askLayer(): void;
   layerTiming: LayerTiming;
 }
 
@@ -133,14 +136,17 @@ export function createMapPanel(
     (e) => setStatus(`map layer: ${(e as Error).message}`, true, "map layer"),
     () => loading(false),
   );
-  // Debounced for views (a pan or zoom sends many); at once for a change of layer.
+  // Debounced for views (a pan or zoom sends many); at once for a change of layer (delay 0: after
+  // the handlers of the same event, so that a restored layer and view ask once).
+  const askLayer = () => {
+    clearTimeout(layerTimer);
+    const kind = layerSel.value as MapKind;
+    loading(kind !== "none");
+    layer.request({ view: map.view, kind, axes: map.axes, x: map.point.slice() }, performance.now(), true);
+  };
   const refreshLayer = (delayMs = 120) => {
     clearTimeout(layerTimer);
-    layerTimer = window.setTimeout(() => {
-      const kind = layerSel.value as MapKind;
-      loading(kind !== "none");
-      layer.request({ view: map.view, kind, axes: map.axes, x: map.point.slice() }, performance.now(), true);
-    }, delayMs);
+    layerTimer = window.setTimeout(askLayer, delayMs);
   };
 
   const map = new LatentMap(
@@ -215,7 +221,7 @@ export function createMapPanel(
   });
   $("reset-view").addEventListener("click", () => map.resetView(true));
   $("core-view").addEventListener("click", () => map.resetView(true, true));
-  return { map, refreshLayer, layerTiming };
+  return { map, refreshLayer, askLayer, layerTiming };
 }
 
 /** The interpolation mode badge next to the map, with what the mode means. */

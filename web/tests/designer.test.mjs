@@ -450,6 +450,9 @@ test("the real-time card shows progress while the coefficients load and an error
   try {
     const progress = p.locator("#rt-progress");
     await progress.waitFor({ state: "visible", timeout: 30_000 });
+    // First the card waits for the map's layer, then for the server.
+    await p.waitForFunction(() => /computes the real-time coefficients/.test(document.getElementById("rt-progress").textContent),
+      null, { timeout: 30_000 });
     assert.match(await progress.textContent(), /computes the real-time coefficients.*\d+ s/);
     release();
     const err = p.locator("#rt-error");
