@@ -33,9 +33,10 @@ export interface MapPanel {
 export interface LayerTiming {
   /** A coarse layer first when the last full layer took longer than this. */
   coarseAfterMs: number;
-  /** How long the last full layer of each kind took (none yet: models of more than
-   *  COARSE_FIRST_COUNT materials start coarse). Kinds differ (the variance layer projects
-   *  nothing, about twice as fast as the others at n = 1000). */
+  /** How long the last full layer of each kind took. A kind not yet shown goes by the others
+   *  (expectedLayerMs); with none yet, models of more than COARSE_FIRST_COUNT materials start
+   *  coarse. Kinds differ (the variance layer projects nothing, about twice as fast as the
+   *  others at n = 1000). */
   lastMs: Partial<Record<string, number>>;
   /** Coarse layers shown so far. */
   coarseShown: number;
@@ -71,6 +72,20 @@ export async function waitForQuietMap(timing: LayerTiming, quietMs: number): Pro
 const COARSE_FIRST_COUNT = 300;
 /** Cells per row of a full layer; the coarse one's at most and at least, and its time. */
 const LAYER_COLS = 128, COARSE_MAX_COLS = 64, COARSE_MIN_COLS = 12, COARSE_TARGET_MS = 500;
+
+/**
+ * The time to expect of a full layer of `kind`: its own last one; before it has one, the slowest
+ * last layer of the other kinds (the variance layer's only for a variance layer: it projects
+ * nothing and takes about half the others' time); none yet: undefined.
+ */
+export function expectedLayerMs(kind: string, lastMs: Partial<Record<string, number>>): number | undefined {
+  const own = lastMs[kind];
+  if (own !== undefined) return own;
+  const others = Object.entries(lastMs)
+    .filter(([k, ms]) => ms !== undefined && (kind === "variance" || k !== "variance"))
+    .map(([, ms]) => ms as number);
+  return others.length > 0 ? Math.max(...others) : undefined;
+}
 
 /** The width of the coarse layer after a full one of its kind that took `lastMs` (none yet: undefined). */
 export function coarseColumns(lastMs: number | undefined): number {
@@ -116,7 +131,7 @@ export function createMapPanel(
       const rowsOf = (cols: number) =>
         Math.max(4, Math.min(256, Math.round((cols * (view.y1 - view.y0)) / (view.x1 - view.x0))));
       const rect: MapRequest["rect"] = [view.x0, view.x1, view.y0, view.y1];
-      const last = layerTiming.lastMs[kind];
+      const last = expectedLayerMs(kind, layerTiming.lastMs);
       const slow = last === undefined ? model.count > COARSE_FIRST_COUNT : last > layerTiming.coarseAfterMs;
       if (slow) {
         const cols = coarseColumns(last);

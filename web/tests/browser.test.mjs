@@ -298,6 +298,35 @@ test("a slow map layer shows a coarse one at once, then the full one over it", a
   }
 });
 
+test("a kind of layer not shown yet is expected to take as long as the others: slow ones make it coarse first", async () => {
+  await page.waitForSelector("#map-wrap:not(.layer-loading)", { timeout: 20_000 });
+  // The albedo layer took 2 s, no plausibility layer has come yet: it comes coarse first (32
+  // cells wide, as after its own 2 s layer), though the demo's few materials alone would not ask
+  // for a coarse one; a variance layer's time says nothing of the others'.
+  const widths = [];
+  const onRequest = (r) => r.url().endsWith("/api/map") && widths.push(JSON.parse(r.postData()).size[0]);
+  const change = async (kind, lastMs) => {
+    await page.selectOption("#layer", "none");
+    await page.evaluate((lastMs) => { window.matlas.layerTiming.lastMs = lastMs; }, lastMs);
+    widths.length = 0;
+    await page.selectOption("#layer", kind);
+    await page.waitForSelector("#map-wrap:not(.layer-loading)", { timeout: 20_000 });
+    return [...widths];
+  };
+  page.on("request", onRequest);
+  try {
+    assert.deepEqual(await change("plausibility", { albedo: 2000 }), [32, 128], "coarse first after a slow albedo layer");
+    assert.deepEqual(await change("plausibility", { variance: 2000 }), [128], "a slow variance layer says nothing of it");
+    assert.deepEqual(await change("variance", { albedo: 2000 }), [32, 128], "a variance layer goes by the others too");
+    assert.deepEqual(await change("plausibility", { albedo: 2000, plausibility: 300 }), [128], "its own time first");
+  } finally {
+    page.off("request", onRequest);
+    await page.evaluate(() => { window.matlas.layerTiming.lastMs = {}; });
+    await page.selectOption("#layer", "albedo");
+    await page.waitForSelector("#map-wrap:not(.layer-loading)", { timeout: 20_000 });
+  }
+});
+
 test("the refinement at rest waits while a map layer is on its way, then goes on", async () => {
   await page.waitForSelector("#map-wrap:not(.layer-loading)", { timeout: 20_000 });
   let release;
