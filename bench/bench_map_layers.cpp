@@ -15,6 +15,7 @@
 #include "atlas/latent_plane.h"
 #include "atlas/map_layers.h"
 #include "core/parallel.h"
+#include "core/tiled_products.h"
 #include "manifold/model.h"
 #include "manifold/plausibility.h"
 
@@ -77,6 +78,22 @@ void BM_GpBatch(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_GpBatch)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+/// BM_GpBatch's product alone (n x n by n x cells, random matrices; OpenBLAS's dgemm in tiles of
+/// 256 columns on the workers, predict_batch's block): the bound its kernel values, dsymm and
+/// variances are held against. Counter: GFLOP/s.
+void BM_ProductAlone(benchmark::State& state) {
+  const int n = bench_model()->count(), cells = kSide * kSide;
+  const Eigen::MatrixXd a = Eigen::MatrixXd::Random(n, n), b = Eigen::MatrixXd::Random(n, cells);
+  Eigen::MatrixXd c(n, cells);
+  for (auto _ : state) {
+    blas::tiled_product(n, cells, n, 1.0, a.data(), n, b.data(), n, c.data(), n, 256);
+    benchmark::DoNotOptimize(c.data());
+  }
+  state.counters["GFLOPs"] = benchmark::Counter(2.0 * n * n * cells * 1e-9 * static_cast<double>(state.iterations()),
+                                                benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_ProductAlone)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_GridWeights(benchmark::State& state) {
   const Model& model = *bench_model();
