@@ -9,7 +9,7 @@
 
 namespace matlas::artist {
 
-FitError fit_error(const BrdfTable& table, const GltfPbr& model, const FitErrorOptions& o) {
+FitError fit_error(const BrdfTable& table, const BrdfFunction& model, const FitErrorOptions& o) {
   FitError r;
   const MerlDims& dims = table.dims();
   const auto n_h = static_cast<std::size_t>(dims.theta_h);

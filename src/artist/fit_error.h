@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "brdf/brdf_table.h"
-#include "brdf/gltf_pbr.h"
+#include "brdf/tabulate.h"
 
 namespace matlas::artist {
 
@@ -29,6 +29,7 @@ struct FitError {
   double albedo_error = 0;
 };
 
-FitError fit_error(const BrdfTable& table, const GltfPbr& model, const FitErrorOptions& options = {});
+/// `model`: the fitted BRDF (GltfPbr, PrincipledV1 or any f(wi, wo) in the local frame).
+FitError fit_error(const BrdfTable& table, const BrdfFunction& model, const FitErrorOptions& options = {});
 
 }  // namespace matlas::artist

@@ -62,49 +62,120 @@ const double kLogMinRoughness = 0.5 * std::log(microfacet::kMinAlpha);
 constexpr double kOutside = 1.0;
 
 double roughness_of(double u) { return std::exp(4.0 * std::clamp(u, kLogMinRoughness / 4.0, 0.0)); }
+double log_roughness(double r) { return std::log(std::max(r, std::exp(kLogMinRoughness))) / 4.0; }
 
 const double kLogMinSheenRoughness = std::log(GltfPbr::kMinSheenRoughness);
 
-GltfPbr model_at(const Eigen::VectorXd& x, double ior) {
-  GltfPbr m;
-  for (int c = 0; c < 3; ++c) m.base_color[c] = std::clamp(x[c], 0.0, 1.0);
-  m.metallic = std::clamp(x[3], 0.0, 1.0);
-  m.roughness = roughness_of(x[4]);
-  m.specular = std::clamp(x[5], 0.0, 1.0);
-  m.clearcoat = std::clamp(x[6], 0.0, 1.0);
-  m.clearcoat_roughness = roughness_of(x[7]);
-  m.ior = ior;
-  if (x.size() > 8) {  // the sheen stage: a neutral sheen colour and its roughness
-    m.sheen_color = Rgb::Constant(std::clamp(x[8], 0.0, 1.0));
-    m.sheen_roughness = std::exp(4.0 * std::clamp(x[9], kLogMinSheenRoughness / 4.0, 0.0));
-  }
-  return m;
-}
+/// A start of the search in terms both models share: the glTF specular factor s (F0 = 0.04 s of a
+/// dielectric), the others as named.
+struct Start {
+  Rgb base = Rgb::Zero();
+  double metallic = 0, roughness = 0.5, specular = 1, clearcoat = 0, clearcoat_roughness = 0.5;
+};
 
+/// The glTF model's coordinates: x[0..2] base colour, x[3] metallic, x[4] log(r) / 4, x[5] the
+/// specular factor, x[6] clearcoat, x[7] log(clearcoat r) / 4; the sheen stage adds x[8] a neutral
+/// sheen colour and x[9] log(sheen roughness) / 4.
+struct GltfSpace {
+  using Fitted = GltfPbr;
+  double ior = 1.5;
+
+  Fitted at(const Eigen::VectorXd& x) const {
+    GltfPbr m;
+    for (int c = 0; c < 3; ++c) m.base_color[c] = std::clamp(x[c], 0.0, 1.0);
+    m.metallic = std::clamp(x[3], 0.0, 1.0);
+    m.roughness = roughness_of(x[4]);
+    m.specular = std::clamp(x[5], 0.0, 1.0);
+    m.clearcoat = std::clamp(x[6], 0.0, 1.0);
+    m.clearcoat_roughness = roughness_of(x[7]);
+    m.ior = ior;
+    if (x.size() > 8) {
+      m.sheen_color = Rgb::Constant(std::clamp(x[8], 0.0, 1.0));
+      m.sheen_roughness = std::exp(4.0 * std::clamp(x[9], kLogMinSheenRoughness / 4.0, 0.0));
+    }
+    return m;
+  }
+  static std::pair<double, double> bounds(Eigen::Index k) {
+    if (k == 4 || k == 7) return {kLogMinRoughness / 4.0, 0.0};
+    if (k == 9) return {kLogMinSheenRoughness / 4.0, 0.0};
+    return {0.0, 1.0};
+  }
+  static Eigen::VectorXd coordinates(const Start& s) {
+    Eigen::VectorXd x(8);
+    x << std::clamp(s.base[0], 0.0, 1.0), std::clamp(s.base[1], 0.0, 1.0), std::clamp(s.base[2], 0.0, 1.0), s.metallic,
+        log_roughness(s.roughness), s.specular, s.clearcoat, log_roughness(s.clearcoat_roughness);
+    return x;
+  }
+  /// A neutral sheen of two strengths and two roughnesses.
+  static std::vector<Eigen::VectorXd> sheen_starts(const Eigen::VectorXd& best) {
+    std::vector<Eigen::VectorXd> starts;
+    for (const double strength : {0.3, 0.8})
+      for (const double roughness : {0.3, 0.7}) {
+        Eigen::VectorXd start(10);
+        start << best, strength, std::log(roughness) / 4.0;
+        starts.push_back(start);
+      }
+    return starts;
+  }
+  static void tidy(Fitted& m) {
+    if (m.sheen_color.maxCoeff() == 0.0) m.sheen_roughness = 0.0;  // no sheen: no roughness
+  }
+};
+
+/// Blender's Principled v1: the same eight coordinates, x[5] its "Specular" (F0 = 0.08 x[5]); the
+/// sheen stage adds x[8] "Sheen" and x[9] "Sheen Tint". "Specular Tint" stays 0 (Blender's default).
+struct PrincipledV1Space {
+  using Fitted = PrincipledV1;
+
+  Fitted at(const Eigen::VectorXd& x) const {
+    PrincipledV1 m;
+    for (int c = 0; c < 3; ++c) m.base_color[c] = std::clamp(x[c], 0.0, 1.0);
+    m.metallic = std::clamp(x[3], 0.0, 1.0);
+    m.roughness = roughness_of(x[4]);
+    m.specular = std::clamp(x[5], 0.0, 1.0);
+    m.coat = std::clamp(x[6], 0.0, 1.0);
+    m.coat_roughness = roughness_of(x[7]);
+    if (x.size() > 8) {
+      m.sheen = std::clamp(x[8], 0.0, 1.0);
+      m.sheen_tint = std::clamp(x[9], 0.0, 1.0);
+    }
+    return m;
+  }
+  static std::pair<double, double> bounds(Eigen::Index k) {
+    if (k == 4 || k == 7) return {kLogMinRoughness / 4.0, 0.0};
+    return {0.0, 1.0};
+  }
+  /// glTF's F0 = 0.04 s is Principled v1's 0.08 specular; a metal keeps Blender's default 0.5.
+  static Eigen::VectorXd coordinates(const Start& s) {
+    Start v = s;
+    v.specular = s.metallic > 0.5 ? 0.5 : 0.5 * s.specular;
+    return GltfSpace::coordinates(v);
+  }
+  /// Two sheen strengths, untinted and half tinted.
+  static std::vector<Eigen::VectorXd> sheen_starts(const Eigen::VectorXd& best) {
+    std::vector<Eigen::VectorXd> starts;
+    for (const double strength : {0.3, 0.8})
+      for (const double tint : {0.0, 0.5}) {
+        Eigen::VectorXd start(10);
+        start << best, strength, tint;
+        starts.push_back(start);
+      }
+    return starts;
+  }
+  static void tidy(Fitted& m) {
+    if (m.sheen == 0.0) m.sheen_tint = PrincipledV1{}.sheen_tint;  // no sheen: the default tint
+  }
+};
+
+template <class Space>
 double outside_squared(const Eigen::VectorXd& x) {
   double sum = 0;
   for (Eigen::Index k = 0; k < x.size(); ++k) {
-    const bool log_roughness = k == 4 || k == 7 || k == 9;
-    const double lo = k == 9 ? kLogMinSheenRoughness / 4.0 : log_roughness ? kLogMinRoughness / 4.0 : 0.0;
-    const double hi = log_roughness ? 0.0 : 1.0;
+    const auto [lo, hi] = Space::bounds(k);
     const double d = x[k] - std::clamp(x[k], lo, hi);
     sum += d * d;
   }
   return sum;
-}
-
-Eigen::VectorXd coordinates_of(const Rgb& base, double metallic, double roughness, double specular, double clearcoat,
-                               double clearcoat_roughness) {
-  Eigen::VectorXd x(8);
-  for (int c = 0; c < 3; ++c) x[c] = std::clamp(base[c], 0.0, 1.0);
-  roughness = std::max(roughness, std::exp(kLogMinRoughness));
-  clearcoat_roughness = std::max(clearcoat_roughness, std::exp(kLogMinRoughness));
-  x[3] = metallic;
-  x[4] = std::log(roughness) / 4.0;
-  x[5] = specular;
-  x[6] = clearcoat;
-  x[7] = std::log(clearcoat_roughness) / 4.0;
-  return x;
 }
 
 /// What the starts are matched to: the table's back-scattering peak (theta_h bin 0, the first
@@ -147,7 +218,8 @@ Peak table_peak(const BrdfTable& table) {
 
 /// Mean squared cube-root difference over the samples weighted by their measure, summed in fixed
 /// chunks (deterministic).
-double objective(const std::vector<Sample>& samples, const GltfPbr& m) {
+template <class Fitted>
+double objective(const std::vector<Sample>& samples, const Fitted& m) {
   constexpr std::size_t kChunk = 2048;
   const std::size_t chunks = (samples.size() + kChunk - 1) / kChunk;
   std::vector<double> sums(chunks, 0.0), measures(chunks, 0.0);
@@ -173,9 +245,8 @@ double objective(const std::vector<Sample>& samples, const GltfPbr& m) {
   return total / (3.0 * measure);
 }
 
-}  // namespace
-
-PbrFitResult fit_gltf_pbr(const BrdfTable& table, const PbrFitOptions& o) {
+template <class Space>
+AnalyticFit<typename Space::Fitted> fit_in(const Space& space, const BrdfTable& table, const PbrFitOptions& o) {
   if (o.theta_d_stride < 1 || o.phi_d_stride < 1 || o.evaluations_per_start < 1 || o.polish_evaluations < 1)
     throw Error("fit: strides and evaluation budgets must be positive");
   const std::vector<Sample> samples = objective_samples(table, o);
@@ -185,15 +256,15 @@ PbrFitResult fit_gltf_pbr(const BrdfTable& table, const PbrFitOptions& o) {
   const std::vector<Sample> coarse = objective_samples(table, coarse_options);
   if (samples.empty() || coarse.empty()) throw Error("fit: the table has no measured value above the horizon");
 
-  PbrFitResult result;
+  AnalyticFit<typename Space::Fitted> result;
   result.samples = samples.size();
   const auto f = [&](const Eigen::VectorXd& x) {
     ++result.evaluations;
-    return objective(samples, model_at(x, o.ior)) + kOutside * outside_squared(x);
+    return objective(samples, space.at(x)) + kOutside * outside_squared<Space>(x);
   };
   const auto f_coarse = [&](const Eigen::VectorXd& x) {
     ++result.evaluations;
-    return objective(coarse, model_at(x, o.ior)) + kOutside * outside_squared(x);
+    return objective(coarse, space.at(x)) + kOutside * outside_squared<Space>(x);
   };
   // The base colour starts at the table's albedo 30 deg from the normal: the diffuse albedo of a
   // dielectric, about F0 of a conductor.
@@ -214,13 +285,13 @@ PbrFitResult fit_gltf_pbr(const BrdfTable& table, const PbrFitOptions& o) {
   std::vector<Eigen::VectorXd> starts;
   for (const double r : {r_peak, std::min(1.0, 2.0 * r_peak), 0.5}) {
     const double s = std::clamp(fresnel_weight(r) / 0.04, 0.002, 1.0);
-    starts.push_back(coordinates_of(albedo, 0.0, r, s, 0.0, r_peak));
+    starts.push_back(Space::coordinates({albedo, 0.0, r, s, 0.0, r_peak}));
     const Rgb f0 = (peak.value / lobe_peak(r)).cwiseMax(0.02).cwiseMin(1.0);
-    starts.push_back(coordinates_of(f0, 1.0, r, 1.0, 0.0, r_peak));
+    starts.push_back(Space::coordinates({f0, 1.0, r, 1.0, 0.0, r_peak}));
   }
   const double coat = std::clamp(fresnel_weight(r_peak) / 0.04, 0.002, 1.0);
-  starts.push_back(coordinates_of(albedo, 0.0, 0.5, 1.0, coat, r_peak));
-  starts.push_back(coordinates_of(albedo, 1.0, 0.5, 1.0, coat, r_peak));
+  starts.push_back(Space::coordinates({albedo, 0.0, 0.5, 1.0, coat, r_peak}));
+  starts.push_back(Space::coordinates({albedo, 1.0, 0.5, 1.0, coat, r_peak}));
   // Nelder-Mead from each start on the coarse subsample, the best polished on the full one.
   const auto search = [&](const std::vector<Eigen::VectorXd>& from, double step) {
     Eigen::VectorXd x_best;
@@ -251,18 +322,12 @@ PbrFitResult fit_gltf_pbr(const BrdfTable& table, const PbrFitOptions& o) {
   };
   std::tie(best, best_value) = search(starts, 0.2);
   restart(best, best_value);
-  // The sheen stage (KHR_materials_sheen: fabrics' grazing brightening): from the result with a
-  // neutral sheen of two strengths and two roughnesses, all ten parameters free; kept only if it
+  // The sheen stage (fabrics' grazing brightening: KHR_materials_sheen, or Principled v1's
+  // Sheen): from the result with sheens of two strengths, all parameters free; kept only if it
   // lowers the distance by more than `sheen_gain`, so materials without a sheen keep the
   // eight-parameter fit as it was.
   if (o.sheen) {
-    std::vector<Eigen::VectorXd> sheen_starts;
-    for (const double strength : {0.3, 0.8})
-      for (const double roughness : {0.3, 0.7}) {
-        Eigen::VectorXd start(10);
-        start << best, strength, std::log(roughness) / 4.0;
-        sheen_starts.push_back(start);
-      }
+    const std::vector<Eigen::VectorXd> sheen_starts = Space::sheen_starts(best);
     auto [sheen_best, sheen_value] = search(sheen_starts, 0.1);
     if (std::sqrt(sheen_value) < (1.0 - o.sheen_gain) * std::sqrt(best_value)) {
       restart(sheen_best, sheen_value);
@@ -270,10 +335,18 @@ PbrFitResult fit_gltf_pbr(const BrdfTable& table, const PbrFitOptions& o) {
       best_value = sheen_value;
     }
   }
-  result.model = model_at(best, o.ior);
-  if (result.model.sheen_color.maxCoeff() == 0.0) result.model.sheen_roughness = 0.0;  // no sheen: no roughness
+  result.model = space.at(best);
+  Space::tidy(result.model);
   result.distance = std::sqrt(best_value);
   return result;
+}
+
+}  // namespace
+
+PbrFitResult fit_gltf_pbr(const BrdfTable& table, const PbrFitOptions& o) { return fit_in(GltfSpace{o.ior}, table, o); }
+
+PrincipledV1FitResult fit_principled_v1(const BrdfTable& table, const PbrFitOptions& o) {
+  return fit_in(PrincipledV1Space{}, table, o);
 }
 
 }  // namespace matlas::artist

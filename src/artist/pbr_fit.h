@@ -1,7 +1,8 @@
 #pragma once
-// The fit of the glTF metallic-roughness model (brdf/gltf_pbr.h) to a tabulated BRDF: the
-// parameters an artist's tool (glTF viewers, Blender, Standard Surface, OpenPBR) needs to show a
-// material close to the table.
+// The fit of an analytic model to a tabulated BRDF: the parameters an artist's tool needs to show
+// a material close to the table. Two models: the glTF metallic-roughness model (brdf/gltf_pbr.h;
+// glTF viewers, Blender 4, Standard Surface, OpenPBR) and Blender 2.8-3.6's Principled BSDF
+// (brdf/principled_v1.h), by the same search on the same coordinates.
 //
 // Objective: Fores et al.'s cosine-weighted cube-root difference (eval/brdf_distance.h, the
 // evaluation's perceptual metric), (cbrt(c f_model) - cbrt(c f_table))^2 with c = cos(theta_i)
@@ -17,11 +18,14 @@
 // subsample, then polished from the best on the full subsample and restarted once to check
 // convergence. Then a sheen stage (fabrics: a neutral KHR_materials_sheen layer, its strength and
 // roughness, with the eight others free again) from four starts, kept only if it lowers the
-// distance by more than 2 %. Deterministic.
+// distance by more than 2 %. Principled v1: "Specular" in place of the specular factor (starts at
+// half of it: F0 = 0.08 x "Specular"), "Sheen" and "Sheen Tint" in the sheen stage, "Specular
+// Tint" left at 0. Deterministic.
 #include <cstddef>
 
 #include "brdf/brdf_table.h"
 #include "brdf/gltf_pbr.h"
+#include "brdf/principled_v1.h"
 
 namespace matlas::artist {
 
@@ -31,15 +35,16 @@ struct PbrFitOptions {
   int evaluations_per_start = 800;   ///< Nelder-Mead budget of each start (on a 4x coarser subsample)
   int polish_evaluations = 1200;     ///< budget of the final polish from the best start
   int restart_evaluations = 200;     ///< budget of the restart that checks convergence
-  double ior = 1.5;                  ///< fixed (KHR_materials_ior); the specular factor is fitted
+  double ior = 1.5;                  ///< glTF: fixed (KHR_materials_ior); the specular factor is fitted
   /// The sheen stage (KHR_materials_sheen, a neutral sheen colour and its roughness), kept when it
   /// lowers the distance by more than `sheen_gain` (relative).
   bool sheen = true;
   double sheen_gain = 0.02;
 };
 
-struct PbrFitResult {
-  GltfPbr model;
+template <class Fitted>
+struct AnalyticFit {
+  Fitted model;
   /// sqrt of the objective at the result: the measure-weighted cube-root distance on the samples.
   double distance = 0;
   std::size_t samples = 0;  ///< bins in the objective
@@ -52,8 +57,12 @@ struct PbrFitResult {
   bool converged() const { return restart_gain <= 1e-3 * distance + 1e-6; }
 };
 
+using PbrFitResult = AnalyticFit<GltfPbr>;
+using PrincipledV1FitResult = AnalyticFit<PrincipledV1>;
+
 /// Fits the model to `table` (values missing in any channel, -1, and bins below the horizon are
 /// left out). Throws matlas::Error if the table has no usable value.
 PbrFitResult fit_gltf_pbr(const BrdfTable& table, const PbrFitOptions& options = {});
+PrincipledV1FitResult fit_principled_v1(const BrdfTable& table, const PbrFitOptions& options = {});
 
 }  // namespace matlas::artist

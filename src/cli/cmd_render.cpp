@@ -1,5 +1,6 @@
-// matlas render: one picture of a material (a MERL .binary file, or a model point), by one of
-// the integrators over one of the scenes, or composed from a basis:
+// matlas render: one picture of a material (a MERL .binary file, a model point, or the analytic
+// model of a fit report from `matlas fit`), by one of the integrators over one of the scenes, or
+// composed from a basis:
 // - the previews' scene (--scene sphere, bunny, suzi or a mesh: an object under an environment)
 //   by their direct lighting (--integrator direct) or by the path tracer (--integrator path);
 // - a GI scene (--scene floor, box, NAME@VIEW or a .json file) by the path tracer, any part of
@@ -15,6 +16,9 @@
 #include <optional>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
+#include "artist/fit_report.h"
 #include "atlas/gi_basis.h"
 #include "atlas/gi_density.h"
 #include "atlas/model_basis.h"
@@ -24,6 +28,7 @@
 #include "cli/latent_point.h"
 #include "cli/print.h"
 #include "cli/render_options.h"
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/file_io.h"
 #include "formats/merl_file.h"
@@ -58,14 +63,31 @@ bool is_merl(const std::string& path) {
   return path.size() > 7 && path.compare(path.size() - 7, 7, ".binary") == 0;
 }
 
-double seconds_since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+/// A fit report (`matlas fit -o X.json`): the fitted analytic model is rendered, not a table of it.
+bool is_fit_report(const std::string& path) {
+  return path.size() > 5 && path.compare(path.size() - 5, 5, ".json") == 0;
 }
 
-/// The MERL table given as input (--at/--material are for models).
-BrdfTable merl_input(const RenderArgs& a) {
-  if (a.at || a.material) throw Error("--at/--material apply to models, not to the MERL file " + a.input);
-  return read_merl(a.input);
+/// A material of its own, not a model's: a MERL table (nearest-bin lookups; the material keeps
+/// its table) or the analytic model of a fit report.
+std::shared_ptr<const render::Material> file_material(const RenderArgs& a) {
+  if (a.at || a.material) throw Error("--at/--material apply to models, not to the file " + a.input);
+  if (is_fit_report(a.input)) {
+    nlohmann::json report;
+    try {
+      report = nlohmann::json::parse(read_file(a.input));
+    } catch (const nlohmann::json::exception& e) {
+      throw Error(a.input + ": not JSON (" + e.what() + ")");
+    }
+    return std::make_shared<const render::FunctionMaterial>(artist::fitted_brdf(report, a.input));
+  }
+  auto table = std::make_shared<const BrdfTable>(read_merl(a.input));
+  auto lookup = std::make_shared<const render::TableMaterial>(*table);
+  return std::shared_ptr<const render::Material>(lookup.get(), [lookup, table](const render::Material*) {});
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
 /// The weights of the point given (--at, or a database material's own weights).
@@ -96,10 +118,9 @@ Image trace_input(const RenderArgs& a, const pathtrace::World& world, bool gi_sc
   const auto start = std::chrono::steady_clock::now();
   pathtrace::TraceImages r;
   pathtrace::TraceSettings settings;
-  if (is_merl(a.input)) {
-    const BrdfTable table = merl_input(a);
-    const render::TableMaterial material(table);
-    const render::MaterialList bank({&material});
+  if (is_merl(a.input) || is_fit_report(a.input)) {
+    const std::shared_ptr<const render::Material> material = file_material(a);
+    const render::MaterialList bank({material.get()});
     settings = a.path.settings(a.options, nullptr);
     if (a.path.density == "fitted") settings.density = atlas::fit_gi_density(bank);  // its own lobes
     r = pathtrace::trace(world, &bank, settings, progress);
@@ -161,11 +182,8 @@ Image render_preview_scene(const RenderArgs& a, ProgressSink& progress, render::
   const auto scene = std::make_shared<const render::Scene>(a.options.scene_description());
   render::RenderSettings settings = a.options.settings();
   std::shared_ptr<const render::Material> material;
-  if (is_merl(a.input)) {
-    // The material keeps its table (render::TableMaterial refers to one).
-    auto table = std::make_shared<const BrdfTable>(merl_input(a));
-    auto lookup = std::make_shared<const render::TableMaterial>(*table);
-    material = std::shared_ptr<const render::Material>(lookup.get(), [lookup, table](const render::Material*) {});
+  if (is_merl(a.input) || is_fit_report(a.input)) {
+    material = file_material(a);
   } else {
     const Model model = Model::open(a.input);
     const Eigen::VectorXd w = point_weights(a, model);
@@ -208,7 +226,7 @@ void compose_basis(const RenderArgs& a, const Io& io) {
   refuse_options(a.given, kRenderOptions, "--basis (the basis was rendered with its own)");
   refuse_options(a.given, std::array{"--target-error"}, "--basis (a composed image is not refined)");
   refuse_options(a.given, kPreviewSceneOptions, "--basis (the basis was rendered with its own)");
-  if (is_merl(a.input)) throw Error("--basis composes a model's basis, not the MERL file " + a.input);
+  if (is_merl(a.input) || is_fit_report(a.input)) throw Error("--basis composes a model's basis, not the file " + a.input);
   refuse_output_among_inputs(a.output, {a.input, *a.basis});
   const Model model = Model::open(a.input);
   const Eigen::VectorXd x = resolve_point(model, a.at, a.material);
@@ -289,7 +307,9 @@ void add_variant(CLI::App& app, const Io& io, const Variant& v) {
   a->options.scene = v.scene;
   a->options.width = v.width;
   a->options.height = v.height;
-  cmd->add_option("input", a->input, "MERL .binary file or .matlas model")->required();
+  cmd->add_option("input", a->input,
+                  "MERL .binary file, .matlas model, or a fit report (.json from matlas fit: its analytic model itself)")
+      ->required();
   cmd->add_option("-o,--output", a->output, "Output image: .png (tone mapped sRGB) or .exr (linear)")->required();
   add_point_options(*cmd, a->at, a->material);
   add_render_options(*cmd, a->options);
@@ -329,7 +349,7 @@ void add_variant(CLI::App& app, const Io& io, const Variant& v) {
 }
 
 void add_render_commands(CLI::App& app, const Io& io) {
-  add_variant(app, io, {"render", "Render a material (.binary file or model point): the previews' scene by direct "
+  add_variant(app, io, {"render", "Render a material (.binary file, model point or fit report): the previews' scene by direct "
                                   "lighting or path tracing, a GI scene (floor, box, .json) path-traced, or a basis composed"});
   // Former names, with their former defaults (not listed in --help).
   add_variant(app, io, {"gi-render", "", "floor", 256, 256});

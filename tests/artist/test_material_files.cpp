@@ -108,6 +108,9 @@ TEST(BlenderSnippet, SetsThePrincipledInputsForOldAndNewBlender) {
   EXPECT_NE(s.find("bsdf.inputs['Roughness'].default_value = 0.45\n"), std::string::npos) << s;
   EXPECT_NE(s.find("bsdf.inputs['Specular IOR Level'].default_value = 0.3\n"), std::string::npos) << s;
   EXPECT_NE(s.find("bsdf.inputs['Specular'].default_value = 0.3\n"), std::string::npos) << s;
+  // Before 4.0 the script says that the fit is approximate there and what fits that BSDF itself.
+  EXPECT_NE(s.find("if bpy.app.version < (4, 0, 0):\n    print('matlas: Blender before 4.0"), std::string::npos) << s;
+  EXPECT_NE(s.find("--model principled-v1"), std::string::npos) << s;
 }
 
 TEST(BlenderSnippet, ACoatIsPrincipledCoatIn4xAndAGgxLayerBefore) {
@@ -148,6 +151,118 @@ TEST(BlenderSnippet, IsValidPythonWhateverTheName) {
   const std::string command = std::string(MATLAS_PYTHON3) + " -c \"import ast, sys; ast.parse(open(sys.argv[1], encoding='utf-8').read())\" '" +
                               path.string() + "'";
   EXPECT_EQ(std::system(command.c_str()), 0) << read_text(path);
+#endif
+}
+
+/// Runs a Blender script against a stand-in `bpy` (a material's node tree with a Principled BSDF
+/// and an output node, nodes.new and links.new, bpy.app.version as given) and returns the tree the
+/// script built as JSON: {"nodes": [{"type", "distribution", "inputs": {name: value}}], "links":
+/// [[from node, from socket, to node, to socket]]} (node indices, socket names or indices), or
+/// {"error": message} if it raised.
+[[maybe_unused]] nlohmann::json run_with_fake_bpy(const fs::path& dir, const fs::path& script, const std::string& version) {
+  std::ofstream(dir / "bpy.py") << R"(import types
+class Socket:
+    def __init__(self, node, key): self.node, self.key, self.default_value = node, key, None
+class Sockets(dict):
+    def __init__(self, node): super().__init__(); self.node = node
+    def __missing__(self, key):
+        self[key] = Socket(self.node, key)
+        return self[key]
+TYPES = {'ShaderNodeBsdfPrincipled': 'BSDF_PRINCIPLED', 'ShaderNodeMixShader': 'MIX_SHADER',
+         'ShaderNodeAddShader': 'ADD_SHADER', 'ShaderNodeOutputMaterial': 'OUTPUT_MATERIAL'}
+class Node:
+    def __init__(self, kind):
+        self.type, self.distribution = TYPES[kind], None
+        self.inputs, self.outputs = Sockets(self), Sockets(self)
+class Nodes(list):
+    def new(self, kind):
+        self.append(Node(kind))
+        return self[-1]
+class Links(list):
+    def new(self, a, b): self.append((a, b))
+class Material:
+    def __init__(self, name):
+        self.name, self.use_nodes = name, False
+        self.node_tree = types.SimpleNamespace(nodes=Nodes(), links=Links())
+        self.node_tree.nodes.new('ShaderNodeBsdfPrincipled').distribution = 'MULTI_GGX'
+        self.node_tree.nodes.new('ShaderNodeOutputMaterial')
+made = []
+def new(name):
+    made.append(Material(name))
+    return made[-1]
+app = types.SimpleNamespace(version=tuple(int(v) for v in open('version').read().split('.')))
+data = types.SimpleNamespace(materials=types.SimpleNamespace(new=new))
+context = types.SimpleNamespace(active_object=None)
+)";
+  std::ofstream(dir / "version") << version;
+  std::ofstream(dir / "run.py") << R"(import json, sys
+sys.path.insert(0, '.')
+import bpy
+try:
+    exec(open(sys.argv[1], encoding='utf-8').read(), {})
+    tree = bpy.made[0].node_tree
+    index = {id(n): k for k, n in enumerate(tree.nodes)}
+    out = {'nodes': [{'type': n.type, 'distribution': n.distribution,
+                      'inputs': {str(k): v.default_value for k, v in n.inputs.items()}} for n in tree.nodes],
+           'links': [[index[id(a.node)], a.key, index[id(b.node)], b.key] for a, b in tree.links]}
+except RuntimeError as e:
+    out = {'error': str(e)}
+json.dump(out, open('out.json', 'w'))
+)";
+  const std::string command = "cd '" + dir.string() + "' && " + std::string(MATLAS_PYTHON3) + " run.py '" + script.string() + "'";
+  if (std::system(command.c_str()) != 0) return {{"error", "the script failed to run"}};
+  return nlohmann::json::parse(read_text(dir / "out.json"));
+}
+
+TEST(BlenderSnippet, APrincipledV1FitSetsTheBsdfsOwnInputsAddsTheCoatLayerAndRefusesBlender4) {
+#ifndef MATLAS_PYTHON3
+  GTEST_SKIP() << "no python3";
+#else
+  const test::TempDir dir("matlas-blender-v1");
+  PrincipledV1 m;
+  m.base_color = Rgb(0.5, 0.25, 0.125);
+  m.metallic = 0.25;
+  m.specular = 0.375;
+  m.roughness = 0.3;
+  m.sheen = 0.5;
+  m.sheen_tint = 0.75;
+  m.coat = 0.625;
+  m.coat_roughness = 0.0625;
+  const fs::path script = dir / "v1.py";
+  artist::write_blender_snippet(script, m, "paint", "paint.binary");
+  const nlohmann::json tree = run_with_fake_bpy(dir.path(), script, "3.4.1");
+  ASSERT_FALSE(tree.contains("error")) << tree.dump();
+  ASSERT_EQ(tree["nodes"].size(), 5u) << tree.dump();  // BSDF, output, coat BSDF, mix, add
+  const nlohmann::json& bsdf = tree["nodes"][0];
+  EXPECT_EQ(bsdf["distribution"], "GGX");
+  const nlohmann::json& i = bsdf["inputs"];
+  EXPECT_EQ(i["Base Color"], nlohmann::json({0.5, 0.25, 0.125, 1.0}));
+  const std::pair<const char*, double> expected[] = {
+      {"Metallic", 0.25}, {"Specular", 0.375}, {"Specular Tint", 0.0}, {"Roughness", 0.3}, {"Sheen", 0.5},
+      {"Sheen Tint", 0.75}, {"Clearcoat", 0.0}, {"Subsurface", 0.0}, {"Transmission", 0.0}, {"Anisotropic", 0.0}};
+  for (const auto& [name, value] : expected) EXPECT_DOUBLE_EQ(i[name].get<double>(), value) << name;
+  // The coat: a black Principled BSDF of Specular 0.5 and the coat's roughness, through a Mix
+  // Shader at the coat's weight (its first shader input left empty), added to the BSDF, into the
+  // output's Surface.
+  const nlohmann::json& coat = tree["nodes"][2];
+  EXPECT_EQ(coat["type"], "BSDF_PRINCIPLED");
+  EXPECT_EQ(coat["distribution"], "GGX");
+  EXPECT_EQ(coat["inputs"]["Base Color"], nlohmann::json({0.0, 0.0, 0.0, 1.0}));
+  EXPECT_DOUBLE_EQ(coat["inputs"]["Specular"].get<double>(), 0.5);
+  EXPECT_DOUBLE_EQ(coat["inputs"]["Roughness"].get<double>(), 0.0625);
+  EXPECT_EQ(tree["nodes"][3]["type"], "MIX_SHADER");
+  EXPECT_DOUBLE_EQ(tree["nodes"][3]["inputs"]["Fac"].get<double>(), 0.625);
+  EXPECT_EQ(tree["nodes"][4]["type"], "ADD_SHADER");
+  const nlohmann::json links = {{2, "BSDF", 3, 2}, {0, "BSDF", 4, 0}, {3, "Shader", 4, 1}, {4, "Shader", 1, "Surface"}};
+  EXPECT_EQ(tree["links"], links) << tree.dump();
+  // Without a coat the BSDF goes to the output as it is.
+  m.coat = 0.0;
+  artist::write_blender_snippet(script, m, "paint", "paint.binary");
+  EXPECT_EQ(run_with_fake_bpy(dir.path(), script, "3.6.0")["nodes"].size(), 2u);
+
+  const nlohmann::json in40 = run_with_fake_bpy(dir.path(), script, "4.0.0");
+  ASSERT_TRUE(in40.contains("error")) << in40.dump();
+  EXPECT_NE(in40["error"].get<std::string>().find("--model gltf"), std::string::npos) << in40.dump();
 #endif
 }
 

@@ -8,6 +8,7 @@
 #include "artist/pbr_fit.h"
 #include "brdf/analytic.h"
 #include "brdf/gltf_pbr.h"
+#include "brdf/principled_v1.h"
 #include "brdf/tabulate.h"
 
 namespace matlas {
@@ -89,6 +90,54 @@ TEST(PbrFit, AConductorOfAnotherModelFitsAsAMetal) {
   EXPECT_GT(fit.model.metallic, 0.9);
   EXPECT_NEAR(fit.model.roughness, 0.2, 0.01);
   EXPECT_LT(artist::fit_error(table, fit.model).relative_rms, 0.05);
+}
+
+TEST(PrincipledV1Fit, RecoversTheParametersOfADielectricAndOfACoatedMetal) {
+  // Blender 2.8-3.6's Principled BSDF fitted to tables of itself (brdf/principled_v1.h).
+  PrincipledV1 plastic;
+  plastic.base_color = Rgb(0.6, 0.12, 0.05);
+  plastic.specular = 0.5;
+  plastic.roughness = 0.35;
+  const BrdfTable table = tabulate(plastic);
+  const artist::PrincipledV1FitResult fit = artist::fit_principled_v1(table);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(fit.model.base_color[c], plastic.base_color[c], 0.02) << c;
+  EXPECT_LT(fit.model.metallic, 0.02);
+  EXPECT_NEAR(fit.model.roughness, 0.35, 0.01);
+  EXPECT_NEAR(fit.model.specular, 0.5, 0.03);
+  EXPECT_LT(fit.model.coat, 0.05);
+  EXPECT_LT(fit.distance, 1e-3);
+  EXPECT_TRUE(fit.converged()) << fit.restart_gain;
+  EXPECT_LT(artist::fit_error(table, fit.model).relative_rms, 0.01);
+
+  PrincipledV1 paint;
+  paint.base_color = Rgb(0.3, 0.2, 0.1);
+  paint.metallic = 1.0;
+  paint.roughness = 0.4;
+  paint.coat = 0.8;
+  paint.coat_roughness = 0.1;
+  const artist::PrincipledV1FitResult coated = artist::fit_principled_v1(tabulate(paint));
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(coated.model.base_color[c], paint.base_color[c], 0.02) << c;
+  EXPECT_GT(coated.model.metallic, 0.95);
+  EXPECT_NEAR(coated.model.roughness, 0.4, 0.02);
+  EXPECT_NEAR(coated.model.coat, 0.8, 0.05);
+  EXPECT_NEAR(coated.model.coat_roughness, 0.1, 0.01);
+  EXPECT_LT(coated.distance, 2e-3);
+}
+
+TEST(PrincipledV1Fit, RecoversADisneySheenAndAddsNoneWithoutOne) {
+  PrincipledV1 velvet;
+  velvet.base_color = Rgb(0.5, 0.08, 0.06);
+  velvet.roughness = 0.8;
+  velvet.sheen = 0.8;
+  velvet.sheen_tint = 0.3;
+  const artist::PrincipledV1FitResult fit = artist::fit_principled_v1(tabulate(velvet));
+  EXPECT_NEAR(fit.model.sheen, 0.8, 0.05);
+  EXPECT_NEAR(fit.model.sheen_tint, 0.3, 0.05);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(fit.model.base_color[c], velvet.base_color[c], 0.02) << c;
+  EXPECT_LT(fit.distance, 2e-3);
+  PrincipledV1 plain = velvet;
+  plain.sheen = 0.0;
+  EXPECT_EQ(artist::fit_principled_v1(tabulate(plain)).model.sheen, 0.0);
 }
 
 TEST(FitError, IsZeroForTheModelItselfAndTheRelativeOffsetOfAScaledOne) {
