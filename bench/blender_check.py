@@ -4,6 +4,8 @@
 #
 #   render  --out B.exr --env MAP.exr --size N --spp S --seed K (--snippet FIT.py | --diffuse R,G,B)
 #   compare --blender B1.exr B2.exr --matlas M1.exr M2.exr [--json OUT.json]
+#   blur    --env MAP.exr --out SMOOTH.exr --radius R   (a box blur of 2R texels along each axis,
+#           wrapping in longitude: the map without its single-texel lights, same size)
 #
 # The scene, in matlas' frame (+y up; render/scene.h, render/environment.h) turned into Blender's
 # (+z up) by (x, y, z) -> (x, -z, y), a proper rotation under which the lat-long map needs no
@@ -168,6 +170,25 @@ def compare(a):
             json.dump(out, f, indent=2)
 
 
+def blur(a):
+    image = bpy.data.images.load(a.env)
+    image.colorspace_settings.name = "Linear"
+    w, h = image.size
+    px = np.array(image.pixels[:], dtype=np.float64).reshape(h, w, 4)
+    r = a.radius
+    for axis, mode in ((1, "wrap"), (0, "edge")):  # longitude wraps, latitude stops at the poles
+        pad = [(r, r) if ax == axis else (0, 0) for ax in range(3)]
+        c = np.cumsum(np.pad(px, pad, mode=mode), axis=axis)
+        n = px.shape[axis]
+        px = (np.take(c, np.arange(2 * r, 2 * r + n), axis=axis) - np.take(c, np.arange(n), axis=axis)) / (2 * r)
+    px[:, :, 3] = 1.0
+    out = bpy.data.images.new("smooth", width=w, height=h, float_buffer=True)
+    out.pixels[:] = px.astype(np.float32).ravel()
+    out.filepath_raw = a.out
+    out.file_format = "OPEN_EXR"
+    out.save()
+
+
 def main():
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     p = argparse.ArgumentParser(prog="blender_check.py")
@@ -184,8 +205,14 @@ def main():
     c.add_argument("--blender", nargs=2, required=True)
     c.add_argument("--matlas", nargs=2, required=True)
     c.add_argument("--json")
+    b = sub.add_parser("blur")
+    b.add_argument("--env", required=True)
+    b.add_argument("--out", required=True)
+    b.add_argument("--radius", type=int, default=4)
     a = p.parse_args(argv)
-    if a.mode == "render":
+    if a.mode == "blur":
+        blur(a)
+    elif a.mode == "render":
         if bool(a.snippet) == bool(a.diffuse):
             p.error("render: give --snippet FIT.py or --diffuse R,G,B")
         render(a)

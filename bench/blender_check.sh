@@ -2,13 +2,16 @@
 # A real client check of `matlas fit` (docs/EXPORT.md, "Blender"): Blender (Debian's, `blender -b`,
 # Cycles on the CPU) renders the fitted Principled BSDF, built by the fit's own Blender script
 # (`matlas fit -o X.py`), on a sphere under the environment map, camera and resolution of
-# `matlas render` of the fit tabulated (`matlas fit -o X.binary`); each side renders twice with two
-# seeds, and bench/blender_check.py compares the mean radiance over the pixels wholly on the sphere
-# with the Monte Carlo noise of the two means (z = difference / standard error).
+# `matlas render` of the fit itself (its report, `matlas fit -o X.json`: the analytic model, not a
+# table of it); each side renders twice with two seeds, and bench/blender_check.py compares the
+# mean radiance over the pixels wholly on the sphere with the Monte Carlo noise of the two means
+# (z = difference / standard error).
 # First a Lambertian sphere (Blender's Diffuse BSDF against a tabulated Lambert BRDF), which checks
 # the conventions: camera, map orientation, units.
 #   bench/blender_check.sh OUTDIR TABLE.binary...
-#   (MATLAS=path, BLENDER=path, ENV=studio, SIZE=192, SPP=256; LAMBERT=0 skips the convention check)
+#   (MATLAS=path, BLENDER=path, ENV=studio, SIZE=192, SPP=256; LAMBERT=0 skips the convention check;
+#    MODEL=principled-v1 fits Blender 2.8-3.6's own Principled BSDF instead of the glTF model;
+#    BLUR=R renders under the map box-blurred over 2R texels, without its single-texel lights)
 # Writes OUTDIR/NAME.json (the comparison), OUTDIR/NAME-fit.json (the fit's report) and prints a
 # summary line per material. Not run in CI (needs Blender; about a minute per render).
 set -euo pipefail
@@ -20,6 +23,7 @@ blender="${BLENDER:-blender}"
 env="${ENV:-studio}"
 size="${SIZE:-192}"
 spp="${SPP:-256}"
+model="${MODEL:-gltf}"
 assets="${MATLAS_ASSETS:-$here/assets}"
 map="$assets/hdri/$env.exr"
 [[ -f "$map" ]] || { echo "blender_check: no environment map $map (set MATLAS_ASSETS)" >&2; exit 1; }
@@ -30,13 +34,18 @@ trap 'rm -rf "$tmp"' EXIT
 py="$here/bench/blender_check.py"
 run_blender() { "$blender" -b --factory-startup --python "$py" -- "$@" > "$tmp/blender.log" 2>&1 ||
   { tail -20 "$tmp/blender.log" >&2; exit 1; }; }
+if [[ -n "${BLUR:-}" ]]; then
+  run_blender blur --env "$map" --out "$tmp/$env-blur$BLUR.exr" --radius "$BLUR"
+  map="$tmp/$env-blur$BLUR.exr"
+  env="$map"
+fi
 
-# check NAME TABLE (--snippet FIT.py | --diffuse R,G,B)
+# check NAME MATERIAL (--snippet FIT.py | --diffuse R,G,B); MATERIAL: a table or a fit report
 check() {
-  local name="$1" table="$2"
+  local name="$1" material="$2"
   shift 2
   for seed in 1 2; do
-    "$matlas" render "$table" -o "$tmp/$name-m$seed.exr" --env "$env" --width "$size" --height "$size" --spp "$spp" \
+    "$matlas" render "$material" -o "$tmp/$name-m$seed.exr" --env "$env" --width "$size" --height "$size" --spp "$spp" \
       --seed "$seed" > /dev/null
     local start=$SECONDS
     run_blender render --out "$tmp/$name-b$seed.exr" --env "$map" --size "$size" --spp "$spp" --seed "$seed" "$@"
@@ -64,11 +73,11 @@ with open(sys.argv[1], "wb") as f:
     for scale in (1 / 1500, 1.15 / 1500, 1.66 / 1500):
         f.write((array.array("d", [0.5 / math.pi / scale]) * n).tobytes())
 PY
-echo "blender_check: $("$blender" --version 2>/dev/null | head -1), $env, ${size}x${size}, $spp spp, $(date -u +%F)" >&2
+echo "blender_check: $("$blender" --version 2>/dev/null | head -1), $(basename "$env"), ${size}x${size}, $spp spp, model $model, $(date -u +%F)" >&2
 [[ "${LAMBERT:-1}" == 0 ]] || check lambert "$tmp/lambert.binary" --diffuse 0.5,0.5,0.5
 
 for table in "$@"; do
   name="$(basename "$table" .binary)"
-  "$matlas" fit "$table" -o "$tmp/$name-fit.binary" -o "$tmp/$name.py" -o "$out/$name-fit.json" > /dev/null
-  check "$name" "$tmp/$name-fit.binary" --snippet "$tmp/$name.py"
+  "$matlas" fit "$table" --model "$model" -o "$tmp/$name.py" -o "$out/$name-fit.json" > /dev/null
+  check "$name" "$out/$name-fit.json" --snippet "$tmp/$name.py"
 done

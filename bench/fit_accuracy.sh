@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
 # The fit table of docs/EXPORT.md ("Analytic fits"): every MERL-grid table of the given folders
-# fitted with the glTF metallic-roughness model by `matlas fit`, one markdown row per material:
-#   material | base colour | metallic | roughness | specular | clearcoat/roughness |
-#   sheen/roughness | cosine-weighted relative RMS % | largest albedo difference % (0-75 deg) |
-#   cube-root distance | converged | seconds
+# fitted with the glTF metallic-roughness model (or, MODEL=principled-v1, Blender 2.8-3.6's
+# Principled BSDF) by `matlas fit`, one markdown row per material:
+#   material | base colour | metallic | roughness | specular | coat/roughness |
+#   sheen/roughness (glTF) or sheen/tint (Principled v1) | cosine-weighted relative RMS % |
+#   largest albedo difference % (0-75 deg) | cube-root distance | converged | seconds
 # and a summary (median, quartiles) on stderr. The reports (.json) stay in $FIT_OUT if set.
-# Usage: bench/fit_accuracy.sh [DIR...] (default /tmp/db83; MATLAS=build/matlas)
+# Usage: bench/fit_accuracy.sh [DIR...] (default /tmp/db83; MATLAS=build/matlas, MODEL=gltf)
 set -euo pipefail
 matlas=${MATLAS:-build/matlas}
+model=${MODEL:-gltf}
 dirs=("$@")
 [ ${#dirs[@]} -eq 0 ] && dirs=(/tmp/db83)
 out=${FIT_OUT:-$(mktemp -d)}
@@ -15,7 +17,7 @@ mkdir -p "$out"
 for dir in "${dirs[@]}"; do
   for f in "$dir"/*.binary; do
     name=$(basename "$f" .binary)
-    "$matlas" fit "$f" -o "$out/$name.json" > /dev/null
+    "$matlas" fit "$f" --model "$model" -o "$out/$name.json" > /dev/null
   done
 done
 /usr/bin/env python3 - "$out" <<'PY'
@@ -24,14 +26,16 @@ rows = []
 for p in sorted(pathlib.Path(sys.argv[1]).glob("*.json")):
     r = json.loads(p.read_text())
     rows.append((p.stem, r))
-print("| material | base colour | metallic | roughness | specular | coat / roughness | sheen / roughness | RMS % | albedo % | cbrt | conv. | s |")
+v1 = bool(rows) and rows[0][1].get("kind") == "principled-v1"
+print(f"| material | base colour | metallic | roughness | specular | coat / roughness | sheen / {'tint' if v1 else 'roughness'} | RMS % | albedo % | cbrt | conv. | s |")
 print("|---|---|---|---|---|---|---|---|---|---|---|---|")
 for name, r in rows:
     m, e, f = r["parameters"], r["error"], r["fit"]
     base = " ".join(f"{c:.3f}" for c in m["base_color"])
+    coat = f"{m['coat']:.2f} / {m['coat_roughness']:.2f}" if v1 else f"{m['clearcoat']:.2f} / {m['clearcoat_roughness']:.2f}"
+    sheen = f"{m['sheen']:.2f} / {m['sheen_tint']:.2f}" if v1 else f"{max(m['sheen_color']):.2f} / {m['sheen_roughness']:.2f}"
     print(f"| {name} | {base} | {m['metallic']:.2f} | {m['roughness']:.3f} | {m['specular']:.2f} | "
-          f"{m['clearcoat']:.2f} / {m['clearcoat_roughness']:.2f} | "
-          f"{max(m['sheen_color']):.2f} / {m['sheen_roughness']:.2f} | {100 * e['relative_rms']:.1f} | "
+          f"{coat} | {sheen} | {100 * e['relative_rms']:.1f} | "
           f"{100 * e['albedo_error']:.1f} | {e['cbrt_distance']:.4f} | {'yes' if f['converged'] else 'no'} | "
           f"{f['seconds']:.1f} |")
 def q(values, f):
