@@ -2,8 +2,9 @@
 // for another renderer or an artist's tool. POST /api/export writes the table (MERL .binary, or
 // RGL .bsdf for Mitsuba 3 and pbrt-v4: formats/rgl_bsdf_writer.h); POST /api/fit answers the
 // analytic fit's report (artist/fit_report.h, with its error) before anything is downloaded,
-// and POST /api/fit/file the fitted material as glTF, MaterialX or a Blender script. The bytes
-// are those `matlas export` and `matlas fit` write for the same point or material.
+// and POST /api/fit/file the fitted material as glTF, MaterialX or a Blender script; with "model":
+// "principled-v1", the fit of Blender 2.8-3.6's Principled BSDF and its script. The bytes are those
+// `matlas export` and `matlas fit` write for the same point or material.
 #include <chrono>
 #include <cstdio>
 #include <optional>
@@ -28,6 +29,7 @@ namespace matlas::server {
 struct Api::ExportSubject {
   Eigen::VectorXd x;
   std::optional<int> material;
+  bool principled_v1 = false;  ///< the fit: Blender 2.8-3.6's Principled BSDF (else glTF's model)
   std::string key;       ///< the fit cache's key
   std::string name;      ///< the material's name in the files (as `matlas fit`'s default)
   std::string source;    ///< what it is, as `matlas export` / `matlas fit` say it
@@ -35,7 +37,8 @@ struct Api::ExportSubject {
 };
 
 struct Api::FittedPoint {
-  artist::PbrFitResult fit;
+  std::optional<artist::PbrFitResult> gltf;
+  std::optional<artist::PrincipledV1FitResult> principled_v1;
   nlohmann::json report;
 };
 
@@ -66,6 +69,8 @@ Reply download(std::string bytes, const std::string& content_type, const std::st
 Api::ExportSubject Api::export_subject(const nlohmann::json& j) const {
   ExportSubject s;
   s.x = parse_latent(j, "x", domain_);
+  s.principled_v1 = parse_choice(j, "model", {"gltf", "principled-v1"}, "gltf") == "principled-v1";
+  const std::string model_key = s.principled_v1 ? " principled-v1" : " gltf";
   const std::string model_file = model_.path().filename().string();
   if (j.contains("material") && !j["material"].is_null()) {
     const int i = parse_int(j, "material", 0, model_.count() - 1, 0);
@@ -73,7 +78,7 @@ Api::ExportSubject Api::export_subject(const nlohmann::json& j) const {
     s.name = model_.names()[static_cast<std::size_t>(i)];
     s.source = "material " + s.name + " of " + model_file;
     s.filename = file_safe(s.name);
-    s.key = "material " + std::to_string(i);
+    s.key = "material " + std::to_string(i) + model_key;
     return s;
   }
   std::string at;
@@ -87,7 +92,7 @@ Api::ExportSubject Api::export_subject(const nlohmann::json& j) const {
   }
   s.name = "matlas point " + at;
   s.source = "x = " + at + " of " + model_file;
-  s.key = "x " + point_key(s.x);
+  s.key = "x " + point_key(s.x) + model_key;
   return s;
 }
 
@@ -131,10 +136,17 @@ std::shared_ptr<const Api::FittedPoint> Api::fitted(const ExportSubject& s) {
     auto slot = acquire(heavy_);
     const BrdfTable table = subject_table(s, nullptr);
     const auto start = std::chrono::steady_clock::now();
-    f->fit = artist::fit_gltf_pbr(table);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
     const std::optional<double> variance = s.material ? std::nullopt : std::optional(model_.variance(s.x));
-    f->report = artist::fit_report_json(s.source, f->fit, artist::fit_error(table, f->fit.model), seconds, variance);
+    if (s.principled_v1) {
+      const auto& fit = f->principled_v1.emplace(artist::fit_principled_v1(table));
+      const double took = seconds();
+      f->report = artist::fit_report_json(s.source, fit, artist::fit_error(table, fit.model), took, variance);
+    } else {
+      const auto& fit = f->gltf.emplace(artist::fit_gltf_pbr(table));
+      const double took = seconds();
+      f->report = artist::fit_report_json(s.source, fit, artist::fit_error(table, fit.model), took, variance);
+    }
   }
   f->report["name"] = s.name;
   std::lock_guard lock(fits_mutex_);
@@ -154,13 +166,22 @@ Reply Api::fit_file(const std::string& body) {
     throw bad_request("\"format\" is missing: one of \"gltf\", \"mtlx\", \"py\"");
   const std::string format = parse_choice(j, "format", {"gltf", "mtlx", "py"}, "gltf");
   const ExportSubject s = export_subject(j);
-  const GltfPbr& m = fitted(s)->fit.model;
+  if (s.principled_v1 && format != "py")
+    throw bad_request("\"format\": " + format + " has no Blender 2.8-3.6 Principled BSDF; \"model\": \"principled-v1\" "
+                      "is for \"py\" (a Blender script)");
+  const std::shared_ptr<const FittedPoint> f = fitted(s);
   // One content type for the three, as for every download (docs/api.schema.json): the file's
   // kind is in its name.
-  const std::string text = format == "gltf"   ? artist::gltf_material_document(m, s.name, s.source)
-                           : format == "mtlx" ? artist::materialx_document(m, s.name, s.source)
-                                              : artist::blender_snippet(m, s.name, s.source);
-  return download(text, "application/octet-stream", s.filename + "." + format);
+  std::string text;
+  if (s.principled_v1) {
+    text = artist::blender_snippet(f->principled_v1->model, s.name, s.source);
+  } else {
+    const GltfPbr& m = f->gltf->model;
+    text = format == "gltf"   ? artist::gltf_material_document(m, s.name, s.source)
+           : format == "mtlx" ? artist::materialx_document(m, s.name, s.source)
+                              : artist::blender_snippet(m, s.name, s.source);
+  }
+  return download(text, "application/octet-stream", s.filename + (s.principled_v1 ? "-blender3" : "") + "." + format);
 }
 
 }  // namespace matlas::server

@@ -1,7 +1,8 @@
 // The download endpoints (server/export_api.cpp) end to end: POST /api/export as MERL and RGL
 // .bsdf, of a point and of a model material; POST /api/fit's report (with the fit's error) and
 // POST /api/fit/file's glTF, MaterialX and Blender files, the bytes of the artist writers for the
-// reported parameters; bad requests refused with 400 and a message naming the field.
+// reported parameters (and Blender 2.8-3.6's Principled BSDF fitted, "model": "principled-v1");
+// bad requests refused with 400 and a message naming the field.
 #include <string>
 #include <vector>
 
@@ -11,6 +12,7 @@
 #include "artist/blender_snippet.h"
 #include "artist/gltf_material.h"
 #include "artist/materialx_document.h"
+#include "artist/pbr_fit.h"
 #include "formats/merl_file.h"
 #include "formats/rgl_bsdf_writer.h"
 #include "formats/tensor_file.h"
@@ -164,6 +166,29 @@ TEST_F(ExportEndpoints, TheFitsReportComesFirstAndItsFilesAreTheWritersBytesOfTh
   ASSERT_TRUE(own);
   ASSERT_EQ(own->status, 200) << own->body;
   EXPECT_EQ(json::parse(own->body)["materials"][0]["name"], model_->names()[4]);
+}
+
+TEST_F(ExportEndpoints, ThePrincipledV1FitHasItsOwnReportAndOnlyItsBlenderScript) {
+  // "model": "principled-v1": Blender 2.8-3.6's Principled BSDF fitted (artist/pbr_fit.h); the
+  // script is the writer's bytes for the reported parameters, kept apart from the glTF fit.
+  const std::vector<double> x = between(1, 2);
+  const auto r = post("/api/fit", {{"x", x}, {"model", "principled-v1"}});
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200) << r->body;
+  const json report = json::parse(r->body);
+  EXPECT_EQ(report["kind"], "principled-v1");
+  EXPECT_FALSE(report.contains("openpbr_surface"));
+  const artist::PrincipledV1FitResult fit = artist::fit_principled_v1(export_table(*model_, model_->weights(vec(x))));
+  const std::string source = "x = " + at_text(x) + " of m.matlas", name = "matlas point " + at_text(x);
+  const auto f = post("/api/fit/file", {{"x", x}, {"format", "py"}, {"model", "principled-v1"}});
+  ASSERT_TRUE(f);
+  ASSERT_EQ(f->status, 200) << f->body;
+  EXPECT_EQ(f->body, artist::blender_snippet(fit.model, name, source));
+  const auto gltf = post("/api/fit", {{"x", x}});
+  ASSERT_TRUE(gltf);
+  EXPECT_EQ(json::parse(gltf->body)["kind"], "gltf");
+  expect_refused("/api/fit/file", {{"x", x}, {"format", "gltf"}, {"model", "principled-v1"}}, "principled-v1");
+  expect_refused("/api/fit", {{"x", x}, {"model", "disney"}}, "model");
 }
 
 TEST_F(ExportEndpoints, BadRequestsAre400WithAMessageNamingTheField) {

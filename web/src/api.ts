@@ -59,15 +59,20 @@ export interface ExportRequest {
   format?: "binary" | "bsdf" | "bsdf-spectral";
 }
 
+/** The analytic model fitted: glTF's metallic-roughness, or Blender 2.8-3.6's Principled BSDF. */
+export type FitModel = "gltf" | "principled-v1";
+
 export interface FitRequest {
   x: Point;
   material?: number;
+  model?: FitModel;
 }
 
 export interface FitFileRequest {
   x: Point;
   material?: number;
   format: "gltf" | "mtlx" | "py";
+  model?: FitModel;
 }
 
 /** The glTF metallic-roughness parameters of a fit (docs/EXPORT.md). */
@@ -122,10 +127,23 @@ export interface FitSearch {
   seconds: number;
 }
 
-/** POST /api/fit: the analytic fit of a point or material, with its error against the table. */
-export interface FitReply {
+/** The inputs of Blender 2.8-3.6's Principled BSDF fitted, and its coat layer (docs/EXPORT.md). */
+export interface PrincipledV1Parameters {
+  base_color: Rgb;
+  metallic: number;
+  specular: number;
+  specular_tint: number;
+  roughness: number;
+  sheen: number;
+  sheen_tint: number;
+  coat: number;
+  coat_roughness: number;
+}
+
+export interface GltfFitReply {
   source: string;
   name: string;
+  kind: "gltf";
   model: string;
   parameters: FitParameters;
   openpbr_surface: OpenPbrParameters;
@@ -133,6 +151,20 @@ export interface FitReply {
   fit: FitSearch;
   predictive_variance?: number;
 }
+
+export interface PrincipledV1FitReply {
+  source: string;
+  name: string;
+  kind: "principled-v1";
+  model: string;
+  parameters: PrincipledV1Parameters;
+  error: FitErrors;
+  fit: FitSearch;
+  predictive_variance?: number;
+}
+
+/** POST /api/fit: the analytic fit of a point or material, with its error against the table. */
+export type FitReply = GltfFitReply | PrincipledV1FitReply;
 
 export interface PreviewRequest {
   x: Point;
@@ -448,10 +480,12 @@ export const api = {
   exportTable: (x: Point, material: number | null, format: "binary" | "bsdf" | "bsdf-spectral"): Promise<Blob> =>
     post("api/export", { x, format, ...(material === null ? {} : { material }) } satisfies ExportRequest).then((r) => r.blob()),
   /** The analytic fit's report (kept by the server for its files). */
-  fit: (x: Point, material: number | null, signal?: AbortSignal): Promise<FitReply> =>
-    post("api/fit", { x, ...(material === null ? {} : { material }) } satisfies FitRequest, signal).then((r) => r.json()),
-  fitFile: (x: Point, material: number | null, format: "gltf" | "mtlx" | "py"): Promise<Blob> =>
-    post("api/fit/file", { x, format, ...(material === null ? {} : { material }) } satisfies FitFileRequest).then((r) => r.blob()),
+  fit: (x: Point, material: number | null, signal?: AbortSignal, model: FitModel = "gltf"): Promise<FitReply> =>
+    post("api/fit", { x, ...(material === null ? {} : { material }), ...(model === "gltf" ? {} : { model }) } satisfies FitRequest, signal)
+      .then((r) => r.json()),
+  fitFile: (x: Point, material: number | null, format: "gltf" | "mtlx" | "py", model: FitModel = "gltf"): Promise<Blob> =>
+    post("api/fit/file", { x, format, ...(material === null ? {} : { material }), ...(model === "gltf" ? {} : { model }) } satisfies FitFileRequest)
+      .then((r) => r.blob()),
   project: (file: Blob): Promise<ProjectReply> =>
     fetch("api/project", { method: "POST", headers: { "Content-Type": "application/octet-stream" }, body: file })
       .then(check)

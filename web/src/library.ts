@@ -5,7 +5,7 @@
 // (downloads.ts).
 import { api, type FitReply } from "./api";
 import { $, download, fmtX, showBlob } from "./dom";
-import { extensionOf, fileOf, formatLabels, isFit, safeName, type DownloadFormat } from "./downloads";
+import { extensionOf, fileOf, fitModelOf, formatLabels, isFit, safeName, type DownloadFormat } from "./downloads";
 import type { LatentMap } from "./map";
 import { retryWhileBusy } from "./retry";
 import { sceneReady } from "./scene-ready";
@@ -188,7 +188,7 @@ export function createLibrary(store: PageStore, map: LatentMap): void {
       for (const [k, it] of list.entries()) {
         if (!isFit(format)) break;
         setStatus(`fitting ${k + 1} of ${list.length}: ${it.name}…`);
-        fits.push(await api.fit(it.x, it.index));
+        fits.push(await api.fit(it.x, it.index, undefined, fitModelOf(format)));
       }
       const body = {
         model: model.name, q: model.dim, format,

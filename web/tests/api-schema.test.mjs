@@ -30,8 +30,7 @@ test("docs/API.md documents exactly the schema's endpoints and their fields", ()
   assert.deepEqual(docs.map(key).sort(), schema.endpoints.map((e) => key({ ...e, type: e.response.type })).sort());
   for (const e of schema.endpoints) {
     const text = docs.find((d) => d.method === e.method && d.path === e.path).text;
-    const fields = [e.request, e.response.schema].filter((s) => s?.$ref)
-      .flatMap((s) => Object.keys(schema.$defs[s.$ref.replace("#/$defs/", "")].properties));
+    const fields = [e.request, e.response.schema].filter((s) => s?.$ref).flatMap(topFields);
     for (const f of fields) assert.match(text, new RegExp(`\\b${f}\\b`), `docs/API.md, ${e.method} ${e.path}: no "${f}"`);
     // And the other way: every JSON key the section shows is a field of its request or answer.
     const known = new Set([e.request, e.response.schema].filter((s) => s?.$ref).flatMap((s) => fieldNames(s)));
@@ -42,6 +41,13 @@ test("docs/API.md documents exactly the schema's endpoints and their fields", ()
     for (const key of keys) assert.ok(known.has(key), `docs/API.md, ${e.method} ${e.path}: "${key}" is not in the schema`);
   }
 });
+
+/** The top-level property names of a schema node (of every alternative of a union). */
+function topFields(node) {
+  if (node.$ref) return topFields(schema.$defs[node.$ref.replace("#/$defs/", "")]);
+  if (node.anyOf) return [...new Set(node.anyOf.flatMap(topFields))];
+  return Object.keys(node.properties ?? {});
+}
 
 /** Every property name reachable from a schema node. */
 function fieldNames(node, seen = new Set()) {

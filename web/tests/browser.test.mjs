@@ -378,7 +378,7 @@ test("export downloads the MERL table of the current point", async () => {
   assert.deepEqual(bytes, expected, "the download is the table of the current point");
 });
 
-test("the download menu shows the fit's error first; every download is the server's and the CLI's file", async () => {
+test("the download menu shows each fit's error first; every download is the server's and the CLI's file", async () => {
   const { x, material, names } = await page.evaluate(() => {
     const m = window.matlas, i = m.model.latent.findIndex((p) => p.every((v, d) => Math.abs(v - m.x[d]) <= 1e-9 * (1 + Math.abs(v))));
     return { x: m.x, material: i < 0 ? null : i, names: m.model.names };
@@ -413,6 +413,20 @@ test("the download menu shows the fit's error first; every download is the serve
     assert.deepEqual(bytes, server, `${format}: the download is the server's file`);
     assert.deepEqual(bytes, readFileSync(join(cli, `f.${format}`)), `${format}: the download is what matlas writes`);
   }
+  // Then Blender 2.8-3.6's own Principled BSDF, fitted after the glTF model: its error shown, its
+  // script the server's and the CLI's (`matlas fit --model principled-v1`).
+  await page.waitForSelector("#download-menu[data-fit-v1=ready]", { timeout: 60_000 });
+  const v1 = JSON.parse((await api("api/fit", { x, ...which, model: "principled-v1" })).toString());
+  assert.equal(v1.kind, "principled-v1");
+  const shownV1 = await page.textContent("#fit-error-v1");
+  assert.ok(shownV1.includes(`relative RMS ${(100 * v1.error.relative_rms).toFixed(1)} %`), `${shownV1} vs ${v1.error.relative_rms}`);
+  execFileSync(bin, ["fit", modelFile, ...point, "--model", "principled-v1", "-o", join(cli, "f-v1.py")], { stdio: "pipe" });
+  const [scriptV1] = await Promise.all([page.waitForEvent("download"), page.click("#export-py-v1")]);
+  assert.ok(scriptV1.suggestedFilename().endsWith(".py"), scriptV1.suggestedFilename());
+  const bytesV1 = readFileSync(await savedAs(scriptV1, "menu-v1.py"));
+  assert.deepEqual(bytesV1, await api("api/fit/file", { x, ...which, format: "py", model: "principled-v1" }), "py-v1: the server's file");
+  assert.deepEqual(bytesV1, readFileSync(join(cli, "f-v1.py")), "py-v1: what matlas writes");
+  assert.match(bytesV1.toString(), /bsdf\.distribution = 'GGX'/);
   await page.locator("#download-menu").screenshot({ path: join(results, "download-menu.png") });
   await page.keyboard.press("Escape");
   assert.equal(await page.isHidden("#download-menu"), true);

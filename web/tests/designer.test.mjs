@@ -331,6 +331,25 @@ test("the short list compares materials in one scene with the server's images an
   assert.deepEqual(listed.materials[2].fit_error, { relative_rms: report.error.relative_rms, albedo_error: report.error.albedo_error });
   assert.deepEqual(readFileSync(await saved(fitted[3], "third.mtlx")),
     (await api("api/fit/file", { x: model.latent[6], material: 6, format: "mtlx" })).bytes, "the third file is material 6's fit");
+
+  // As Blender 2.8-3.6 scripts: the Principled v1 fits, their errors in list.json.
+  const scripts = [];
+  const onScript = (d) => scripts.push(d);
+  page.on("download", onScript);
+  await page.selectOption("#list-format", "py-v1");
+  await page.click("#list-export");
+  await page.waitForFunction(() => /exported 3 fits \(Blender 2\.8-3\.6/.test(document.getElementById("status").textContent), null,
+    { timeout: 120_000 });
+  for (let t = 0; scripts.length < 4 && t < 50; t++) await page.waitForTimeout(100);
+  page.off("download", onScript);
+  assert.deepEqual(scripts.map((d) => d.suggestedFilename()),
+    ["matlas-list.json", ...[1, 2, 6].map((i, k) => `0${k + 1}-${model.names[i].replace(/[^\w.-]+/g, "_")}.py`)]);
+  const listedV1 = JSON.parse(readFileSync(await saved(scripts[0], "fits-v1.json"), "utf8"));
+  const reportV1 = JSON.parse((await api("api/fit", { x: model.latent[6], material: 6, model: "principled-v1" })).bytes.toString());
+  assert.deepEqual(listedV1.materials[2].fit_error, { relative_rms: reportV1.error.relative_rms, albedo_error: reportV1.error.albedo_error });
+  assert.deepEqual(readFileSync(await saved(scripts[3], "third-v1.py")),
+    (await api("api/fit/file", { x: model.latent[6], material: 6, format: "py", model: "principled-v1" })).bytes,
+    "the third file is material 6's Blender 2.8-3.6 fit");
   await page.selectOption("#list-format", "binary");
 
   // Removing one from the comparison.
