@@ -184,9 +184,15 @@ def blur(a):
     px[:, :, 3] = 1.0
     out = bpy.data.images.new("smooth", width=w, height=h, float_buffer=True)
     out.pixels[:] = px.astype(np.float32).ravel()
-    out.filepath_raw = a.out
-    out.file_format = "OPEN_EXR"
-    out.save()
+    # Saved as the linear values themselves: Image.save() would apply the view transform.
+    scene = bpy.context.scene
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    scene.render.image_settings.color_depth = "32"
+    scene.view_settings.view_transform = "Raw"
+    scene.view_settings.look = "None"
+    scene.display_settings.display_device = "None"
+    out.save_render(a.out, scene=scene)
+    print("blender_check: blurred map mean", float(px[:, :, :3].mean()), "max", float(px[:, :, :3].max()))
 
 
 def main():
