@@ -122,8 +122,9 @@ struct GltfSpace {
   }
 };
 
-/// Blender's Principled v1: the same eight coordinates, x[5] its "Specular" (F0 = 0.08 x[5]); the
-/// sheen stage adds x[8] "Sheen" and x[9] "Sheen Tint". "Specular Tint" stays 0 (Blender's default).
+/// Blender's Principled v1: the same eight coordinates, x[5] its "Specular" (F0 = 0.08 x[5]), x[6]
+/// and x[7] the coat layer's weight and log(roughness) / 4; the sheen stage adds x[8] "Sheen" and
+/// x[9] "Sheen Tint". "Specular Tint" stays 0 (Blender's default).
 struct PrincipledV1Space {
   using Fitted = PrincipledV1;
 
