@@ -4,8 +4,9 @@
 #
 #   render  --out B.exr --env MAP.exr --size N --spp S --seed K (--snippet FIT.py | --diffuse R,G,B)
 #   compare --blender B1.exr B2.exr --matlas M1.exr M2.exr [--json OUT.json]
-#   blur    --env MAP.exr --out SMOOTH.exr --radius R   (a box blur of 2R texels along each axis,
-#           wrapping in longitude: the map without its single-texel lights, same size)
+#   blur    --env MAP.exr --out SMOOTH.exr --radius R   (negative texels clamped to 0, as matlas
+#           reads maps, then a box blur of 2R texels along each axis, wrapping in longitude;
+#           R = 0: the clamp alone)
 #
 # The scene, in matlas' frame (+y up; render/scene.h, render/environment.h) turned into Blender's
 # (+z up) by (x, y, z) -> (x, -z, y), a proper rotation under which the lat-long map needs no
@@ -175,8 +176,12 @@ def blur(a):
     image.colorspace_settings.name = "Linear"
     w, h = image.size
     px = np.array(image.pixels[:], dtype=np.float64).reshape(h, w, 4)
+    # Negative texels (ringing around a processed map's lights) as matlas reads them: 0. Cycles
+    # would render them as negative light.
+    print("blender_check: negative texel values clamped to 0:", int((px[:, :, :3] < 0).sum()))
+    px[:, :, :3] = np.maximum(px[:, :, :3], 0.0)
     r = a.radius
-    for axis, mode in ((1, "wrap"), (0, "edge")):  # longitude wraps, latitude stops at the poles
+    for axis, mode in ((1, "wrap"), (0, "edge")) if r > 0 else ():  # longitude wraps, latitude stops at the poles
         pad = [(r, r) if ax == axis else (0, 0) for ax in range(3)]
         c = np.cumsum(np.pad(px, pad, mode=mode), axis=axis)
         n = px.shape[axis]

@@ -11,7 +11,8 @@
 #   bench/blender_check.sh OUTDIR TABLE.binary...
 #   (MATLAS=path, BLENDER=path, ENV=studio, SIZE=192, SPP=256; LAMBERT=0 skips the convention check;
 #    MODEL=principled-v1 fits Blender 2.8-3.6's own Principled BSDF instead of the glTF model;
-#    BLUR=R renders under the map box-blurred over 2R texels, without its single-texel lights)
+#    BLUR=R renders under the map box-blurred over 2R x 2R texels; both sides get the map as matlas
+#    reads it, its negative texels 0)
 # Writes OUTDIR/NAME.json (the comparison), OUTDIR/NAME-fit.json (the fit's report) and prints a
 # summary line per material. Not run in CI (needs Blender; about a minute per render).
 set -euo pipefail
@@ -34,11 +35,13 @@ trap 'rm -rf "$tmp"' EXIT
 py="$here/bench/blender_check.py"
 run_blender() { "$blender" -b --factory-startup --python "$py" -- "$@" > "$tmp/blender.log" 2>&1 ||
   { tail -20 "$tmp/blender.log" >&2; exit 1; }; }
-if [[ -n "${BLUR:-}" ]]; then
-  run_blender blur --env "$map" --out "$tmp/$env-blur$BLUR.exr" --radius "$BLUR"
-  map="$tmp/$env-blur$BLUR.exr"
-  env="$map"
-fi
+# Both sides render the map as matlas reads it (render/environment.h: negative texels, the ringing
+# of a processed map around its lights, are 0; Cycles would render them as negative light), or
+# blurred (BLUR=R).
+read_as="$tmp/$env${BLUR:+-blur$BLUR}.exr"
+run_blender blur --env "$map" --out "$read_as" --radius "${BLUR:-0}"
+map="$read_as"
+env="$map"
 
 # check NAME MATERIAL (--snippet FIT.py | --diffuse R,G,B); MATERIAL: a table or a fit report
 check() {
