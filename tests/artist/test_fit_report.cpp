@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "artist/fit_report.h"
-#include "core/error.h"
+#include "support/error_of.h"
 
 namespace matlas {
 namespace {
@@ -23,13 +23,9 @@ void expect_same_brdf(const Model& m, const BrdfFunction& f) {
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(f(wi, wo)[c], m(wi, wo)[c], 1e-12 * (1 + m(wi, wo)[c]));
 }
 
+/// The error of reading `report` as a fit named fit.json ("no error" if none).
 std::string error_of(const nlohmann::json& report) {
-  try {
-    artist::fitted_brdf(report, "fit.json");
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
+  return test::error_of([&] { artist::fitted_brdf(report, "fit.json"); });
 }
 
 TEST(FitReport, ReadsBackTheFittedBrdfOfEitherKind) {
