@@ -177,6 +177,13 @@ void MerlFile::prefetch(std::size_t first, std::size_t count) const {
                   static_cast<off_t>(count * sizeof(double)), POSIX_FADV_WILLNEED);
 }
 
+void MerlFile::release(std::size_t first, std::size_t count) const {
+  if (first >= value_count()) return;
+  count = std::min(count, value_count() - first);
+  ::posix_fadvise(fd_, static_cast<off_t>(kHeaderBytes + first * sizeof(double)),
+                  static_cast<off_t>(count * sizeof(double)), POSIX_FADV_DONTNEED);
+}
+
 void MerlFile::read_values(std::size_t first, std::size_t count, double* out) const {
   check_range(first, count);
   // Read in chunks and check each while it is still in cache.

@@ -42,6 +42,9 @@ public:
   /// Asks the kernel to start reading values [first, first + count) from disk in the background
   /// (posix_fadvise WILLNEED), so that a later read finds them in the page cache. Advisory.
   void prefetch(std::size_t first, std::size_t count) const;
+  /// Tells the kernel that values [first, first + count) will not be read again, so that their
+  /// pages leave the page cache first (posix_fadvise DONTNEED). Advisory.
+  void release(std::size_t first, std::size_t count) const;
 
   /// Values per chunk of visit_values (64 KiB: the chunk stays in L1/L2 while visited).
   static constexpr std::size_t kVisitChunk = 8192;

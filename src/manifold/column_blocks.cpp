@@ -4,6 +4,7 @@
 #include <future>
 
 #include "manifold/block_rows.h"
+#include "manifold/read_ahead.h"
 
 namespace matlas {
 
@@ -30,14 +31,19 @@ void for_each_column_block(const MaterialSet& set, const std::function<void(cons
   ProgressTask task(progress, options.label, blocks);
   if (blocks == 0) return;
 
+  // Cold files: the disk fetches the two blocks after the one being read; a database larger than
+  // memory leaves the page cache as it is read (read_ahead.h).
+  const bool release = ReadAhead::worth_releasing(set.size() * (total - begin) * sizeof(double));
+  ReadAhead ahead([&set](std::size_t first, std::size_t count) { set.prefetch(first, count); }, begin, total,
+                  3 * step, step,
+                  release ? ReadAhead::Request([&set](std::size_t first, std::size_t count) { set.release(first, count); })
+                          : nullptr);
   BlockMatrix buffers[2];
   std::vector<std::uint8_t> kept[2];
   auto start_read = [&](std::size_t b) {
     const std::size_t first = begin + b * step, count = std::min(step, total - first);
+    ahead.advance(first);
     return std::async(std::launch::async, [&, b, first, count] {
-      // Cold files: have the disk fetch the block after this one while this one is read.
-      if (first + count < total)
-        for (std::size_t i = 0; i < set.size(); ++i) set.file(i).prefetch(first + count, step);
       read_block(set, first, count, buffers[b % 2], kept[b % 2]);
     });
   };

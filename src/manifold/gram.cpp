@@ -13,6 +13,7 @@
 #include "manifold/gram_update.h"
 #include "manifold/kept_runs.h"
 #include "manifold/model_format.h"
+#include "manifold/read_ahead.h"
 
 namespace matlas {
 
@@ -24,8 +25,9 @@ namespace {
 constexpr std::size_t kReadRows = 10;
 /// Materials per albedo task.
 constexpr std::size_t kAlbedoRows = 25;
-/// Blocks asked of the disk at a time, that many blocks ahead (for files not in the page cache).
-constexpr std::size_t kPrefetchBlocks = 32;
+/// Files not in the page cache: the read-ahead thread keeps the disk kReadAheadBlocks blocks
+/// ahead of the pass (2 MB per file at n = 1000), asking for kReadAheadChunk blocks at a time.
+constexpr std::size_t kReadAheadBlocks = 64, kReadAheadChunk = 8;
 
 using SparseOperator = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 
@@ -93,6 +95,13 @@ public:
       seconds += std::chrono::duration<double>(now - start).count();
       start = now;
     };
+    // A share larger than the machine's memory: what has been read leaves the page cache first
+    // (1000 materials, 33 GB on 23 GB: 11 GB read from disk instead of 23, docs/BENCHMARKS.md).
+    const bool release = ReadAhead::worth_releasing(n_ * (result_.end_value - result_.first_value) * sizeof(double));
+    ReadAhead ahead([this](std::size_t first, std::size_t count) { set_.prefetch(first, count); },
+                    result_.first_value, result_.end_value, kReadAheadBlocks * step_, kReadAheadChunk * step_,
+                    release ? ReadAhead::Request([this](std::size_t first, std::size_t count) { set_.release(first, count); })
+                            : nullptr);
     begin_read(b0);
     parallel_for_each(0, groups_, [&](std::size_t g) { read_group(b0, g); });
     end_read(b0);
@@ -103,6 +112,7 @@ public:
       sweep(block, runs);
       lap(result_.steps.sweep);
       const bool next = b + 1 < blocks;
+      ahead.advance(first_of(b + 1));
       if (next) begin_read(b + 1);
       products(block, runs, next ? b + 1 : kNoBlock);
       lap(result_.steps.products);
@@ -122,7 +132,7 @@ private:
 
   /// 1. Reads block b, a few materials per task (read_group): hash, check, scale, and per group
   ///    of materials the column sums and validity; then (end_read) which columns every material
-  ///    measures. Cold files: asks for the blocks ahead every kPrefetchBlocks blocks.
+  ///    measures. The disk is asked for the blocks ahead by the read-ahead thread (run).
   void begin_read(std::size_t b) {
     if (count_of(b) != static_cast<std::size_t>(values_.cols()))  // the last block
       values_.resize(static_cast<Eigen::Index>(n_), static_cast<Eigen::Index>(count_of(b)));
@@ -131,11 +141,6 @@ private:
   void read_group(std::size_t b, std::size_t g) {
     const std::size_t first = first_of(b), count = count_of(b);
     const std::size_t r0 = g * kReadRows, r1 = std::min(n_, r0 + kReadRows);
-    if ((b - blocks_.first) % kPrefetchBlocks == 0) {  // not past the share: another rank reads that
-      const std::size_t ahead = std::min(first + kPrefetchBlocks * step_, result_.end_value);
-      const std::size_t until = std::min(ahead + kPrefetchBlocks * step_, result_.end_value);
-      for (std::size_t i = r0; i < r1 && ahead < until; ++i) set_.file(i).prefetch(ahead, until - ahead);
-    }
     read_block_rows(set_, first, count, r0, r1, values_, hashers_.data(),
                     {group_sums_.data() + g * step_, group_kept_.data() + g * step_});
   }

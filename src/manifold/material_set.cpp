@@ -73,4 +73,12 @@ MaterialSet MaterialSet::open(const std::vector<fs::path>& inputs, ProgressSink&
   return set;
 }
 
+void MaterialSet::prefetch(std::size_t first, std::size_t count) const {
+  for (const MerlFile& f : files_) f.prefetch(first, count);
+}
+
+void MaterialSet::release(std::size_t first, std::size_t count) const {
+  for (const MerlFile& f : files_) f.release(first, count);
+}
+
 }  // namespace matlas

@@ -32,6 +32,10 @@ public:
   /// True for a material read from an RGL `.bsdf` file (resampled onto the MERL grid).
   bool resampled(std::size_t i) const { return resampled_[i]; }
   std::size_t resampled_count() const;
+  /// MerlFile::prefetch and MerlFile::release of values [first, first + count) of every file: a
+  /// streaming pass's requests to the disk (manifold/read_ahead.h). Advisory.
+  void prefetch(std::size_t first, std::size_t count) const;
+  void release(std::size_t first, std::size_t count) const;
   /// Files that were seen in input folders and skipped (neither `.binary` nor `.bsdf`).
   const std::vector<std::filesystem::path>& ignored() const { return ignored_; }
 
