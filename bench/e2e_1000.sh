@@ -51,7 +51,14 @@ say "database: $n materials, $(du -shL "$db" 2>/dev/null | cut -f1)"
 time_step raw_read 3600 bash -c "cat '$db'/*.binary > /dev/null"
 raw=$(cut -d' ' -f1 "$work/raw_read.time")
 rm -f "$model"
+# Bytes the build has the disk read (the device's counter: the machine should be quiet).
+device=$(lsblk -no pkname "$(df --output=source "$db" | tail -1)" 2>/dev/null | head -1)
+[[ -n "$device" ]] || device=$(basename "$(df --output=source "$db" | tail -1)")
+sectors_read() { awk '{print $3}' "/sys/block/$device/stat" 2>/dev/null || echo 0; }
+sectors0=$(sectors_read)
 time_step build 7200 "$bin" build "$db" -o "$model" --dim 5 || { cat "$work/build.log"; exit 1; }
+say "$(printf 'build: %.1f GB read from disk (/sys/block/%s/stat; the database is %s)' \
+  "$(echo "($(sectors_read) - $sectors0) * 512 / 1e9" | bc -l)" "$device" "$(du -shL "$db" | cut -f1)")"
 cat "$work/build.log" | tee -a "$summary"
 build_wall=$(cut -d' ' -f1 "$work/build.time")
 build_rss=$(cut -d' ' -f4 "$work/build.time")
