@@ -1,5 +1,6 @@
 #include "core/blas.h"
 
+#include <cctype>
 #include <cstddef>
 #include <cstdlib>
 #include <dlfcn.h>
@@ -89,6 +90,22 @@ std::string kernel_for(bool avx512, bool avx2_fma) {
   if (avx512) return "SkylakeX";
   if (avx2_fma) return "Haswell";
   return "";
+}
+
+std::string kernel_override_note(const char* user_choice, const std::string& wanted) {
+  if (user_choice == nullptr || wanted.empty()) return "";
+  const auto lower = [](std::string v) {
+    for (char& c : v) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return v;
+  };
+  if (lower(user_choice) == lower(wanted)) return "";
+  return std::string("note: OPENBLAS_CORETYPE=") + user_choice +
+         " in the environment chooses OpenBLAS's kernels; on this processor matlas would run the " + wanted +
+         " kernels (docs/BENCHMARKS.md compares them): unset the variable to let it choose\n";
+}
+
+std::string kernel_override_note() {
+  return kernel_override_note(std::getenv(kCoreVariable), kernel_for(cpu_has_avx512_skx(), cpu_has_avx2_fma()));
 }
 
 std::string description() { return openblas().config(); }

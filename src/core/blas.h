@@ -76,6 +76,15 @@ int inverse_from_cholesky(int n, double* a, int lda);
 /// which the SkylakeX kernels use.
 std::string kernel_for(bool avx512, bool avx2_fma);
 
+/// A note for the user when OPENBLAS_CORETYPE is set (`user_choice`, the variable's value; null
+/// when unset) to other kernels than matlas would choose on this processor (`wanted`, from
+/// kernel_for): the user's choice wins, but on this 2-core AMD EPYC VM an environment's "Haswell"
+/// ran the Gram products and the map's products at about half the speed of the SkylakeX kernels
+/// (docs/BENCHMARKS.md). Empty when unset, equal (in any case) or when matlas has no choice.
+std::string kernel_override_note(const char* user_choice, const std::string& wanted);
+/// The same for this process's environment and processor.
+std::string kernel_override_note();
+
 /// What runs, for reports: OpenBLAS's configuration string, e.g.
 /// "OpenBLAS 0.3.21 NO_LAPACKE DYNAMIC_ARCH NO_AFFINITY SkylakeX MAX_THREADS=64".
 std::string description();

@@ -41,6 +41,16 @@ TEST(BlasKernel, TheLoadedLibraryRunsTheChosenKernelsAndTheEnvironmentIsUnchange
   EXPECT_NE(blas::description().find("OpenBLAS"), std::string::npos);
 }
 
+TEST(BlasKernel, ANoteSaysWhenTheUsersVariableOverridesMatlassChoice) {
+  EXPECT_EQ(blas::kernel_override_note(nullptr, "SkylakeX"), "");   // unset: matlas chooses
+  EXPECT_EQ(blas::kernel_override_note("skylakex", "SkylakeX"), "");  // the same kernels, any case
+  EXPECT_EQ(blas::kernel_override_note("Haswell", ""), "");          // matlas has no choice to offer
+  const std::string note = blas::kernel_override_note("Haswell", "SkylakeX");
+  EXPECT_NE(note.find("OPENBLAS_CORETYPE=Haswell"), std::string::npos) << note;
+  EXPECT_NE(note.find("SkylakeX"), std::string::npos) << note;
+  EXPECT_NE(note.find("unset"), std::string::npos) << note;
+}
+
 TEST(BlasRoutines, ComputeWhatEigenComputes) {
   const blas::Library& lib = blas::openblas();
   const int n = 37, k = 11;
