@@ -10,6 +10,7 @@
 
 #include "core/check.h"
 #include "core/error.h"
+#include "core/huge_pages.h"
 
 namespace matlas::atlas {
 
@@ -153,7 +154,9 @@ LatentGrid latent_grid(const Model& model, const LatentPlane& plane, int cols, i
   if (projected.size() == static_cast<std::size_t>(g.variance.size())) {
     model.weights_from_gp_batch(g.weights, mode);
   } else if (!projected.empty()) {
-    Eigen::MatrixXd part = g.weights(Eigen::all, projected);
+    Eigen::MatrixXd part(g.weights.rows(), static_cast<Eigen::Index>(projected.size()));
+    advise_huge_pages(part.data(), static_cast<std::size_t>(part.size()) * sizeof(double));
+    part = g.weights(Eigen::all, projected);
     model.weights_from_gp_batch(part, mode);
     g.weights(Eigen::all, projected) = part;
   }

@@ -4,21 +4,20 @@
 #include <cstdlib>
 #include <cstring>
 #include <new>
-#include <sys/mman.h>
+
+#include "core/huge_pages.h"
 
 namespace matlas {
 
 namespace {
-constexpr std::size_t kHugePage = 2u << 20;
-
 double* allocate(std::size_t size) {
   if (size == 0) return nullptr;
   const std::size_t bytes = size * sizeof(double);
-  const std::size_t alignment = bytes >= kHugePage ? kHugePage : 64;
+  const std::size_t alignment = bytes >= kHugePageBytes ? kHugePageBytes : 64;
   const std::size_t rounded = (bytes + alignment - 1) / alignment * alignment;
   void* p = std::aligned_alloc(alignment, rounded);
   if (!p) throw std::bad_alloc();
-  if (alignment == kHugePage) ::madvise(p, rounded, MADV_HUGEPAGE);  // a hint; ignore failure
+  advise_huge_pages(p, rounded);
   return static_cast<double*>(p);
 }
 }  // namespace

@@ -130,7 +130,8 @@ void run_build(const BuildArgs& a, const Io& io) {
               r.pass_steps.sweep, r.pass_steps.products, r.pass_steps.read);
   // Which kernels the Gram matrices and the placement ran on (OPENBLAS_CORETYPE overrides).
   print(io.out, "  blas             %s\n", blas::description().c_str());
-  print(io.err, "%s", blas::kernel_override_note().c_str());
+  if (const std::string note = blas::kernel_override_note(); !note.empty())
+    print(io.out, "  blas note        %s\n", note.c_str());
 }
 
 void add_build_command(CLI::App& app, const Io& io) {

@@ -99,9 +99,9 @@ std::string kernel_override_note(const char* user_choice, const std::string& wan
     return v;
   };
   if (lower(user_choice) == lower(wanted)) return "";
-  return std::string("note: OPENBLAS_CORETYPE=") + user_choice +
-         " in the environment chooses OpenBLAS's kernels; on this processor matlas would run the " + wanted +
-         " kernels (docs/BENCHMARKS.md compares them): unset the variable to let it choose\n";
+  return std::string("OPENBLAS_CORETYPE=") + user_choice +
+         " in the environment chose these kernels; on this processor matlas would run the " + wanted +
+         " kernels (docs/BENCHMARKS.md compares them): unset the variable to let it choose";
 }
 
 std::string kernel_override_note() {

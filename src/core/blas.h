@@ -76,7 +76,7 @@ int inverse_from_cholesky(int n, double* a, int lda);
 /// which the SkylakeX kernels use.
 std::string kernel_for(bool avx512, bool avx2_fma);
 
-/// A note for the user when OPENBLAS_CORETYPE is set (`user_choice`, the variable's value; null
+/// A note for the user (one sentence) when OPENBLAS_CORETYPE is set (`user_choice`, the variable's value; null
 /// when unset) to other kernels than matlas would choose on this processor (`wanted`, from
 /// kernel_for): the user's choice wins, but on this 2-core AMD EPYC VM an environment's "Haswell"
 /// ran the Gram products and the map's products at about half the speed of the SkylakeX kernels

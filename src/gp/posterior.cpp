@@ -7,6 +7,7 @@
 
 #include "core/check.h"
 #include "core/blas.h"
+#include "core/huge_pages.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "core/vector_math.h"
@@ -123,6 +124,7 @@ GpPosterior::Batch GpPosterior::predict_batch(const Eigen::MatrixXd& points) con
   const Eigen::Index n = X_.rows(), m = points.rows(), q = X_.cols();
   Batch b;
   b.weights.resize(n, m);
+  advise_huge_pages(b.weights.data(), static_cast<std::size_t>(b.weights.size()) * sizeof(double));
   b.variance.resize(m);
   if (m == 0) return b;
   MATLAS_CHECK_EQ(llt_.matrixLLT().rows(), n);
