@@ -58,7 +58,7 @@ sectors_read() { awk '{print $3}' "/sys/block/$device/stat" 2>/dev/null || echo 
 sectors0=$(sectors_read)
 time_step build 7200 "$bin" build "$db" -o "$model" --dim 5 || { cat "$work/build.log"; exit 1; }
 say "$(printf 'build: %.1f GB read from disk (/sys/block/%s/stat; the database is %s)' \
-  "$(echo "($(sectors_read) - $sectors0) * 512 / 1e9" | bc -l)" "$device" "$(du -shL "$db" | cut -f1)")"
+  "$(echo "($(sectors_read) - $sectors0) * 512 / 1000000000" | bc -l)" "$device" "$(du -shL "$db" | cut -f1)")"
 cat "$work/build.log" | tee -a "$summary"
 build_wall=$(cut -d' ' -f1 "$work/build.time")
 build_rss=$(cut -d' ' -f4 "$work/build.time")
