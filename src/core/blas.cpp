@@ -24,7 +24,7 @@ void bind(void* handle, const char* name, F& f) {
 
 Library load() {
   // OPENBLAS_CORETYPE is read once, by the library's initialiser during dlopen.
-  const std::string kernel = std::getenv(kCoreVariable) ? "" : kernel_for(cpu_has_avx512_skx(), cpu_has_avx2_fma());
+  const std::string kernel = std::getenv(kCoreVariable) ? "" : kernel_for_this_processor();
   if (!kernel.empty()) ::setenv(kCoreVariable, kernel.c_str(), 0);
   void* handle = ::dlopen(kSoname, RTLD_NOW | RTLD_LOCAL);
   const char* error = handle ? nullptr : ::dlerror();
@@ -92,6 +92,8 @@ std::string kernel_for(bool avx512, bool avx2_fma) {
   return "";
 }
 
+std::string kernel_for_this_processor() { return kernel_for(cpu_has_avx512_skx(), cpu_has_avx2_fma()); }
+
 std::string kernel_override_note(const char* user_choice, const std::string& wanted) {
   if (user_choice == nullptr || wanted.empty()) return "";
   const auto lower = [](std::string v) {
@@ -105,7 +107,7 @@ std::string kernel_override_note(const char* user_choice, const std::string& wan
 }
 
 std::string kernel_override_note() {
-  return kernel_override_note(std::getenv(kCoreVariable), kernel_for(cpu_has_avx512_skx(), cpu_has_avx2_fma()));
+  return kernel_override_note(std::getenv(kCoreVariable), kernel_for_this_processor());
 }
 
 std::string description() { return openblas().config(); }

@@ -75,12 +75,13 @@ int inverse_from_cholesky(int n, double* a, int lda);
 /// features, or "" to leave the choice to OpenBLAS. AVX-512 here means F, CD, BW, DQ and VL,
 /// which the SkylakeX kernels use.
 std::string kernel_for(bool avx512, bool avx2_fma);
+/// kernel_for this processor's features.
+std::string kernel_for_this_processor();
 
-/// A note for the user (one sentence) when OPENBLAS_CORETYPE is set (`user_choice`, the variable's value; null
-/// when unset) to other kernels than matlas would choose on this processor (`wanted`, from
-/// kernel_for): the user's choice wins, but on this 2-core AMD EPYC VM an environment's "Haswell"
-/// ran the Gram products and the map's products at about half the speed of the SkylakeX kernels
-/// (docs/BENCHMARKS.md). Empty when unset, equal (in any case) or when matlas has no choice.
+/// A note for the user (one sentence) when OPENBLAS_CORETYPE is set (`user_choice`, the variable's
+/// value; null when unset) to other kernels than matlas would choose (`wanted`): the user's choice
+/// wins, but it can cost half the speed (docs/BENCHMARKS.md, "OpenBLAS's kernels"). Empty when
+/// unset, equal (in any case) or when matlas has no choice.
 std::string kernel_override_note(const char* user_choice, const std::string& wanted);
 /// The same for this process's environment and processor.
 std::string kernel_override_note();

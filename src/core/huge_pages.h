@@ -4,7 +4,7 @@
 // A fresh allocation of hundreds of MB (the map grid's weights at n = 1000: 1000 x 16,384 doubles,
 // 131 MB) is paged in on first touch, 4 KiB at a time: on a virtual machine each fault is
 // costly (on the 2-core AMD EPYC VM the faults of the map layer's fresh matrices took about a
-// quarter of an albedo layer's time, docs/BENCHMARKS.md "Map layers"). Where the kernel gives
+// quarter of an albedo layer's time, docs/BENCHMARKS.md "Huge pages for the grid's weights"). Where the kernel gives
 // huge pages only on request (transparent_hugepage "madvise", Debian's default), asking for them
 // on the buffer before it is touched makes each fault map 2 MiB.
 #include <cstddef>

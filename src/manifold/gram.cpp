@@ -96,7 +96,7 @@ public:
       start = now;
     };
     // A share larger than the machine's memory: what has been read leaves the page cache first
-    // (1000 materials, 33 GB on 23 GB: 11 GB read from disk instead of 23, docs/BENCHMARKS.md).
+    // (manifold/read_ahead.h).
     const bool release = ReadAhead::worth_releasing(n_ * (result_.end_value - result_.first_value) * sizeof(double));
     ReadAhead ahead([this](std::size_t first, std::size_t count) { set_.prefetch(first, count); },
                     result_.first_value, result_.end_value, kReadAheadBlocks * step_, kReadAheadChunk * step_,
