@@ -1,4 +1,5 @@
 // matlas build DIR|FILES... -o MODEL.matlas --dim q: build a material manifold.
+#include <charconv>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -173,8 +174,18 @@ void add_build_command(CLI::App& app, const Io& io) {
   cmd->add_option("--tolerance", args->tolerance, "Optimiser relative tolerance")
       ->check(finite_number() & CLI::PositiveNumber)
       ->capture_default_str();
-  cmd->add_option("--block-columns", args->block_columns, "Columns per streamed block")
-      ->check(CLI::Range(std::size_t{64}, std::size_t{1} << 24))
+  cmd->add_option("--block-columns", args->block_columns,
+                  "Columns per streamed block, 64 or more; 0: by the number of materials (4096 up to 511, "
+                  "16384 from 512 on, narrower where a block would pass 256 MB)")
+      ->check(CLI::Validator(
+          [](const std::string& text) -> std::string {
+            std::size_t v = 0;
+            const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+            const bool ok = ec == std::errc{} && end == text.data() + text.size() &&
+                            (v == 0 || (v >= 64 && v <= (std::size_t{1} << 24)));
+            return ok ? "" : "must be 0 or a whole number from 64 to 16777216";
+          },
+          "0 or 64..16777216"))
       ->capture_default_str();
   cmd->add_option("--interpolation", args->interpolation,
                   "convex (default: non-negative weights summing to 1, every table a convex combination of "

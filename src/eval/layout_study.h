@@ -49,7 +49,7 @@ struct StudyOptions {
   double compared_values_budget = 1e9;
   int projection_starts = 3; ///< multi-start count of the projection
   FitOptions fit{};
-  std::size_t block_columns = 4096;
+  std::size_t block_columns = 0;  ///< 0: by the number of materials (manifold/gram.h)
   unsigned seed = 1;         ///< pair selection
 };
 

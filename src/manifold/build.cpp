@@ -344,7 +344,8 @@ void finish_model(const MaterialSet& set, const BuildOptions& options, const Gra
       meta["sources"][i]["xxh3_64_of_parts"] = hex64(g.hashes[i]);
     }
   }
-  if (ranks > 1) meta["distributed"] = {{"ranks", ranks}, {"block_columns", options.block_columns}};
+  if (ranks > 1)
+    meta["distributed"] = {{"ranks", ranks}, {"block_columns", resolved_block_columns(options.block_columns, set.size())}};
   meta["log_likelihood"] = report.log_likelihood;
   meta["optimizer"] = {{"method", gp::to_string(options.optimize.method)},
                        {"iterations", report.optimization.iterations},

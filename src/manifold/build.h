@@ -43,7 +43,9 @@ struct BuildOptions {
   /// Relative ridge of the convex mode's metric (gp/convex_weights.h).
   double convex_ridge = 1e-2;
   Storage storage = Storage::f32;    ///< precision of the stored centred data
-  std::size_t block_columns = 4096;  ///< columns per streamed block (all n materials: 3 MB for n = 100, cache-resident)
+  /// Columns per streamed block (all n materials); 0: by the number of materials
+  /// (default_block_columns in manifold/gram.h: 4096 up to 511 materials, wider from 512 on).
+  std::size_t block_columns = 0;
 
   /// The settings of Soler et al. 2018 (`matlas build --preset paper`): the plain likelihood
   /// (no latent priors) of the linear data with nugget 1e-4 and l = 1, Hooke-Jeeves from one

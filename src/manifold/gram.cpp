@@ -25,9 +25,11 @@ namespace {
 constexpr std::size_t kReadRows = 10;
 /// Materials per albedo task.
 constexpr std::size_t kAlbedoRows = 25;
-/// Files not in the page cache: the read-ahead thread keeps the disk kReadAheadBlocks blocks
-/// ahead of the pass (2 MB per file at n = 1000), asking for kReadAheadChunk blocks at a time.
-constexpr std::size_t kReadAheadBlocks = 64, kReadAheadChunk = 8;
+/// Files not in the page cache: the read-ahead thread keeps the disk kReadAheadValues values of
+/// every file (2 MB) ahead of the pass, asking for kReadAheadChunk values (256 KB) at a time, or
+/// a block at a time when blocks are wider. In values, not blocks: the window's memory (2 GB at
+/// n = 1000) does not grow with the block width.
+constexpr std::size_t kReadAheadValues = std::size_t{1} << 18, kReadAheadChunk = std::size_t{1} << 15;
 
 using SparseOperator = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 
@@ -99,7 +101,8 @@ public:
     // (manifold/read_ahead.h).
     const bool release = ReadAhead::worth_releasing(n_ * (result_.end_value - result_.first_value) * sizeof(double));
     ReadAhead ahead([this](std::size_t first, std::size_t count) { set_.prefetch(first, count); },
-                    result_.first_value, result_.end_value, kReadAheadBlocks * step_, kReadAheadChunk * step_,
+                    result_.first_value, result_.end_value, std::max(kReadAheadValues, 2 * step_),
+                    std::max(kReadAheadChunk, step_),
                     release ? ReadAhead::Request([this](std::size_t first, std::size_t count) { set_.release(first, count); })
                             : nullptr);
     begin_read(b0);
@@ -260,9 +263,16 @@ private:
 
 }  // namespace
 
+std::size_t default_block_columns(std::size_t n) {
+  constexpr std::size_t kNarrow = 4096, kWide = 16384, kManyFiles = 512, kMaxBlockBytes = std::size_t{256} << 20;
+  if (n < kManyFiles) return kNarrow;
+  const std::size_t fitting = kMaxBlockBytes / (n * sizeof(double)) / GramAccumulator::kSlice * GramAccumulator::kSlice;
+  return std::clamp(fitting, kNarrow, kWide);
+}
+
 GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout, std::size_t block_columns,
                            ProgressSink& progress, RawBlockVisitor* raw, PassShare share) {
-  return Pass(set, layout, block_columns, raw, share).run(progress);
+  return Pass(set, layout, resolved_block_columns(block_columns, set.size()), raw, share).run(progress);
 }
 
 void require_kept_columns(const GramResult& g) {

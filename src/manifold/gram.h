@@ -64,12 +64,25 @@ struct PassShare {
   int part = 0, parts = 1;
 };
 
+/// Columns per block of a pass over n materials when none is asked for (block_columns 0). Up to
+/// 511 materials, 4096 (n = 100: a 3 MB block that stays in the last-level cache between the
+/// pass's steps; 8192 was slower); from 512 on, 16384, each file read 128 KB at a time, which
+/// at n = 1000 takes the kernel's share of the pass from 17-27 s to 11-12 s of processor time
+/// (docs/BENCHMARKS.md, "The build against its floor"), narrowed to a multiple of the Gram's
+/// slices (1024 columns) so that a block stays within 256 MB (at least 4096 columns).
+std::size_t default_block_columns(std::size_t n);
+
+/// block_columns when it is not 0, else default_block_columns(n).
+inline std::size_t resolved_block_columns(std::size_t block_columns, std::size_t n) {
+  return block_columns != 0 ? block_columns : default_block_columns(n);
+}
+
 /// One streaming pass over the set, block_columns columns of all materials at a time (a block
 /// and what is derived from it are meant to stay in the last-level cache between the pass's
 /// steps). Results do not depend on the number of threads. The blocks are the same whatever the
 /// share, so a share's means and raw blocks are exactly those of the whole pass; its Gram
-/// matrices and albedo curves are partial sums. Throws when the whole pass (not a share) keeps
-/// no column.
+/// matrices and albedo curves are partial sums. block_columns 0: default_block_columns. Throws
+/// when the whole pass (not a share) keeps no column.
 GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout, std::size_t block_columns,
                            ProgressSink& progress, RawBlockVisitor* raw = nullptr, PassShare share = {});
 

@@ -166,6 +166,34 @@ TEST(GramPass, SharesAddUpToTheWholePass) {
   }
 }
 
+// The automatic block width: narrow for a few hundred files, wide from 512 on, never a block past
+// 256 MB nor narrower than 4096 columns, a multiple of the Gram's slices; 0 asks for it.
+TEST(GramPass, BlockWidthFollowsTheNumberOfMaterials) {
+  EXPECT_EQ(default_block_columns(1), 4096u);
+  EXPECT_EQ(default_block_columns(511), 4096u);
+  EXPECT_EQ(default_block_columns(512), 16384u);
+  EXPECT_EQ(default_block_columns(1000), 16384u);
+  EXPECT_EQ(default_block_columns(2048), 16384u);   // 256 MB exactly
+  EXPECT_EQ(default_block_columns(3000), 10240u);   // 11184 columns fit, rounded down to slices
+  EXPECT_EQ(default_block_columns(10000), 4096u);   // 3355 fit: the narrowest width instead
+  for (const std::size_t n : {600u, 1500u, 2500u, 4000u, 6000u, 8191u}) {
+    const std::size_t w = default_block_columns(n);
+    EXPECT_EQ(w % GramAccumulator::kSlice, 0u) << n;
+    EXPECT_TRUE(w == 4096 || n * w * sizeof(double) <= (std::size_t{256} << 20)) << n;
+  }
+  EXPECT_EQ(resolved_block_columns(0, 1000), 16384u);
+  EXPECT_EQ(resolved_block_columns(700, 1000), 700u);
+
+  TempDir dir;
+  const auto paths = database_with_gaps(dir / "db", 6);
+  const MaterialSet set = MaterialSet::open(paths);
+  const LayoutTransform layout = LayoutTransform::parse("cosine-cbrt");
+  const GramResult automatic = accumulate_gram(set, layout, 0, null_progress());
+  const GramResult narrow = accumulate_gram(set, layout, 4096, null_progress());
+  EXPECT_EQ(automatic.gram, narrow.gram);  // 6 materials: the 4096-column blocks, bit for bit
+  EXPECT_EQ(automatic.layout_gram, narrow.layout_gram);
+}
+
 TEST(KeptRuns, SplitAtRangeBoundariesAndCompact) {
   const std::vector<std::uint8_t> kept = {1, 1, 0, 1, 1, 1, 1, 0, 0, 1};
   const KeptRuns r = kept_runs(kept.data(), kept.size(), 4);
