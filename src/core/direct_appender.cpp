@@ -4,12 +4,15 @@
 #include <condition_variable>
 #include <cstdlib>
 #include <cstring>
+#include <deque>
 #include <exception>
 #include <fcntl.h>
 #include <mutex>
 #include <sys/stat.h>
 #include <thread>
 #include <unistd.h>
+#include <utility>
+#include <vector>
 
 #include "core/error.h"
 #include "core/file_io.h"
@@ -37,57 +40,65 @@ struct DirectAppender::State {
   std::filesystem::path path;
   int fd = -1;
   std::uint64_t next_offset = 0;  ///< file offset of the buffer being filled
-  AlignedBuffer buffers[2];
   int filling = 0;                ///< index of the buffer being filled
   std::size_t filled = 0;         ///< bytes staged in it
 
-  // The writer thread: at most one buffer in flight while the other fills.
+  // The writer thread writes the queued buffers in order while others fill; everything below is
+  // guarded by `mutex` (buffers grows under it: the writer reads an address there).
   std::mutex mutex;
   std::condition_variable changed;
-  bool busy = false, stop = false;
-  int pending_buffer = -1;
-  std::uint64_t pending_offset = 0;
+  std::vector<AlignedBuffer> buffers;             ///< allocated as needed, at most kMaxBuffers
+  std::vector<int> idle;                          ///< buffers free to fill
+  std::deque<std::pair<int, std::uint64_t>> queue;  ///< full buffers and their offsets, to write in order
+  bool writing = false, stop = false;
   std::exception_ptr failure;
   std::thread thread;
 
   void run() {
     std::unique_lock lock(mutex);
     for (;;) {
-      changed.wait(lock, [&] { return stop || pending_buffer >= 0; });
-      if (pending_buffer < 0) return;
-      const int b = pending_buffer;
-      const std::uint64_t offset = pending_offset;
+      changed.wait(lock, [&] { return stop || !queue.empty(); });
+      if (stop) return;
+      const auto [b, offset] = queue.front();
+      queue.pop_front();
+      const std::byte* data = buffers[static_cast<std::size_t>(b)].get();
+      const bool skip = static_cast<bool>(failure);  // after a failure, buffers are only recycled
+      writing = true;
       lock.unlock();
       std::exception_ptr error;
-      try {
-        write_all_at(fd, path, buffers[b].get(), kBufferBytes, offset);
-      } catch (...) {
-        error = std::current_exception();
+      if (!skip) {
+        try {
+          write_all_at(fd, path, data, kBufferBytes, offset);
+        } catch (...) {
+          error = std::current_exception();
+        }
       }
       lock.lock();
       if (error && !failure) failure = error;
-      pending_buffer = -1;
-      busy = false;
+      idle.push_back(b);
+      writing = false;
       changed.notify_all();
     }
   }
 
-  /// Waits until the writer is idle; rethrows its failure.
-  void wait_idle(std::unique_lock<std::mutex>& lock) {
-    changed.wait(lock, [&] { return !busy; });
-    if (failure) std::rethrow_exception(failure);
-  }
-
+  /// Queues the buffer being filled and starts filling another: an idle one, a new one while
+  /// fewer than kMaxBuffers exist, else the first the writer frees. Rethrows a write failure.
   void submit_full_buffer() {
     std::unique_lock lock(mutex);
-    wait_idle(lock);
-    busy = true;
-    pending_buffer = filling;
-    pending_offset = next_offset;
+    if (failure) std::rethrow_exception(failure);
+    queue.emplace_back(filling, next_offset);
     changed.notify_all();
     next_offset += kBufferBytes;
-    filling = 1 - filling;
     filled = 0;
+    if (idle.empty() && buffers.size() < kMaxBuffers) {
+      buffers.push_back(aligned_buffer());
+      filling = static_cast<int>(buffers.size()) - 1;
+      return;
+    }
+    changed.wait(lock, [&] { return !idle.empty(); });
+    if (failure) std::rethrow_exception(failure);
+    filling = idle.back();
+    idle.pop_back();
   }
 };
 
@@ -110,8 +121,7 @@ std::unique_ptr<DirectAppender> DirectAppender::open(const std::filesystem::path
   state->path = path;
   state->fd = fd;
   state->next_offset = offset;
-  state->buffers[0] = aligned_buffer();
-  state->buffers[1] = aligned_buffer();
+  state->buffers.push_back(aligned_buffer());
   State* s = state.get();
   state->thread = std::thread([s] { s->run(); });
   return std::unique_ptr<DirectAppender>(new DirectAppender(std::move(state)));
@@ -134,7 +144,7 @@ void DirectAppender::append(const void* data, std::size_t bytes) {
   const auto* p = static_cast<const std::byte*>(data);
   while (bytes > 0) {
     const std::size_t n = std::min(bytes, kBufferBytes - s.filled);
-    std::memcpy(s.buffers[s.filling].get() + s.filled, p, n);
+    std::memcpy(s.buffers[static_cast<std::size_t>(s.filling)].get() + s.filled, p, n);
     s.filled += n;
     p += n;
     bytes -= n;
@@ -145,8 +155,9 @@ void DirectAppender::append(const void* data, std::size_t bytes) {
 std::span<const std::byte> DirectAppender::finish() {
   State& s = *state_;
   std::unique_lock lock(s.mutex);
-  s.wait_idle(lock);
-  return {s.buffers[s.filling].get(), s.filled};
+  s.changed.wait(lock, [&] { return s.queue.empty() && !s.writing; });
+  if (s.failure) std::rethrow_exception(s.failure);
+  return {s.buffers[static_cast<std::size_t>(s.filling)].get(), s.filled};
 }
 
 std::uint64_t DirectAppender::tail_offset() const { return state_->next_offset; }
