@@ -27,8 +27,8 @@ constexpr std::size_t kReadRows = 10;
 constexpr std::size_t kAlbedoRows = 25;
 /// Files not in the page cache: the read-ahead thread keeps the disk kReadAheadValues values of
 /// every file (2 MB) ahead of the pass, asking for kReadAheadChunk values (256 KB) at a time, or
-/// a block at a time when blocks are wider. In values, not blocks: the window's memory (2 GB at
-/// n = 1000) does not grow with the block width.
+/// a block at a time when blocks are wider. In values, not blocks: the window (2 GB of page cache
+/// at n = 1000) does not grow with the block width.
 constexpr std::size_t kReadAheadValues = std::size_t{1} << 18, kReadAheadChunk = std::size_t{1} << 15;
 
 using SparseOperator = Eigen::SparseMatrix<double, Eigen::RowMajor>;

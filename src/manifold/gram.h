@@ -67,9 +67,9 @@ struct PassShare {
 /// Columns per block of a pass over n materials when none is asked for (block_columns 0). Up to
 /// 511 materials, 4096 (n = 100: a 3 MB block that stays in the last-level cache between the
 /// pass's steps; 8192 was slower); from 512 on, 16384, each file read 128 KB at a time, which
-/// at n = 1000 takes the kernel's share of the pass from 17-27 s to 11-12 s of processor time
-/// (docs/BENCHMARKS.md, "The build against its floor"), narrowed to a multiple of the Gram's
-/// slices (1024 columns) so that a block stays within 256 MB (at least 4096 columns).
+/// at n = 1000 takes the build's system time from 16-27 s to 11-13 s and its median wall time
+/// from 73 to 68 s (docs/BENCHMARKS.md, "The build against its floor"), narrowed to a multiple
+/// of the Gram's slices (1024 columns) so that a block stays within 256 MB (at least 4096).
 std::size_t default_block_columns(std::size_t n);
 
 /// block_columns when it is not 0, else default_block_columns(n).
