@@ -24,9 +24,7 @@ public:
   static constexpr std::size_t kBufferBytes = 16u << 20;
   /// Staging buffers at most (allocated as the appends need them: 96 MB). A build appends each
   /// block's data at once (49 MB for 1000 materials): with two buffers, the appending thread
-  /// waited for the disk twice per block (I/O wait 9 core-seconds per 1000-material build, 3-5
-  /// with six; the same wall time on a disk that keeps up: docs/BENCHMARKS.md, "The build
-  /// against its floor").
+  /// waited for the disk twice per block (CHANGELOG.md, thirty-sixth session).
   static constexpr std::size_t kMaxBuffers = 6;
 
   /// Opens `path` (an existing file) for direct writes starting at `offset` (a multiple of

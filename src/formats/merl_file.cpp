@@ -170,19 +170,16 @@ void MerlFile::check_range(std::size_t first, std::size_t count) const {
   if (first + count > value_count()) throw file_error(path_, "read past the end of the table (internal error)");
 }
 
-void MerlFile::prefetch(std::size_t first, std::size_t count) const {
+void MerlFile::advise(std::size_t first, std::size_t count, int advice) const {
   if (first >= value_count()) return;
   count = std::min(count, value_count() - first);
   ::posix_fadvise(fd_, static_cast<off_t>(kHeaderBytes + first * sizeof(double)),
-                  static_cast<off_t>(count * sizeof(double)), POSIX_FADV_WILLNEED);
+                  static_cast<off_t>(count * sizeof(double)), advice);
 }
 
-void MerlFile::release(std::size_t first, std::size_t count) const {
-  if (first >= value_count()) return;
-  count = std::min(count, value_count() - first);
-  ::posix_fadvise(fd_, static_cast<off_t>(kHeaderBytes + first * sizeof(double)),
-                  static_cast<off_t>(count * sizeof(double)), POSIX_FADV_DONTNEED);
-}
+void MerlFile::prefetch(std::size_t first, std::size_t count) const { advise(first, count, POSIX_FADV_WILLNEED); }
+
+void MerlFile::release(std::size_t first, std::size_t count) const { advise(first, count, POSIX_FADV_DONTNEED); }
 
 void MerlFile::read_values(std::size_t first, std::size_t count, double* out) const {
   check_range(first, count);

@@ -69,6 +69,8 @@ private:
   MerlFile() = default;
   /// Throws (internal error) when [first, first + count) is not inside the table.
   void check_range(std::size_t first, std::size_t count) const;
+  /// posix_fadvise(advice) on the bytes of values [first, first + count), clipped to the table.
+  void advise(std::size_t first, std::size_t count, int advice) const;
   /// One read of values [first, first + count) into out, then the NaN/Inf check.
   void read_checked(std::size_t first, std::size_t count, double* out) const;
 

@@ -80,11 +80,16 @@ TEST(AtomicFile, StreamedAppendsAfterAnUnalignedHeadRoundTrip) {
   EXPECT_TRUE(back.compare(header.size(), body.size(), body) == 0);
 }
 
+/// A direct appender on a new empty file at `path`; null where the file system has no direct I/O.
+std::unique_ptr<DirectAppender> open_empty(const std::filesystem::path& path) {
+  write_file_atomic(path, std::string());
+  return DirectAppender::open(path, 0);
+}
+
 TEST(DirectAppender, WritesWholeBuffersAndHandsBackTheTail) {
   test::TempDir dir;
   const auto path = dir / "direct.bin";
-  write_file_atomic(path, std::string());
-  auto direct = DirectAppender::open(path, 0);
+  auto direct = open_empty(path);
   if (!direct) GTEST_SKIP() << "the file system of " << dir.path() << " has no direct I/O";
   const std::string data = random_bytes(DirectAppender::kBufferBytes + 4100, 4);
   direct->append(data.data(), data.size());
@@ -102,8 +107,7 @@ TEST(DirectAppender, WritesWholeBuffersAndHandsBackTheTail) {
 TEST(DirectAppender, RecycledBuffersKeepTheirOrder) {
   test::TempDir dir;
   const auto path = dir / "direct.bin";
-  write_file_atomic(path, std::string());
-  auto direct = DirectAppender::open(path, 0);
+  auto direct = open_empty(path);
   if (!direct) GTEST_SKIP() << "the file system of " << dir.path() << " has no direct I/O";
   const std::size_t buffers = DirectAppender::kMaxBuffers + 3;
   const std::string data = random_bytes(buffers * DirectAppender::kBufferBytes + 999, 5);
