@@ -40,6 +40,17 @@ MATLAS_SIMD_CLONES bool any_unusable(const double* values, std::size_t n) {
   return bad != 0;
 }
 
+/// The same for values stored at any alignment.
+MATLAS_SIMD_CLONES bool any_unusable(const std::byte* values, std::size_t n) {
+  unsigned bad = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    double v;
+    std::memcpy(&v, values + i * sizeof(double), sizeof v);
+    bad |= static_cast<unsigned>(!(std::fabs(v) <= kMaxMerlMagnitude));
+  }
+  return bad != 0;
+}
+
 /// Throws unless a file of `size` bytes can hold the header.
 void check_header_fits(const fs::path& path, std::uint64_t size) {
   if (size == 0) throw file_error(path, "empty file, expected a MERL .binary BRDF");
@@ -65,11 +76,13 @@ MerlDims checked_dims(const fs::path& path, const std::int32_t header[3], std::u
 }
 
 /// Throws, naming the first unusable value of chunk[0, n) (values first.. of a table of `dims`).
-void check_values(const fs::path& path, const MerlDims& dims, std::size_t first, const double* chunk,
+template <class Values>
+void check_values(const fs::path& path, const MerlDims& dims, std::size_t first, const Values* chunk,
                   std::size_t n) {
   if (!any_unusable(chunk, n)) return;
   for (std::size_t i = 0; i < n; ++i) {
-    const double v = chunk[i];
+    double v;
+    std::memcpy(&v, reinterpret_cast<const std::byte*>(chunk) + i * sizeof(double), sizeof v);
     if (v <= kMaxMerlMagnitude && v >= -kMaxMerlMagnitude) continue;
     const std::size_t index = first + i, bins = dims.bins();
     const std::string where = std::string(" in the ") + channel_name(index / bins) + " channel at bin " +
@@ -162,8 +175,12 @@ MerlFile::~MerlFile() {
 }
 
 void MerlFile::read_checked(std::size_t first, std::size_t n, double* chunk) const {
-  read_exact_at(fd_, path_, chunk, n * sizeof(double), kHeaderBytes + first * sizeof(double));
+  read_exact_at(fd_, path_, chunk, n * sizeof(double), value_offset(first));
   check_values(path_, dims_, first, chunk, n);
+}
+
+void MerlFile::check(std::size_t first, const std::byte* values, std::size_t count) const {
+  check_values(path_, dims_, first, values, count);
 }
 
 void MerlFile::check_range(std::size_t first, std::size_t count) const {

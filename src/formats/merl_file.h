@@ -11,6 +11,7 @@
 #include <string_view>
 
 #include "brdf/brdf_table.h"
+#include "core/direct_reader.h"
 
 namespace matlas {
 
@@ -46,14 +47,23 @@ public:
   /// pages leave the page cache first (posix_fadvise DONTNEED). Advisory.
   void release(std::size_t first, std::size_t count) const;
 
+  /// A reader of this file's bytes around the page cache (core/direct_reader.h), for a pass over a
+  /// database larger than memory; it reads the bytes of values [first, first + count) from
+  /// value_offset(first). The file must outlive it.
+  DirectReader direct_reader() const { return DirectReader(fd_, path_); }
+  static constexpr std::uint64_t value_offset(std::size_t first) { return kHeaderBytes + first * sizeof(double); }
+  /// Throws, as read_values does, when one of `count` values read from value index `first` (their
+  /// stored bytes, at any alignment) is NaN, infinite or beyond kMaxMerlMagnitude.
+  void check(std::size_t first, const std::byte* values, std::size_t count) const;
+
   /// Values per chunk of visit_values (64 KiB: the chunk stays in L1/L2 while visited).
   static constexpr std::size_t kVisitChunk = 8192;
   /// Reads values [first, first + count) through a small cache-resident buffer and calls
-  /// visit(chunk, offset, length) for consecutive chunks (offset counted from `first`), each
-  /// already checked for NaN and infinities (same errors as read_values). For callers that
-  /// transform the values anyway: the kernel copies into a buffer that stays in cache, and the
-  /// caller's single pass writes the destination, instead of a copy into a large destination
-  /// followed by passes over it.
+  /// visit(chunk, offset, length) for consecutive chunks (offset counted from `first`): the stored
+  /// bytes of `length` values, each already checked for NaN and infinities (same errors as
+  /// read_values). For callers that transform the values anyway: the kernel copies into a buffer
+  /// that stays in cache, and the caller's single pass writes the destination, instead of a copy
+  /// into a large destination followed by passes over it.
   template <class Visit>
   void visit_values(std::size_t first, std::size_t count, Visit&& visit) const {
     check_range(first, count);
@@ -61,7 +71,20 @@ public:
     for (std::size_t done = 0; done < count; done += kVisitChunk) {
       const std::size_t n = count - done < kVisitChunk ? count - done : kVisitChunk;
       read_checked(first + done, n, buffer);
-      visit(static_cast<const double*>(buffer), done, n);
+      visit(reinterpret_cast<const std::byte*>(buffer), done, n);
+    }
+  }
+  /// The same for values [first, first + count) whose stored bytes were read elsewhere (a
+  /// BlockPrefetch) and may have any alignment: each chunk is checked, then visited in place (the
+  /// visitor loads the values with memcpy, so no copy is made).
+  template <class Visit>
+  void visit_bytes(const std::byte* bytes, std::size_t first, std::size_t count, Visit&& visit) const {
+    check_range(first, count);
+    for (std::size_t done = 0; done < count; done += kVisitChunk) {
+      const std::size_t n = count - done < kVisitChunk ? count - done : kVisitChunk;
+      const std::byte* chunk = bytes + done * sizeof(double);
+      check(first + done, chunk, n);
+      visit(chunk, done, n);
     }
   }
 

@@ -8,6 +8,7 @@
 
 #include <xxhash.h>
 
+#include "manifold/block_prefetch.h"
 #include "manifold/column_blocks.h"
 
 namespace matlas {
@@ -34,11 +35,19 @@ struct RowGroupSums {
   std::uint8_t* kept = nullptr;   ///< count entries, overwritten with 1 where every row >= 0; required
 };
 
+/// Where read_block_rows takes a block's values: from the files (no prefetch), or from block
+/// `block` of a prefetch, which must be the block of columns asked for.
+struct PrefetchedBlock {
+  BlockPrefetch* prefetch = nullptr;
+  std::size_t block = 0;
+};
+
 /// Reads rows [row_begin, row_end) of block columns [first, first + count) into the same rows of
 /// `values` (n x count, physical units). hashers[i], when hashers is not null, is updated with
 /// material i's stored bytes: calling this for consecutive blocks hashes each whole file.
 /// Throws matlas::Error naming the file on a read error or a non-finite value.
 void read_block_rows(const MaterialSet& set, std::size_t first, std::size_t count, std::size_t row_begin,
-                     std::size_t row_end, BlockMatrix& values, XXH3_state_t* const* hashers, RowGroupSums sums);
+                     std::size_t row_end, BlockMatrix& values, XXH3_state_t* const* hashers, RowGroupSums sums,
+                     PrefetchedBlock prefetched = {});
 
 }  // namespace matlas

@@ -2,12 +2,15 @@
 
 #include <algorithm>
 #include <chrono>
+#include <memory>
+#include <optional>
 
 #include "brdf/albedo_operator.h"
 #include "core/communicator.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "manifold/block_centring.h"
+#include "manifold/block_prefetch.h"
 #include "manifold/block_rows.h"
 #include "manifold/column_blocks.h"
 #include "manifold/gram_update.h"
@@ -62,8 +65,8 @@ std::vector<AlbedoEntry> albedo_entries(const SparseOperator& op, std::size_t bi
 class Pass {
 public:
   Pass(const MaterialSet& set, const LayoutTransform& layout, std::size_t block_columns, RawBlockVisitor* raw,
-       PassShare share)
-      : set_(set), layout_(layout), raw_(raw), n_(set.size()), bins_(set.dims().bins()),
+       PassShare share, PassReads reads)
+      : set_(set), layout_(layout), raw_(raw), reads_(reads), n_(set.size()), bins_(set.dims().bins()),
         total_(set.value_count()), step_(std::max<std::size_t>(1, std::min(block_columns, total_))),
         blocks_(share_of((total_ + step_ - 1) / step_, share.part, share.parts)), whole_(share.parts == 1),
         groups_((n_ + kReadRows - 1) / kReadRows), separate_layout_(!layout.is_identity()),
@@ -99,12 +102,18 @@ public:
     };
     // A share larger than the machine's memory: what has been read leaves the page cache first
     // (manifold/read_ahead.h).
-    const bool release = ReadAhead::worth_releasing(n_ * (result_.end_value - result_.first_value) * sizeof(double));
-    ReadAhead ahead([this](std::size_t first, std::size_t count) { set_.prefetch(first, count); },
+    // Such a share is read ahead around the page cache (manifold/block_prefetch.h).
+    const bool larger = ReadAhead::worth_releasing(n_ * (result_.end_value - result_.first_value) * sizeof(double));
+    std::optional<ReadAhead> ahead;
+    if (reads_ == PassReads::prefetch || (reads_ == PassReads::automatic && larger)) {
+      prefetch_ = std::make_unique<BlockPrefetch>(set_, step_, b0, blocks);
+    } else {
+      ahead.emplace([this](std::size_t first, std::size_t count) { set_.prefetch(first, count); },
                     result_.first_value, result_.end_value, std::max(kReadAheadValues, 2 * step_),
                     std::max(kReadAheadChunk, step_),
-                    release ? ReadAhead::Request([this](std::size_t first, std::size_t count) { set_.release(first, count); })
-                            : nullptr);
+                    larger ? ReadAhead::Request([this](std::size_t first, std::size_t count) { set_.release(first, count); })
+                           : nullptr);
+    }
     begin_read(b0);
     parallel_for_each(0, groups_, [&](std::size_t g) { read_group(b0, g); });
     end_read(b0);
@@ -115,7 +124,7 @@ public:
       sweep(block, runs);
       lap(result_.steps.sweep);
       const bool next = b + 1 < blocks;
-      ahead.advance(first_of(b + 1));
+      if (ahead) ahead->advance(first_of(b + 1));
       if (next) begin_read(b + 1);
       products(block, runs, next ? b + 1 : kNoBlock);
       lap(result_.steps.products);
@@ -145,10 +154,11 @@ private:
     const std::size_t first = first_of(b), count = count_of(b);
     const std::size_t r0 = g * kReadRows, r1 = std::min(n_, r0 + kReadRows);
     read_block_rows(set_, first, count, r0, r1, values_, hashers_.data(),
-                    {group_sums_.data() + g * step_, group_kept_.data() + g * step_});
+                    {group_sums_.data() + g * step_, group_kept_.data() + g * step_}, {prefetch_.get(), b});
   }
 
   void end_read(std::size_t b) {
+    if (prefetch_) prefetch_->done(b);  // every row of block b is in values_
     const std::size_t first = first_of(b), count = count_of(b);
     kept_.assign(count, 1);
     for (std::size_t g = 0; g < groups_; ++g) {
@@ -237,6 +247,7 @@ private:
   const MaterialSet& set_;
   const LayoutTransform layout_;
   RawBlockVisitor* const raw_;
+  const PassReads reads_;
   const std::size_t n_, bins_, total_, step_;
   const std::pair<std::size_t, std::size_t> blocks_;  ///< the share's blocks [first, second)
   const bool whole_;                                  ///< the share is the whole pass
@@ -259,6 +270,7 @@ private:
   Eigen::RowVectorXd albedo_of_mean_;
   std::vector<double> mean_;  ///< per kept column so far
   GramResult result_;
+  std::unique_ptr<BlockPrefetch> prefetch_;  ///< when the pass reads ahead around the page cache
 };
 
 }  // namespace
@@ -271,8 +283,8 @@ std::size_t default_block_columns(std::size_t n) {
 }
 
 GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout, std::size_t block_columns,
-                           ProgressSink& progress, RawBlockVisitor* raw, PassShare share) {
-  return Pass(set, layout, resolved_block_columns(block_columns, set.size()), raw, share).run(progress);
+                           ProgressSink& progress, RawBlockVisitor* raw, PassShare share, PassReads reads) {
+  return Pass(set, layout, resolved_block_columns(block_columns, set.size()), raw, share, reads).run(progress);
 }
 
 void require_kept_columns(const GramResult& g) {

@@ -77,6 +77,11 @@ inline std::size_t resolved_block_columns(std::size_t block_columns, std::size_t
   return block_columns != 0 ? block_columns : default_block_columns(n);
 }
 
+/// How a pass reads the files: automatic (the default) reads ahead around the page cache
+/// (BlockPrefetch) when the pass's share of the data exceeds the machine's memory, else through the
+/// page cache with the kernel's read-ahead (ReadAhead); page_cache and prefetch ask for one.
+enum class PassReads { automatic, page_cache, prefetch };
+
 /// One streaming pass over the set, block_columns columns of all materials at a time (a block
 /// and what is derived from it are meant to stay in the last-level cache between the pass's
 /// steps). Results do not depend on the number of threads. The blocks are the same whatever the
@@ -84,7 +89,8 @@ inline std::size_t resolved_block_columns(std::size_t block_columns, std::size_t
 /// matrices and albedo curves are partial sums. block_columns 0: default_block_columns. Throws
 /// when the whole pass (not a share) keeps no column.
 GramResult accumulate_gram(const MaterialSet& set, const LayoutTransform& layout, std::size_t block_columns,
-                           ProgressSink& progress, RawBlockVisitor* raw = nullptr, PassShare share = {});
+                           ProgressSink& progress, RawBlockVisitor* raw = nullptr, PassShare share = {},
+                           PassReads reads = PassReads::automatic);
 
 /// Throws matlas::Error when no column is kept (the inputs have no common measurements).
 void require_kept_columns(const GramResult& g);

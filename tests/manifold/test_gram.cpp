@@ -3,10 +3,12 @@
 // alone, blocks that do not divide the data, and sweep ranges cut short.
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <gtest/gtest.h>
 
 #include "brdf/albedo_operator.h"
 #include "brdf/merl_grid.h"
+#include "core/error.h"
 #include "manifold/gram.h"
 #include "manifold/gram_update.h"
 #include "manifold/kept_runs.h"
@@ -192,6 +194,62 @@ TEST(GramPass, BlockWidthFollowsTheNumberOfMaterials) {
   const GramResult narrow = accumulate_gram(set, layout, 4096, null_progress());
   EXPECT_EQ(automatic.gram, narrow.gram);  // 6 materials: the 4096-column blocks, bit for bit
   EXPECT_EQ(automatic.layout_gram, narrow.layout_gram);
+}
+
+// Reads ahead around the page cache (BlockPrefetch, the default for databases larger than memory)
+// give the page cache's results bit for bit: blocks that do not divide the data, shares, the
+// hashes of the files; and the same errors: a NaN read, a file cut short after it was opened.
+TEST(GramPass, PrefetchedReadsGiveThePageCacheResults) {
+  TempDir dir;
+  auto paths = database_with_gaps(dir / "db", 7);
+  const MaterialSet set = MaterialSet::open(paths);
+  const LayoutTransform layout = LayoutTransform::parse("cosine-cbrt");
+  for (const std::size_t block : {std::size_t{700}, std::size_t{4096}}) {
+    for (const int parts : {1, 2}) {
+      SCOPED_TRACE("blocks of " + std::to_string(block) + ", " + std::to_string(parts) + " shares");
+      for (int part = 0; part < parts; ++part) {
+        const GramResult cached =
+            accumulate_gram(set, layout, block, null_progress(), nullptr, {part, parts}, PassReads::page_cache);
+        const GramResult ahead =
+            accumulate_gram(set, layout, block, null_progress(), nullptr, {part, parts}, PassReads::prefetch);
+        EXPECT_EQ(ahead.kept, cached.kept);
+        EXPECT_EQ(ahead.mean, cached.mean);
+        EXPECT_EQ(ahead.gram, cached.gram);
+        EXPECT_EQ(ahead.gram_low, cached.gram_low);
+        EXPECT_EQ(ahead.layout_gram, cached.layout_gram);
+        EXPECT_EQ(ahead.albedo, cached.albedo);
+        EXPECT_EQ(ahead.hashes, cached.hashes);
+      }
+    }
+  }
+
+  // A NaN in the fourth file, far into the table: the error names the file and the bin.
+  {
+    std::fstream bad(paths[3], std::ios::in | std::ios::out | std::ios::binary);  // write_merl refuses a NaN
+    const double nan = std::nan("");
+    bad.seekp(static_cast<std::streamoff>(MerlFile::value_offset(5000)));
+    bad.write(reinterpret_cast<const char*>(&nan), sizeof nan);
+    bad.close();
+    const MaterialSet with_nan = MaterialSet::open(paths);
+    try {
+      accumulate_gram(with_nan, layout, 700, null_progress(), nullptr, {}, PassReads::prefetch);
+      ADD_FAILURE() << "a NaN was read without an error";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("m3.binary"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("NaN value in the blue channel at bin 1160"), std::string::npos) << e.what();
+    }
+  }
+  // The sixth file cut short after the set was opened (changed during a build).
+  paths = database_with_gaps(dir / "db2", 7);
+  const MaterialSet cut = MaterialSet::open(paths);
+  std::filesystem::resize_file(paths[5], std::filesystem::file_size(paths[5]) - 3000);
+  try {
+    accumulate_gram(cut, layout, 700, null_progress(), nullptr, {}, PassReads::prefetch);
+    ADD_FAILURE() << "a truncated file was read without an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("m5.binary"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("truncated"), std::string::npos) << e.what();
+  }
 }
 
 TEST(KeptRuns, SplitAtRangeBoundariesAndCompact) {
