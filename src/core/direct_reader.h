@@ -5,8 +5,9 @@
 // evicting from the cache pages that could not stay there anyway; the same bytes read directly
 // cost 6 s (docs/BENCHMARKS.md, "Direct reads").
 //
-// A range the page cache already holds in full (cachestat, Linux 6.5 on) is read from the cache
-// instead: copying it is cheaper than the device. Where the file system refuses direct I/O (tmpfs)
+// A range the page cache already holds in full (cachestat, Linux 6.5 on) can be read from the
+// cache instead, when the caller would rather spend processor time copying than wait for the
+// device. Where the file system refuses direct I/O (tmpfs)
 // or the kernel has no cachestat, reads fall back to the page cache and to the device
 // respectively; the bytes read are the same either way.
 #include <cstddef>
@@ -36,9 +37,11 @@ public:
   /// Bytes a buffer needs for read(offset, size): the range widened to kAlignment at both ends.
   static std::size_t span(std::uint64_t offset, std::size_t size);
   /// Reads bytes [offset, offset + size) into `buffer` (kAlignment-aligned, span(offset, size)
-  /// bytes) and returns where byte `offset` landed in it. Throws matlas::Error naming the file on
-  /// a read error or when the file ends before offset + size.
-  const std::byte* read(std::uint64_t offset, std::size_t size, std::byte* buffer) const;
+  /// bytes) and returns where byte `offset` landed in it: from the page cache when it holds them
+  /// all and `from_cache` (copying costs the processor; the device, only waiting), else from the
+  /// device. Throws matlas::Error naming the file on a read error or when the file ends before
+  /// offset + size.
+  const std::byte* read(std::uint64_t offset, std::size_t size, std::byte* buffer, bool from_cache = true) const;
 
 private:
   /// Whether the page cache holds every page of the range (false when the kernel cannot tell).

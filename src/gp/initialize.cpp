@@ -68,17 +68,18 @@ Eigen::MatrixXd pca_initialization(const LikelihoodProblem& p, int q, bool searc
   LikelihoodEvaluator evaluator(p);  // validates the problem
   const Eigen::Index n = p.gram.rows();
   if (q < 1) throw Error("pca_initialization: latent dimension must be >= 1 (got " + std::to_string(q) + ")");
-  // Work on S / sigma so that the eigenvectors do not depend on the data scale.
-  const SymmetricEigen eig = symmetric_eigen(p.gram / evaluator.scale());
+  // The principal axes of S / sigma (so that they do not depend on the data scale), each scaled by
+  // the square root of its eigenvalue: the last columns of the likelihood's factor R (S / sigma =
+  // R R^T, eigenvalues ascending; those below 1e-13 of the largest are not there: zero axes).
+  const Eigen::MatrixXd& R = evaluator.factor().R;
   Eigen::MatrixXd X = Eigen::MatrixXd::Zero(n, q);
-  const Eigen::Index available = std::min<Eigen::Index>(q, n);
+  const Eigen::Index available = std::min<Eigen::Index>(q, R.cols());
   for (Eigen::Index k = 0; k < available; ++k) {
-    const Eigen::Index col = n - 1 - k;  // eigenvalues ascend
-    Eigen::VectorXd u = eig.vectors.col(col);
+    Eigen::VectorXd u = R.col(R.cols() - 1 - k);
     Eigen::Index imax = 0;
     u.cwiseAbs().maxCoeff(&imax);
     if (u[imax] < 0) u = -u;
-    X.col(k) = u * std::sqrt(std::max(0.0, eig.values[col]));
+    X.col(k) = u;
   }
   const double rms = std::sqrt(X.squaredNorm() / static_cast<double>(n));
   if (!(rms > 0)) return X;  // no variation at all: nothing to scale

@@ -40,6 +40,38 @@ void mirror_lower(Eigen::MatrixXd& A) {
 
 }  // namespace
 
+std::shared_ptr<const GramFactor> gram_factor(const Eigen::MatrixXd& S) {
+  if (S.rows() != S.cols() || S.rows() == 0)
+    throw Error("likelihood: the Gram matrix must be square and non-empty (got " + dims(S.rows(), S.cols()) + ")");
+  if (!S.allFinite()) throw Error("likelihood: the Gram matrix contains NaN or infinity");
+  const double n = static_cast<double>(S.rows());
+  auto f = std::make_shared<GramFactor>();
+  f->sigma = S.trace() / n;
+  if (!(f->sigma > 0))
+    throw Error("likelihood: the Gram matrix has trace " + std::to_string(S.trace()) +
+                " (all data rows equal, or not a Gram matrix)");
+  // S~ = S / sigma has trace n; its eigen-decomposition gives R with S~ = R R^T. The solver reads
+  // the lower triangle only, so a slightly asymmetric input is taken as symmetric.
+  const SymmetricEigen eig = symmetric_eigen(S / f->sigma);
+  const Eigen::VectorXd& lambda = eig.values;  // ascending
+  const double top = lambda[lambda.size() - 1];
+  if (lambda[0] < -1e-6 * top)
+    throw Error("likelihood: the Gram matrix is not positive semidefinite (eigenvalue " + std::to_string(lambda[0]) +
+                " vs largest " + std::to_string(top) + ", relative to tr(S)/n)");
+  Eigen::Index first = 0;
+  while (first < lambda.size() && lambda[first] <= 1e-13 * top) ++first;
+  const Eigen::Index r = lambda.size() - first;
+  MATLAS_CHECK_GT(r, Eigen::Index{0});  // lambda sums to n > 0, so the largest is kept
+  f->R = eig.vectors.rightCols(r) * lambda.tail(r).cwiseSqrt().asDiagonal();
+  return f;
+}
+
+LikelihoodProblem with_factor(const LikelihoodProblem& p) {
+  LikelihoodProblem q = p;
+  if (!q.factor) q.factor = gram_factor(q.gram);
+  return q;
+}
+
 LikelihoodEvaluator::LikelihoodEvaluator(const LikelihoodProblem& p)
     : columns_(p.columns), kernel_(p.kernel), beta_(p.prior.complexity_weight) {
   validate(kernel_);
@@ -54,34 +86,15 @@ LikelihoodEvaluator::LikelihoodEvaluator(const LikelihoodProblem& p)
   precision_ = p.prior.precision;
   if (!(precision_ >= 0) || !std::isfinite(precision_))
     throw Error("likelihood: the latent precision must be finite and >= 0, got " + std::to_string(precision_));
-  const Eigen::MatrixXd& S = p.gram;
-  if (S.rows() != S.cols() || S.rows() == 0)
-    throw Error("likelihood: the Gram matrix must be square and non-empty (got " + dims(S.rows(), S.cols()) + ")");
-  if (!S.allFinite()) throw Error("likelihood: the Gram matrix contains NaN or infinity");
   if (!std::isfinite(columns_) || columns_ <= 0)
     throw Error("likelihood: the number of data columns must be finite and > 0 (got " + std::to_string(columns_) + ")");
-  const double n = static_cast<double>(S.rows());
-  sigma_ = S.trace() / n;
-  if (!(sigma_ > 0))
-    throw Error("likelihood: the Gram matrix has trace " + std::to_string(S.trace()) +
-                " (all data rows equal, or not a Gram matrix)");
-  // S~ = S / sigma has trace n; its eigen-decomposition gives R with S~ = R R^T. The solver reads
-  // the lower triangle only, so a slightly asymmetric input is taken as symmetric.
-  const SymmetricEigen eig = symmetric_eigen(S / sigma_);
-  const Eigen::VectorXd& lambda = eig.values;  // ascending
-  const double top = lambda[lambda.size() - 1];
-  if (lambda[0] < -1e-6 * top)
-    throw Error("likelihood: the Gram matrix is not positive semidefinite (eigenvalue " + std::to_string(lambda[0]) +
-                " vs largest " + std::to_string(top) + ", relative to tr(S)/n)");
-  Eigen::Index first = 0;
-  while (first < lambda.size() && lambda[first] <= 1e-13 * top) ++first;
-  const Eigen::Index r = lambda.size() - first;
-  MATLAS_CHECK_GT(r, Eigen::Index{0});  // lambda sums to n > 0, so the largest is kept
-  R_ = eig.vectors.rightCols(r) * lambda.tail(r).cwiseSqrt().asDiagonal();
+  factor_ = p.factor ? p.factor : gram_factor(p.gram);
+  MATLAS_CHECK_EQ(factor_->R.rows(), p.gram.rows());
 }
 
 double LikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, Eigen::MatrixXd* gradient) {
-  const Eigen::Index n = R_.rows();
+  const Eigen::MatrixXd& R = factor_->R;
+  const Eigen::Index n = R.rows();
   if (X.rows() != n)
     throw Error("likelihood: " + std::to_string(X.rows()) + " latent points for a Gram matrix of " +
                 std::to_string(n) + " items");
@@ -97,7 +110,7 @@ double LikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, Eigen::MatrixXd
   // (Eigen's are compiled for baseline x86-64 here): K^-1 from the Cholesky factor, then
   // B = K^-1 R in one dsymm (docs/GP.md, "Evaluation"; two triangular solves took twice as long).
   const blas::Library& blas = blas::openblas();
-  const int nn = static_cast<int>(n), r = static_cast<int>(R_.cols());
+  const int nn = static_cast<int>(n), r = static_cast<int>(R.cols());
   L_.resize(n, n);
   for_each_column(n, [&](Eigen::Index j) { L_.col(j) = K_.col(j); });
   int info = blas::tiled_cholesky(nn, L_.data(), nn);
@@ -115,8 +128,8 @@ double LikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, Eigen::MatrixXd
   // blocks over the workers (with OpenBLAS single-threaded, one dsymm left the other cores idle).
   mirror_lower(Kinv_);
   B_.resize(n, r);
-  blas::tiled_product(nn, r, nn, 1.0, Kinv_.data(), nn, R_.data(), nn, B_.data(), nn);
-  const double t = (R_.array() * B_.array()).sum();
+  blas::tiled_product(nn, r, nn, 1.0, Kinv_.data(), nn, R.data(), nn, B_.data(), nn);
+  const double t = (R.array() * B_.array()).sum();
   if (!(t > 0) || !std::isfinite(t))
     throw Error("likelihood: tr(K^-1 S) is not positive (" + std::to_string(t) + "): K is too ill-conditioned");
   double value = -beta_ * log_det - nd * std::log(t / nd) - nd;
@@ -186,8 +199,8 @@ double LikelihoodEvaluator::normalized(const Eigen::MatrixXd& X, Eigen::MatrixXd
 }
 
 double LikelihoodEvaluator::to_log_likelihood(double normalized_value) const {
-  const double n = static_cast<double>(R_.rows());
-  return columns_ * (normalized_value - n * std::log(sigma_ / columns_));
+  const double n = static_cast<double>(factor_->R.rows());
+  return columns_ * (normalized_value - n * std::log(factor_->sigma / columns_));
 }
 
 double LikelihoodEvaluator::operator()(const Eigen::MatrixXd& X, Eigen::MatrixXd* gradient) {

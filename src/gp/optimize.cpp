@@ -174,8 +174,10 @@ OptimizeResult optimize_latent(const LikelihoodProblem& p, Eigen::MatrixXd X0, c
   if (o.coarse < -1) throw Error("optimize_latent: the coarse subset's size must be >= 0 (0: all at once; -1: automatic)");
   if (o.max_iterations < -1) throw Error("optimize_latent: the iteration limit must be >= 0 (-1: automatic)");
   const OptimizeOptions r = o.resolved(X0.rows());
-  if (r.coarse > 0 && r.coarse < X0.rows()) return coarse_to_fine(p, X0, r, sink);
-  return optimize_all_at_once(p, X0, r, sink);
+  // The Gram's factor once for every evaluator of the placement (its scale search, its starts).
+  const LikelihoodProblem shared = with_factor(p);
+  if (r.coarse > 0 && r.coarse < X0.rows()) return coarse_to_fine(shared, X0, r, sink);
+  return optimize_all_at_once(shared, X0, r, sink);
 }
 
 OptimizeOptions OptimizeOptions::resolved(Eigen::Index n) const {

@@ -242,10 +242,12 @@ gp::OptimizeResult place_latent_points(const gp::LikelihoodProblem& problem, int
     return gp::optimize_sparse_latent(p, x0, sparse, o, progress);
   }
   // A coarse-to-fine placement scales its subset itself: the PCA start's own search is skipped.
+  // The Gram's factor (an eigen-decomposition) is computed once for the start and the placement.
   const Eigen::Index n = problem.gram.rows();
   const gp::OptimizeOptions resolved = optimize.resolved(n);
   const bool coarse = resolved.coarse > 0 && resolved.coarse < n;
-  return gp::optimize_latent(problem, gp::pca_initialization(problem, q, !coarse), resolved, progress);
+  const gp::LikelihoodProblem shared = gp::with_factor(problem);
+  return gp::optimize_latent(shared, gp::pca_initialization(shared, q, !coarse), resolved, progress);
 }
 
 namespace {
