@@ -1,10 +1,13 @@
 #include "core/file_io.h"
 
+#include <algorithm>
+
 #include <cerrno>
 #include <cstring>
 #include <string>
 #include <fcntl.h>
 #include <sys/stat.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include "core/error.h"
@@ -70,6 +73,17 @@ int open_regular_file(const std::filesystem::path& path, const std::string& expe
   const int flags = ::fcntl(fd, F_GETFL);
   if (flags >= 0) ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
   return fd;
+}
+
+bool allow_open_files(std::size_t count) {
+  rlimit limit{};
+  if (::getrlimit(RLIMIT_NOFILE, &limit) != 0) return false;
+  if (limit.rlim_cur == RLIM_INFINITY || limit.rlim_cur >= count) return true;
+  const rlim_t wanted = limit.rlim_max == RLIM_INFINITY ? static_cast<rlim_t>(count)
+                                                        : std::min<rlim_t>(limit.rlim_max, static_cast<rlim_t>(count));
+  if (wanted <= limit.rlim_cur) return false;
+  limit.rlim_cur = wanted;
+  return ::setrlimit(RLIMIT_NOFILE, &limit) == 0 && wanted >= count;
 }
 
 void read_exact_at(int fd, const std::filesystem::path& path, void* out, std::size_t bytes, std::uint64_t offset) {

@@ -23,6 +23,12 @@ void refuse_output_among_inputs(const std::filesystem::path& output, const std::
 /// "PATH: is a FIFO, not EXPECTED" (e.g. "a MERL .binary file").
 int open_regular_file(const std::filesystem::path& path, const std::string& expected);
 
+/// Makes room for `count` open files in this process: raises the soft limit on open descriptors
+/// (often 1024) towards the hard one when it is lower. A database of a thousand materials keeps a
+/// descriptor per file, and a pass that reads it around the page cache a second one. Returns
+/// whether the limit now allows `count`.
+bool allow_open_files(std::size_t count);
+
 /// What kind of file st_mode is, in words ("a directory", "a named pipe (FIFO)", ...).
 std::string file_kind(unsigned mode);
 

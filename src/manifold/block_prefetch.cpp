@@ -5,6 +5,7 @@
 #include <new>
 
 #include "core/check.h"
+#include "core/file_io.h"
 
 namespace matlas {
 
@@ -19,6 +20,7 @@ BlockPrefetch::BlockPrefetch(const MaterialSet& set, std::size_t step, std::size
   void* memory = std::aligned_alloc(DirectReader::kAlignment, slots_ * n_ * file_bytes_);
   if (memory == nullptr) throw std::bad_alloc();
   memory_ = {static_cast<std::byte*>(memory), std::free};
+  allow_open_files(2 * n_ + 256);  // a second descriptor per file (MaterialSet::open asked for the first)
   readers_.reserve(n_);
   for (std::size_t i = 0; i < n_; ++i) {
     readers_.push_back(set.file(i).direct_reader());

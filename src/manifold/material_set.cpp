@@ -5,6 +5,7 @@
 #include <set>
 
 #include "core/error.h"
+#include "core/file_io.h"
 #include "formats/rgl_bsdf.h"
 
 namespace matlas {
@@ -43,6 +44,8 @@ MaterialSet MaterialSet::open(const std::vector<fs::path>& inputs, ProgressSink&
       files.push_back(input);  // MerlFile reports missing or invalid files
     }
   }
+  // A descriptor per file, and room for what the commands open besides (outputs, libraries).
+  allow_open_files(files.size() + 256);
   std::set<std::string> seen;
   const auto rgl_count = static_cast<std::uint64_t>(std::count_if(files.begin(), files.end(), is_rgl_path));
   std::unique_ptr<ProgressTask> task;

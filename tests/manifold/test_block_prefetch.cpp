@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstring>
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 
 #include "core/error.h"
 #include "support/temp_dir.h"
@@ -62,6 +63,25 @@ TEST(BlockPrefetch, DeliversEveryBlockOfEveryFile) {
     BlockPrefetch dropped(set, 64, 0, set.value_count() / 64);
     expect_block(dropped, set, 64, 0, 2);
   }  // destroyed with reads outstanding: returns
+}
+
+// More files than a common soft limit on open descriptors allows (1024 on many systems; 128 here):
+// the set and the prefetch's second descriptors raise it towards the hard limit.
+TEST(BlockPrefetch, OpensMoreFilesThanTheSoftDescriptorLimit) {
+  rlimit saved{};
+  ASSERT_EQ(::getrlimit(RLIMIT_NOFILE, &saved), 0);
+  if (saved.rlim_max != RLIM_INFINITY && saved.rlim_max < 1000) GTEST_SKIP() << "hard limit " << saved.rlim_max;
+  test::TempDir dir;
+  const auto paths = small_database(dir / "db", 200);
+  rlimit low = saved;
+  low.rlim_cur = 128;
+  ASSERT_EQ(::setrlimit(RLIMIT_NOFILE, &low), 0);
+  {
+    const MaterialSet set = MaterialSet::open(paths);
+    BlockPrefetch prefetch(set, 500, 0, 3);
+    for (std::size_t i = 0; i < set.size(); i += 37) expect_block(prefetch, set, 500, 0, i);
+  }
+  ASSERT_EQ(::setrlimit(RLIMIT_NOFILE, &saved), 0);
 }
 
 TEST(BlockPrefetch, ReportsAReadErrorAtItsBlock) {
