@@ -71,11 +71,11 @@ bool DirectReader::cached(std::uint64_t offset, std::size_t size) const {
 #endif
 }
 
-const std::byte* DirectReader::read(std::uint64_t offset, std::size_t size, std::byte* buffer, bool from_cache) const {
+const std::byte* DirectReader::read(std::uint64_t offset, std::size_t size, std::byte* buffer) const {
   MATLAS_CHECK(reinterpret_cast<std::uintptr_t>(buffer) % kAlignment == 0, "a direct read's buffer is aligned");
   const std::uint64_t begin = align_down(offset), end = align_up(offset + size);
   std::byte* const at = buffer + (offset - begin);
-  if (direct_fd_ >= 0 && !(from_cache && cached(offset, size))) {
+  if (direct_fd_ >= 0 && !cached(offset, size)) {
     // Whole aligned blocks; the file may end inside the last one (a short read there).
     std::uint64_t done = 0;
     while (begin + done < end) {

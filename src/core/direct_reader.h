@@ -1,13 +1,14 @@
 #pragma once
 // DirectReader: reads byte ranges of an open file around the page cache (O_DIRECT), for passes
 // over data larger than memory. Through the page cache, a 1000-material build (33 GB on a 23 GB
-// machine) spent 13-21 s of its two cores' time in the kernel: copying, and adding to and
-// evicting from the cache pages that could not stay there anyway; the same bytes read directly
-// cost 6 s (docs/BENCHMARKS.md, "Direct reads").
+// machine) spent a fifth of its processor time in the kernel: copying, and adding to and evicting
+// from the cache pages that could not stay there anyway; read around it, a tenth
+// (docs/BENCHMARKS.md, "Direct reads").
 //
-// A range the page cache already holds in full (cachestat, Linux 6.5 on) can be read from the
-// cache instead, when the caller would rather spend processor time copying than wait for the
-// device. Where the file system refuses direct I/O (tmpfs)
+// A range the page cache already holds in full (cachestat, Linux 6.5 on) is read from the cache
+// instead: the device need not read it again (reading every range from the device saved no
+// measurable processor time and tripled the device's traffic after a warm read: 36 GB against
+// about 12 for the 1000-material build). Where the file system refuses direct I/O (tmpfs)
 // or the kernel has no cachestat, reads fall back to the page cache and to the device
 // respectively; the bytes read are the same either way.
 #include <cstddef>
@@ -38,10 +39,9 @@ public:
   static std::size_t span(std::uint64_t offset, std::size_t size);
   /// Reads bytes [offset, offset + size) into `buffer` (kAlignment-aligned, span(offset, size)
   /// bytes) and returns where byte `offset` landed in it: from the page cache when it holds them
-  /// all and `from_cache` (copying costs the processor; the device, only waiting), else from the
-  /// device. Throws matlas::Error naming the file on a read error or when the file ends before
-  /// offset + size.
-  const std::byte* read(std::uint64_t offset, std::size_t size, std::byte* buffer, bool from_cache = true) const;
+  /// all, else from the device. Throws matlas::Error naming the file on a read error or when the
+  /// file ends before offset + size.
+  const std::byte* read(std::uint64_t offset, std::size_t size, std::byte* buffer) const;
 
 private:
   /// Whether the page cache holds every page of the range (false when the kernel cannot tell).

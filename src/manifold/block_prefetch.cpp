@@ -47,25 +47,18 @@ void BlockPrefetch::run() {
   const std::size_t items = (end_ - first_) * n_, total = set_.value_count();
   for (;;) {
     std::size_t item = 0;
-    bool behind = false;
     {
       std::unique_lock lock(mutex_);
       freed_.wait(lock, [&] { return stopping_ || next_item_ >= items || next_item_ / n_ < done_ + slots_; });
       if (stopping_ || next_item_ >= items) return;
       item = next_item_++;
-      // Reads less than half the buffers ahead of the pass: the device is not keeping up, and a
-      // range the page cache holds is copied from it instead (processor time the pass would
-      // otherwise spend waiting). Further ahead, every read goes to the device, which costs the
-      // processor nothing.
-      behind = 2 * (item / n_ - done_) < slots_;
     }
     const std::size_t b = first_ + item / n_, i = item % n_, k = (item / n_) % slots_ * n_ + i;
     const std::size_t first = b * step_, count = std::min(step_, total - first);
     const std::byte* at = nullptr;
     std::exception_ptr error;
     try {
-      at = readers_[i].read(MerlFile::value_offset(first), count * sizeof(double), memory_.get() + k * file_bytes_,
-                            /*from_cache=*/behind);
+      at = readers_[i].read(MerlFile::value_offset(first), count * sizeof(double), memory_.get() + k * file_bytes_);
     } catch (...) {
       error = std::current_exception();
     }

@@ -7,7 +7,7 @@
 //
 // It replaces ReadAhead (manifold/read_ahead.h) where the page cache cannot hold the database
 // anyway: nothing is added to the cache, so nothing needs to be released from it, and the kernel
-// does not copy the bytes (docs/BENCHMARKS.md, "Direct reads").
+// copies only what the cache already held (docs/BENCHMARKS.md, "Direct reads").
 #include <condition_variable>
 #include <cstddef>
 #include <exception>
