@@ -1,16 +1,14 @@
 #pragma once
 // DirectReader: reads byte ranges of an open file around the page cache (O_DIRECT), for passes
-// over data larger than memory. Through the page cache, a 1000-material build (33 GB on a 23 GB
-// machine) spent a fifth of its processor time in the kernel: copying, and adding to and evicting
-// from the cache pages that could not stay there anyway; read around it, a tenth
-// (docs/BENCHMARKS.md, "Direct reads").
+// over data larger than memory: through the page cache, a 1000-material build (33 GB on a 23 GB
+// machine) added to the cache pages it could not keep, evicting what it had yet to read and what
+// other programs had there, and waited on the reads (docs/BENCHMARKS.md, "Direct reads").
 //
 // A range the page cache already holds in full (cachestat, Linux 6.5 on) is read from the cache
-// instead: the device need not read it again (reading every range from the device saved no
-// measurable processor time and tripled the device's traffic after a warm read: 36 GB against
-// about 12 for the 1000-material build). Where the file system refuses direct I/O (tmpfs)
-// or the kernel has no cachestat, reads fall back to the page cache and to the device
-// respectively; the bytes read are the same either way.
+// instead: the device need not read it again (reading it from the device as well gave no faster
+// build and tripled the device's traffic after a warm raw read: 36 GB against about 12). Where
+// the file system refuses direct I/O (tmpfs) or the kernel has no cachestat, reads fall back to
+// the page cache and to the device respectively; the bytes read are the same either way.
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>

@@ -68,7 +68,7 @@ struct PassShare {
 /// 511 materials, 4096 (n = 100: a 3 MB block that stays in the last-level cache between the
 /// pass's steps; 8192 was slower); from 512 on, 16384, each file read 128 KB at a time, which
 /// at n = 1000 takes the build's system time from 16-27 s to 11-13 s and its median wall time
-/// from 73 to 68 s (docs/BENCHMARKS.md, "The build against its floor"), narrowed to a multiple
+/// from 73 to 68 s (through the page cache: CHANGELOG.md, thirty-sixth session), narrowed to a multiple
 /// of the Gram's slices (1024 columns) so that a block stays within 256 MB (at least 4096).
 std::size_t default_block_columns(std::size_t n);
 

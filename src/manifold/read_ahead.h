@@ -9,9 +9,10 @@
 // (1000 materials: 33 GB on a 23 GB machine) cannot stay in the page cache anyway, and without
 // being told, the kernel evicts the least recently read pages: those of files the pass has yet to
 // read, which it then reads from disk twice. Released as the pass moves on, the 1000-material
-// build read 11 GB from disk instead of 23 GB (the disk's read counter; docs/BENCHMARKS.md "Disk
-// traffic and read-ahead"): half the traffic on shared storage, the same wall time on a fast
-// local disk.
+// build read 11 GB from disk instead of 23 GB (the disk's read counter; CHANGELOG.md,
+// thirty-fifth session): half the traffic on shared storage, the same wall time on a fast local
+// disk. The build's pass now reads such a database around the page cache instead
+// (manifold/block_prefetch.h); the evaluation's passes (column_blocks.h) still come here.
 //
 // Whenever the pass moves on (advance), the thread releases what lies a chunk or more behind it,
 // then issues what lies within `window` values ahead, `chunk` values at a time, in order, never
