@@ -100,9 +100,10 @@ public:
       seconds += std::chrono::duration<double>(now - start).count();
       start = now;
     };
-    // A share larger than the machine's memory: what has been read leaves the page cache first
-    // (manifold/read_ahead.h).
-    // Such a share is read ahead around the page cache (manifold/block_prefetch.h).
+    // A share larger than the machine's memory is read ahead around the page cache
+    // (manifold/block_prefetch.h); a smaller one through it, the disk asked a window ahead
+    // (manifold/read_ahead.h), and where page_cache reads are asked for a larger share, what has
+    // been read leaves the cache first.
     const bool larger = ReadAhead::worth_releasing(n_ * (result_.end_value - result_.first_value) * sizeof(double));
     std::optional<ReadAhead> ahead;
     if (reads_ == PassReads::prefetch || (reads_ == PassReads::automatic && larger)) {
