@@ -34,13 +34,8 @@ const char* channel_name(std::size_t c) {
 /// NaN, infinities and absurd magnitudes (beyond kMaxMerlMagnitude): one compare of |x| per
 /// value, or-ed without a branch, so that the loop vectorises (a NaN fails the compare). With
 /// `a <= M && a >= -M` GCC kept a scalar loop with a branch per value: 8 % of a build's reading.
-MATLAS_SIMD_CLONES bool any_unusable(const double* values, std::size_t n) {
-  unsigned bad = 0;
-  for (std::size_t i = 0; i < n; ++i) bad |= static_cast<unsigned>(!(std::fabs(values[i]) <= kMaxMerlMagnitude));
-  return bad != 0;
-}
-
-/// The same for values stored at any alignment.
+/// Whether one of n values stored at `values` (any alignment) is NaN, infinite or beyond
+/// kMaxMerlMagnitude.
 MATLAS_SIMD_CLONES bool any_unusable(const std::byte* values, std::size_t n) {
   unsigned bad = 0;
   for (std::size_t i = 0; i < n; ++i) {
@@ -76,13 +71,12 @@ MerlDims checked_dims(const fs::path& path, const std::int32_t header[3], std::u
 }
 
 /// Throws, naming the first unusable value of chunk[0, n) (values first.. of a table of `dims`).
-template <class Values>
-void check_values(const fs::path& path, const MerlDims& dims, std::size_t first, const Values* chunk,
+void check_values(const fs::path& path, const MerlDims& dims, std::size_t first, const std::byte* chunk,
                   std::size_t n) {
   if (!any_unusable(chunk, n)) return;
   for (std::size_t i = 0; i < n; ++i) {
     double v;
-    std::memcpy(&v, reinterpret_cast<const std::byte*>(chunk) + i * sizeof(double), sizeof v);
+    std::memcpy(&v, chunk + i * sizeof(double), sizeof v);
     if (v <= kMaxMerlMagnitude && v >= -kMaxMerlMagnitude) continue;
     const std::size_t index = first + i, bins = dims.bins();
     const std::string where = std::string(" in the ") + channel_name(index / bins) + " channel at bin " +
@@ -101,7 +95,7 @@ std::array<std::int32_t, 3> header_of(const MerlDims& dims) { return {dims.theta
 /// kMaxMerlMagnitude), naming the output and the first such value.
 void check_writable(const fs::path& path, const BrdfTable& table) {
   const auto values = table.stored();
-  if (!any_unusable(values.data(), values.size())) return;
+  if (!any_unusable(reinterpret_cast<const std::byte*>(values.data()), values.size())) return;
   for (std::size_t i = 0; i < values.size(); ++i) {
     if (std::fabs(values[i]) <= kMaxMerlMagnitude) continue;
     char text[32];
@@ -176,7 +170,7 @@ MerlFile::~MerlFile() {
 
 void MerlFile::read_checked(std::size_t first, std::size_t n, double* chunk) const {
   read_exact_at(fd_, path_, chunk, n * sizeof(double), value_offset(first));
-  check_values(path_, dims_, first, chunk, n);
+  check_values(path_, dims_, first, reinterpret_cast<const std::byte*>(chunk), n);
 }
 
 void MerlFile::check(std::size_t first, const std::byte* values, std::size_t count) const {
@@ -190,7 +184,7 @@ void MerlFile::check_range(std::size_t first, std::size_t count) const {
 void MerlFile::advise(std::size_t first, std::size_t count, int advice) const {
   if (first >= value_count()) return;
   count = std::min(count, value_count() - first);
-  ::posix_fadvise(fd_, static_cast<off_t>(kHeaderBytes + first * sizeof(double)),
+  ::posix_fadvise(fd_, static_cast<off_t>(value_offset(first)),
                   static_cast<off_t>(count * sizeof(double)), advice);
 }
 
@@ -242,7 +236,7 @@ BrdfTable decode_merl(std::string_view bytes, const fs::path& name) {
   const MerlDims dims = checked_dims(name, header, bytes.size());
   BrdfTable table(dims, ValueBuffer::Uninitialized{});
   std::memcpy(table.stored().data(), bytes.data() + MerlFile::kHeaderBytes, table.size() * sizeof(double));
-  check_values(name, dims, 0, table.stored().data(), table.size());
+  check_values(name, dims, 0, reinterpret_cast<const std::byte*>(table.stored().data()), table.size());
   return table;
 }
 

@@ -5,7 +5,6 @@
 #include <string>
 
 #include "core/error.h"
-#include "core/symmetric_eigen.h"
 
 namespace matlas::gp {
 

@@ -22,10 +22,7 @@ BlockPrefetch::BlockPrefetch(const MaterialSet& set, std::size_t step, std::size
   memory_ = {static_cast<std::byte*>(memory), std::free};
   allow_open_files(2 * n_ + 256);  // a second descriptor per file (MaterialSet::open asked for the first)
   readers_.reserve(n_);
-  for (std::size_t i = 0; i < n_; ++i) {
-    readers_.push_back(set.file(i).direct_reader());
-    direct_ = direct_ && readers_.back().direct();
-  }
+  for (std::size_t i = 0; i < n_; ++i) readers_.push_back(set.file(i).direct_reader());
   ready_.assign(slots_ * n_, 0);
   at_.assign(slots_ * n_, nullptr);
   error_.assign(slots_ * n_, nullptr);

@@ -39,8 +39,6 @@ public:
 
   /// Blocks held at once.
   std::size_t slots() const { return slots_; }
-  /// Whether every file is read around the page cache (false where a file system refuses).
-  bool direct() const { return direct_; }
 
   /// Waits until file i's values of block b have been read and returns their stored bytes (4 bytes
   /// off the alignment of a double, after the files' 12-byte header: MerlFile::visit_bytes reads
@@ -56,7 +54,6 @@ private:
   const std::size_t step_, first_, end_, n_;
   std::size_t file_bytes_ = 0;  ///< buffer bytes per file and block
   std::size_t slots_ = 0;
-  bool direct_ = true;
   std::vector<DirectReader> readers_;
   std::unique_ptr<std::byte, void (*)(void*)> memory_{nullptr, nullptr};
 
