@@ -16,7 +16,7 @@
 namespace matlas {
 namespace {
 
-constexpr MerlDims kDims{6, 6, 12};  // 432 bins, 1296 values
+constexpr MerlDims kPrefetchDims{6, 6, 12};  // 432 bins, 1296 values
 
 std::vector<std::filesystem::path> small_database(const std::filesystem::path& dir, int n) {
   std::filesystem::create_directories(dir);
@@ -25,7 +25,7 @@ std::vector<std::filesystem::path> small_database(const std::filesystem::path& d
     char name[32];
     std::snprintf(name, sizeof name, "p%d.binary", m);  // not string concatenation: GCC 12's -Wrestrict
     paths.push_back(dir / name);
-    write_merl(paths.back(), test::smooth_table(0.2 * m, 0.5, kDims), /*allow_nonstandard_dims=*/true);
+    write_merl(paths.back(), test::smooth_table(0.2 * m, 0.5, kPrefetchDims), /*allow_nonstandard_dims=*/true);
   }
   return paths;
 }
