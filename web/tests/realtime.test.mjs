@@ -34,8 +34,21 @@ before(async () => {
   page = context.pages()[0] ?? (await context.newPage());
   page.on("pageerror", (e) => console.error("page error:", e));
   await page.goto(url);
+  // Large arrays cross from the page as base64 of their bytes: a plain array of a million numbers
+  // took seconds to serialise.
+  await page.evaluate(() => {
+    window.testBase64 = (view) => {
+      const bytes = new Uint8Array(view.buffer, view.byteOffset, view.byteLength);
+      let text = "";
+      for (let i = 0; i < bytes.length; i += 0x8000) text += String.fromCharCode.apply(null, bytes.subarray(i, i + 0x8000));
+      return btoa(text);
+    };
+  });
   await shown();
 });
+
+/** The bytes of base64 text from the page's testBase64. */
+const fromBase64 = (text) => new Uint8Array(Buffer.from(text, "base64"));
 
 after(async () => {
   await context?.close();
@@ -53,19 +66,21 @@ async function shown() {
   await page.evaluate(() => window.matlasViewer.gl.draw());
 }
 
-/** The canvas's pixels (RGBA, top row first) as an array, after a fresh frame. */
-function canvasPixels() {
-  return page.evaluate(() => {
+/** The canvas's pixels (RGBA, top row first) as a Uint8Array, after a fresh frame. */
+async function canvasPixels() {
+  const { w, h, b64 } = await page.evaluate(() => {
     const { gl } = window.matlasViewer;
     gl.draw();
     const ctx = gl.renderer.getContext();
-    const w = ctx.drawingBufferWidth, h = ctx.drawingBufferHeight;
-    const px = new Uint8Array(w * h * 4);
+    const w = ctx.drawingBufferWidth, h = ctx.drawingBufferHeight, row = w * 4;
+    const px = new Uint8Array(w * h * 4), flipped = new Uint8Array(w * h * 4);
     ctx.readPixels(0, 0, w, h, ctx.RGBA, ctx.UNSIGNED_BYTE, px);
-    const out = new Array(w * h * 4);
-    for (let y = 0; y < h; ++y) for (let i = 0; i < w * 4; ++i) out[y * w * 4 + i] = px[(h - 1 - y) * w * 4 + i];
-    return { w, h, px: out };
+    for (let y = 0; y < h; ++y) flipped.set(px.subarray((h - 1 - y) * row, (h - y) * row), y * row);
+    return { w, h, b64: window.testBase64(flipped) };
   });
+  const px = fromBase64(b64);
+  assert.equal(px.length, w * h * 4);
+  return { w, h, px };
 }
 
 function setSlider(selector, value) {
@@ -88,15 +103,20 @@ test("the viewer's full frame equals the server's CPU reference within 1 %", asy
   // interactive path), so nothing depends on timing.
   await page.evaluate(() => window.matlasViewer.gl.resetCamera());
   const size = 128;
-  const { ref, view } = await page.evaluate(async ({ size }) => {
+  const encoded = await page.evaluate(async ({ size }) => {
     const v = window.matlasViewer, m = window.matlas;
     const res = await fetch("api/realtime/reference/radiance", {
       method: "POST", headers: { "Content-Type": "application/json" },
       body: JSON.stringify({ x: m.x, env: v.env, size, rotation: 0, exposure: 0 }),
     });
     if (!res.ok) throw new Error(`reference: ${res.status}`);
-    return { ref: Array.from(new Float32Array(await res.arrayBuffer())), view: Array.from(v.gl.radiance(2 * size)) };
+    return { ref: window.testBase64(new Float32Array(await res.arrayBuffer())), view: window.testBase64(v.gl.radiance(2 * size)) };
   }, { size });
+  const floats = (text) => {
+    const bytes = fromBase64(text);
+    return new Float32Array(bytes.buffer, bytes.byteOffset, bytes.byteLength / 4);
+  };
+  const ref = floats(encoded.ref), view = floats(encoded.view);
   let diff = 0, sum = 0, count = 0, worst = 0;
   for (let y = 0; y < size; ++y) {
     for (let x = 0; x < size; ++x) {
