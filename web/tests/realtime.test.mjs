@@ -33,10 +33,9 @@ before(async () => {
   });
   page = context.pages()[0] ?? (await context.newPage());
   page.on("pageerror", (e) => console.error("page error:", e));
-  await page.goto(url);
-  // Large arrays cross from the page as base64 of their bytes: a plain array of a million numbers
-  // took seconds to serialise.
-  await page.evaluate(() => {
+  // Large arrays cross from the page as base64 of their bytes (every page of the context, after
+  // any navigation): a plain array of a million numbers took seconds to serialise.
+  await context.addInitScript(() => {
     window.testBase64 = (view) => {
       const bytes = new Uint8Array(view.buffer, view.byteOffset, view.byteLength);
       let text = "";
@@ -44,6 +43,7 @@ before(async () => {
       return btoa(text);
     };
   });
+  await page.goto(url);
   await shown();
 });
 
