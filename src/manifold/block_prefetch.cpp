@@ -23,9 +23,7 @@ BlockPrefetch::BlockPrefetch(const MaterialSet& set, std::size_t step, std::size
   allow_open_files(2 * n_ + 256);  // a second descriptor per file (MaterialSet::open asked for the first)
   readers_.reserve(n_);
   for (std::size_t i = 0; i < n_; ++i) readers_.push_back(set.file(i).direct_reader());
-  ready_.assign(slots_ * n_, 0);
-  at_.assign(slots_ * n_, nullptr);
-  error_.assign(slots_ * n_, nullptr);
+  arrivals_.resize(slots_ * n_);
   const unsigned threads = static_cast<unsigned>(std::min<std::size_t>(kThreads, (end_ - first_) * n_));
   threads_.reserve(threads);
   for (unsigned t = 0; t < threads; ++t) threads_.emplace_back([this] { run(); });
@@ -61,9 +59,7 @@ void BlockPrefetch::run() {
     }
     {
       std::lock_guard lock(mutex_);
-      ready_[k] = b + 1;
-      at_[k] = at;
-      error_[k] = error;
+      arrivals_[k] = {b + 1, at, error};
     }
     arrived_.notify_all();
   }
@@ -74,9 +70,10 @@ const std::byte* BlockPrefetch::bytes(std::size_t b, std::size_t i) {
   const std::size_t k = (b - first_) % slots_ * n_ + i;
   std::unique_lock lock(mutex_);
   MATLAS_CHECK(b - first_ >= done_ && b - first_ < done_ + slots_, "a block the prefetch holds");
-  arrived_.wait(lock, [&] { return ready_[k] == b + 1; });
-  if (error_[k]) std::rethrow_exception(error_[k]);
-  return at_[k];
+  const Arrival& arrival = arrivals_[k];
+  arrived_.wait(lock, [&] { return arrival.block == b + 1; });
+  if (arrival.error) std::rethrow_exception(arrival.error);
+  return arrival.at;
 }
 
 void BlockPrefetch::done(std::size_t b) {

@@ -62,10 +62,13 @@ private:
   std::size_t next_item_ = 0;  ///< (b - first) * n + i of the next read to start
   std::size_t done_ = 0;       ///< blocks the pass is done with: reads may go up to done_ + slots_
   bool stopping_ = false;
-  /// Per slot and file: the block whose values are there (+1; 0 none yet), and pointers to them.
-  std::vector<std::size_t> ready_;
-  std::vector<const std::byte*> at_;
-  std::vector<std::exception_ptr> error_;  ///< per slot and file
+  /// What a read left in a slot's buffer for one file.
+  struct Arrival {
+    std::size_t block = 0;          ///< the block whose values are there, + 1 (0: none yet)
+    const std::byte* at = nullptr;  ///< where its values start
+    std::exception_ptr error;       ///< the read's error, if it failed
+  };
+  std::vector<Arrival> arrivals_;  ///< per slot and file
   std::vector<std::thread> threads_;
 };
 

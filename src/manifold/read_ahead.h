@@ -11,8 +11,8 @@
 // read, which it then reads from disk twice. Released as the pass moves on, the 1000-material
 // build read 11 GB from disk instead of 23 GB (the disk's read counter; CHANGELOG.md,
 // thirty-fifth session): half the traffic on shared storage, the same wall time on a fast local
-// disk. The build's pass now reads such a database around the page cache instead
-// (manifold/block_prefetch.h); the evaluation's passes (column_blocks.h) still come here.
+// disk. The build's pass reads such a database around the page cache instead
+// (manifold/block_prefetch.h); the evaluation's passes (column_blocks.h) come here.
 //
 // Whenever the pass moves on (advance), the thread releases what lies a chunk or more behind it,
 // then issues what lies within `window` values ahead, `chunk` values at a time, in order, never
