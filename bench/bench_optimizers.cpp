@@ -26,6 +26,7 @@
 #include "core/tiled_cholesky.h"
 #include "core/tiled_products.h"
 #include "gp/initialize.h"
+#include "gp/likelihood.h"
 #include "gp/optimize.h"
 
 namespace {
@@ -127,7 +128,9 @@ BENCHMARK(BM_InverseFromCholesky)->Iterations(5)->UseRealTime()->Unit(benchmark:
 
 /// The exact evaluation's dense steps at n = 1000 (a random SPD matrix, a factor R of rank n), each
 /// as one single-threaded OpenBLAS call and as the tiles that run on the workers (core/tiled_*.h),
-/// same run; counters in ms per call and the ratio single / tiled (on 2 cores at most 2).
+/// same run; counters in ms per call and the ratio single / tiled (on 2 cores at most 2). Also the
+/// Gram's factor (gram_factor: its eigen-decomposition, once per placement), in ms and in
+/// evaluations' dense steps (tiled).
 void BM_TiledSteps(benchmark::State& state) {
   using namespace matlas::blas;
   const int n = static_cast<int>(state.range(0));
@@ -136,7 +139,7 @@ void BM_TiledSteps(benchmark::State& state) {
   const Eigen::MatrixXd K = a * a.transpose() / n + Eigen::MatrixXd::Identity(n, n);
   const Eigen::MatrixXd R = Eigen::MatrixXd::Random(n, n);
   Eigen::MatrixXd L, W(n, n), Kinv(n, n), B(n, n), G(n, n);
-  double single[3] = {}, tiled[3] = {};
+  double single[3] = {}, tiled[3] = {}, factor = 0;
   const auto time = [](double& total, const auto& f) {
     const auto t0 = std::chrono::steady_clock::now();
     f();
@@ -156,6 +159,7 @@ void BM_TiledSteps(benchmark::State& state) {
       tiled_product(n, n, n, 1.0, Kinv.data(), n, R.data(), n, B.data(), n);
       tiled_lower_gram(n, n, 1.0, B.data(), n, 0.0, G.data(), n);
     });
+    time(factor, [&] { benchmark::DoNotOptimize(gram_factor(K)); });
   }
   const double calls = static_cast<double>(state.iterations());
   const char* names[3] = {"cholesky", "inverse", "products"};
@@ -164,6 +168,8 @@ void BM_TiledSteps(benchmark::State& state) {
     state.counters[std::string(names[k]) + "_tiled_ms"] = tiled[k] / calls * 1e3;
     state.counters[std::string(names[k]) + "_ratio"] = single[k] / tiled[k];
   }
+  state.counters["gram_factor_ms"] = factor / calls * 1e3;
+  state.counters["gram_factor_in_evaluations"] = factor / (tiled[0] + tiled[1] + tiled[2]);
 }
 BENCHMARK(BM_TiledSteps)->Arg(1000)->Iterations(10)->UseRealTime()->Unit(benchmark::kMillisecond);
 
