@@ -49,9 +49,8 @@ struct GramFactor {
 };
 
 /// Validates S and factorises it (an O(n^3) eigen-decomposition: 0.2 s for n = 1000, about five
-/// evaluations; docs/GP.md). Throws
-/// matlas::Error if S is not square, not finite, has zero trace (all data rows equal) or is
-/// clearly not PSD (an eigenvalue below -1e-6 of the largest).
+/// evaluations; docs/GP.md). Throws matlas::Error if S is not square, not finite, has zero trace
+/// (all data rows equal) or is clearly not PSD (an eigenvalue below -1e-6 of the largest).
 std::shared_ptr<const GramFactor> gram_factor(const Eigen::MatrixXd& gram);
 
 /// Everything the likelihood needs besides X.
