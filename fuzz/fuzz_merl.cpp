@@ -24,7 +24,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     std::vector<double> values(merl.value_count());
     merl.read_values(0, values.size(), values.data());
     merl.visit_values(values.size() / 3, values.size() - values.size() / 3,
-                      [](const double*, std::size_t, std::size_t) {});
+                      [](const std::byte*, std::size_t, std::size_t) {});
     read = true;
   } catch (const matlas::Error&) {
     read = false;
