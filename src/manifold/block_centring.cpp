@@ -44,24 +44,4 @@ MATLAS_SIMD_CLONES void centre_kept(const BlockMatrix& values, std::span<const K
   }
 }
 
-MATLAS_SIMD_CLONES void subtract_own_means(float* a, std::size_t rows, std::size_t ld, std::size_t first,
-                                           std::size_t last) {
-  constexpr std::size_t kChunk = 512;
-  for (std::size_t j0 = first; j0 < last; j0 += kChunk) {
-    const std::size_t len = std::min(kChunk, last - j0);
-    double sum[kChunk] = {};
-    for (std::size_t i = 0; i < rows; ++i) {
-      const float* __restrict row = a + i * ld + j0;
-      for (std::size_t j = 0; j < len; ++j) sum[j] += row[j];
-    }
-    float mean[kChunk];
-    const double inv = 1.0 / static_cast<double>(rows);
-    for (std::size_t j = 0; j < len; ++j) mean[j] = static_cast<float>(sum[j] * inv);
-    for (std::size_t i = 0; i < rows; ++i) {
-      float* __restrict row = a + i * ld + j0;
-      for (std::size_t j = 0; j < len; ++j) row[j] -= mean[j];
-    }
-  }
-}
-
 }  // namespace matlas

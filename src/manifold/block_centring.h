@@ -24,8 +24,4 @@ void column_means_from_sums(const double* sums, std::size_t stride, std::size_t 
 void centre_kept(const BlockMatrix& values, std::span<const KeptRun> runs, const double* mean,
                  double* centred, const float* weight, float* weighted, std::size_t ld);
 
-/// Subtracts from columns [first, last) of a (rows x ld, row-major) their means over the rows
-/// (the means summed in double).
-void subtract_own_means(float* a, std::size_t rows, std::size_t ld, std::size_t first, std::size_t last);
-
 }  // namespace matlas

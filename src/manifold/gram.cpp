@@ -185,10 +185,9 @@ private:
         centre_kept(values_, kept, block_mean_.data(), centred_.data(), nullptr, nullptr, step_);
       } else if (layout_.map == LayoutTransform::Map::linear) {  // a per-column factor commutes with centring
         centre_kept(values_, kept, block_mean_.data(), centred_.data(), block_cos_.data(), transformed_.data(), step_);
-      } else if (!kept.empty()) {  // non-linear maps apply to the raw values, then are centred on their own means
-        centre_kept(values_, kept, block_mean_.data(), centred_.data(), nullptr, nullptr, step_);
-        transform_kept(values_, kept, layout_, block_cos_.data(), transformed_.data(), step_);
-        subtract_own_means(transformed_.data(), n_, step_, kept.front().out, kept.back().out + kept.back().count);
+      } else {  // non-linear maps apply to the raw values, then are centred on their own means
+        centre_and_transform_kept(values_, kept, block_mean_.data(), centred_.data(), layout_, block_cos_.data(),
+                                  transformed_.data(), step_);
       }
     });
   }

@@ -4,6 +4,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <vector>
 
 #include "core/error.h"
 #include "core/simd_clones.h"
@@ -52,59 +53,106 @@ inline float fast_cbrt(float x) {
   return std::copysign(a * y * y, x);
 }
 
-MATLAS_SIMD_CLONES void cbrt_run(const double* __restrict in, const float* __restrict weight,
-                                 float* __restrict out, std::size_t n) {
-  for (std::size_t t = 0; t < n; ++t) out[t] = fast_cbrt(static_cast<float>(in[t])) * weight[t];
+/// One row's run of a block, each value read once: centred[t] = in[t] - mean[t], out[t] =
+/// float(cbrt(in[t])) * weight[t] (the transformed copy, not yet centred), sum[t] += out[t].
+MATLAS_SIMD_CLONES void centre_cbrt_run(const double* __restrict in, const double* __restrict mean,
+                                        const float* __restrict weight, double* __restrict centred,
+                                        float* __restrict out, double* __restrict sum, std::size_t n) {
+  for (std::size_t t = 0; t < n; ++t) {
+    const double x = in[t];
+    centred[t] = x - mean[t];
+    const float y = fast_cbrt(static_cast<float>(x)) * weight[t];
+    out[t] = y;
+    sum[t] += y;
+  }
 }
 
-MATLAS_SIMD_CLONES void cbrt_run(const double* __restrict in, float* __restrict out, std::size_t n) {
-  for (std::size_t t = 0; t < n; ++t) out[t] = fast_cbrt(static_cast<float>(in[t]));
+MATLAS_SIMD_CLONES void centre_cbrt_run(const double* __restrict in, const double* __restrict mean,
+                                        double* __restrict centred, float* __restrict out,
+                                        double* __restrict sum, std::size_t n) {
+  for (std::size_t t = 0; t < n; ++t) {
+    const double x = in[t];
+    centred[t] = x - mean[t];
+    const float y = fast_cbrt(static_cast<float>(x));
+    out[t] = y;
+    sum[t] += y;
+  }
 }
 
+/// The same for any map, row by row over the runs (the column sums in `sum`, indexed from the
+/// first run's output column).
 template <class Map>
-void transform_runs(const BlockMatrix& values, std::span<const KeptRun> runs, Map map, const float* cosine,
-                    float* out, std::size_t ld) {
+void centre_map_runs(const BlockMatrix& values, std::span<const KeptRun> runs, const double* mean, double* centred,
+                     Map map, const float* weight, float* out, double* sum, std::size_t ld) {
+  const std::size_t first = runs.front().out;
   for (Eigen::Index i = 0; i < values.rows(); ++i) {
     const double* row = values.row(i).data();
-    float* dst = out + static_cast<std::size_t>(i) * ld;
+    const std::size_t offset = static_cast<std::size_t>(i) * ld;
     for (const KeptRun& run : runs)
       for (std::size_t t = 0; t < run.count; ++t) {
-        const auto x = static_cast<float>(map(row[run.first + t]));
-        dst[run.out + t] = cosine ? x * cosine[run.first + t] : x;
+        const double x = row[run.first + t];
+        centred[offset + run.out + t] = x - mean[run.first + t];
+        const auto y = static_cast<float>(map(x));
+        const float v = weight ? y * weight[run.first + t] : y;
+        out[offset + run.out + t] = v;
+        sum[run.out + t - first] += v;
       }
   }
 }
 
-void transform_runs_cbrt(const BlockMatrix& values, std::span<const KeptRun> runs, const float* cosine,
-                         float* out, std::size_t ld) {
+void centre_cbrt_runs(const BlockMatrix& values, std::span<const KeptRun> runs, const double* mean, double* centred,
+                      const float* weight, float* out, double* sum, std::size_t ld) {
+  const std::size_t first = runs.front().out;
   for (Eigen::Index i = 0; i < values.rows(); ++i) {
     const double* row = values.row(i).data();
-    float* dst = out + static_cast<std::size_t>(i) * ld;
+    const std::size_t offset = static_cast<std::size_t>(i) * ld;
     for (const KeptRun& run : runs) {
-      if (cosine)
-        cbrt_run(row + run.first, cosine + run.first, dst + run.out, run.count);
+      double* const c = centred + offset + run.out;
+      float* const o = out + offset + run.out;
+      double* const s = sum + (run.out - first);
+      if (weight)
+        centre_cbrt_run(row + run.first, mean + run.first, weight + run.first, c, o, s, run.count);
       else
-        cbrt_run(row + run.first, dst + run.out, run.count);
+        centre_cbrt_run(row + run.first, mean + run.first, c, o, s, run.count);
     }
+  }
+}
+
+/// a[i, j] -= float(sum[j - first] / rows) for columns [first, first + count) of every row.
+MATLAS_SIMD_CLONES void subtract_means(float* a, std::size_t rows, std::size_t ld, std::size_t first,
+                                       const double* sum, std::size_t count) {
+  std::vector<float> mean(count);
+  const double inv = 1.0 / static_cast<double>(rows);
+  for (std::size_t j = 0; j < count; ++j) mean[j] = static_cast<float>(sum[j] * inv);
+  for (std::size_t i = 0; i < rows; ++i) {
+    float* __restrict row = a + i * ld + first;
+    const float* __restrict m = mean.data();
+    for (std::size_t j = 0; j < count; ++j) row[j] -= m[j];
   }
 }
 
 }  // namespace
 
-void transform_kept(const BlockMatrix& values, std::span<const KeptRun> runs, const LayoutTransform& layout,
-                    const float* cosine, float* out, std::size_t ld) {
+void centre_and_transform_kept(const BlockMatrix& values, std::span<const KeptRun> runs, const double* mean,
+                               double* centred, const LayoutTransform& layout, const float* cosine,
+                               float* transformed, std::size_t ld) {
+  if (runs.empty()) return;
+  const std::size_t first = runs.front().out, count = runs.back().out + runs.back().count - first;
+  std::vector<double> sum(count, 0.0);  // the transformed columns' sums over the rows, in row order
   const float* weight = layout.cosine_weighted ? cosine : nullptr;
   switch (layout.map) {
     case LayoutTransform::Map::linear:
-      transform_runs(values, runs, [](double x) { return x; }, weight, out, ld);
+      centre_map_runs(values, runs, mean, centred, [](double x) { return x; }, weight, transformed, sum.data(), ld);
       break;
     case LayoutTransform::Map::cube_root:
-      transform_runs_cbrt(values, runs, weight, out, ld);
+      centre_cbrt_runs(values, runs, mean, centred, weight, transformed, sum.data(), ld);
       break;
     case LayoutTransform::Map::log:
-      transform_runs(values, runs, [](double x) { return std::log1p(100.0 * std::max(x, 0.0)); }, weight, out, ld);
+      centre_map_runs(values, runs, mean, centred, [](double x) { return std::log1p(100.0 * std::max(x, 0.0)); },
+                      weight, transformed, sum.data(), ld);
       break;
   }
+  subtract_means(transformed, static_cast<std::size_t>(values.rows()), ld, first, sum.data(), count);
 }
 
 }  // namespace matlas

@@ -23,11 +23,17 @@ struct LayoutTransform {
   bool is_identity() const { return map == Map::linear && !cosine_weighted; }
 };
 
-/// out[i, run.out + t] = g(values[i, run.first + t]) * (cosine_weighted ? cosine[run.first + t] : 1)
-/// for the kept runs (g: the non-linear map; out is row-major with row stride ld). Not centred.
-/// Single precision (about 1e-7 relative): the transformed data only places the latent points,
-/// through a Gram matrix accumulated in double from single-precision slices (manifold/gram.h).
-void transform_kept(const BlockMatrix& values, std::span<const KeptRun> runs, const LayoutTransform& layout,
-                    const float* cosine, float* out, std::size_t ld);
+/// The layout's copy of a block's kept columns beside their centred copy, each value read once:
+/// centred[i, run.out + t] = values[i, run.first + t] - mean[run.first + t] (double), and
+/// transformed[i, run.out + t] = g(values[i, run.first + t]) * (cosine_weighted ?
+/// cosine[run.first + t] : 1), minus that column's mean over the rows (summed in double, in row
+/// order). For the non-linear maps, which apply to the raw values (a linear map with a per-column
+/// factor commutes with centring: centre_kept does it). Both outputs row-major with row stride ld.
+/// Single precision for the layout's copy (about 1e-7 relative): it only places the latent
+/// points, through a Gram matrix accumulated in double from single-precision slices
+/// (manifold/gram.h).
+void centre_and_transform_kept(const BlockMatrix& values, std::span<const KeptRun> runs, const double* mean,
+                               double* centred, const LayoutTransform& layout, const float* cosine,
+                               float* transformed, std::size_t ld);
 
 }  // namespace matlas

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <random>
 #include <gtest/gtest.h>
 
 #include "brdf/albedo_operator.h"
@@ -11,6 +12,7 @@
 #include "manifold/gram.h"
 #include "manifold/gram_update.h"
 #include "manifold/kept_runs.h"
+#include "manifold/layout_transform.h"
 #include "support/error_of.h"
 #include "support/temp_dir.h"
 #include "synthetic_database.h"
@@ -258,6 +260,56 @@ TEST(KeptRuns, SplitAtRangeBoundariesAndCompact) {
     EXPECT_EQ(r.runs[i].out, want[i][2]);
   }
   EXPECT_TRUE(kept_runs(kept.data(), 0, 4).runs.empty());
+}
+
+// The sweep's layout copy of a range (manifold/layout_transform.h), against its definition in
+// double: for every map, with and without cosine weights, over runs with gaps; the centred copy
+// exactly, the layout copy to single precision, both compacted, and nothing written past them.
+TEST(LayoutCopy, CentresBothCopiesOfTheKeptColumnsForEveryMap) {
+  const Eigen::Index rows = 7, columns = 24;
+  const std::size_t ld = 32;
+  BlockMatrix values(rows, columns);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 3.0);
+  for (Eigen::Index k = 0; k < values.size(); ++k) values.data()[k] = u(rng);
+  std::vector<std::uint8_t> kept(columns, 1);
+  for (const int dropped : {0, 5, 6, 13, 23}) kept[static_cast<std::size_t>(dropped)] = 0;
+  const KeptRuns runs = kept_runs(kept.data(), kept.size(), 64);
+  ASSERT_EQ(runs.kept, 19u);
+  std::vector<double> mean(columns);
+  std::vector<float> cosine(columns);
+  for (Eigen::Index j = 0; j < columns; ++j) {
+    mean[static_cast<std::size_t>(j)] = values.col(j).mean();
+    cosine[static_cast<std::size_t>(j)] = 0.2f + 0.03f * static_cast<float>(j);
+  }
+  for (const char* name : {"cbrt", "cosine-cbrt", "log", "cosine-log"}) {
+    SCOPED_TRACE(name);
+    const LayoutTransform layout = LayoutTransform::parse(name);
+    const auto g = [&](double x) { return layout.map == LayoutTransform::Map::log ? std::log1p(100.0 * x) : std::cbrt(x); };
+    std::vector<double> centred(rows * ld, -7.0);
+    std::vector<float> transformed(rows * ld, -7.0f);
+    centre_and_transform_kept(values, runs.range(0), mean.data(), centred.data(), layout, cosine.data(),
+                              transformed.data(), ld);
+    std::size_t out = 0;
+    for (Eigen::Index j = 0; j < columns; ++j) {
+      if (!kept[static_cast<std::size_t>(j)]) continue;
+      const double w = layout.cosine_weighted ? cosine[static_cast<std::size_t>(j)] : 1.0;
+      double own = 0.0;
+      for (Eigen::Index i = 0; i < rows; ++i) own += g(values(i, j)) * w / static_cast<double>(rows);
+      for (Eigen::Index i = 0; i < rows; ++i) {
+        const std::size_t at = static_cast<std::size_t>(i) * ld + out;
+        EXPECT_EQ(centred[at], values(i, j) - mean[static_cast<std::size_t>(j)]);
+        const double want = g(values(i, j)) * w - own;
+        EXPECT_NEAR(transformed[at], want, 2e-6 * (std::abs(g(values(i, j)) * w) + 1e-3));
+      }
+      ++out;
+    }
+    for (Eigen::Index i = 0; i < rows; ++i)
+      for (std::size_t k = runs.kept; k < ld; ++k) {
+        EXPECT_EQ(centred[static_cast<std::size_t>(i) * ld + k], -7.0);
+        EXPECT_EQ(transformed[static_cast<std::size_t>(i) * ld + k], -7.0f);
+      }
+  }
 }
 
 }  // namespace
