@@ -27,8 +27,9 @@ struct LayoutTransform {
 /// centred[i, run.out + t] = values[i, run.first + t] - mean[run.first + t] (double), and
 /// transformed[i, run.out + t] = g(values[i, run.first + t]) * (cosine_weighted ?
 /// cosine[run.first + t] : 1), minus that column's mean over the rows (summed in double, in row
-/// order). For the non-linear maps, which apply to the raw values (a linear map with a per-column
-/// factor commutes with centring: centre_kept does it). Both outputs row-major with row stride ld.
+/// order). Any map; the pass calls it for the non-linear ones, which apply to the raw values (a
+/// linear map with a per-column factor commutes with centring: centre_kept does it with one sum
+/// less). Both outputs row-major with row stride ld.
 /// Single precision for the layout's copy (about 1e-7 relative): it only places the latent
 /// points, through a Gram matrix accumulated in double from single-precision slices
 /// (manifold/gram.h).

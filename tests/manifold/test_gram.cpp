@@ -282,10 +282,17 @@ TEST(LayoutCopy, CentresBothCopiesOfTheKeptColumnsForEveryMap) {
     mean[static_cast<std::size_t>(j)] = values.col(j).mean();
     cosine[static_cast<std::size_t>(j)] = 0.2f + 0.03f * static_cast<float>(j);
   }
-  for (const char* name : {"cbrt", "cosine-cbrt", "log", "cosine-log"}) {
+  for (const char* name : {"linear", "cosine-linear", "cbrt", "cosine-cbrt", "log", "cosine-log"}) {
     SCOPED_TRACE(name);
     const LayoutTransform layout = LayoutTransform::parse(name);
-    const auto g = [&](double x) { return layout.map == LayoutTransform::Map::log ? std::log1p(100.0 * x) : std::cbrt(x); };
+    const auto g = [&](double x) {
+      switch (layout.map) {
+        case LayoutTransform::Map::linear: return x;
+        case LayoutTransform::Map::cube_root: return std::cbrt(x);
+        case LayoutTransform::Map::log: return std::log1p(100.0 * x);
+      }
+      return x;
+    };
     std::vector<double> centred(rows * ld, -7.0);
     std::vector<float> transformed(rows * ld, -7.0f);
     centre_and_transform_kept(values, runs.range(0), mean.data(), centred.data(), layout, cosine.data(),
