@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cstdlib>
 #include <cstring>
-#include <new>
 
 #include "core/huge_pages.h"
 
@@ -11,14 +10,7 @@ namespace matlas {
 
 namespace {
 double* allocate(std::size_t size) {
-  if (size == 0) return nullptr;
-  const std::size_t bytes = size * sizeof(double);
-  const std::size_t alignment = bytes >= kHugePageBytes ? kHugePageBytes : 64;
-  const std::size_t rounded = (bytes + alignment - 1) / alignment * alignment;
-  void* p = std::aligned_alloc(alignment, rounded);
-  if (!p) throw std::bad_alloc();
-  advise_huge_pages(p, rounded);
-  return static_cast<double*>(p);
+  return size == 0 ? nullptr : static_cast<double*>(allocate_huge_pages(size * sizeof(double)));
 }
 }  // namespace
 

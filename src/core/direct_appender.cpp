@@ -16,6 +16,7 @@
 
 #include "core/error.h"
 #include "core/file_io.h"
+#include "core/huge_pages.h"
 
 namespace matlas {
 
@@ -29,9 +30,7 @@ using AlignedBuffer = std::unique_ptr<std::byte, DirectBufferFree>;
 namespace {
 
 AlignedBuffer aligned_buffer() {
-  void* p = std::aligned_alloc(DirectAppender::kAlignment, DirectAppender::kBufferBytes);
-  if (!p) throw Error("out of memory for a direct-I/O buffer");
-  return AlignedBuffer(static_cast<std::byte*>(p));
+  return AlignedBuffer(static_cast<std::byte*>(allocate_huge_pages(DirectAppender::kBufferBytes, DirectAppender::kAlignment)));
 }
 
 }  // namespace

@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cstdlib>
-#include <new>
 
 #include "core/check.h"
 #include "core/file_io.h"
+#include "core/huge_pages.h"
 
 namespace matlas {
 
@@ -17,9 +17,9 @@ BlockPrefetch::BlockPrefetch(const MaterialSet& set, std::size_t step, std::size
   file_bytes_ = DirectReader::span(DirectReader::kAlignment - 4, step_ * sizeof(double));
   slots_ = std::clamp<std::size_t>(kBudgetBytes / std::max<std::size_t>(1, n_ * file_bytes_), 2, 8);
   slots_ = std::max<std::size_t>(1, std::min(slots_, end_ - first_));
-  void* memory = std::aligned_alloc(DirectReader::kAlignment, slots_ * n_ * file_bytes_);
-  if (memory == nullptr) throw std::bad_alloc();
-  memory_ = {static_cast<std::byte*>(memory), std::free};
+  // Huge pages: the direct reads pin the buffers' pages, 2 MiB at a time rather than 4 KiB.
+  memory_ = {static_cast<std::byte*>(allocate_huge_pages(slots_ * n_ * file_bytes_, DirectReader::kAlignment)),
+             std::free};
   allow_open_files(2 * n_ + 256);  // a second descriptor per file (MaterialSet::open asked for the first)
   readers_.reserve(n_);
   for (std::size_t i = 0; i < n_; ++i) readers_.push_back(set.file(i).direct_reader());

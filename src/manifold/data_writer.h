@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/huge_pages.h"
 #include "formats/safetensors.h"
 #include "manifold/gram.h"
 
@@ -39,8 +40,8 @@ private:
   std::size_t n_;
   DType storage_;
   std::vector<std::size_t> tile_start_;  ///< first output column of each tile
-  std::vector<float> out_f32_;
-  std::vector<std::uint16_t> out_f16_;
+  HugePageVector<float> out_f32_;
+  HugePageVector<std::uint16_t> out_f16_;
   std::vector<std::pair<double, double>> tile_error_;  ///< (error^2, value^2) per tile
   double error2_ = 0.0, norm2_ = 0.0;
 };

@@ -8,6 +8,7 @@
 #include "brdf/albedo_operator.h"
 #include "core/communicator.h"
 #include "core/error.h"
+#include "core/huge_pages.h"
 #include "core/parallel.h"
 #include "manifold/block_centring.h"
 #include "manifold/block_prefetch.h"
@@ -79,6 +80,7 @@ public:
         layout_gram_(static_cast<Eigen::Index>(n_), separate_layout_ ? step_ : 1),
         albedo_centred_(RowMajor::Zero(static_cast<Eigen::Index>(n_), kAlbedoAngles * 3)),
         albedo_of_mean_(Eigen::RowVectorXd::Zero(kAlbedoAngles * 3)) {
+    advise_block();
     result_.kept.assign(total_, false);
     result_.first_value = std::min(total_, first_of(blocks_.first));
     result_.end_value = std::min(total_, first_of(blocks_.second));
@@ -147,9 +149,16 @@ private:
   ///    of materials the column sums and validity; then (end_read) which columns every material
   ///    measures. The disk is asked for the blocks ahead by the read-ahead thread (run).
   void begin_read(std::size_t b) {
-    if (count_of(b) != static_cast<std::size_t>(values_.cols()))  // the last block
+    if (count_of(b) != static_cast<std::size_t>(values_.cols())) {  // the last block
       values_.resize(static_cast<Eigen::Index>(n_), static_cast<Eigen::Index>(count_of(b)));
+      advise_block();
+    }
   }
+
+  /// Huge pages for the block (fresh memory, not yet touched): every read and sweep walks it; with
+  /// the pass's other buffers in 4 KiB pages the 1000-material build took seconds longer on a
+  /// virtual machine (docs/BENCHMARKS.md, "Huge pages for the pass's buffers").
+  void advise_block() { advise_huge_pages(values_.data(), static_cast<std::size_t>(values_.size()) * sizeof(double)); }
 
   void read_group(std::size_t b, std::size_t g) {
     const std::size_t first = first_of(b), count = count_of(b);
@@ -258,11 +267,11 @@ private:
   FileHashers hashers_;
 
   BlockMatrix values_;                    ///< the block, physical units, as read
-  std::vector<double> group_sums_;        ///< per group of kReadRows materials, column sums
+  HugePageVector<double> group_sums_;     ///< per group of kReadRows materials, column sums
   std::vector<std::uint8_t> group_kept_;  ///< per group, the columns all its materials measure
   std::vector<std::uint8_t> kept_;        ///< the columns every material measures
-  std::vector<double> centred_;           ///< kept columns, centred, compacted (row stride step_)
-  std::vector<float> transformed_;        ///< the same through the layout transform, single precision
+  HugePageVector<double> centred_;        ///< kept columns, centred, compacted (row stride step_)
+  HugePageVector<float> transformed_;     ///< the same through the layout transform, single precision
   std::vector<double> block_mean_;        ///< per block column (0 where dropped)
   std::vector<float> block_cos_;          ///< per block column, when cosine-weighted
   GramAccumulator linear_gram_, layout_gram_;

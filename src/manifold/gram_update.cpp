@@ -27,7 +27,7 @@ void GramAccumulator::add_slice(const double* a, std::size_t ld, std::size_t col
   const std::size_t first = s * kSlice;
   if (first >= columns) return;
   const auto count = static_cast<int>(std::min(kSlice, columns - first));
-  std::vector<double>& product = product_[s];
+  HugePageVector<double>& product = product_[s];
   product.resize(static_cast<std::size_t>(n_ * n_));
   // Row-major n x k with leading dimension ld is column-major k x n: P = A^T' A' = A A^T.
   blas::openblas().dsyrk(CblasColMajor, CblasUpper, CblasTrans, static_cast<int>(n_), count, 1.0, a + first,
@@ -40,7 +40,7 @@ void GramAccumulator::add_slice(const float* a, std::size_t ld, std::size_t colu
   if (first >= columns) return;
   const auto count = static_cast<int>(std::min(kSlice, columns - first));
   const auto n = static_cast<int>(n_);
-  std::vector<float>& product = product_single_[s];
+  HugePageVector<float>& product = product_single_[s];
   product.resize(static_cast<std::size_t>(n_ * n_));
   blas::openblas().ssyrk(CblasColMajor, CblasUpper, CblasTrans, n, count, 1.0f, a + first, static_cast<int>(ld),
                          0.0f, product.data(), n);

@@ -17,6 +17,7 @@
 
 #include <Eigen/Core>
 
+#include "core/huge_pages.h"
 #include "manifold/column_blocks.h"
 
 namespace matlas {
@@ -62,8 +63,8 @@ private:
   std::mutex mutex_;  ///< one product added to the sum at a time
   /// Per slice, the product being added (one task per slice at a time; per slice rather than per
   /// thread, so that the scratch does not grow with the number of workers): double or single.
-  std::vector<std::vector<double>> product_;
-  std::vector<std::vector<float>> product_single_;
+  std::vector<HugePageVector<double>> product_;
+  std::vector<HugePageVector<float>> product_single_;
 };
 
 /// high += value with its rounding error added to low (TwoSum): high + low keeps the exact sum.

@@ -1,7 +1,10 @@
 // advise_huge_pages: the whole 2 MiB pages inside a buffer get the hint, the buffer's contents and
-// its neighbours are untouched, and buffers without a whole huge page are left alone.
+// its neighbours are untouched, and buffers without a whole huge page are left alone;
+// allocate_huge_pages and HugePageVector: buffers of a huge page or more come 2 MiB-aligned and
+// advised, smaller ones with the alignment asked for.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -72,6 +75,45 @@ TEST(HugePages, ABufferWithoutAWholeHugePageAndANullOneAreLeftAlone) {
   advise_huge_pages(static_cast<char*>(m.data) + 4096, kHugePageBytes - 1);
   EXPECT_FALSE(advised(static_cast<char*>(m.data) + 8192));
   advise_huge_pages(nullptr, 10 * kHugePageBytes);  // nothing to do
+}
+
+TEST(HugePages, LargeAllocationsAreWholeAdvisedHugePagesAndSmallOnesKeepTheirAlignment) {
+  const bool thp = static_cast<bool>(std::ifstream("/sys/kernel/mm/transparent_hugepage/enabled"));
+  const std::size_t bytes = 3 * kHugePageBytes + 100;
+  void* large = allocate_huge_pages(bytes, 4096);
+  ASSERT_NE(large, nullptr);
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(large) % kHugePageBytes, 0u);
+  std::memset(large, 3, bytes);  // all of it writable
+  if (thp) {
+    EXPECT_TRUE(advised(large));
+    EXPECT_TRUE(advised(static_cast<char*>(large) + 3 * kHugePageBytes));  // rounded up to whole huge pages
+  }
+  std::free(large);
+
+  for (const std::size_t alignment : {std::size_t{8}, std::size_t{64}, std::size_t{4096}}) {
+    void* small = allocate_huge_pages(kHugePageBytes - 1, alignment);
+    ASSERT_NE(small, nullptr);
+    EXPECT_EQ(reinterpret_cast<std::uintptr_t>(small) % std::max<std::size_t>(alignment, 64), 0u) << alignment;
+    std::memset(small, 1, kHugePageBytes - 1);
+    std::free(small);
+  }
+  void* empty = allocate_huge_pages(0);  // a valid pointer, as malloc(0) may give
+  std::free(empty);
+}
+
+TEST(HugePages, AHugePageVectorHoldsItsValuesInAdvisedHugePages) {
+  HugePageVector<float> v(kHugePageBytes / sizeof(float) + 1);  // value-initialised: all zero
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(v.data()) % kHugePageBytes, 0u);
+  for (std::size_t i = 0; i < v.size(); i += 1021) ASSERT_EQ(v[i], 0.0f) << i;
+  for (std::size_t i = 0; i < v.size(); ++i) v[i] = static_cast<float>(i % 977);
+  HugePageVector<float> copy = v;
+  EXPECT_EQ(copy, v);
+  if (std::ifstream("/sys/kernel/mm/transparent_hugepage/enabled")) {
+    EXPECT_TRUE(advised(copy.data()));
+  }
+  HugePageVector<int> small(10, 7);  // under a huge page: an ordinary aligned block
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(small.data()) % alignof(int), 0u);
+  EXPECT_EQ(small[9], 7);
 }
 
 }  // namespace huge_pages_test
