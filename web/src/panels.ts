@@ -3,6 +3,7 @@
 import { api, type Plausibility } from "./api";
 import { AlbedoChart, LobeChart, WeightsChart } from "./charts";
 import { $, showBlob } from "./dom";
+import { DragThrottle } from "./drag-throttle";
 import { LatestOnly } from "./latest";
 import { SlicePlot } from "./slice-plot";
 import type { PageStore } from "./state";
@@ -41,20 +42,8 @@ export function createPanels(store: PageStore): void {
     (e) => setStatus(`panels: ${(e as Error).message}`, true, "panels"),
   );
 
-  let lastPanels = 0, panelTimer = 0;
-  store.on(["x"], (s) => {
-    clearTimeout(panelTimer);
-    const now = performance.now();
-    if (!s.dragging || now - lastPanels > PANEL_DRAG_MS) {
-      lastPanels = now;
-      panels.request(s.x);
-    } else {
-      panelTimer = window.setTimeout(() => {
-        lastPanels = performance.now();
-        panels.request(store.state.x);
-      }, PANEL_DRAG_MS);
-    }
-  });
+  const throttle = new DragThrottle<number[]>(PANEL_DRAG_MS, (x) => panels.request(x));
+  store.on(["x"], (s) => throttle.request(s.x, s.dragging));
 
   phi.addEventListener("input", () => {
     $<HTMLOutputElement>("phi-out").value = phi.value;

@@ -349,7 +349,8 @@ export class RealtimeGl {
     }
     t.needsUpdate = true;
     this.syncLights();
-    this.invalidate(interactive);  // while dragging: in the next reduced frame, not one more now
+    if (interactive) this.joinNextReducedFrame();
+    else this.invalidate();
   }
 
   setRotation(degrees: number, interactive = false): void {
@@ -420,9 +421,12 @@ export class RealtimeGl {
    * the tiles not yet drawn and starts over.
    */
   invalidate(interactive = false): void {
-    if (this.refine) clearTimeout(this.refine);
-    this.refine = null;
     this.tiles = null;
+    // This frame draws the newest state: a drag's paced or wanted reduced frame would only repeat
+    // it and restart the full frame (after a drag, the coefficients at rest come here).
+    if (this.pacedDraw) clearTimeout(this.pacedDraw);
+    this.pacedDraw = null;
+    this.reducedWanted = false;
     if (!this.pendingFast) {
       this.pendingFast = true;
       requestAnimationFrame(() => {
@@ -430,10 +434,28 @@ export class RealtimeGl {
         this.draw(true);
       });
     }
+    this.refineAfter(interactive ? this.refineMs : 0);
+  }
+
+  /** The full frame's tiles start `ms` from now, unless another change comes first. */
+  private refineAfter(ms: number): void {
+    if (this.refine) clearTimeout(this.refine);
     this.refine = setTimeout(() => {
       this.refine = null;
       this.startRefinement();
-    }, interactive ? this.refineMs : 0);
+    }, ms);
+  }
+
+  /**
+   * A change during a map drag (the point's light table arriving): drawn by the drag's next
+   * reduced frame (drawReducedNow, paced), not by one more now: a frame waits for the GPU, and a
+   * software GPU's reduced frame (60 ms on the 2-core VM) per light table doubled the frames of a
+   * drag and held the page (docs/BENCHMARKS.md, "Real-time viewer"). The tiles under way stop; the
+   * full frame follows once the drag has been still for `refineMs`.
+   */
+  private joinNextReducedFrame(): void {
+    this.tiles = null;
+    this.refineAfter(this.refineMs);
   }
 
   /** The end and length of the last reduced frame of a map drag (pacing, below). */
@@ -441,17 +463,25 @@ export class RealtimeGl {
   private pacedDraw: ReturnType<typeof setTimeout> | null = null;
   /** A reduced frame over this many ms is slow (longer than an animation frame): paced. */
   static readonly slowFrameMs = 17;
-  /** After a slow reduced frame of t ms, the next is drawn no sooner than this x t ms later. */
-  static readonly pacing = 3;
+  /** After a slow reduced frame of t ms, the next is drawn no sooner than this x t ms later: a
+   *  software GPU then takes a seventh of the cores during a drag (3, a quarter, left the
+   *  1000-material drag's preview median 20-30 ms higher on the 2-core VM, docs/BENCHMARKS.md
+   *  "The map drag on a slow day"). */
+  static readonly pacing = 6;
+  /** A drag's reduced frame seen finished more than this many ms after the fence was last seen
+   *  unsignalled has no measured time (drawReducedNow). */
+  static readonly lateLookMs = 50;
 
   /**
-   * Draws a reduced frame now (map drags). Paced when frames are slow: a frame waits for the GPU
-   * (its time adapts the bands), which holds the page, so after a frame of t ms over an animation
-   * frame the next (with the newest coefficients) waits 3t. A software GPU on a small machine
-   * (about 30 ms a frame, on the cores the page and the server use) then takes a quarter of the
-   * page's time and the reference render keeps up with the pointer while the map is dragged
-   * (docs/BENCHMARKS.md: the drag's median 60-66 ms -> 29-37 ms on the 2-core VM; the real-time
-   * view shows a quarter of the frames there); a GPU's frames of a few ms are not held back.
+   * Draws a reduced frame now (map drags), one at a time, and learns when the GPU has finished it
+   * from a fence polled between tasks, so that the page's main thread is not held while a
+   * software GPU draws (a wait in readPixels held it for the whole frame: the 1000-material drag's
+   * preview median 130-179 -> 92-104 ms on the 2-core VM, docs/BENCHMARKS.md "Real-time viewer").
+   * Its time adapts the bands. Paced when frames are slow: after a frame of t ms over an animation
+   * frame the next (with the newest coefficients) waits 6t, so a software GPU on a small machine
+   * (30-70 ms a frame, on the cores the page and the server use) takes a seventh of the cores and
+   * the reference render keeps up with the pointer while the map is dragged; a GPU's frames of a
+   * few ms are not held back.
    */
   drawReducedNow(): void {
     if (this.refine) clearTimeout(this.refine);
@@ -466,15 +496,54 @@ export class RealtimeGl {
       }, wait);
       return;
     }
-    const ms = this.draw(true);
-    this.lastReduced = { end: performance.now(), ms };
-    this.dragFrames.push(this.lastReduced);
-    if (this.dragFrames.length > 1000) this.dragFrames.shift();
-    this.refine = setTimeout(() => {
-      this.refine = null;
-      this.startRefinement();
-    }, this.refineMs);
+    if (this.reducedInFlight) {  // one frame at a time: the newest coefficients go into the next
+      this.reducedWanted = true;
+      return;
+    }
+    if (!this.envTexture) return;
+    const start = performance.now();
+    this.submit(true);
+    const gl = this.renderer.getContext() as WebGL2RenderingContext;  // three.js renders with WebGL2 only
+    const sync = gl.fenceSync(gl.SYNC_GPU_COMMANDS_COMPLETE, 0);
+    gl.flush();
+    this.reducedInFlight = true;
+    // Polled, not waited for: the page's main thread stays free (the preview's image, the pointer)
+    // while a software GPU draws on the cores.
+    let looked = start;  // when the fence was last seen unsignalled
+    const poll = () => {
+      const now = performance.now();
+      if (sync && gl.clientWaitSync(sync, 0, 0) === gl.TIMEOUT_EXPIRED) {
+        looked = now;
+        setTimeout(poll, 2);
+        return;
+      }
+      if (sync) gl.deleteSync(sync);
+      this.reducedInFlight = false;
+      const end = now;
+      // Seen finished long after the last look (the page was held by other work: a full frame
+      // drawn at once, a long task), the frame's time is not known: it adapts nothing, and the
+      // pacing counts it as long as the last one measured (an 11 s wait behind a full frame would
+      // otherwise hold the next reduced frame for a minute).
+      let ms: number;
+      if (end - looked <= RealtimeGl.lateLookMs) {
+        ms = this.finished(true, start, end);
+      } else {
+        ms = Math.min(end - start, this.lastReduced.ms || this.fastBudgetMs);
+        this.record(this.fastFrameTimes, ms, end, true);
+      }
+      this.lastReduced = { end, ms };
+      this.dragFrames.push(this.lastReduced);
+      if (this.dragFrames.length > 1000) this.dragFrames.shift();
+      this.refineAfter(this.refineMs);
+      if (this.reducedWanted) {
+        this.reducedWanted = false;
+        this.drawReducedNow();
+      }
+    };
+    setTimeout(poll, 0);
   }
+  private reducedInFlight = false;
+  private reducedWanted = false;
 
   private tiles: { x: number; y: number }[] | null = null;
   private refinementMs = 0;
@@ -594,6 +663,14 @@ export class RealtimeGl {
     if (!this.envTexture) return 0;
     if (!fast) this.tiles = null;  // a full frame supersedes the tiles
     const start = performance.now();
+    this.submit(fast);
+    const gl = this.renderer.getContext();
+    gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));  // waits for the frame
+    return this.finished(fast, start, performance.now());
+  }
+
+  /** The commands of a reduced (`fast`) or full frame, not waited for. */
+  private submit(fast: boolean): void {
     this.useBands(fast ? Math.min(this.bands, this.fastBands) : this.bands);
     this.useLights(fast ? this.fastLights : this.lightCount);
     this.syncCamera();
@@ -605,9 +682,10 @@ export class RealtimeGl {
     } else {
       this.renderer.render(this.scene, this.camera);
     }
-    const gl = this.renderer.getContext();
-    gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));  // waits for the frame
-    const end = performance.now();
+  }
+
+  /** A frame submitted at `start` has finished at `end`: its time adapts the reduced frames and is recorded. */
+  private finished(fast: boolean, start: number, end: number): number {
     const ms = end - start;
     if (fast && this.adaptive && this.lightCount > 0 &&
       (ms > this.fastBudgetMs ? this.fastLights > 16 : ms < 0.7 * this.fastBudgetMs && this.fastLights < this.lightCount)) {

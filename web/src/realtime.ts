@@ -9,6 +9,7 @@
 // and the first coefficients are fetched once each, then kept).
 import { api, type EnvironmentAtlas, type RealtimeInfo } from "./api";
 import { $, fillSelect } from "./dom";
+import { DragThrottle } from "./drag-throttle";
 import { LatestOnly } from "./latest";
 import { LocalWeights } from "./local-weights";
 import { waitForQuietMap } from "./map-panel";
@@ -163,6 +164,11 @@ export async function createRealtimeView(store: PageStore): Promise<ViewerState 
 
 /** How long the map must have had no layer on its way before the card starts loading. */
 const MAP_QUIET_MS = 300;
+/** While dragging, the light table of the point (729 KB, about 30 ms of the server's time at
+ *  n = 1000) at most this often: one per pointer event held the page's cores (the 1000-material
+ *  drag's preview median 212-228 -> 130-179 ms on the 2-core VM, docs/BENCHMARKS.md "Real-time
+ *  viewer"). */
+const LIGHTS_DRAG_MS = 250;
 
 /** The most materials for which the page computes the weights itself (local-weights.ts). */
 const LOCAL_WEIGHTS_MAX = 300;
@@ -220,6 +226,10 @@ async function startRealtimeView(store: PageStore, card: CardStatus): Promise<Vi
     (e) => fail(e, "lights"),
   );
 
+  // While dragging, the light table is asked at most every LIGHTS_DRAG_MS (the frames meanwhile
+  // use the last one); at rest, at once.
+  const lightsThrottle = new DragThrottle<{ x: number[]; at: number }>(LIGHTS_DRAG_MS, ({ x, at }) => lightTables.request(x, at));
+
   // Map moves: the weights of the latest point, then the coefficients and a frame (drawn at once
   // while dragging).
   let movedAt = 0;
@@ -229,7 +239,7 @@ async function startRealtimeView(store: PageStore, card: CardStatus): Promise<Vi
     gl.setCoefficients(point, store.state.dragging);
     state.shownX = x;
     card.clear("move");  // an earlier move's failure is stale
-    lightTables.request(x.slice(), at);
+    lightsThrottle.request({ x: x.slice(), at }, store.state.dragging);
   };
   const weights = new LatestOnly<number[], number[]>(
     (x) => api.weights(x, 0).then((r) => r.weights), show, (e) => fail(e, "move"),

@@ -4,7 +4,9 @@
 // /api/realtime/reference/radiance) and the displayed canvas within a stated error in 8-bit sRGB
 // (POST /api/realtime/reference); the background shows the environment along each pixel's camera
 // ray; dragging on the map changes the material shown; rotating the environment and orbiting
-// the camera change the view; the card starts loading only once the map's first layer has arrived.
+// the camera change the view; a drag's reduced frame does not hold the page and a light table
+// arriving during a drag draws no frame of its own; the card starts loading only once the map's
+// first layer has arrived.
 // Screenshots: test-results/realtime-*.png.
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
@@ -254,8 +256,18 @@ test("dragging on the map changes the material shown", async () => {
   const box = await page.locator("#map").boundingBox();
   const x0 = JSON.stringify(await page.evaluate(() => window.matlas.x));
   await page.mouse.move(box.x + box.width * 0.3, box.y + box.height * 0.3);
+  const d0 = await page.evaluate(() => window.matlasViewer.gl.dragFrames.length);
   await page.mouse.down();
-  for (let i = 1; i <= 10; ++i) await page.mouse.move(box.x + box.width * (0.3 + 0.04 * i), box.y + box.height * (0.3 + 0.03 * i));
+  // Dragged until the drag has drawn three reduced frames (paced: a slow machine's software GPU
+  // draws one per few hundred ms), back and forth along a diagonal, 50 ms a move.
+  const t0 = Date.now();
+  for (let i = 1; ; ++i) {
+    const k = (i - 1) % 18, s = 1 + (k <= 9 ? k : 18 - k);  // 1..10..2: never back to the start
+    await page.mouse.move(box.x + box.width * (0.3 + 0.04 * s), box.y + box.height * (0.3 + 0.03 * s));
+    await page.waitForTimeout(50);
+    if (i >= 10 && (Date.now() - t0 > 30_000 ||
+        await page.evaluate((d0) => window.matlasViewer.gl.dragFrames.length - d0 >= 3, d0))) break;
+  }
   await page.mouse.up();
   await page.waitForFunction((x0) => JSON.stringify(window.matlas.x) !== x0, x0);
   await shown();
@@ -263,16 +275,16 @@ test("dragging on the map changes the material shown", async () => {
   const d = meanAbsDiff(before.px, after.px);
   const latencies = await page.evaluate(() => window.matlasViewer.moveToFrame);
   console.log(`drag: mean pixel change ${d.toFixed(2)}; move-to-frame ${latencies.map((l) => l.toFixed(0)).join(" ")} ms`);
-  // Paced: after a slow reduced frame (software WebGL here) the next starts no sooner than 3x its
-  // time after it ended, so the page keeps time for the reference render.
-  const { frames, slow, pacing } = await page.evaluate(() => ({
-    frames: window.matlasViewer.gl.dragFrames.slice(-12),
-    slow: window.matlasViewer.gl.constructor.slowFrameMs, pacing: window.matlasViewer.gl.constructor.pacing }));
+  // Paced: after a slow reduced frame (software WebGL here) the next starts no sooner than
+  // `pacing` times its time after it ended, so the page keeps time for the reference render.
+  const { frames, slow, pacing } = await page.evaluate((d0) => ({
+    frames: window.matlasViewer.gl.dragFrames.slice(d0),
+    slow: window.matlasViewer.gl.constructor.slowFrameMs, pacing: window.matlasViewer.gl.constructor.pacing }), d0);
   assert.ok(frames.length >= 2, `reduced frames drawn during the drag: ${frames.length}`);
   let paced = 0;
   for (let i = 1; i < frames.length; ++i) {
     const gap = frames[i].end - frames[i - 1].end;
-    if (frames[i - 1].ms <= slow || gap > 2000) continue;  // a fast frame, or an earlier drag
+    if (frames[i - 1].ms <= slow) continue;  // a fast frame: not paced (pacing holds across drags too)
     assert.ok(gap >= pacing * frames[i - 1].ms + frames[i].ms - 2,
       `frame ${i}: ended ${gap.toFixed(1)} ms after one of ${frames[i - 1].ms.toFixed(1)} ms`);
     paced++;
@@ -282,6 +294,45 @@ test("dragging on the map changes the material shown", async () => {
   assert.ok(d > 0.5, `the canvas changed by ${d}`);
   // The weights came from the page (GET /api/interpolation), not a request per move.
   assert.ok(await page.evaluate(() => window.matlasViewer.localWeights), "the viewer computes the weights itself");
+});
+
+test("a drag's reduced frame does not hold the page, and a light table during a drag draws no frame of its own", async () => {
+  // Past the last drag's pacing (6t after its last reduced frame of t ms: seconds on a slow machine).
+  await page.waitForFunction(() => {
+    const { gl } = window.matlasViewer, last = gl.dragFrames.at(-1);
+    return !last || performance.now() > last.end + gl.constructor.pacing * last.ms + 50;
+  }, null, { timeout: 60_000 });
+  const r = await page.evaluate(async () => {
+    const { gl, info } = window.matlasViewer;
+    const frames = () => gl.fastFrameTimes.length;  // reduced frames (a full one takes seconds here)
+    const twoFrames = () => new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(done)));
+    // A drag's reduced frame: submitted, then learnt finished from a fence, not waited for.
+    const d0 = gl.dragFrames.length;
+    gl.drawReducedNow();
+    const atReturn = gl.dragFrames.length - d0;
+    for (let waited = 0; gl.dragFrames.length === d0 && waited < 20_000; waited += 50)
+      await new Promise((done) => setTimeout(done, 50));
+    await new Promise((done) => setTimeout(done, 500));  // no second frame follows
+    const later = gl.dragFrames.length - d0;
+    // The current light table back as [theta_h][theta_d][phi_d][3] (the texture holds RGBA).
+    const { theta_h: nh, theta_d: nd, phi_d: np } = info.light_table;
+    const rgba = gl.lightTableData, bits = new Uint16Array(3 * nh * nd * np);
+    for (let i = 0; i < nh * nd * np; ++i) for (let c = 0; c < 3; ++c) bits[3 * i + c] = rgba[4 * i + c];
+    await twoFrames();
+    const f0 = frames();
+    gl.setLightTable(bits, true);  // while dragging
+    await twoFrames();
+    const duringDrag = frames() - f0;
+    const f1 = frames();
+    gl.setLightTable(bits, false);  // at rest
+    await twoFrames();
+    const atRest = frames() - f1;
+    return { atReturn, later, duringDrag, atRest };
+  });
+  assert.equal(r.atReturn, 0, "drawReducedNow returned before the frame was finished");
+  assert.equal(r.later, 1, "the frame was recorded once finished");
+  assert.equal(r.duringDrag, 0, "a light table during a drag waits for the drag's next reduced frame");
+  assert.ok(r.atRest >= 1, `a light table at rest is drawn at once (${r.atRest} frames)`);
 });
 
 test("rotating the environment and orbiting the camera change the view", async () => {

@@ -1,5 +1,6 @@
 // Unit tests of the page's plumbing, without a browser or server: the typed store, LatestOnly
-// (latest input only, abort on supersede), retryWhileBusy (503 backoff) and the page's interpolation
+// (latest input only, abort on supersede), DragThrottle (at most every ms while dragging, the
+// drag's last point always sent), retryWhileBusy (503 backoff) and the page's interpolation
 // weights (local-weights.ts) against their defining equations. The TypeScript
 // modules are transpiled with the TypeScript compiler into a temporary folder and imported.
 import { test } from "node:test";
@@ -7,9 +8,10 @@ import assert from "node:assert/strict";
 import { importTs } from "./transpile.mjs";
 import { isolationAllPairs, placeLabelsAllPairs } from "./label_reference.mjs";
 
-const modules = await importTs(["api", "store", "latest", "retry", "local-weights"]);
+const modules = await importTs(["api", "store", "latest", "drag-throttle", "retry", "local-weights"]);
 const { Store } = modules.store;
 const { LatestOnly } = modules.latest;
+const { DragThrottle } = modules["drag-throttle"];
 const { retryWhileBusy } = modules.retry;
 const { ApiError } = modules.api;
 const { LocalWeights } = modules["local-weights"];
@@ -91,6 +93,29 @@ test("LatestOnly says when it is idle: after the latest input, not between input
   await new Promise((r) => setTimeout(r, 0));
   assert.equal(idle, 1, "idle once the latest input is done");
   assert.equal(latest.busy, false);
+});
+
+test("DragThrottle sends at rest at once, and while dragging at most every interval with the latest point last", async () => {
+  let clock = 1000;
+  const sent = [];
+  const throttle = new DragThrottle(40, (x) => sent.push([x, clock]), () => clock);
+  throttle.request("a", false);
+  throttle.request("b", false);
+  assert.deepEqual(sent.map((s) => s[0]), ["a", "b"], "at rest every request goes at once");
+  clock += 50;
+  throttle.request("c", true);  // 50 ms after the last send: at once
+  clock += 10;
+  throttle.request("d", true);  // 10 ms after: held
+  clock += 10;
+  throttle.request("e", true);  // replaces d
+  assert.deepEqual(sent.map((s) => s[0]), ["a", "b", "c"], "within the interval nothing more is sent");
+  await new Promise((r) => setTimeout(r, 60));  // the trailing call: 20 ms of the interval were left
+  assert.deepEqual(sent.map((s) => s[0]), ["a", "b", "c", "e"], "the latest held point follows once, d never");
+  clock += 5;
+  throttle.request("f", true);  // 5 ms after e's send: held again
+  throttle.request("g", false);  // the drag ends: at once, and the held one is dropped
+  await new Promise((r) => setTimeout(r, 60));
+  assert.deepEqual(sent.map((s) => s[0]), ["a", "b", "c", "e", "g"]);
 });
 
 test("retryWhileBusy retries 503 with growing delays, and only 503", async () => {
