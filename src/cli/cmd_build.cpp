@@ -2,6 +2,7 @@
 #include <charconv>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -21,6 +22,9 @@
 namespace matlas::cli {
 
 namespace {
+
+/// Up to this many inputs, the build names each file; beyond, it counts them per folder.
+constexpr std::size_t kListedFiles = 24;
 
 /// The flags' values; their defaults are the library's (BuildOptions), which Python's build uses too.
 struct BuildArgs {
@@ -97,9 +101,26 @@ void run_build(const BuildArgs& a, const Io& io) {
           set.dims().to_string().c_str());
     if (comm.size() > 1) print(io.err, " on %d MPI ranks, each reading 1/%d of every file", comm.size(), comm.size());
     print(io.err, ":\n");
-    for (std::size_t i = 0; i < set.size(); ++i)
-      print(io.err, "  %s%s\n", set.file(i).path().string().c_str(),
-                   set.resampled(i) ? "  (RGL, resampled onto the MERL grid)" : "");
+    if (set.size() <= kListedFiles) {
+      for (std::size_t i = 0; i < set.size(); ++i)
+        print(io.err, "  %s%s\n", set.file(i).path().string().c_str(),
+                     set.resampled(i) ? "  (RGL, resampled onto the MERL grid)" : "");
+    } else {  // a line per folder, not a thousand lines
+      struct Count {
+        std::size_t files = 0, resampled = 0;
+      };
+      std::map<std::string, Count> folders;
+      for (std::size_t i = 0; i < set.size(); ++i) {
+        Count& c = folders[set.file(i).path().parent_path().string()];
+        ++c.files;
+        c.resampled += set.resampled(i) ? 1 : 0;
+      }
+      for (const auto& [folder, c] : folders) {
+        print(io.err, "  %zu files in %s", c.files, folder.c_str());
+        if (c.resampled > 0) print(io.err, " (%zu RGL, resampled onto the MERL grid)", c.resampled);
+        print(io.err, "\n");
+      }
+    }
     if (!set.ignored().empty()) {
       print(io.err, "ignored %zu file(s) that are neither .binary nor .bsdf:", set.ignored().size());
       for (const auto& p : set.ignored()) print(io.err, " %s", p.filename().string().c_str());

@@ -142,6 +142,33 @@ TEST(CliRender, AMerlFileIsTracedWithADensityFittedToItsOwnTable) {
   EXPECT_NE(fitted.rgb, fixed.rgb) << "other densities, other samples";
 }
 
+TEST(CliBuild, NamesUpToTwentyFourInputsAndCountsMoreByFolder) {
+  test::TempDir t;
+  const fs::path few = t.path() / "few", many = t.path() / "many";
+  const std::vector<SynthMaterial> all = random_catalog(33, 5);  // distinct names
+  write_database(few, {all.begin(), all.begin() + 3}, null_progress(), MerlDims{8, 8, 16});
+  write_database(many, {all.begin() + 3, all.end()}, null_progress(), MerlDims{8, 8, 16});
+  const auto build = [&](std::vector<std::string> inputs) {
+    inputs.insert(inputs.begin(), "build");
+    for (const char* a : {"--dim", "1", "--max-iterations", "5", "-o"}) inputs.emplace_back(a);
+    inputs.push_back((t.path() / "m.matlas").string());
+    const Output r = call(inputs);
+    EXPECT_EQ(r.code, 0) << r.err;
+    return r.err;
+  };
+  const fs::path a_few = *fs::directory_iterator(few), a_many = *fs::directory_iterator(many);
+  const std::string listed = build({few.string()});
+  EXPECT_CONTAINS(listed, "manifold of 3 materials");
+  EXPECT_CONTAINS(listed, "  " + a_few.string() + "\n");
+  // 33 inputs: a line per folder, no file named.
+  const std::string counted = build({few.string(), many.string()});
+  EXPECT_CONTAINS(counted, "manifold of 33 materials");
+  EXPECT_CONTAINS(counted, "  3 files in " + few.string() + "\n");
+  EXPECT_CONTAINS(counted, "  30 files in " + many.string() + "\n");
+  EXPECT_EQ(counted.find(a_few.filename().string()), std::string::npos) << counted;
+  EXPECT_EQ(counted.find(a_many.filename().string()), std::string::npos) << counted;
+}
+
 TEST(CliExport, WritesTheMaterialAndEvalIsTheSameCommand) {
   test::TempDir t;
   write_database(t.path() / "db", random_catalog(3, 5), null_progress(), MerlDims{90, 90, 180});
