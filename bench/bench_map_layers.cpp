@@ -79,6 +79,28 @@ void BM_GpBatch(benchmark::State& state) {
 }
 BENCHMARK(BM_GpBatch)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+/// The same cells through the kernel's separability on the plane (GpPosterior::predict_grid, what
+/// the map's layers use); the label gives its largest differences from BM_GpBatch's.
+void BM_GpGrid(benchmark::State& state) {
+  const Model& model = *bench_model();
+  const atlas::LatentPlane plane = bench_plane();
+  gp::GpPosterior::PlaneGrid grid{plane.origin, plane.axis_u, plane.axis_v, Eigen::VectorXd(kSide), Eigen::VectorXd(kSide)};
+  for (int c = 0; c < kSide; ++c) grid.u[c] = plane.u_min + (c + 0.5) / kSide * (plane.u_max - plane.u_min);
+  for (int r = 0; r < kSide; ++r) grid.v[r] = plane.v_max - (r + 0.5) / kSide * (plane.v_max - plane.v_min);
+  for (auto _ : state) {
+    gp::GpPosterior::Batch b = model.posterior().predict_grid(grid);
+    benchmark::DoNotOptimize(b.weights.data());
+  }
+  const gp::GpPosterior::Batch exact = model.posterior().predict_batch(grid_points(plane));
+  const gp::GpPosterior::Batch fast = model.posterior().predict_grid(grid);
+  char label[128];
+  std::snprintf(label, sizeof label, "rank %d; max |dw| %.2g (of %.2g), max |dvariance| %.2g", static_cast<int>(fast.rank),
+                (fast.weights - exact.weights).cwiseAbs().maxCoeff(), exact.weights.cwiseAbs().maxCoeff(),
+                (fast.variance - exact.variance).cwiseAbs().maxCoeff());
+  state.SetLabel(label);
+}
+BENCHMARK(BM_GpGrid)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 /// BM_GpBatch's product alone (n x n by n x cells, random matrices; OpenBLAS's dgemm in tiles of
 /// 256 columns on the workers, predict_batch's block): the bound its kernel values, dsymm and
 /// variances are held against. Counter: GFLOP/s.

@@ -130,41 +130,32 @@ LatentGrid latent_grid(const Model& model, const LatentPlane& plane, int cols, i
                "a plane in the model's latent space");
   LatentGrid g;
   g.cols = cols, g.rows = rows;
+  Eigen::VectorXd u(cols), v(rows);
+  for (int c = 0; c < cols; ++c) u[c] = plane.u_min + (c + 0.5) / cols * (plane.u_max - plane.u_min);
+  for (int r = 0; r < rows; ++r) v[r] = plane.v_max - (r + 0.5) / rows * (plane.v_max - plane.v_min);
   g.points.resize(static_cast<Eigen::Index>(cols) * rows, model.dim());
-  // The cells in serpentine order (odd rows right to left), so that consecutive points are
-  // neighbours: the convex mode solves each point's weights from the previous point's
-  // (Model::predict_batch); then the odd rows are turned back.
-  Eigen::MatrixXd path(g.points.rows(), g.points.cols());
-  auto cell = [cols](int r, int c) { return static_cast<Eigen::Index>(r) * cols + c; };
-  auto along = [cols](int r, int c) { return static_cast<Eigen::Index>(r) * cols + (r % 2 ? cols - 1 - c : c); };
   for (int r = 0; r < rows; ++r)
-    for (int c = 0; c < cols; ++c) {
-      const double u = plane.u_min + (c + 0.5) / cols * (plane.u_max - plane.u_min);
-      const double v = plane.v_max - (r + 0.5) / rows * (plane.v_max - plane.v_min);
-      g.points.row(cell(r, c)) = plane.point(u, v).transpose();
-      path.row(along(r, c)) = g.points.row(cell(r, c));
-    }
-  Model::Prediction predicted = model.predict_batch(path, Interpolation::gp);
+    for (int c = 0; c < cols; ++c) g.points.row(static_cast<Eigen::Index>(r) * cols + c) = plane.point(u[c], v[r]).transpose();
+  // The GP's weights through the kernel's separability on the plane (Model::predict_grid).
+  Model::Prediction predicted = model.predict_grid(plane.origin, plane.axis_u, plane.axis_v, u, v);
   g.weights = std::move(predicted.weights);
   g.variance = std::move(predicted.variance);
-  // The projections of the cells that need one, in path order (neighbours stay consecutive).
+  if (mode != Interpolation::convex) return g;
+  // The cells to project, in serpentine order (odd rows right to left), so that consecutive
+  // points are neighbours: each point's convex weights are solved from the previous point's
+  // (Model::weights_from_gp_batch).
   std::vector<Eigen::Index> projected;
-  for (Eigen::Index k = 0; k < g.variance.size(); ++k)
-    if (g.variance[k] < project_below) projected.push_back(k);
-  if (projected.size() == static_cast<std::size_t>(g.variance.size())) {
-    model.weights_from_gp_batch(g.weights, mode);
-  } else if (!projected.empty()) {
-    Eigen::MatrixXd part(g.weights.rows(), static_cast<Eigen::Index>(projected.size()));
-    advise_huge_pages(part.data(), static_cast<std::size_t>(part.size()) * sizeof(double));
-    part = g.weights(Eigen::all, projected);
-    model.weights_from_gp_batch(part, mode);
-    g.weights(Eigen::all, projected) = part;
-  }
-  for (int r = 1; r < rows; r += 2)
-    for (int c = 0; c < cols / 2; ++c) {
-      g.weights.col(cell(r, c)).swap(g.weights.col(cell(r, cols - 1 - c)));
-      std::swap(g.variance[cell(r, c)], g.variance[cell(r, cols - 1 - c)]);
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      const Eigen::Index k = static_cast<Eigen::Index>(r) * cols + (r % 2 ? cols - 1 - c : c);
+      if (g.variance[k] < project_below) projected.push_back(k);
     }
+  if (projected.empty()) return g;
+  Eigen::MatrixXd part(g.weights.rows(), static_cast<Eigen::Index>(projected.size()));
+  advise_huge_pages(part.data(), static_cast<std::size_t>(part.size()) * sizeof(double));
+  part = g.weights(Eigen::all, projected);
+  model.weights_from_gp_batch(part, mode);
+  g.weights(Eigen::all, projected) = part;
   return g;
 }
 

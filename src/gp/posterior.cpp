@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/SVD>
+
 #include "core/check.h"
 #include "core/blas.h"
 #include "core/huge_pages.h"
@@ -131,10 +133,8 @@ GpPosterior::Batch GpPosterior::predict_batch(const Eigen::MatrixXd& points) con
   // W = K^-1 k(x) as one product with K^-1 (from the Cholesky factor; 41 us at n = 100) in
   // OpenBLAS's dsymm: Eigen's triangular solves of many right-hand sides (compiled for baseline
   // x86-64) ran at a few GFLOP/s. Variance = c(x, x) - k^T K^-1 k = 1 + noise - k . w.
-  Eigen::MatrixXd Kinv = llt_.matrixLLT();
+  const Eigen::MatrixXd Kinv = inverse();
   const int nn = static_cast<int>(n);
-  if (blas::inverse_from_cholesky(nn, Kinv.data(), nn) != 0)
-    throw Error("GP posterior: inverting the covariance matrix failed");
   const Eigen::MatrixXd P = points.transpose();  // q x m: point j's coordinates contiguous
   // Blocks of columns that keep k(x) in cache, in parallel.
   constexpr Eigen::Index kBlock = 256;
@@ -153,6 +153,152 @@ GpPosterior::Batch GpPosterior::predict_batch(const Eigen::MatrixXd& points) con
     }
   });
   return b;
+}
+
+Eigen::MatrixXd GpPosterior::inverse() const {
+  Eigen::MatrixXd Kinv = llt_.matrixLLT();
+  const auto n = static_cast<int>(Kinv.rows());
+  if (blas::inverse_from_cholesky(n, Kinv.data(), n) != 0)
+    throw Error("GP posterior: inverting the covariance matrix failed");
+  Kinv.triangularView<Eigen::StrictlyUpper>() = Kinv.transpose();
+  return Kinv;
+}
+
+namespace {
+
+/// The smooth kernel between the data points and the cells of a grid's lines (rows or columns):
+/// on line l, k_i(cell j) = d(i, l) F(i, j), with F(i, j) = exp(-s (t_j - a_i)^2) in the line's
+/// coordinate t and d(i, l) = exp(-s (perp2_i + (t'_l - b_i)^2)) across it; V: F's first `rank`
+/// right singular vectors (those over 1e-15 of the largest singular value).
+struct GridLines {
+  Eigen::MatrixXd F;  ///< n x cells per line
+  Eigen::MatrixXd d;  ///< n x lines
+  Eigen::MatrixXd V;  ///< cells per line x rank
+  Eigen::Index rank = 0;
+};
+
+GridLines grid_lines(const Eigen::VectorXd& along, const Eigen::VectorXd& across, const Eigen::VectorXd& a,
+                     const Eigen::VectorXd& b, const Eigen::VectorXd& perp2, double s) {
+  const Eigen::Index n = a.size(), m = along.size(), lines = across.size();
+  GridLines g;
+  g.F.resize(n, m);
+  g.d.resize(n, lines);
+  for (Eigen::Index j = 0; j < m; ++j)
+    for (Eigen::Index i = 0; i < n; ++i) g.F(i, j) = std::exp(-s * (along[j] - a[i]) * (along[j] - a[i]));
+  for (Eigen::Index l = 0; l < lines; ++l)
+    for (Eigen::Index i = 0; i < n; ++i)
+      g.d(i, l) = std::exp(-s * (perp2[i] + (across[l] - b[i]) * (across[l] - b[i])));
+  const Eigen::BDCSVD<Eigen::MatrixXd> svd(g.F, Eigen::ComputeThinV);
+  const Eigen::VectorXd& sigma = svd.singularValues();
+  g.rank = 1;
+  while (g.rank < sigma.size() && sigma[g.rank] > 1e-15 * sigma[0]) ++g.rank;
+  g.V = svd.matrixV().leftCols(g.rank);
+  return g;
+}
+
+}  // namespace
+
+GpPosterior::Batch GpPosterior::predict_grid(const PlaneGrid& grid) const {
+  const Eigen::Index n = X_.rows(), q = X_.cols(), cols = grid.u.size(), rows = grid.v.size();
+  if (grid.origin.size() != q || grid.axis_u.size() != q || grid.axis_v.size() != q)
+    throw Error("GP posterior: the grid's plane has dimension " + std::to_string(grid.origin.size()) +
+                " but the latent space has " + std::to_string(q));
+  if (!grid.origin.allFinite() || !grid.axis_u.allFinite() || !grid.axis_v.allFinite() || !grid.u.allFinite() ||
+      !grid.v.allFinite())
+    throw Error("GP posterior: the grid's plane or coordinates contain NaN or infinity");
+  const Eigen::Index cells = cols * rows;
+  auto points = [&] {
+    Eigen::MatrixXd P(cells, q);
+    for (Eigen::Index r = 0; r < rows; ++r)
+      for (Eigen::Index c = 0; c < cols; ++c)
+        P.row(r * cols + c) = (grid.origin + grid.u[c] * grid.axis_u + grid.v[r] * grid.axis_v).transpose();
+    return P;
+  };
+  const Eigen::VectorXd &au = grid.axis_u, &av = grid.axis_v;
+  const bool orthonormal = std::abs(au.norm() - 1) < 1e-12 && std::abs(av.norm() - 1) < 1e-12 &&
+                           std::abs(au.dot(av)) < 1e-12;
+  if (cells == 0 || !orthonormal) return predict_batch(points());
+  // The data points' plane coordinates and squared distances from the plane: |x_i - cell|^2 =
+  // perp2_i + (u - alpha_i)^2 + (v - beta_i)^2.
+  Eigen::VectorXd alpha(n), beta(n), perp2(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Eigen::VectorXd p = X_.row(i).transpose() - grid.origin;
+    alpha[i] = au.dot(p);
+    beta[i] = av.dot(p);
+    perp2[i] = (p - alpha[i] * au - beta[i] * av).squaredNorm();
+  }
+  const double s = 1.0 / (kernel_.lengthscale * kernel_.lengthscale);
+  GridLines by_rows = grid_lines(grid.u, grid.v, alpha, beta, perp2, s);
+  GridLines by_cols = grid_lines(grid.v, grid.u, beta, alpha, perp2, s);
+  const bool along_u = rows * by_rows.rank <= cols * by_cols.rank;
+  const GridLines& g = along_u ? by_rows : by_cols;
+  const Eigen::Index lines = along_u ? rows : cols, m = along_u ? cols : rows, R = g.rank;
+  if (2 * lines * R > cells) return predict_batch(points());  // little to gain
+  const Eigen::VectorXd &t = along_u ? grid.u : grid.v, &t_across = along_u ? grid.v : grid.u;
+  const Eigen::VectorXd &a = along_u ? alpha : beta, &b = along_u ? beta : alpha;
+
+  // T = K^-1 [diag(d_l) F V]_l: one product of K^-1 by n x (lines R), in parallel blocks.
+  const Eigen::MatrixXd Kinv = inverse();
+  const Eigen::MatrixXd FV = g.F * g.V;  // n x R
+  Eigen::MatrixXd Y(n, lines * R), T(n, lines * R);
+  for (Eigen::Index l = 0; l < lines; ++l) Y.middleCols(l * R, R) = g.d.col(l).asDiagonal() * FV;
+  const int nn = static_cast<int>(n);
+  constexpr Eigen::Index kBlock = 256;
+  const Eigen::Index blocks = (Y.cols() + kBlock - 1) / kBlock;
+  parallel_for_each(0, static_cast<std::size_t>(blocks), [&](std::size_t block) {
+    const Eigen::Index first = static_cast<Eigen::Index>(block) * kBlock, count = std::min(kBlock, Y.cols() - first);
+    blas::openblas().dsymm(CblasColMajor, CblasLeft, CblasLower, nn, static_cast<int>(count), 1.0, Kinv.data(), nn,
+                           Y.col(first).data(), nn, 0.0, T.col(first).data(), nn);
+  });
+  // The nugget's taper: only data points closer to the plane than their radius reach a cell.
+  std::vector<Eigen::Index> near_plane;
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (perp2[i] < taper_radius_[i] * taper_radius_[i] || perp2[i] == 0.0) near_plane.push_back(i);
+
+  Batch out;
+  out.weights.resize(n, cells);
+  advise_huge_pages(out.weights.data(), static_cast<std::size_t>(out.weights.size()) * sizeof(double));
+  out.variance.resize(cells);
+  out.rank = R;
+  parallel_for_each(0, static_cast<std::size_t>(lines), [&](std::size_t line) {
+    const auto l = static_cast<Eigen::Index>(line);
+    // The line's weights T_l V^T, written in place where the line's cells are consecutive (a row).
+    thread_local Eigen::MatrixXd scratch;
+    if (!along_u) scratch.resize(n, m);
+    double* w = along_u ? out.weights.col(l * cols).data() : scratch.data();
+    blas::openblas().dgemm(CblasColMajor, CblasNoTrans, CblasTrans, nn, static_cast<int>(m), static_cast<int>(R), 1.0,
+                           T.col(l * R).data(), nn, g.V.data(), static_cast<int>(m), 0.0, w, nn);
+    Eigen::Map<Eigen::MatrixXd> W(w, n, m);
+    // The nugget's taper at the cells within a data point's radius: k_i += nugget phi.
+    struct Tapered {
+      Eigen::Index i, j;
+      double phi;
+    };
+    std::vector<Tapered> tapered;
+    for (const Eigen::Index i : near_plane) {
+      const double r = taper_radius_[i];
+      for (Eigen::Index j = 0; j < m; ++j) {
+        const double d2 = perp2[i] + (t[j] - a[i]) * (t[j] - a[i]) + (t_across[l] - b[i]) * (t_across[l] - b[i]);
+        if (!(d2 < r * r) && d2 != 0.0) continue;
+        tapered.push_back({i, j, taper_weight(r, std::sqrt(d2))});
+        W.col(j) += (kernel_.nugget * tapered.back().phi) * Kinv.col(i);
+      }
+    }
+    // Variance = 1 + nugget sum phi^2 - k . w, with the exact kernel values k_i = d_i F_ij.
+    const auto d = g.d.col(l).array();
+    for (Eigen::Index j = 0; j < m; ++j) {
+      double noise = 0, kw = (d * g.F.col(j).array() * W.col(j).array()).sum();
+      for (const Tapered& e : tapered)
+        if (e.j == j) {
+          noise += e.phi * e.phi;
+          kw += kernel_.nugget * e.phi * W(e.i, j);
+        }
+      const Eigen::Index cell = along_u ? l * cols + j : j * cols + l;
+      if (!along_u) out.weights.col(cell) = W.col(j);
+      out.variance[cell] = std::max(0.0, 1.0 + kernel_.nugget * noise - kw);
+    }
+  });
+  return out;
 }
 
 double GpPosterior::log_det() const {

@@ -78,14 +78,6 @@ Eigen::MatrixXd read_matrix(const SafetensorsFile& f, const char* name, std::int
   return Eigen::Map<const RowMajor>(v.data(), rows, cols);
 }
 
-}  // namespace
-
-Model::Model(std::shared_ptr<const Impl> impl, Interpolation mode) : impl_(std::move(impl)), interpolation_(mode) {}
-Model::Model(Model&&) noexcept = default;
-Model& Model::operator=(Model&&) noexcept = default;
-Model::~Model() = default;
-
-namespace {
 
 /// An integer metadata value as text, whatever its size (for messages).
 std::string integer_text(const json& v) {
@@ -127,6 +119,11 @@ void require_finite(const fs::path& path, const Eigen::DenseBase<Derived>& m, co
 }
 
 }  // namespace
+
+Model::Model(std::shared_ptr<const Impl> impl, Interpolation mode) : impl_(std::move(impl)), interpolation_(mode) {}
+Model::Model(Model&&) noexcept = default;
+Model& Model::operator=(Model&&) noexcept = default;
+Model::~Model() = default;
 
 Model Model::open(const fs::path& path) {
   auto m = std::make_unique<Impl>(Impl{path, SafetensorsFile::open(path), {}, {}, {}, {}, {}, {}, 0, 0,
@@ -358,8 +355,7 @@ Interpolation Model::interpolation() const { return interpolation_; }
 Model Model::with_interpolation(Interpolation mode) const { return Model(impl_, mode); }
 Eigen::VectorXd Model::weights_from_gp(const Eigen::Ref<const Eigen::VectorXd>& w, Interpolation mode) const {
   MATLAS_CHECK_EQ(w.size(), Eigen::Index{count()});
-  if (mode == Interpolation::gp) return w;
-  return impl_->convex->from_centred(w);
+  return mode == Interpolation::gp ? Eigen::VectorXd(w) : impl_->convex->from_centred(w);
 }
 Eigen::VectorXd Model::weights_from_gp(const Eigen::Ref<const Eigen::VectorXd>& w) const { return weights_from_gp(w, interpolation_); }
 
@@ -390,6 +386,11 @@ Model::Prediction Model::predict_batch(const Eigen::MatrixXd& points, Interpolat
   weights_from_gp_batch(b.weights, mode);
   return {std::move(b.weights), std::move(b.variance)};
 }
+Model::Prediction Model::predict_grid(const Eigen::VectorXd& origin, const Eigen::VectorXd& axis_u,
+                                     const Eigen::VectorXd& axis_v, const Eigen::VectorXd& u, const Eigen::VectorXd& v) const {
+  gp::GpPosterior::Batch b = impl_->posterior->predict_grid({origin, axis_u, axis_v, u, v});
+  return {std::move(b.weights), std::move(b.variance)};
+}
 void Model::weights_from_gp_batch(Eigen::Ref<Eigen::MatrixXd> W, Interpolation mode) const {
   MATLAS_CHECK_EQ(W.rows(), Eigen::Index{count()});
   if (mode != Interpolation::convex) return;
@@ -403,12 +404,10 @@ Eigen::VectorXd Model::material_weights(int i) const {
   if (i < 0 || i >= count()) throw Error("material index out of range: " + std::to_string(i));
   return Eigen::VectorXd::Unit(count(), i);
 }
-
 double Model::variance(const Eigen::Ref<const Eigen::VectorXd>& x) const {
   check_point(x);
   return impl_->posterior->variance(x);
 }
-
 bool Model::kept(std::size_t v) const { return impl_->value_column[v] >= 0; }
 int Model::column_of(std::size_t v) const { return impl_->value_column[v]; }
 float Model::mean(std::size_t column) const { return impl_->mean[column]; }

@@ -93,6 +93,12 @@ public:
   };
   Prediction predict_batch(const Eigen::MatrixXd& points, Interpolation mode) const;
   Prediction predict_batch(const Eigen::MatrixXd& points) const;
+  /// The GP's weights and variances of the cells of a regular grid on a plane (column r * u.size()
+  /// + c for the cell origin + u[c] axis_u + v[r] axis_v), through the kernel's separability on
+  /// the plane (gp::GpPosterior::predict_grid; equal to predict_batch(points, gp) to about 1e-10).
+  /// Throws matlas::Error if the plane does not have q coordinates or a value is not finite.
+  Prediction predict_grid(const Eigen::VectorXd& origin, const Eigen::VectorXd& axis_u, const Eigen::VectorXd& axis_v,
+                          const Eigen::VectorXd& u, const Eigen::VectorXd& v) const;
   /// The weights in `mode` for given GP weights w (centred form): w itself, or its convex
   /// projection.
   Eigen::VectorXd weights_from_gp(const Eigen::Ref<const Eigen::VectorXd>& w, Interpolation mode) const;

@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "formats/image_io.h"
 #include "formats/synth_database.h"
+#include "gp/posterior.h"
 #include "manifold/build.h"
 #include "manifold/material_set.h"
 #include "manifold/model.h"
@@ -102,26 +103,35 @@ TEST_F(LatentMapTest, GridWeightsAndVariancesAreThePosteriors) {
 TEST_F(LatentMapTest, GridWeightsEqualThePerPointWeightsAtEveryCell) {
   // The grid solves the convex weights of each cell from its neighbour's (serpentine order, odd
   // rows turned back): the same as Model::weights point by point, at every cell of a grid that
-  // reaches far from the data and has a material on a cell centre.
+  // reaches far from the data and has a material on a cell centre. The small grid's GP weights
+  // come point by point, the large one's through the kernel's low-rank lines
+  // (GpPosterior::predict_grid; its rank checked below).
   ASSERT_EQ(model_->interpolation(), Interpolation::convex);
   const Eigen::VectorXd x0 = model_->latent().row(3).transpose();
   const Eigen::VectorXd span = model_->latent_max() - model_->latent_min();
-  const int cols = 13, rows = 9;  // odd: the last row runs right to left
-  const double du = 3.0 * span[0] / cols, dv = 3.0 * span[1] / rows;
-  const LatentPlane plane = LatentPlane::rectangle(x0, 0, 1, x0[0] - 6.5 * du, x0[0] + 6.5 * du, x0[1] - 4.5 * dv,
-                                                   x0[1] + 4.5 * dv);
-  const LatentGrid g = latent_grid(*model_, plane, cols, rows);
-  double far = 0;
-  for (Eigen::Index k = 0; k < g.points.rows(); ++k) {
-    const Eigen::VectorXd x = g.points.row(k).transpose();
-    EXPECT_LT((g.weights.col(k) - model_->weights(x)).cwiseAbs().maxCoeff(), 1e-10) << "cell " << k;
-    EXPECT_NEAR(g.variance[k], model_->variance(x), 1e-12) << "cell " << k;
-    far = std::max(far, g.variance[k]);
+  for (const int scale : {1, 5}) {
+    const int cols = 13 * scale, rows = 9 * scale;  // odd: the last row runs right to left
+    const double du = 3.0 * span[0] / 13, dv = 3.0 * span[1] / 9;
+    const LatentPlane plane = LatentPlane::rectangle(x0, 0, 1, x0[0] - 6.5 * du, x0[0] + 6.5 * du, x0[1] - 4.5 * dv,
+                                                     x0[1] + 4.5 * dv);
+    const LatentGrid g = latent_grid(*model_, plane, cols, rows);
+    double far = 0;
+    for (Eigen::Index k = 0; k < g.points.rows(); ++k) {
+      const Eigen::VectorXd x = g.points.row(k).transpose();
+      EXPECT_LT((g.weights.col(k) - model_->weights(x)).cwiseAbs().maxCoeff(), 1e-10) << "cell " << k;
+      EXPECT_NEAR(g.variance[k], model_->variance(x), 1e-11) << "cell " << k;
+      far = std::max(far, g.variance[k]);
+    }
+    EXPECT_GT(far, 0.9) << "the grid should reach far from the data";
+    const Eigen::Index centre = (rows / 2) * cols + cols / 2;  // material 3's cell
+    EXPECT_LT((g.points.row(centre).transpose() - x0).norm(), 1e-12);
+    EXPECT_LT((g.weights.col(centre) - Eigen::VectorXd::Unit(model_->count(), 3)).cwiseAbs().maxCoeff(), 1e-9);
+    Eigen::VectorXd u(cols), v(rows);
+    for (int c = 0; c < cols; ++c) u[c] = plane.u_min + (c + 0.5) / cols * (plane.u_max - plane.u_min);
+    for (int r = 0; r < rows; ++r) v[r] = plane.v_max - (r + 0.5) / rows * (plane.v_max - plane.v_min);
+    const gp::GpPosterior::Batch b = model_->posterior().predict_grid({plane.origin, plane.axis_u, plane.axis_v, u, v});
+    EXPECT_EQ(b.rank > 0, scale > 1) << "grid " << cols << " x " << rows;
   }
-  EXPECT_GT(far, 0.9) << "the grid should reach far from the data";
-  const Eigen::Index centre = 4 * cols + 6;  // material 3's cell
-  EXPECT_LT((g.points.row(centre).transpose() - x0).norm(), 1e-12);
-  EXPECT_LT((g.weights.col(centre) - Eigen::VectorXd::Unit(model_->count(), 3)).cwiseAbs().maxCoeff(), 1e-9);
 }
 
 TEST_F(LatentMapTest, PlausibilityCellsDoNotDependOnHowTheGridIsSplit) {

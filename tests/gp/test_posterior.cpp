@@ -110,6 +110,62 @@ TEST(GpPosterior, PredictBatchOfManyPointsEqualsThePerPointQueries) {
   EXPECT_EQ(gp.predict_batch(Eigen::MatrixXd(0, 3)).weights.cols(), 0);
 }
 
+/// A grid of cols x rows cells on the plane through `origin` spanned by (orthonormal) u and v,
+/// its coordinates from -span/2 to span/2 on both axes, and the same cells as points (m x q).
+std::pair<GpPosterior::PlaneGrid, Eigen::MatrixXd> plane_grid(const Eigen::VectorXd& origin, const Eigen::VectorXd& u,
+                                                              const Eigen::VectorXd& v, int cols, int rows, double span) {
+  GpPosterior::PlaneGrid grid{origin, u, v, Eigen::VectorXd::LinSpaced(cols, -span / 2, span / 2),
+                              Eigen::VectorXd::LinSpaced(rows, span / 2, -span / 2)};
+  Eigen::MatrixXd points(cols * rows, origin.size());
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) points.row(r * cols + c) = (origin + grid.u[c] * u + grid.v[r] * v).transpose();
+  return {grid, points};
+}
+
+TEST(GpPosterior, PredictGridEqualsPredictBatchThroughLowRankLines) {
+  // q = 3, data within a few lengthscales of a tilted plane; data point 0 on a cell (exact
+  // interpolation there) and data point 7 on the plane 0.01 from another cell (inside its taper:
+  // k gets the tapered nugget there, whose weight nugget K^-1 e_7 the grid must add).
+  const Eigen::Vector3d origin(0.1, -0.2, 0.05);
+  const Eigen::Vector3d u = Eigen::Vector3d(1, 1, 0).normalized(), v = Eigen::Vector3d(-1, 1, 2).normalized();
+  const auto [grid, points] = plane_grid(origin, u, v, 72, 64, 5.0);
+  const Eigen::Index on_cell = 5 * 72 + 9, near_cell = 20 * 72 + 30;
+  Eigen::MatrixXd X = test::random_points(80, 3, 41, 2.0);
+  X.row(0) = points.row(on_cell);
+  X.row(7) = points.row(near_cell) + 0.01 * u.transpose();
+  const GpPosterior gp(X, Kernel{1.0, 1e-4});
+  ASSERT_LT(0.01, gp.taper_radius()[7]);
+  const GpPosterior::Batch fast = gp.predict_grid(grid), exact = gp.predict_batch(points);
+  ASSERT_EQ(fast.weights.rows(), gp.count());
+  ASSERT_EQ(fast.weights.cols(), 72 * 64);
+  ASSERT_EQ(fast.variance.size(), 72 * 64);
+  EXPECT_GT(fast.rank, 0) << "the factorised lines, not the points one by one";
+  EXPECT_LT(2 * 64 * fast.rank, 72 * 64);
+  EXPECT_LT((fast.weights - exact.weights).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LT((fast.variance - exact.variance).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LT((fast.weights.col(on_cell) - Eigen::VectorXd::Unit(gp.count(), 0)).cwiseAbs().maxCoeff(), 1e-8);
+  EXPECT_NEAR(fast.variance[on_cell], 0.0, 1e-9);
+  // Far from the data: the weights vanish and the variance is 1.
+  const GpPosterior::PlaneGrid far{Eigen::Vector3d(40, 0, 0), u, v, grid.u, grid.v};
+  const GpPosterior::Batch distant = gp.predict_grid(far);
+  EXPECT_LT(distant.weights.cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_NEAR(distant.variance.minCoeff(), 1.0, 1e-12);
+}
+
+TEST(GpPosterior, PredictGridGoesPointByPointForAxesThatAreNotOrthonormal) {
+  const GpPosterior gp(test::random_points(30, 2, 43), Kernel{1.0, 1e-4});
+  auto [grid, points] = plane_grid(Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 0), Eigen::Vector2d(0.6, 0.8), 40, 30, 4.0);
+  grid.axis_v = Eigen::Vector2d(0.5, 0.5);  // not unit, not orthogonal to u
+  for (int r = 0; r < 30; ++r)
+    for (int c = 0; c < 40; ++c) points.row(r * 40 + c) = (grid.u[c] * grid.axis_u + grid.v[r] * grid.axis_v).transpose();
+  const GpPosterior::Batch fast = gp.predict_grid(grid), exact = gp.predict_batch(points);
+  EXPECT_EQ(fast.rank, 0);
+  EXPECT_EQ(fast.weights, exact.weights);
+  EXPECT_EQ(fast.variance, exact.variance);
+  grid.origin = Eigen::Vector3d::Zero();
+  EXPECT_THROW(gp.predict_grid(grid), Error);
+}
+
 TEST(GpPosterior, LogDetAndConditionMatchEigenvalues) {
   const GpPosterior gp = make_posterior();
   const Eigen::MatrixXd K = covariance_matrix(gp.latent(), gp.kernel());
