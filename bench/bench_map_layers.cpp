@@ -41,13 +41,13 @@ const Model* bench_model() {
 atlas::LatentPlane bench_plane() { return atlas::LatentPlane::automatic(*bench_model()); }
 
 /// The grid's points, row-major (as latent_grid lays them out).
-Eigen::MatrixXd grid_points(const atlas::LatentPlane& plane) {
-  Eigen::MatrixXd points(kSide * kSide, bench_model()->dim());
-  for (int r = 0; r < kSide; ++r)
-    for (int c = 0; c < kSide; ++c) {
-      const double u = plane.u_min + (c + 0.5) / kSide * (plane.u_max - plane.u_min);
-      const double v = plane.v_max - (r + 0.5) / kSide * (plane.v_max - plane.v_min);
-      points.row(r * kSide + c) = plane.point(u, v).transpose();
+Eigen::MatrixXd grid_points(const atlas::LatentPlane& plane, int side = kSide) {
+  Eigen::MatrixXd points(side * side, bench_model()->dim());
+  for (int r = 0; r < side; ++r)
+    for (int c = 0; c < side; ++c) {
+      const double u = plane.u_min + (c + 0.5) / side * (plane.u_max - plane.u_min);
+      const double v = plane.v_max - (r + 0.5) / side * (plane.v_max - plane.v_min);
+      points.row(r * side + c) = plane.point(u, v).transpose();
     }
   return points;
 }
@@ -71,27 +71,28 @@ BENCHMARK(BM_GridWeightsPerPoint)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_GpBatch(benchmark::State& state) {
   const Model& model = *bench_model();
-  const Eigen::MatrixXd points = grid_points(bench_plane());
+  const Eigen::MatrixXd points = grid_points(bench_plane(), static_cast<int>(state.range(0)));
   for (auto _ : state) {
     gp::GpPosterior::Batch b = model.posterior().predict_batch(points);
     benchmark::DoNotOptimize(b.weights.data());
   }
 }
-BENCHMARK(BM_GpBatch)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_GpBatch)->Arg(kSide)->Arg(24)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 /// The same cells through the kernel's separability on the plane (GpPosterior::predict_grid, what
 /// the map's layers use); the label gives its largest differences from BM_GpBatch's.
 void BM_GpGrid(benchmark::State& state) {
   const Model& model = *bench_model();
   const atlas::LatentPlane plane = bench_plane();
-  gp::GpPosterior::PlaneGrid grid{plane.origin, plane.axis_u, plane.axis_v, Eigen::VectorXd(kSide), Eigen::VectorXd(kSide)};
-  for (int c = 0; c < kSide; ++c) grid.u[c] = plane.u_min + (c + 0.5) / kSide * (plane.u_max - plane.u_min);
-  for (int r = 0; r < kSide; ++r) grid.v[r] = plane.v_max - (r + 0.5) / kSide * (plane.v_max - plane.v_min);
+  const auto side = static_cast<int>(state.range(0));
+  gp::GpPosterior::PlaneGrid grid{plane.origin, plane.axis_u, plane.axis_v, Eigen::VectorXd(side), Eigen::VectorXd(side)};
+  for (int c = 0; c < side; ++c) grid.u[c] = plane.u_min + (c + 0.5) / side * (plane.u_max - plane.u_min);
+  for (int r = 0; r < side; ++r) grid.v[r] = plane.v_max - (r + 0.5) / side * (plane.v_max - plane.v_min);
   for (auto _ : state) {
     gp::GpPosterior::Batch b = model.posterior().predict_grid(grid);
     benchmark::DoNotOptimize(b.weights.data());
   }
-  const gp::GpPosterior::Batch exact = model.posterior().predict_batch(grid_points(plane));
+  const gp::GpPosterior::Batch exact = model.posterior().predict_batch(grid_points(plane, side));
   const gp::GpPosterior::Batch fast = model.posterior().predict_grid(grid);
   char label[128];
   std::snprintf(label, sizeof label, "rank %d; max |dw| %.2g (of %.2g), max |dvariance| %.2g", static_cast<int>(fast.rank),
@@ -99,7 +100,7 @@ void BM_GpGrid(benchmark::State& state) {
                 (fast.variance - exact.variance).cwiseAbs().maxCoeff());
   state.SetLabel(label);
 }
-BENCHMARK(BM_GpGrid)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_GpGrid)->Arg(kSide)->Arg(24)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 /// BM_GpBatch's product alone (n x n by n x cells, random matrices; OpenBLAS's dgemm in tiles of
 /// 256 columns on the workers, predict_batch's block): the bound its kernel values, dsymm and

@@ -59,7 +59,7 @@ public:
   /// kernel's separability on the plane: along a line of cells (a row, or a column) the kernel
   /// values are diag(d) F, one n x m matrix F of Gaussians in the line's coordinate for every
   /// line, scaled per line. F's numerical rank R is far below m (Gaussians of width l over a
-  /// few lengthscales: 25-45 of 128 at n = 1000), so K^-1 k over a line is (K^-1 diag(d) F V)
+  /// few lengthscales: 27 of 128 at n = 1000), so K^-1 k over a line is (K^-1 diag(d) F V)
   /// V^T with F's first R right singular vectors V: one product of K^-1 by n x (lines R)
   /// instead of n x cells. The lines run along the axis whose R is smaller; the nugget's taper
   /// (a few cells at the data points) and the variances use the exact kernel values. Equal to
