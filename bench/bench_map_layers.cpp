@@ -43,12 +43,9 @@ atlas::LatentPlane bench_plane() { return atlas::LatentPlane::automatic(*bench_m
 /// The grid's points, row-major (as latent_grid lays them out).
 Eigen::MatrixXd grid_points(const atlas::LatentPlane& plane, int side = kSide) {
   Eigen::MatrixXd points(side * side, bench_model()->dim());
+  const Eigen::VectorXd u = plane.cell_u(side), v = plane.cell_v(side);
   for (int r = 0; r < side; ++r)
-    for (int c = 0; c < side; ++c) {
-      const double u = plane.u_min + (c + 0.5) / side * (plane.u_max - plane.u_min);
-      const double v = plane.v_max - (r + 0.5) / side * (plane.v_max - plane.v_min);
-      points.row(r * side + c) = plane.point(u, v).transpose();
-    }
+    for (int c = 0; c < side; ++c) points.row(r * side + c) = plane.point(u[c], v[r]).transpose();
   return points;
 }
 
@@ -85,9 +82,7 @@ void BM_GpGrid(benchmark::State& state) {
   const Model& model = *bench_model();
   const atlas::LatentPlane plane = bench_plane();
   const auto side = static_cast<int>(state.range(0));
-  gp::GpPosterior::PlaneGrid grid{plane.origin, plane.axis_u, plane.axis_v, Eigen::VectorXd(side), Eigen::VectorXd(side)};
-  for (int c = 0; c < side; ++c) grid.u[c] = plane.u_min + (c + 0.5) / side * (plane.u_max - plane.u_min);
-  for (int r = 0; r < side; ++r) grid.v[r] = plane.v_max - (r + 0.5) / side * (plane.v_max - plane.v_min);
+  const gp::GpPosterior::PlaneGrid grid{plane.origin, plane.axis_u, plane.axis_v, plane.cell_u(side), plane.cell_v(side)};
   for (auto _ : state) {
     gp::GpPosterior::Batch b = model.posterior().predict_grid(grid);
     benchmark::DoNotOptimize(b.weights.data());

@@ -130,9 +130,7 @@ LatentGrid latent_grid(const Model& model, const LatentPlane& plane, int cols, i
                "a plane in the model's latent space");
   LatentGrid g;
   g.cols = cols, g.rows = rows;
-  Eigen::VectorXd u(cols), v(rows);
-  for (int c = 0; c < cols; ++c) u[c] = plane.u_min + (c + 0.5) / cols * (plane.u_max - plane.u_min);
-  for (int r = 0; r < rows; ++r) v[r] = plane.v_max - (r + 0.5) / rows * (plane.v_max - plane.v_min);
+  const Eigen::VectorXd u = plane.cell_u(cols), v = plane.cell_v(rows);
   g.points.resize(static_cast<Eigen::Index>(cols) * rows, model.dim());
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < cols; ++c) g.points.row(static_cast<Eigen::Index>(r) * cols + c) = plane.point(u[c], v[r]).transpose();

@@ -20,6 +20,18 @@ struct LatentPlane {
   Eigen::Vector2d project(const Eigen::VectorXd& x) const {
     return {(x - origin).dot(axis_u), (x - origin).dot(axis_v)};
   }
+  /// The u of the centres of `cols` columns of cells across [u_min, u_max], left to right; the v
+  /// of `rows` rows' centres, top (v_max) to bottom: cell (r, c) of a grid is point(u[c], v[r]).
+  Eigen::VectorXd cell_u(int cols) const {
+    Eigen::VectorXd u(cols);
+    for (int c = 0; c < cols; ++c) u[c] = u_min + (c + 0.5) / cols * (u_max - u_min);
+    return u;
+  }
+  Eigen::VectorXd cell_v(int rows) const {
+    Eigen::VectorXd v(rows);
+    for (int r = 0; r < rows; ++r) v[r] = v_max - (r + 0.5) / rows * (v_max - v_min);
+    return v;
+  }
 
   /// The rectangle [u0, u1] x [v0, v1] of latent axes d0 (u) and d1 (v) through `at` (which gives
   /// the other coordinates): what the server's map layers show. Throws on bad axes or sizes.

@@ -126,10 +126,8 @@ TEST_F(LatentMapTest, GridWeightsEqualThePerPointWeightsAtEveryCell) {
     const Eigen::Index centre = (rows / 2) * cols + cols / 2;  // material 3's cell
     EXPECT_LT((g.points.row(centre).transpose() - x0).norm(), 1e-12);
     EXPECT_LT((g.weights.col(centre) - Eigen::VectorXd::Unit(model_->count(), 3)).cwiseAbs().maxCoeff(), 1e-9);
-    Eigen::VectorXd u(cols), v(rows);
-    for (int c = 0; c < cols; ++c) u[c] = plane.u_min + (c + 0.5) / cols * (plane.u_max - plane.u_min);
-    for (int r = 0; r < rows; ++r) v[r] = plane.v_max - (r + 0.5) / rows * (plane.v_max - plane.v_min);
-    const gp::GpPosterior::Batch b = model_->posterior().predict_grid({plane.origin, plane.axis_u, plane.axis_v, u, v});
+    const gp::GpPosterior::Batch b = model_->posterior().predict_grid(
+        {plane.origin, plane.axis_u, plane.axis_v, plane.cell_u(cols), plane.cell_v(rows)});
     EXPECT_EQ(b.rank > 0, scale > 1) << "grid " << cols << " x " << rows;
   }
 }
